@@ -1,0 +1,42 @@
+// The `calibrate_tricycle` command: options, parsing, and the run itself (kept out of main so
+// tests can drive it).
+#pragma once
+
+#include <ostream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "odometry_calibration/models/tricycle_calibration.h"
+
+namespace odometry_calibration {
+
+/// Wrong command-line usage; the message says what was wrong.
+class UsageError : public std::runtime_error
+{
+public:
+  using std::runtime_error::runtime_error;
+};
+
+/// Everything the command can be told.
+struct TricycleCliOptions
+{
+  std::string dataset_path;                      ///< the log to calibrate (required)
+  std::string output_path = "tricycle_calibration.yaml";  ///< result YAML; "" = do not write
+  double keyframe_interval_s = 0.5;              ///< keyframe spacing T [s]
+  TricycleCalibrationOptions calibration;        ///< fit options
+  bool help = false;                             ///< print usage and exit
+};
+
+/// Usage text with every option, its unit and default.
+std::string tricycleCliUsage();
+
+/// Parses argv-style arguments (without the program name). Throws UsageError naming the bad
+/// option or value.
+TricycleCliOptions parseTricycleCliArguments(const std::vector<std::string>& arguments);
+
+/// Loads the log, fits, prints the report to `out`, writes the YAML. Returns the process exit
+/// code: 0 success, 1 bad input (message on `err`), 3 the solver did not converge.
+int runTricycleCli(const TricycleCliOptions& options, std::ostream& out, std::ostream& err);
+
+}  // namespace odometry_calibration

@@ -1,0 +1,39 @@
+// Evaluation of a tricycle calibration against the ego-motion reference, and the text report.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "odometry_calibration/data/motion_pair.h"
+#include "odometry_calibration/models/tricycle_calibration.h"
+
+namespace odometry_calibration {
+
+/// Trajectory errors of the dead-reckoned sensor trajectory against the reference, for the
+/// initial (nominal) and the calibrated parameters.
+struct TricycleEvaluation
+{
+  double ate_initial_m = 0.0;     ///< paper eq. 11, nominal parameters [m]
+  double ate_calibrated_m = 0.0;  ///< paper eq. 11, calibrated parameters [m]
+  double rpe_initial_m = 0.0;     ///< paper eq. 10 between keyframes, nominal [m]
+  double rpe_calibrated_m = 0.0;  ///< paper eq. 10 between keyframes, calibrated [m]
+  std::size_t pose_count = 0;     ///< poses compared for the ATE
+  double duration_s = 0.0;        ///< time spanned by the trajectory [s]
+};
+
+/// Dead-reckons the sensor from the first reference pose through all `samples` with both
+/// parameter sets and compares with `reference` (one pose per sample): ATE over all samples,
+/// RPE between the samples at `keyframe_indices`.
+TricycleEvaluation evaluateTricycle(const TricycleCalibrationResult& result,
+                                    const TricycleEncoderLayout& layout,
+                                    const std::vector<EncoderSample>& samples,
+                                    const std::vector<Pose2>& reference,
+                                    const std::vector<std::size_t>& keyframe_indices);
+
+/// Human-readable report: parameters with sigma, residuals before/after, inliers/outliers,
+/// solver summary, trajectory errors, warnings.
+std::string formatTricycleReport(const TricycleCalibrationResult& result,
+                                 const TricycleEvaluation& evaluation);
+
+}  // namespace odometry_calibration

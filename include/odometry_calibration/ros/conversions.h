@@ -1,0 +1,36 @@
+// The thin ROS layer's message conversions: ROS messages in, core types out, and back.
+// Only this layer includes ROS headers; the core never does.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <geometry_msgs/Pose.h>
+#include <geometry_msgs/Transform.h>
+#include <sensor_msgs/JointState.h>
+
+#include "odometry_calibration/data/encoder.h"
+#include "odometry_calibration/geometry/se2.h"
+
+namespace odometry_calibration {
+namespace ros_conversions {
+
+/// Planar part of a 3D transform: x, y and the yaw of the quaternion. Throws
+/// std::invalid_argument if the quaternion is not finite or has zero length.
+Pose2 fromTransformMsg(const geometry_msgs::Transform& transform);
+
+/// 3D transform of a planar pose (z = 0, rotation about z).
+geometry_msgs::Transform toTransformMsg(const Pose2& pose);
+
+/// 3D pose of a planar pose (z = 0, rotation about z).
+geometry_msgs::Pose toPoseMsg(const Pose2& pose);
+
+/// Raw readings of the configured joints, in the channels' order, from a JointState's
+/// `position` array. Throws std::invalid_argument naming the problem: a name and position
+/// array of different lengths, a configured joint missing from the message, a non-finite value.
+Eigen::VectorXd rawJointPositions(const sensor_msgs::JointState& message,
+                                  const std::vector<EncoderChannelOptions>& channels);
+
+}  // namespace ros_conversions
+}  // namespace odometry_calibration

@@ -1,0 +1,77 @@
+#include "odometry_calibration/ros/conversions.h"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace odometry_calibration {
+namespace ros_conversions {
+
+Pose2 fromTransformMsg(const geometry_msgs::Transform& transform)
+{
+  const auto& q = transform.rotation;
+  const double norm2 = q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w;
+  if (!std::isfinite(norm2) || norm2 < 1e-12) {
+    throw std::invalid_argument("transform rotation is not a valid quaternion");
+  }
+  const double yaw =
+      std::atan2(2.0 * (q.w * q.z + q.x * q.y), norm2 - 2.0 * (q.y * q.y + q.z * q.z));
+  return Pose2(transform.translation.x, transform.translation.y, yaw);
+}
+
+geometry_msgs::Transform toTransformMsg(const Pose2& pose)
+{
+  geometry_msgs::Transform transform;
+  transform.translation.x = pose.x();
+  transform.translation.y = pose.y();
+  transform.translation.z = 0.0;
+  transform.rotation.x = 0.0;
+  transform.rotation.y = 0.0;
+  transform.rotation.z = std::sin(0.5 * pose.theta());
+  transform.rotation.w = std::cos(0.5 * pose.theta());
+  return transform;
+}
+
+geometry_msgs::Pose toPoseMsg(const Pose2& pose)
+{
+  const geometry_msgs::Transform transform = toTransformMsg(pose);
+  geometry_msgs::Pose result;
+  result.position.x = transform.translation.x;
+  result.position.y = transform.translation.y;
+  result.position.z = 0.0;
+  result.orientation = transform.rotation;
+  return result;
+}
+
+Eigen::VectorXd rawJointPositions(const sensor_msgs::JointState& message,
+                                  const std::vector<EncoderChannelOptions>& channels)
+{
+  if (message.name.size() != message.position.size()) {
+    throw std::invalid_argument("JointState has " + std::to_string(message.name.size()) +
+                                " names but " + std::to_string(message.position.size()) +
+                                " positions");
+  }
+  Eigen::VectorXd raw(static_cast<Eigen::Index>(channels.size()));
+  for (std::size_t c = 0; c < channels.size(); ++c) {
+    std::size_t found = message.name.size();
+    for (std::size_t i = 0; i < message.name.size(); ++i) {
+      if (message.name[i] == channels[c].name) {
+        found = i;
+        break;
+      }
+    }
+    if (found == message.name.size()) {
+      throw std::invalid_argument("JointState lacks the configured joint '" + channels[c].name +
+                                  "'");
+    }
+    const double value = message.position[found];
+    if (!std::isfinite(value)) {
+      throw std::invalid_argument("JointState position of joint '" + channels[c].name +
+                                  "' is not a finite number");
+    }
+    raw(static_cast<Eigen::Index>(c)) = value;
+  }
+  return raw;
+}
+
+}  // namespace ros_conversions
+}  // namespace odometry_calibration

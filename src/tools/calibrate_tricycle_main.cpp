@@ -1,0 +1,21 @@
+// calibrate_tricycle: fits the tricycle model to a log and prints the report.
+#include <iostream>
+
+#include "odometry_calibration/cli/tricycle_cli.h"
+
+int main(int argc, char** argv)
+{
+  using namespace odometry_calibration;
+  try {
+    const TricycleCliOptions options =
+        parseTricycleCliArguments(std::vector<std::string>(argv + 1, argv + argc));
+    if (options.help) {
+      std::cout << tricycleCliUsage();
+      return 0;
+    }
+    return runTricycleCli(options, std::cout, std::cerr);
+  } catch (const UsageError& error) {
+    std::cerr << "error: " << error.what() << "\n\n" << tricycleCliUsage();
+    return 2;
+  }
+}
