@@ -35,7 +35,8 @@ void writeFileAtomically(const std::string& path, const std::string& content)
   while (written < content.size()) {
     const ssize_t n = ::write(fd, content.data() + written, content.size() - written);
     if (n < 0) {
-      if (errno == EINTR) continue;
+      if (errno == EINTR)
+        continue;
       const std::string message = systemError("cannot write", temporary_path);
       ::close(fd);
       std::remove(temporary_path.c_str());

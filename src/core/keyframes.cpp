@@ -5,6 +5,9 @@
 #include "odometry_calibration/data/motion_pair.h"
 
 namespace odometry_calibration {
+namespace {
+constexpr double kStampSlackS = 1e-9;
+}  // namespace
 
 std::vector<KeyframeWindow> selectKeyframeWindows(const std::vector<double>& stamps_s,
                                                   double interval_s)
@@ -24,7 +27,9 @@ std::vector<KeyframeWindow> selectKeyframeWindows(const std::vector<double>& sta
               << " s comes after " << stamps_s[i - 1] << " s";
       throw std::invalid_argument(message.str());
     }
-    if (stamps_s[i] - stamps_s[keyframe] >= interval_s) {
+    // A nanosecond of slack so that stamps on a regular grid (k * 0.1 s) are not pushed to the
+    // next sample by rounding.
+    if (stamps_s[i] - stamps_s[keyframe] >= interval_s - kStampSlackS) {
       windows.push_back({keyframe, i});
       keyframe = i;
     }

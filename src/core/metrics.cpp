@@ -26,8 +26,8 @@ double relativePoseError(const std::vector<Pose2>& estimated, const std::vector<
   }
   double sum = 0.0;
   for (std::size_t k = 0; k + 1 < estimated.size(); ++k) {
-    const Pose2 error = between(between(estimated[k], estimated[k + 1]),
-                                between(reference[k], reference[k + 1]));
+    const Pose2 error =
+        between(between(estimated[k], estimated[k + 1]), between(reference[k], reference[k + 1]));
     sum += error.x() * error.x() + error.y() * error.y();
   }
   return std::sqrt(sum / static_cast<double>(estimated.size() - 1));

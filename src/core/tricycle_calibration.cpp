@@ -1,7 +1,9 @@
 #include "odometry_calibration/models/tricycle_calibration.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <stdexcept>
 
@@ -189,7 +191,8 @@ TricycleCalibrationResult calibrateTricycle(const std::vector<MotionPair>& pairs
     Eigen::Vector3d whitened;
     residual(kinematic.data(), sensor_pose.data(), whitened.data());
     const double chi2 = whitened.squaredNorm();
-    if (options.huber_threshold <= 0.0 || chi2 <= options.huber_threshold * options.huber_threshold) {
+    if (options.huber_threshold <= 0.0 ||
+        chi2 <= options.huber_threshold * options.huber_threshold) {
       inliers.push_back(pair);
       chi2_inliers += chi2;
     }

@@ -107,21 +107,25 @@ void parseHeaderLine(const std::string& body, std::size_t line, const std::strin
   } else if (key == "parameters") {
     header->parameter_names = parseNameList(value);
   } else if (key == "parameter_values") {
-    if (!parseNumberList(value, &header->parameter_values)) fail("a list of numbers");
+    if (!parseNumberList(value, &header->parameter_values))
+      fail("a list of numbers");
   } else if (key == "joints_max_enc") {
     header->joint_names = parseNameList(value);
   } else if (key == "joints_max_enc_values") {
-    if (!parseNumberList(value, &header->joint_max_values)) fail("a list of numbers");
+    if (!parseNumberList(value, &header->joint_max_values))
+      fail("a list of numbers");
   } else if (key == "laser") {
     *expect_sensor_pose = true;
   } else if (key == "translation" && *expect_sensor_pose) {
     std::vector<double> xyz;
-    if (!parseNumberList(value, &xyz) || xyz.size() != 3) fail("[ x, y, z ] in metres");
+    if (!parseNumberList(value, &xyz) || xyz.size() != 3)
+      fail("[ x, y, z ] in metres");
     header->T_base_sensor = Pose2(xyz[0], xyz[1], header->T_base_sensor.theta());
     header->has_sensor_pose = true;
   } else if (key == "rotation" && *expect_sensor_pose) {
     std::vector<double> q;
-    if (!parseNumberList(value, &q) || q.size() != 4) fail("a quaternion [ x, y, z, w ]");
+    if (!parseNumberList(value, &q) || q.size() != 4)
+      fail("a quaternion [ x, y, z, w ]");
     // Yaw of the quaternion (x, y, z, w).
     const double yaw =
         std::atan2(2.0 * (q[3] * q[2] + q[0] * q[1]), 1.0 - 2.0 * (q[1] * q[1] + q[2] * q[2]));
@@ -182,15 +186,15 @@ TricycleDataset parseTricycleDataset(std::istream& input, const std::string& sou
     row.line = line;
     SplitStamp stamp;
     if (!parseStamp(tokens[1], &stamp)) {
-      throw DatasetParseError(source, line,
-                              "time: expected a non-negative number of seconds, found '" +
-                                  tokens[1] + "'");
+      throw DatasetParseError(
+          source, line,
+          "time: expected a non-negative number of seconds, found '" + tokens[1] + "'");
     }
     if (!parseTicks(tokens[3], &row.steering_ticks) ||
         !parseTicks(tokens[4], &row.traction_ticks)) {
-      throw DatasetParseError(source, line,
-                              "ticks: expected two integers in [0, 2^32), found '" + tokens[3] +
-                                  " " + tokens[4] + "'");
+      throw DatasetParseError(
+          source, line,
+          "ticks: expected two integers in [0, 2^32), found '" + tokens[3] + " " + tokens[4] + "'");
     }
     double values[6];
     const std::size_t value_tokens[] = {6, 7, 8, 10, 11, 12};

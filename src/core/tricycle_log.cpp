@@ -15,7 +15,8 @@ TricycleEncoderLayout tricycleLayoutFromHeader(const TricycleDatasetHeader& head
   TricycleEncoderLayout layout;
   layout.steering_index = 0;
   layout.traction_index = 1;
-  if (header.joint_names.size() == 2 && header.joint_names[0].find("traction") != std::string::npos) {
+  if (header.joint_names.size() == 2 &&
+      header.joint_names[0].find("traction") != std::string::npos) {
     std::swap(layout.steering_index, layout.traction_index);
   }
   layout.steering_ticks_per_turn = header.joint_max_values[layout.steering_index];
@@ -63,8 +64,8 @@ std::vector<EncoderSample> decodeTricycleEncoders(const TricycleDataset& dataset
 }
 
 std::vector<MotionPair> tricyclePairs(const TricycleDataset& dataset,
-                                      const std::vector<EncoderSample>& samples,
-                                      double interval_s, const Eigen::Matrix3d& covariance)
+                                      const std::vector<EncoderSample>& samples, double interval_s,
+                                      const Eigen::Matrix3d& covariance)
 {
   if (samples.size() != dataset.rows.size()) {
     throw std::invalid_argument("tricyclePairs: one decoded sample per dataset row expected");

@@ -7,11 +7,11 @@ namespace odometry_calibration {
 namespace {
 
 // Below these the data do not excite the parameters enough to trust them.
-constexpr double kMinTravelM = 2.0;           // total distance driven by the sensor
-constexpr double kMinTurnRad = 0.5;           // total heading change each way
-constexpr double kMaxRelativeSigma = 0.05;    // sigma / |value| of scale-like parameters
-constexpr double kMaxAbsoluteSigmaM = 0.05;   // sigma of lengths without a natural scale
-constexpr double kMaxAbsoluteSigmaRad = 0.02; // sigma of angles
+constexpr double kMinTravelM = 2.0;            // total distance driven by the sensor
+constexpr double kMinTurnRad = 0.5;            // total heading change each way
+constexpr double kMaxRelativeSigma = 0.05;     // sigma / |value| of scale-like parameters
+constexpr double kMaxAbsoluteSigmaM = 0.05;    // sigma of lengths without a natural scale
+constexpr double kMaxAbsoluteSigmaRad = 0.02;  // sigma of angles
 constexpr double kMaxCorrelation = 0.995;
 
 std::string formatNumber(double value)

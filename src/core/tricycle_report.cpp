@@ -43,8 +43,7 @@ TricycleEvaluation evaluateTricycle(const TricycleCalibrationResult& result,
   if (samples.size() != reference.size() || samples.size() < 2) {
     throw std::invalid_argument("evaluation needs one reference pose per encoder sample");
   }
-  const auto initial =
-      tricycleSensorTrajectory(result.initial, layout, samples, reference.front());
+  const auto initial = tricycleSensorTrajectory(result.initial, layout, samples, reference.front());
   const auto calibrated =
       tricycleSensorTrajectory(result.calibrated, layout, samples, reference.front());
   TricycleEvaluation evaluation;

@@ -134,7 +134,8 @@ int runTricycleCli(const TricycleCliOptions& options, std::ostream& out, std::os
       stamps_s.push_back(sample.stamp_s);
     }
     std::vector<std::size_t> keyframes = {0};
-    for (const KeyframeWindow& window : selectKeyframeWindows(stamps_s, options.keyframe_interval_s)) {
+    for (const KeyframeWindow& window :
+         selectKeyframeWindows(stamps_s, options.keyframe_interval_s)) {
       keyframes.push_back(window.last);
     }
     const TricycleEvaluation evaluation =

@@ -21,11 +21,11 @@ public:
 /// Everything the command can be told.
 struct TricycleCliOptions
 {
-  std::string dataset_path;                      ///< the log to calibrate (required)
+  std::string dataset_path;                               ///< the log to calibrate (required)
   std::string output_path = "tricycle_calibration.yaml";  ///< result YAML; "" = do not write
-  double keyframe_interval_s = 0.5;              ///< keyframe spacing T [s]
-  TricycleCalibrationOptions calibration;        ///< fit options
-  bool help = false;                             ///< print usage and exit
+  double keyframe_interval_s = 0.5;                       ///< keyframe spacing T [s]
+  TricycleCalibrationOptions calibration;                 ///< fit options
+  bool help = false;                                      ///< print usage and exit
 };
 
 /// Usage text with every option, its unit and default.

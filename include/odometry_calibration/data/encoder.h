@@ -36,7 +36,7 @@ enum class EncoderKind
 /// Options of one encoder channel, in the encoder's raw units (ticks or radians).
 struct EncoderChannelOptions
 {
-  std::string name;                             ///< joint name, for messages
+  std::string name;                              ///< joint name, for messages
   EncoderKind kind = EncoderKind::kIncremental;  ///< incremental or absolute
   /// Incremental: period after which the raw counter wraps (2^32 for a uint32 counter,
   /// 2*pi for an angle that wraps); 0 = never wraps.

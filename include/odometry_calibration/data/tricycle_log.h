@@ -30,7 +30,7 @@ std::vector<EncoderSample> decodeTricycleEncoders(const TricycleDataset& dataset
 /// One pair per keyframe window (keyframes every `interval_s` [s]): the decoded samples of the
 /// window and the tracker's sensor displacement, with `covariance` [m^2, rad^2].
 std::vector<MotionPair> tricyclePairs(const TricycleDataset& dataset,
-                                      const std::vector<EncoderSample>& samples,
-                                      double interval_s, const Eigen::Matrix3d& covariance);
+                                      const std::vector<EncoderSample>& samples, double interval_s,
+                                      const Eigen::Matrix3d& covariance);
 
 }  // namespace odometry_calibration

@@ -19,11 +19,11 @@ namespace odometry_calibration {
 /// The tricycle's kinematic parameters and the sensor's pose on it.
 struct TricycleParameters
 {
-  double steering_scale = 0.1;               ///< Ks [-]
-  double traction_scale_m_per_turn = 0.01;   ///< Kt [m per wheel turn]
-  double axis_length_m = 1.0;                ///< a [m]
-  double steering_offset_rad = 0.0;          ///< ds [rad]
-  Pose2 T_base_sensor;                       ///< sensor pose in base_link [m, m, rad]
+  double steering_scale = 0.1;              ///< Ks [-]
+  double traction_scale_m_per_turn = 0.01;  ///< Kt [m per wheel turn]
+  double axis_length_m = 1.0;               ///< a [m]
+  double steering_offset_rad = 0.0;         ///< ds [rad]
+  Pose2 T_base_sensor;                      ///< sensor pose in base_link [m, m, rad]
 
   /// (Ks, Kt, a, ds), indexed by TricycleParameterIndex.
   Eigen::Vector4d kinematicVector() const;

@@ -60,8 +60,7 @@ Pose2T<T> tricycleStep(const T* kinematic, const TricycleEncoderLayout& layout,
   using std::cos;
   using std::sin;
   const double kTwoPi = 2.0 * M_PI;
-  const T travel_m =
-      kinematic[kTractionScale] * T(traction_ticks / layout.traction_ticks_per_turn);
+  const T travel_m = kinematic[kTractionScale] * T(traction_ticks / layout.traction_ticks_per_turn);
   const T steering_rad =
       kinematic[kSteeringScale] * T(steering_ticks * kTwoPi / layout.steering_ticks_per_turn) +
       kinematic[kSteeringOffset];

@@ -5,10 +5,10 @@
 #include <string>
 #include <vector>
 
-#include <Eigen/Core>
 #include <geometry_msgs/Pose.h>
 #include <geometry_msgs/Transform.h>
 #include <sensor_msgs/JointState.h>
+#include <Eigen/Core>
 
 #include "odometry_calibration/data/encoder.h"
 #include "odometry_calibration/geometry/se2.h"

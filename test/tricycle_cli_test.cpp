@@ -1,0 +1,123 @@
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
+
+#include "odometry_calibration/cli/tricycle_cli.h"
+
+namespace odometry_calibration {
+namespace {
+
+const std::string kDataset =
+    std::string(ODOMETRY_CALIBRATION_SHARED_DATA_DIR) + "/tricycle/dataset.txt";
+
+std::string scratchDirectory()
+{
+  char pattern[] = "/tmp/tricycle_cli_test.XXXXXX";
+  const char* directory = mkdtemp(pattern);
+  EXPECT_NE(directory, nullptr);
+  return directory ? directory : "/tmp";
+}
+
+bool exists(const std::string& path)
+{
+  return std::ifstream(path).good();
+}
+
+TEST(TricycleCli, ParsesOptions)
+{
+  const TricycleCliOptions options = parseTricycleCliArguments(
+      {"log.txt", "--interval", "0.3", "--huber", "2.5", "--output", "out.yaml",
+       "--translation-sigma", "0.02", "--rotation-sigma", "0.004", "--max-iterations", "40"});
+  EXPECT_EQ(options.dataset_path, "log.txt");
+  EXPECT_EQ(options.output_path, "out.yaml");
+  EXPECT_DOUBLE_EQ(options.keyframe_interval_s, 0.3);
+  EXPECT_DOUBLE_EQ(options.calibration.huber_threshold, 2.5);
+  EXPECT_DOUBLE_EQ(options.calibration.translation_sigma_m, 0.02);
+  EXPECT_DOUBLE_EQ(options.calibration.rotation_sigma_rad, 0.004);
+  EXPECT_EQ(options.calibration.max_iterations, 40);
+  EXPECT_TRUE(parseTricycleCliArguments({"--help"}).help);
+}
+
+TEST(TricycleCli, NamesTheBadOption)
+{
+  auto message = [](const std::vector<std::string>& arguments) -> std::string {
+    try {
+      parseTricycleCliArguments(arguments);
+    } catch (const UsageError& error) {
+      return error.what();
+    }
+    return "";
+  };
+  EXPECT_NE(message({}).find("missing the dataset"), std::string::npos);
+  EXPECT_NE(message({"a", "--frobnicate"}).find("--frobnicate"), std::string::npos);
+  EXPECT_NE(message({"a", "--interval", "fast"}).find("--interval"), std::string::npos);
+  EXPECT_NE(message({"a", "--interval", "0"}).find("> 0"), std::string::npos);
+  EXPECT_NE(message({"a", "--interval"}).find("needs a value"), std::string::npos);
+  EXPECT_NE(message({"a", "--max-iterations", "2.5"}).find("whole number"), std::string::npos);
+  EXPECT_NE(message({"a", "--rotation-sigma", "-1"}).find("rotation_sigma"), std::string::npos);
+  EXPECT_NE(message({"a", "b"}).find("only one dataset"), std::string::npos);
+}
+
+TEST(TricycleCli, CalibratesTheRealLogAndWritesTheYaml)
+{
+  if (!exists(kDataset)) {
+    GTEST_SKIP() << "real dataset not found at " << kDataset;
+  }
+  TricycleCliOptions options;
+  options.dataset_path = kDataset;
+  options.output_path = scratchDirectory() + "/result.yaml";
+  std::ostringstream out, err;
+  ASSERT_EQ(runTricycleCli(options, out, err), 0) << err.str();
+  EXPECT_NE(out.str().find("ATE (paper eq. 11)"), std::string::npos) << out.str();
+  const YAML::Node result = YAML::LoadFile(options.output_path);
+  EXPECT_EQ(result["model"].as<std::string>(), "tricycle");
+  const double axis = result["parameters"]["axis_length"]["value"].as<double>();
+  EXPECT_GT(axis, 1.48);
+  EXPECT_LT(axis, 1.70);
+  EXPECT_GT(result["parameters"]["axis_length"]["sigma"].as<double>(), 0.0);
+  EXPECT_NEAR(result["T_base_sensor"]["x_m"].as<double>(), 1.8, 0.06);
+  EXPECT_LT(result["evaluation"]["ate_calibrated_m"].as<double>(), 0.6);
+  EXPECT_TRUE(result["fit"]["converged"].as<bool>());
+}
+
+TEST(TricycleCli, BadInputFailsCleanlyAndWritesNothing)
+{
+  const std::string directory = scratchDirectory();
+  TricycleCliOptions options;
+  options.output_path = directory + "/result.yaml";
+  std::ostringstream out, err;
+
+  options.dataset_path = directory + "/does_not_exist.txt";
+  EXPECT_EQ(runTricycleCli(options, out, err), 1);
+  EXPECT_NE(err.str().find("cannot open"), std::string::npos) << err.str();
+
+  options.dataset_path = directory + "/broken.txt";
+  std::ofstream(options.dataset_path)
+      << "#parameter_values: 0.1 0.0106141 1.4 0\n"
+      << "time: 1.0 ticks: 290 5 model_pose: 0 0 0 tracker_pose: 0 0 0\n"
+      << "time: 1.1 ticks: 290 model_pose: 0 0 0 tracker_pose: 0 0 0\n";
+  err.str("");
+  EXPECT_EQ(runTricycleCli(options, out, err), 1);
+  EXPECT_NE(err.str().find("broken.txt:3"), std::string::npos) << err.str();
+
+  // Parsable but without motion: too few pairs, said so.
+  options.dataset_path = directory + "/still.txt";
+  {
+    std::ofstream still(options.dataset_path);
+    still << "#parameter_values: 0.1 0.0106141 1.4 0\n#joints_max_enc_values: 8192 5000\n"
+          << "#laser wrt base_link\n#\ttranslation: [ 1.5, 0, 0 ],\n#\trotation: [ 0, 0, 0, 1 ]\n";
+    for (int i = 0; i < 20; ++i) {
+      still << "time: " << 100 + 0.1 * i << " ticks: 290 5 model_pose: 0 0 0 tracker_pose: 0 0 0\n";
+    }
+  }
+  err.str("");
+  EXPECT_EQ(runTricycleCli(options, out, err), 1);
+  EXPECT_NE(err.str().find("at least 7 keyframe pairs"), std::string::npos) << err.str();
+  EXPECT_FALSE(exists(options.output_path));
+}
+
+}  // namespace
+}  // namespace odometry_calibration
