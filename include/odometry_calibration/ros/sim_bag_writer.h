@@ -1,0 +1,52 @@
+// Writes the simulator's streams into a rosbag: sensor_msgs/JointState, sensor_msgs/LaserScan,
+// and the ground truth as nav_msgs/Odometry plus its own tf tree (sim_world -> sim_base_link
+// -> sim_<laser frame>), kept apart from the frames a calibration uses (odom, base_link,
+// laser) so that it never leaks into calibration inputs.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "odometry_calibration/sim/scenario.h"
+#include "odometry_calibration/sim/simulator.h"
+
+namespace rosbag {
+class Bag;
+}
+
+namespace odometry_calibration {
+
+/// A SimulationSink that writes a bag. Messages are written with their header stamps as bag
+/// times; the bag is uncompressed so a fixed seed gives a byte-identical file.
+class SimBagWriter : public sim::SimulationSink
+{
+public:
+  /// Opens `bag_path` for writing (truncates). Throws std::runtime_error if it cannot.
+  SimBagWriter(const std::string& bag_path, const sim::Scenario& scenario,
+               std::vector<std::string> joint_names);
+  ~SimBagWriter() override;
+  SimBagWriter(const SimBagWriter&) = delete;
+  SimBagWriter& operator=(const SimBagWriter&) = delete;
+
+  void onJointState(const sim::JointStateSample& sample) override;
+  void onScan(const sim::ScanSample& sample) override;
+  void onTruth(const sim::TruthSample& sample) override;
+
+  /// Writes the index and closes the file.
+  void close();
+
+private:
+  std::unique_ptr<rosbag::Bag> bag_;
+  sim::Scenario scenario_;
+  std::vector<std::string> joint_names_;
+  std::uint32_t joint_seq_ = 0, scan_seq_ = 0, truth_seq_ = 0;
+  bool wrote_static_tf_ = false;
+};
+
+/// Runs the scenario into a bag written atomically (temporary file, renamed when complete)
+/// and writes the truth YAML next to it atomically. Returns the run's summary.
+sim::SimulationSummary simulateToBag(const sim::Scenario& scenario, const std::string& bag_path,
+                                     const std::string& truth_path);
+
+}  // namespace odometry_calibration

@@ -1,0 +1,73 @@
+// A simulation scenario: world, robot with its true parameters, laser, encoders, motion.
+// Read from YAML (see config/sim/scenarios/*.yaml, which document every key).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "odometry_calibration/geometry/se2.h"
+#include "odometry_calibration/sim/drive_plan.h"
+#include "odometry_calibration/sim/robot.h"
+
+namespace odometry_calibration {
+namespace sim {
+
+/// The simulated 2D laser.
+struct LaserOptions
+{
+  Pose2 T_base_laser{0.15, 0.0, 0.0};  ///< true mounting pose [m, m, rad]
+  int rays = 720;                      ///< rays per scan
+  double fov_rad = 4.71238898;         ///< field of view, centred on the laser's x axis [rad]
+  double rate_hz = 10.0;               ///< scans per second
+  double range_noise_m = 0.01;         ///< Gaussian range noise sigma [m]
+  double min_range_m = 0.05;           ///< closer returns are reported as invalid (NaN)
+  double max_range_m = 20.0;           ///< no return beyond: +inf (REP 117)
+  double dropout_probability = 0.0;    ///< chance a ray returns nothing (NaN)
+  std::string frame_id = "laser";      ///< header frame of the scans
+  std::string topic = "/scan";         ///< bag topic
+};
+
+/// The wheel / joint encoders, published together as one sensor_msgs/JointState.
+struct EncoderOptions
+{
+  double rate_hz = 50.0;                 ///< JointState messages per second
+  std::string topic = "/joint_states";   ///< bag topic
+  std::vector<std::string> joint_names;  ///< empty = the robot's default names
+  bool output_ticks = true;              ///< position in raw ticks (true) or radians (false)
+  int counter_bits = 32;                 ///< incremental counters wrap at 2^bits; 0 = never
+  double initial_ticks = 0.0;            ///< incremental counters start here [ticks]
+  /// JointState stamps = true sample time + offset [s]. Negative: the encoder values are
+  /// stamped earlier than they were measured (they run ahead of the laser).
+  double time_offset_s = 0.0;
+};
+
+/// Everything one simulation run needs.
+struct Scenario
+{
+  std::string name = "scenario";
+  unsigned seed = 1;                   ///< random seed: same seed, byte-identical bag
+  double duration_s = 60.0;            ///< simulated time [s]
+  double start_time_s = 1700000000.0;  ///< ROS time of the first sample [s since epoch]
+  std::string world_path;              ///< world YAML (resolved path)
+  Pose2 start_pose;                    ///< T_world_base at t = 0
+  RobotOptions robot;
+  LaserOptions laser;
+  EncoderOptions encoders;
+  DrivePlanOptions motion;
+  std::string ground_truth_topic = "/ground_truth/odom";  ///< nav_msgs/Odometry of the truth
+  std::string ground_truth_frame = "sim_world";           ///< truth tree root (separate)
+};
+
+/// Throws std::invalid_argument naming the first invalid field.
+void validate(const Scenario& scenario);
+
+/// Reads a scenario. `world:` is a shipped world name (office, corridor, hall: looked up in
+/// `worlds_directory`) or a path relative to the scenario file. Unknown keys are rejected.
+/// Throws std::runtime_error naming the file and the key.
+Scenario loadScenarioYaml(const std::string& path, const std::string& worlds_directory);
+
+/// YAML text of the scenario with the robot's true parameters after defaults (the truth file).
+std::string scenarioTruthYaml(const Scenario& scenario, const Robot& robot);
+
+}  // namespace sim
+}  // namespace odometry_calibration

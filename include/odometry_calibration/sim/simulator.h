@@ -1,0 +1,80 @@
+// The simulation loop: drives the robot through the world and emits encoder readings, laser
+// scans and ground truth, in time order, to a sink (the bag writer, or a test).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "odometry_calibration/geometry/se2.h"
+#include "odometry_calibration/sim/robot.h"
+#include "odometry_calibration/sim/scenario.h"
+#include "odometry_calibration/sim/world.h"
+
+namespace odometry_calibration {
+namespace sim {
+
+/// One JointState: positions in the configured units, stamped with the encoder clock.
+struct JointStateSample
+{
+  double stamp_s = 0.0;           ///< true time + encoders.time_offset_s [s since start]
+  std::vector<double> positions;  ///< ticks (or radians), in joint order
+};
+
+/// One laser scan in the sensor's frame (angles counter-clockwise from its x axis).
+struct ScanSample
+{
+  double stamp_s = 0.0;  ///< time of the scan [s since start]
+  float angle_min_rad = 0.0f;
+  float angle_increment_rad = 0.0f;
+  float range_min_m = 0.0f;
+  float range_max_m = 0.0f;
+  /// Ranges [m]: +inf no return within range_max, -inf closer than range_min, NaN dropout.
+  std::vector<float> ranges;
+};
+
+/// The truth at one instant (never an input of the calibration).
+struct TruthSample
+{
+  double stamp_s = 0.0;  ///< true time [s since start]
+  Pose2 T_world_base;    ///< robot pose
+  Twist2 twist;          ///< body velocity
+};
+
+/// Receives the simulated streams in time order.
+class SimulationSink
+{
+public:
+  virtual ~SimulationSink() = default;
+  virtual void onJointState(const JointStateSample& sample) = 0;
+  virtual void onScan(const ScanSample& sample) = 0;
+  virtual void onTruth(const TruthSample& sample) = 0;
+};
+
+/// Counts and motion statistics of a run.
+struct SimulationSummary
+{
+  std::size_t joint_states = 0;
+  std::size_t scans = 0;
+  std::size_t truth_samples = 0;
+  double distance_m = 0.0;        ///< path length of base_link
+  double rotation_rad = 0.0;      ///< summed |heading change|
+  std::size_t counter_wraps = 0;  ///< times an incremental counter wrapped around
+};
+
+/// Raw encoder output of one joint for its shaft angle [rad]: incremental counters count
+/// floor(angle * ticks_per_rev / 2 pi) + initial_ticks modulo 2^counter_bits; absolute
+/// encoders report round(angle * ticks_per_rev / 2 pi) modulo ticks_per_rev, in [0, tpr).
+/// In radians mode the tick value times 2 pi / ticks_per_rev (absolute: signed).
+double encoderReading(const JointEncoderSpec& spec, const EncoderOptions& options,
+                      double shaft_angle_rad);
+
+/// Runs the scenario. Throws std::invalid_argument if the scenario does not fit the robot
+/// (joint names count) or the start pose is inside a wall.
+SimulationSummary simulate(const Scenario& scenario, const World& world, const Robot& robot,
+                           SimulationSink& sink);
+
+/// Names of the joints as published (scenario's names or the robot's defaults).
+std::vector<std::string> publishedJointNames(const Scenario& scenario, const Robot& robot);
+
+}  // namespace sim
+}  // namespace odometry_calibration

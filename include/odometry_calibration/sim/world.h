@@ -1,0 +1,54 @@
+// A 2D world of line segments for the simulator, ray-cast exactly.
+#pragma once
+
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace odometry_calibration {
+namespace sim {
+
+/// A wall: the segment from a to b, in the world frame [m].
+struct Segment
+{
+  Eigen::Vector2d a;
+  Eigen::Vector2d b;
+};
+
+/// Walls, furniture and pillars as segments (circles are polygons of many sides).
+class World
+{
+public:
+  World() = default;
+  explicit World(std::vector<Segment> segments);
+
+  /// Distance [m] from `origin` along the unit direction of `angle_rad` (world frame) to the
+  /// nearest segment, or +infinity if no segment is hit within `max_range_m`.
+  double castRay(const Eigen::Vector2d& origin, double angle_rad, double max_range_m) const;
+
+  /// Distance [m] from a point to the nearest segment (+infinity in an empty world).
+  double clearance(const Eigen::Vector2d& point) const;
+
+  const std::vector<Segment>& segments() const { return segments_; }
+
+private:
+  std::vector<Segment> segments_;
+  // Per segment: a and (b - a), stored flat for a tight ray-casting loop.
+  std::vector<double> ax_, ay_, dx_, dy_;
+};
+
+/// Loads a world from YAML. Keys (all optional, all in metres):
+///   segments: [[x0, y0, x1, y1], ...]
+///   polygons: [[[x, y], [x, y], ...], ...]        closed outlines
+///   boxes:    [{center: [x, y], size: [w, h], yaw: rad}, ...]
+///   circles:  [{center: [x, y], radius: r, sides: 24}, ...]
+/// Throws std::runtime_error naming the file and the malformed entry.
+World loadWorldYaml(const std::string& path);
+
+/// Same, from YAML text; `source` names it in error messages.
+World parseWorldYaml(const std::string& text, const std::string& source);
+
+}  // namespace sim
+}  // namespace odometry_calibration

@@ -1,0 +1,300 @@
+#include <cmath>
+#include <set>
+#include <stdexcept>
+
+#include "odometry_calibration/sim/robot.h"
+
+namespace odometry_calibration {
+namespace sim {
+
+Pose2 integrateTwist(const Twist2& twist, double dt_s)
+{
+  // Exact arc: rotate by w dt while translating with the body-frame velocity (SE(2) exp).
+  const double angle = twist.omega_radps * dt_s;
+  double a = 1.0;  // sin(angle) / angle
+  double b = 0.0;  // (1 - cos(angle)) / angle
+  if (std::abs(angle) > 1e-9) {
+    a = std::sin(angle) / angle;
+    b = (1.0 - std::cos(angle)) / angle;
+  } else {
+    b = 0.5 * angle;
+  }
+  const double x = twist.vx_mps * dt_s;
+  const double y = twist.vy_mps * dt_s;
+  return Pose2(a * x - b * y, b * x + a * y, angle);
+}
+
+namespace {
+
+/// Reads the robot's keys with defaults; rejects unknown keys and non-finite values.
+class Parameters
+{
+public:
+  Parameters(const RobotOptions& options, std::map<std::string, double> defaults)
+      : values_(std::move(defaults))
+  {
+    for (const char* key : {"slip_per_speed", "non_circular_amplitude", "non_circular_phase_rad",
+                            "axis_misalignment_rad"}) {
+      values_.emplace(key, 0.0);
+    }
+    for (const auto& [key, value] : options.parameters) {
+      if (values_.count(key) == 0) {
+        std::string known;
+        for (const auto& entry : values_)
+          known += " " + entry.first;
+        throw std::invalid_argument("robot '" + options.type + "': unknown parameter '" + key +
+                                    "' (known:" + known + ")");
+      }
+      if (!std::isfinite(value)) {
+        throw std::invalid_argument("robot parameter '" + key + "' must be a finite number");
+      }
+      values_[key] = value;
+    }
+  }
+
+  double positive(const std::string& key) const
+  {
+    const double value = values_.at(key);
+    if (!(value > 0.0)) {
+      throw std::invalid_argument("robot parameter '" + key + "' must be > 0");
+    }
+    return value;
+  }
+  double operator[](const std::string& key) const { return values_.at(key); }
+  const std::map<std::string, double>& all() const { return values_; }
+
+private:
+  std::map<std::string, double> values_;
+};
+
+/// Deformations shared by all robot types.
+struct Deformation
+{
+  double slip_per_speed = 0.0;
+  double non_circular_amplitude = 0.0;
+  double non_circular_phase_rad = 0.0;
+  double axis_misalignment_rad = 0.0;
+
+  explicit Deformation(const Parameters& p)
+      : slip_per_speed(p["slip_per_speed"]),
+        non_circular_amplitude(p["non_circular_amplitude"]),
+        non_circular_phase_rad(p["non_circular_phase_rad"]),
+        axis_misalignment_rad(p["axis_misalignment_rad"])
+  {
+    if (slip_per_speed < 0.0 || std::abs(non_circular_amplitude) >= 0.5) {
+      throw std::invalid_argument("slip_per_speed must be >= 0 and |non_circular_amplitude| < 0.5");
+    }
+  }
+
+  /// Effective rolling radius of a wheel of nominal radius r turning at `rate` with angle
+  /// `angle`; the first wheel (index 0) carries the non-circular deformation.
+  double effectiveRadius(int wheel, double radius_m, double angle_rad, double rate_radps) const
+  {
+    double r = radius_m;
+    if (wheel == 0) {
+      r *= 1.0 + non_circular_amplitude * std::cos(angle_rad + non_circular_phase_rad);
+    }
+    return r * std::max(0.0, 1.0 - slip_per_speed * std::abs(radius_m * rate_radps));
+  }
+};
+
+class DiffDrive : public Robot
+{
+public:
+  explicit DiffDrive(const RobotOptions& options)
+      : p_(options, {{"wheel_radius_left_m", 0.077},
+                     {"wheel_radius_right_m", 0.077},
+                     {"wheel_separation_m", 0.33},
+                     {"encoder_ticks_per_rev", 2000}}),
+        deformation_(p_),
+        r_left_(p_.positive("wheel_radius_left_m")),
+        r_right_(p_.positive("wheel_radius_right_m")),
+        separation_(p_.positive("wheel_separation_m")),
+        ticks_(p_.positive("encoder_ticks_per_rev"))
+  {
+  }
+
+  std::vector<JointEncoderSpec> joints() const override
+  {
+    return {{"left_wheel", EncoderKind::kIncremental, ticks_},
+            {"right_wheel", EncoderKind::kIncremental, ticks_}};
+  }
+
+  Twist2 step(const Twist2& command, double dt_s, Eigen::VectorXd* joint_rad) const override
+  {
+    const double rate_left = (command.vx_mps - 0.5 * separation_ * command.omega_radps) / r_left_;
+    const double rate_right = (command.vx_mps + 0.5 * separation_ * command.omega_radps) / r_right_;
+    const double speed_left =
+        deformation_.effectiveRadius(0, r_left_, (*joint_rad)(0), rate_left) * rate_left;
+    const double speed_right =
+        deformation_.effectiveRadius(1, r_right_, (*joint_rad)(1), rate_right) * rate_right;
+    // The left wheel may roll in a direction turned by the misalignment angle.
+    const double misalignment = deformation_.axis_misalignment_rad;
+    const double left_x = speed_left * std::cos(misalignment);
+    const double left_y = speed_left * std::sin(misalignment);
+    (*joint_rad)(0) += rate_left * dt_s;
+    (*joint_rad)(1) += rate_right * dt_s;
+    return {0.5 * (left_x + speed_right), 0.5 * left_y, (speed_right - left_x) / separation_};
+  }
+
+  bool canTurnInPlace() const override { return true; }
+  double footprintRadius() const override { return 0.5 * separation_ + 0.1; }
+  std::map<std::string, double> trueParameters() const override { return p_.all(); }
+
+private:
+  Parameters p_;
+  Deformation deformation_;
+  double r_left_, r_right_, separation_, ticks_;
+};
+
+class Tricycle : public Robot
+{
+public:
+  explicit Tricycle(const RobotOptions& options)
+      : p_(options, {{"steering_scale", 0.56},
+                     {"traction_scale_m_per_turn", 0.0106},
+                     {"axis_length_m", 1.54},
+                     {"steering_offset_rad", -0.06},
+                     {"max_steering_rad", 1.2},
+                     {"steering_rate_radps", 1.5},
+                     {"steering_ticks_per_rev", 8192},
+                     {"traction_ticks_per_rev", 5000}}),
+        deformation_(p_),
+        steering_scale_(p_.positive("steering_scale")),
+        traction_scale_(p_.positive("traction_scale_m_per_turn")),
+        axis_length_(p_.positive("axis_length_m")),
+        max_steering_(p_.positive("max_steering_rad")),
+        steering_rate_(p_.positive("steering_rate_radps"))
+  {
+    if (max_steering_ >= 0.5 * M_PI) {
+      throw std::invalid_argument("robot parameter 'max_steering_rad' must be < pi/2");
+    }
+    if (deformation_.axis_misalignment_rad != 0.0) {
+      throw std::invalid_argument("axis_misalignment_rad is not modelled for the tricycle");
+    }
+  }
+
+  std::vector<JointEncoderSpec> joints() const override
+  {
+    return {{"steering", EncoderKind::kAbsolute, p_["steering_ticks_per_rev"]},
+            {"traction_wheel", EncoderKind::kIncremental, p_["traction_ticks_per_rev"]}};
+  }
+
+  Twist2 step(const Twist2& command, double dt_s, Eigen::VectorXd* joint_rad) const override
+  {
+    double& steering = (*joint_rad)(0);
+    // Steering target that realises (v, w): tan(alpha) = w a / v; held when not moving.
+    double target = steering;
+    if (std::abs(command.vx_mps) > 1e-6) {
+      target = std::atan(command.omega_radps * axis_length_ / command.vx_mps);
+    }
+    target = std::clamp(target, -max_steering_, max_steering_);
+    const double max_change = steering_rate_ * dt_s;
+    steering += std::clamp(target - steering, -max_change, max_change);
+    // Front-wheel speed for the commanded forward speed of the rear axle.
+    const double wheel_speed = command.vx_mps / std::cos(steering);
+    const double rate = wheel_speed / traction_scale_ * 2.0 * M_PI;  // wheel [rad/s]
+    const double radius = traction_scale_ / (2.0 * M_PI);
+    const double travel_rate =
+        deformation_.effectiveRadius(0, radius, (*joint_rad)(1), rate) * rate;  // [m/s]
+    (*joint_rad)(1) += rate * dt_s;
+    return {travel_rate * std::cos(steering), 0.0, travel_rate * std::sin(steering) / axis_length_};
+  }
+
+  Eigen::VectorXd encoderAngles(const Eigen::VectorXd& joint_rad) const override
+  {
+    // Seed, section 2: alpha = Ks * encoder_angle + offset.
+    return Eigen::Vector2d((joint_rad(0) - p_["steering_offset_rad"]) / steering_scale_,
+                           joint_rad(1));
+  }
+
+  bool canTurnInPlace() const override { return false; }
+  double footprintRadius() const override { return axis_length_ + 0.3; }
+  std::map<std::string, double> trueParameters() const override { return p_.all(); }
+
+private:
+  Parameters p_;
+  Deformation deformation_;
+  double steering_scale_, traction_scale_, axis_length_, max_steering_, steering_rate_;
+};
+
+class Mecanum : public Robot
+{
+public:
+  explicit Mecanum(const RobotOptions& options)
+      : p_(options, {{"wheel_radius_m", 0.05},
+                     {"wheel_radius_fl_m", 0.0},
+                     {"wheel_radius_fr_m", 0.0},
+                     {"wheel_radius_rl_m", 0.0},
+                     {"wheel_radius_rr_m", 0.0},
+                     {"half_length_m", 0.15},
+                     {"half_width_m", 0.2},
+                     {"encoder_ticks_per_rev", 1000}}),
+        deformation_(p_),
+        lever_(p_.positive("half_length_m") + p_.positive("half_width_m"))
+  {
+    const char* keys[] = {"wheel_radius_fl_m", "wheel_radius_fr_m", "wheel_radius_rl_m",
+                          "wheel_radius_rr_m"};
+    for (int i = 0; i < 4; ++i) {
+      radius_[i] = p_[keys[i]] > 0.0 ? p_[keys[i]] : p_.positive("wheel_radius_m");
+    }
+    if (deformation_.axis_misalignment_rad != 0.0) {
+      throw std::invalid_argument("axis_misalignment_rad is not modelled for mecanum");
+    }
+  }
+
+  std::vector<JointEncoderSpec> joints() const override
+  {
+    const double ticks = p_.positive("encoder_ticks_per_rev");
+    return {{"front_left_wheel", EncoderKind::kIncremental, ticks},
+            {"front_right_wheel", EncoderKind::kIncremental, ticks},
+            {"rear_left_wheel", EncoderKind::kIncremental, ticks},
+            {"rear_right_wheel", EncoderKind::kIncremental, ticks}};
+  }
+
+  Twist2 step(const Twist2& command, double dt_s, Eigen::VectorXd* joint_rad) const override
+  {
+    const double vx = command.vx_mps, vy = command.vy_mps, w = lever_ * command.omega_radps;
+    const double surface[4] = {vx - vy - w, vx + vy + w, vx + vy - w, vx - vy + w};
+    double speed[4];
+    for (int i = 0; i < 4; ++i) {
+      const double rate = surface[i] / radius_[i];
+      speed[i] = deformation_.effectiveRadius(i, radius_[i], (*joint_rad)(i), rate) * rate;
+      (*joint_rad)(i) += rate * dt_s;
+    }
+    return {0.25 * (speed[0] + speed[1] + speed[2] + speed[3]),
+            0.25 * (-speed[0] + speed[1] + speed[2] - speed[3]),
+            0.25 * (-speed[0] + speed[1] - speed[2] + speed[3]) / lever_};
+  }
+
+  bool canTurnInPlace() const override { return true; }
+  bool canDriveSideways() const override { return true; }
+  double footprintRadius() const override
+  {
+    return std::hypot(p_["half_length_m"], p_["half_width_m"]) + 0.1;
+  }
+  std::map<std::string, double> trueParameters() const override { return p_.all(); }
+
+private:
+  Parameters p_;
+  Deformation deformation_;
+  double lever_;
+  double radius_[4];
+};
+
+}  // namespace
+
+std::unique_ptr<Robot> makeRobot(const RobotOptions& options)
+{
+  if (options.type == "diff_drive")
+    return std::make_unique<DiffDrive>(options);
+  if (options.type == "tricycle")
+    return std::make_unique<Tricycle>(options);
+  if (options.type == "mecanum")
+    return std::make_unique<Mecanum>(options);
+  throw std::invalid_argument("unknown robot type '" + options.type +
+                              "' (expected diff_drive, tricycle or mecanum)");
+}
+
+}  // namespace sim
+}  // namespace odometry_calibration

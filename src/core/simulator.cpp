@@ -1,0 +1,185 @@
+#include "odometry_calibration/sim/simulator.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <random>
+#include <stdexcept>
+
+#include "odometry_calibration/sim/drive_plan.h"
+
+namespace odometry_calibration {
+namespace sim {
+
+double encoderReading(const JointEncoderSpec& spec, const EncoderOptions& options,
+                      double shaft_angle_rad)
+{
+  const double turns = shaft_angle_rad / (2.0 * M_PI);
+  const double tick_rad = 2.0 * M_PI / spec.ticks_per_rev;
+  if (spec.kind == EncoderKind::kAbsolute) {
+    double ticks = std::fmod(std::round(turns * spec.ticks_per_rev), spec.ticks_per_rev);
+    if (ticks < 0.0)
+      ticks += spec.ticks_per_rev;
+    if (options.output_ticks)
+      return ticks;
+    return (ticks > 0.5 * spec.ticks_per_rev ? ticks - spec.ticks_per_rev : ticks) * tick_rad;
+  }
+  double ticks = std::floor(turns * spec.ticks_per_rev) + options.initial_ticks;
+  if (options.counter_bits > 0) {
+    const double period = std::ldexp(1.0, options.counter_bits);
+    ticks = std::fmod(ticks, period);
+    if (ticks < 0.0)
+      ticks += period;
+  }
+  return options.output_ticks ? ticks : ticks * tick_rad;
+}
+
+std::vector<std::string> publishedJointNames(const Scenario& scenario, const Robot& robot)
+{
+  const auto specs = robot.joints();
+  if (scenario.encoders.joint_names.empty()) {
+    std::vector<std::string> names;
+    for (const auto& spec : specs)
+      names.push_back(spec.name);
+    return names;
+  }
+  if (scenario.encoders.joint_names.size() != specs.size()) {
+    throw std::invalid_argument("encoders.joint_names lists " +
+                                std::to_string(scenario.encoders.joint_names.size()) +
+                                " names, the " + scenario.robot.type + " robot has " +
+                                std::to_string(specs.size()) + " joints");
+  }
+  return scenario.encoders.joint_names;
+}
+
+namespace {
+
+constexpr std::int64_t kNanoseconds = 1000000000;
+constexpr std::int64_t kMaxSubstepNs = 2000000;       // integration step: 2 ms
+constexpr std::int64_t kControlPeriodNs = 100000000;  // planner: 10 Hz
+
+std::int64_t periodNs(double rate_hz)
+{
+  return std::llround(1e9 / rate_hz);
+}
+
+}  // namespace
+
+SimulationSummary simulate(const Scenario& scenario, const World& world, const Robot& robot,
+                           SimulationSink& sink)
+{
+  validate(scenario);
+  publishedJointNames(scenario, robot);  // checks the count
+  const LaserOptions& laser = scenario.laser;
+  const double footprint = std::max(
+      robot.footprintRadius(), std::hypot(laser.T_base_laser.x(), laser.T_base_laser.y()) + 0.1);
+  if (world.clearance(Eigen::Vector2d(scenario.start_pose.x(), scenario.start_pose.y())) <
+      footprint) {
+    throw std::invalid_argument("start_pose is closer to a wall than the robot's footprint (" +
+                                std::to_string(footprint) + " m)");
+  }
+
+  const auto specs = robot.joints();
+  DrivePlanner planner(scenario.motion, robot, world, footprint, scenario.seed);
+  std::mt19937_64 rng(scenario.seed ^ 0x5eed5eedULL);
+  std::normal_distribution<double> range_noise(0.0, laser.range_noise_m);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+
+  const std::int64_t end_ns = std::llround(scenario.duration_s * 1e9);
+  const std::int64_t encoder_period = periodNs(scenario.encoders.rate_hz);
+  const std::int64_t scan_period = periodNs(laser.rate_hz);
+  std::int64_t next_encoder = 0, next_scan = 0, next_control = 0;
+  std::int64_t now = 0;
+
+  Pose2 T_world_base = scenario.start_pose;
+  Eigen::VectorXd joints = robot.initialJoints();
+  Twist2 command, realised;
+  SimulationSummary summary;
+  std::vector<double> previous_reading(specs.size(), std::numeric_limits<double>::quiet_NaN());
+  // Period of each incremental output in its units (0: never wraps), to count wrap-arounds.
+  std::vector<double> wrap_period(specs.size(), 0.0);
+  if (scenario.encoders.counter_bits > 0) {
+    for (std::size_t j = 0; j < specs.size(); ++j) {
+      wrap_period[j] = std::ldexp(1.0, scenario.encoders.counter_bits) *
+                       (scenario.encoders.output_ticks ? 1.0 : 2.0 * M_PI / specs[j].ticks_per_rev);
+    }
+  }
+
+  const float angle_min = static_cast<float>(-0.5 * laser.fov_rad);
+  const float angle_increment = static_cast<float>(laser.fov_rad / (laser.rays - 1));
+
+  while (true) {
+    const std::int64_t next_event = std::min({next_encoder, next_scan, next_control});
+    if (next_event > end_ns)
+      break;
+    // Integrate up to the event in short steps (wheel-angle-dependent deformations).
+    while (now < next_event) {
+      const std::int64_t step = std::min(kMaxSubstepNs, next_event - now);
+      const double dt = static_cast<double>(step) / kNanoseconds;
+      realised = robot.step(command, dt, &joints);
+      const Pose2 motion = integrateTwist(realised, dt);
+      summary.distance_m += std::hypot(motion.x(), motion.y());
+      summary.rotation_rad += std::abs(motion.theta());
+      T_world_base = T_world_base * motion;
+      now += step;
+    }
+    const double t = static_cast<double>(now) / kNanoseconds;
+    if (now == next_control) {
+      command = planner.command(t, T_world_base);
+      next_control += kControlPeriodNs;
+    }
+    if (now == next_encoder) {
+      JointStateSample sample;
+      sample.stamp_s = t + scenario.encoders.time_offset_s;
+      const Eigen::VectorXd shaft = robot.encoderAngles(joints);
+      for (std::size_t j = 0; j < specs.size(); ++j) {
+        const double reading = encoderReading(specs[j], scenario.encoders, shaft(j));
+        if (specs[j].kind == EncoderKind::kIncremental && wrap_period[j] > 0.0 &&
+            std::abs(reading - previous_reading[j]) > 0.5 * wrap_period[j]) {
+          ++summary.counter_wraps;
+        }
+        previous_reading[j] = reading;
+        sample.positions.push_back(reading);
+      }
+      sink.onJointState(sample);
+      ++summary.joint_states;
+      sink.onTruth({t, T_world_base, realised});
+      ++summary.truth_samples;
+      next_encoder += encoder_period;
+    }
+    if (now == next_scan) {
+      ScanSample scan;
+      scan.stamp_s = t;
+      scan.angle_min_rad = angle_min;
+      scan.angle_increment_rad = angle_increment;
+      scan.range_min_m = static_cast<float>(laser.min_range_m);
+      scan.range_max_m = static_cast<float>(laser.max_range_m);
+      scan.ranges.resize(static_cast<std::size_t>(laser.rays));
+      const Pose2 T_world_laser = T_world_base * laser.T_base_laser;
+      const Eigen::Vector2d origin(T_world_laser.x(), T_world_laser.y());
+      for (int i = 0; i < laser.rays; ++i) {
+        const double angle =
+            T_world_laser.theta() + angle_min + i * laser.fov_rad / (laser.rays - 1);
+        double range = world.castRay(origin, angle, laser.max_range_m);
+        if (std::isfinite(range) && laser.range_noise_m > 0.0)
+          range += range_noise(rng);
+        if (laser.dropout_probability > 0.0 && unit(rng) < laser.dropout_probability) {
+          range = std::numeric_limits<double>::quiet_NaN();
+        } else if (range > laser.max_range_m) {
+          range = std::numeric_limits<double>::infinity();
+        } else if (range < laser.min_range_m) {
+          range = -std::numeric_limits<double>::infinity();
+        }
+        scan.ranges[static_cast<std::size_t>(i)] = static_cast<float>(range);
+      }
+      sink.onScan(scan);
+      ++summary.scans;
+      next_scan += scan_period;
+    }
+  }
+  return summary;
+}
+
+}  // namespace sim
+}  // namespace odometry_calibration

@@ -1,0 +1,143 @@
+#include "odometry_calibration/ros/sim_bag_writer.h"
+
+#include <cstdio>
+#include <stdexcept>
+
+#include <geometry_msgs/TransformStamped.h>
+#include <nav_msgs/Odometry.h>
+#include <rosbag/bag.h>
+#include <sensor_msgs/JointState.h>
+#include <sensor_msgs/LaserScan.h>
+#include <tf2_msgs/TFMessage.h>
+
+#include "odometry_calibration/io/atomic_file.h"
+#include "odometry_calibration/ros/conversions.h"
+#include "odometry_calibration/sim/world.h"
+
+namespace odometry_calibration {
+namespace {
+
+ros::Time rosTime(double start_time_s, double stamp_s)
+{
+  // Integer nanoseconds: the same stamp for the same inputs on every machine.
+  const std::int64_t start_ns = std::llround(start_time_s * 1e9);
+  const std::int64_t ns = start_ns + std::llround(stamp_s * 1e9);
+  ros::Time time;
+  time.fromNSec(static_cast<std::uint64_t>(ns));
+  return time;
+}
+
+}  // namespace
+
+SimBagWriter::SimBagWriter(const std::string& bag_path, const sim::Scenario& scenario,
+                           std::vector<std::string> joint_names)
+    : bag_(std::make_unique<rosbag::Bag>()),
+      scenario_(scenario),
+      joint_names_(std::move(joint_names))
+{
+  try {
+    bag_->open(bag_path, rosbag::bagmode::Write);
+  } catch (const std::exception& error) {
+    throw std::runtime_error("cannot write bag '" + bag_path + "': " + error.what());
+  }
+  bag_->setCompression(rosbag::compression::Uncompressed);
+}
+
+SimBagWriter::~SimBagWriter() = default;
+
+void SimBagWriter::onJointState(const sim::JointStateSample& sample)
+{
+  sensor_msgs::JointState message;
+  message.header.seq = joint_seq_++;
+  message.header.stamp = rosTime(scenario_.start_time_s, sample.stamp_s);
+  message.name = joint_names_;
+  message.position = sample.positions;
+  bag_->write(scenario_.encoders.topic, message.header.stamp, message);
+}
+
+void SimBagWriter::onScan(const sim::ScanSample& sample)
+{
+  sensor_msgs::LaserScan message;
+  message.header.seq = scan_seq_++;
+  message.header.stamp = rosTime(scenario_.start_time_s, sample.stamp_s);
+  message.header.frame_id = scenario_.laser.frame_id;
+  message.angle_min = sample.angle_min_rad;
+  message.angle_max = sample.angle_min_rad +
+                      sample.angle_increment_rad * static_cast<float>(sample.ranges.size() - 1);
+  message.angle_increment = sample.angle_increment_rad;
+  message.time_increment = 0.0f;  // the whole scan is taken at its stamp
+  message.scan_time = static_cast<float>(1.0 / scenario_.laser.rate_hz);
+  message.range_min = sample.range_min_m;
+  message.range_max = sample.range_max_m;
+  message.ranges = sample.ranges;
+  bag_->write(scenario_.laser.topic, message.header.stamp, message);
+}
+
+void SimBagWriter::onTruth(const sim::TruthSample& sample)
+{
+  const ros::Time stamp = rosTime(scenario_.start_time_s, sample.stamp_s);
+  const std::string world = scenario_.ground_truth_frame;
+  const std::string base = "sim_base_link";
+  if (!wrote_static_tf_) {
+    tf2_msgs::TFMessage tf_static;
+    geometry_msgs::TransformStamped laser;
+    laser.header.stamp = stamp;
+    laser.header.frame_id = base;
+    laser.child_frame_id = "sim_" + scenario_.laser.frame_id;
+    laser.transform = ros_conversions::toTransformMsg(scenario_.laser.T_base_laser);
+    tf_static.transforms.push_back(laser);
+    bag_->write("/tf_static", stamp, tf_static);
+    wrote_static_tf_ = true;
+  }
+  nav_msgs::Odometry odometry;
+  odometry.header.seq = truth_seq_++;
+  odometry.header.stamp = stamp;
+  odometry.header.frame_id = world;
+  odometry.child_frame_id = base;
+  odometry.pose.pose = ros_conversions::toPoseMsg(sample.T_world_base);
+  odometry.twist.twist.linear.x = sample.twist.vx_mps;
+  odometry.twist.twist.linear.y = sample.twist.vy_mps;
+  odometry.twist.twist.angular.z = sample.twist.omega_radps;
+  bag_->write(scenario_.ground_truth_topic, stamp, odometry);
+
+  tf2_msgs::TFMessage tf;
+  geometry_msgs::TransformStamped transform;
+  transform.header.stamp = stamp;
+  transform.header.frame_id = world;
+  transform.child_frame_id = base;
+  transform.transform = ros_conversions::toTransformMsg(sample.T_world_base);
+  tf.transforms.push_back(transform);
+  bag_->write("/tf", stamp, tf);
+}
+
+void SimBagWriter::close()
+{
+  bag_->close();
+}
+
+sim::SimulationSummary simulateToBag(const sim::Scenario& scenario, const std::string& bag_path,
+                                     const std::string& truth_path)
+{
+  const sim::World world = sim::loadWorldYaml(scenario.world_path);
+  const auto robot = sim::makeRobot(scenario.robot);
+  const std::string temporary = bag_path + ".partial";
+  sim::SimulationSummary summary;
+  try {
+    SimBagWriter writer(temporary, scenario, sim::publishedJointNames(scenario, *robot));
+    summary = sim::simulate(scenario, world, *robot, writer);
+    writer.close();
+  } catch (...) {
+    std::remove(temporary.c_str());
+    throw;
+  }
+  if (std::rename(temporary.c_str(), bag_path.c_str()) != 0) {
+    std::remove(temporary.c_str());
+    throw std::runtime_error("cannot move the finished bag to '" + bag_path + "'");
+  }
+  if (!truth_path.empty()) {
+    writeFileAtomically(truth_path, sim::scenarioTruthYaml(scenario, *robot));
+  }
+  return summary;
+}
+
+}  // namespace odometry_calibration
