@@ -129,7 +129,9 @@ Scenario loadScenarioYaml(const std::string& path, const std::string& worlds_dir
               {"pose", "rays", "fov_rad", "rate_hz", "range_noise_m", "min_range_m", "max_range_m",
                "dropout_probability", "frame_id", "topic"},
               where);
-    s.laser.T_base_laser = readPose(laser["pose"], where + ".pose", s.laser.T_base_laser);
+    if (laser) {
+      s.laser.T_base_laser = readPose(laser["pose"], where + ".pose", s.laser.T_base_laser);
+    }
     read(laser, "rays", &s.laser.rays);
     read(laser, "fov_rad", &s.laser.fov_rad);
     read(laser, "rate_hz", &s.laser.rate_hz);

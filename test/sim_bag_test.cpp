@@ -1,0 +1,140 @@
+#include <fstream>
+#include <iterator>
+
+#include <gtest/gtest.h>
+#include <nav_msgs/Odometry.h>
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
+#include <sensor_msgs/JointState.h>
+#include <sensor_msgs/LaserScan.h>
+#include <yaml-cpp/yaml.h>
+
+#include "odometry_calibration/ros/sim_bag_writer.h"
+
+namespace odometry_calibration {
+namespace {
+
+const std::string kWorlds = std::string(ODOMETRY_CALIBRATION_CONFIG_DIR) + "/sim/worlds";
+
+std::string scratch()
+{
+  char pattern[] = "/tmp/sim_bag_test.XXXXXX";
+  return mkdtemp(pattern);
+}
+
+std::string writeScenario(const std::string& directory, const std::string& body)
+{
+  const std::string path = directory + "/scenario.yaml";
+  std::ofstream(path) << body;
+  return path;
+}
+
+std::string contents(const std::string& path)
+{
+  std::ifstream file(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(file), {});
+}
+
+const char* kScenario =
+    "name: small\nseed: 4\nduration_s: 3.0\nworld: office\n"
+    "robot: {type: diff_drive, wheel_separation_m: 0.31}\n"
+    "laser: {rays: 360, rate_hz: 10.0, frame_id: front_laser, topic: /front/scan}\n"
+    "encoders: {rate_hz: 20.0, joint_names: [wheel_l, wheel_r], time_offset_s: 0.05}\n";
+
+TEST(SimBag, WritesTheTopicsCountsAndFrames)
+{
+  const std::string directory = scratch();
+  const sim::Scenario scenario =
+      sim::loadScenarioYaml(writeScenario(directory, kScenario), kWorlds);
+  const std::string bag_path = directory + "/small.bag";
+  const auto summary = simulateToBag(scenario, bag_path, directory + "/truth.yaml");
+  EXPECT_EQ(summary.joint_states, 61u);
+  EXPECT_EQ(summary.scans, 31u);
+
+  rosbag::Bag bag(bag_path, rosbag::bagmode::Read);
+  std::size_t joint_states = 0, scans = 0, truth = 0;
+  ros::Time previous_scan;
+  for (const rosbag::MessageInstance& m : rosbag::View(bag)) {
+    if (m.getTopic() == "/joint_states") {
+      const auto js = m.instantiate<sensor_msgs::JointState>();
+      ASSERT_TRUE(js);
+      ASSERT_EQ(js->name.size(), 2u);
+      EXPECT_EQ(js->name[0], "wheel_l");
+      EXPECT_EQ(js->position.size(), 2u);
+      EXPECT_EQ(m.getTime(), js->header.stamp);
+      ++joint_states;
+    } else if (m.getTopic() == "/front/scan") {
+      const auto scan = m.instantiate<sensor_msgs::LaserScan>();
+      ASSERT_TRUE(scan);
+      EXPECT_EQ(scan->header.frame_id, "front_laser");
+      EXPECT_EQ(scan->ranges.size(), 360u);
+      EXPECT_NEAR(scan->angle_max - scan->angle_min, 4.71238898, 1e-5);
+      if (scans > 0) {
+        EXPECT_NEAR((scan->header.stamp - previous_scan).toSec(), 0.1, 1e-9);
+      }
+      previous_scan = scan->header.stamp;
+      ++scans;
+    } else if (m.getTopic() == "/ground_truth/odom") {
+      const auto odom = m.instantiate<nav_msgs::Odometry>();
+      ASSERT_TRUE(odom);
+      EXPECT_EQ(odom->header.frame_id, "sim_world");
+      EXPECT_EQ(odom->child_frame_id, "sim_base_link");
+      ++truth;
+    }
+  }
+  EXPECT_EQ(joint_states, 61u);
+  EXPECT_EQ(scans, 31u);
+  EXPECT_EQ(truth, 61u);
+  EXPECT_NEAR(rosbag::View(bag).getBeginTime().toSec(), 1700000000.0, 1e-6);
+
+  const YAML::Node truth_yaml = YAML::LoadFile(directory + "/truth.yaml");
+  EXPECT_DOUBLE_EQ(truth_yaml["robot"]["wheel_separation_m"].as<double>(), 0.31);
+  EXPECT_EQ(truth_yaml["joints"][1]["name"].as<std::string>(), "wheel_r");
+  EXPECT_DOUBLE_EQ(truth_yaml["encoders"]["time_offset_s"].as<double>(), 0.05);
+}
+
+TEST(SimBag, SameSeedSameBytesOtherSeedOtherBytes)
+{
+  const std::string directory = scratch();
+  sim::Scenario scenario = sim::loadScenarioYaml(writeScenario(directory, kScenario), kWorlds);
+  simulateToBag(scenario, directory + "/a.bag", "");
+  simulateToBag(scenario, directory + "/b.bag", "");
+  scenario.seed = 5;
+  simulateToBag(scenario, directory + "/c.bag", "");
+  const std::string a = contents(directory + "/a.bag");
+  EXPECT_GT(a.size(), 100000u);
+  EXPECT_EQ(a, contents(directory + "/b.bag"));
+  EXPECT_NE(a, contents(directory + "/c.bag"));
+}
+
+TEST(SimBag, ScenarioErrorsNameTheKey)
+{
+  const std::string directory = scratch();
+  auto message = [&](const std::string& body) -> std::string {
+    try {
+      sim::loadScenarioYaml(writeScenario(directory, body), kWorlds);
+    } catch (const std::runtime_error& error) {
+      return error.what();
+    }
+    return "";
+  };
+  EXPECT_NE(message("durations: 3\n").find("unknown key 'durations'"), std::string::npos);
+  EXPECT_NE(message("laser: {rayz: 3}\n").find("rayz"), std::string::npos);
+  EXPECT_NE(message("laser: {rays: 1}\n").find("laser.rays"), std::string::npos);
+  EXPECT_NE(message("encoders: {units: furlongs}\n").find("furlongs"), std::string::npos);
+  EXPECT_NE(message("motion: {type: scripted}\n").find("script"), std::string::npos);
+  // A world that does not exist fails when the bag is made, naming the file.
+  const sim::Scenario scenario =
+      sim::loadScenarioYaml(writeScenario(directory, "world: atlantis\n"), kWorlds);
+  try {
+    simulateToBag(scenario, directory + "/x.bag", "");
+    FAIL() << "missing world accepted";
+  } catch (const std::runtime_error& error) {
+    EXPECT_NE(std::string(error.what()).find("atlantis"), std::string::npos);
+  }
+  EXPECT_FALSE(std::ifstream(directory + "/x.bag").good());
+  EXPECT_FALSE(std::ifstream(directory + "/x.bag.partial").good());
+}
+
+}  // namespace
+}  // namespace odometry_calibration

@@ -1,0 +1,202 @@
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "odometry_calibration/data/encoder.h"
+#include "odometry_calibration/models/tricycle_kinematics.h"
+#include "odometry_calibration/sim/robot.h"
+#include "odometry_calibration/sim/simulator.h"
+
+namespace odometry_calibration {
+namespace sim {
+namespace {
+
+struct Recorder : SimulationSink
+{
+  std::vector<JointStateSample> joints;
+  std::vector<ScanSample> scans;
+  std::vector<TruthSample> truth;
+  void onJointState(const JointStateSample& s) override { joints.push_back(s); }
+  void onScan(const ScanSample& s) override { scans.push_back(s); }
+  void onTruth(const TruthSample& s) override { truth.push_back(s); }
+};
+
+World room()
+{
+  return parseWorldYaml("polygons:\n  - [[-5, -4], [5, -4], [5, 4], [-5, 4]]\n", "room");
+}
+
+Scenario smallScenario(const std::string& robot_type)
+{
+  Scenario s;
+  s.duration_s = 10.0;
+  s.robot.type = robot_type;
+  s.laser.rays = 181;
+  s.laser.fov_rad = M_PI;
+  s.motion.max_speed_mps = 0.5;
+  return s;
+}
+
+TEST(Simulator, MessageCountsRatesAndTimeOffset)
+{
+  Scenario s = smallScenario("diff_drive");
+  s.encoders.rate_hz = 40.0;
+  s.laser.rate_hz = 8.0;
+  s.encoders.time_offset_s = -0.15;
+  const World world = room();
+  const auto robot = makeRobot(s.robot);
+  Recorder recorder;
+  const SimulationSummary summary = simulate(s, world, *robot, recorder);
+  EXPECT_EQ(recorder.joints.size(), 401u);  // t = 0, 0.025, ..., 10
+  EXPECT_EQ(recorder.scans.size(), 81u);
+  EXPECT_EQ(summary.joint_states, 401u);
+  EXPECT_GT(summary.distance_m, 1.0);  // it really drove
+  for (std::size_t k = 1; k < recorder.joints.size(); ++k) {
+    EXPECT_NEAR(recorder.joints[k].stamp_s - recorder.joints[k - 1].stamp_s, 0.025, 1e-9);
+  }
+  EXPECT_NEAR(recorder.scans[1].stamp_s - recorder.scans[0].stamp_s, 0.125, 1e-9);
+  EXPECT_NEAR(recorder.joints[10].stamp_s, recorder.truth[10].stamp_s - 0.15, 1e-12);
+  EXPECT_EQ(recorder.scans[0].ranges.size(), 181u);
+}
+
+TEST(Simulator, IntegratingTheEncodersReproducesTheTruth)
+{
+  // Ideal diff drive: the kinematics applied to tick increments must follow the truth up to
+  // the tick quantisation.
+  Scenario s = smallScenario("diff_drive");
+  s.duration_s = 20.0;
+  s.encoders.initial_ticks = 4294967296.0 - 3000.0;  // wraps early
+  const World world = room();
+  const auto robot = makeRobot(s.robot);
+  Recorder recorder;
+  simulate(s, world, *robot, recorder);
+  EncoderDecoder decoder({{"l", EncoderKind::kIncremental, 4294967296.0, 0.0},
+                          {"r", EncoderKind::kIncremental, 4294967296.0, 0.0}});
+  const double metres_per_tick = 2.0 * M_PI * 0.077 / 2000.0;
+  Pose2 pose = s.start_pose;
+  Eigen::VectorXd previous = decoder.decode(Eigen::Map<const Eigen::VectorXd>(
+      recorder.joints[0].positions.data(), 2));
+  double worst_m = 0.0;
+  for (std::size_t k = 1; k < recorder.joints.size(); ++k) {
+    const Eigen::VectorXd now =
+        decoder.decode(Eigen::Map<const Eigen::VectorXd>(recorder.joints[k].positions.data(), 2));
+    const double left = (now(0) - previous(0)) * metres_per_tick;
+    const double right = (now(1) - previous(1)) * metres_per_tick;
+    previous = now;
+    const double dt = 0.02;
+    pose = pose * integrateTwist({(left + right) / 2 / dt, 0.0, (right - left) / 0.33 / dt}, dt);
+    const Pose2 error = between(recorder.truth[k].T_world_base, pose);
+    worst_m = std::max(worst_m, std::hypot(error.x(), error.y()));
+  }
+  EXPECT_LT(worst_m, 0.02);
+  EXPECT_GT(std::hypot(recorder.truth.back().T_world_base.x(),
+                       recorder.truth.back().T_world_base.y()) +
+                std::abs(recorder.truth.back().T_world_base.theta()),
+            0.3);  // the robot did move away
+}
+
+TEST(Simulator, TricycleEncodersFollowTheSeedModel)
+{
+  Scenario s = smallScenario("tricycle");
+  s.motion.max_turn_rate_radps = 0.4;
+  s.motion.clearance_m = 0.1;
+  s.start_pose = Pose2(-1.0, 0.0, 0.0);
+  const World world =
+      parseWorldYaml("polygons:\n  - [[-15, -10], [15, -10], [15, 10], [-15, 10]]\n", "hall");
+  const auto robot = makeRobot(s.robot);
+  Recorder recorder;
+  simulate(s, world, *robot, recorder);
+  // Decode like the real log: steering absolute (8192), traction incremental uint32.
+  EncoderDecoder decoder({{"steering", EncoderKind::kAbsolute, 0.0, 8192.0},
+                          {"traction", EncoderKind::kIncremental, 4294967296.0, 0.0}});
+  std::vector<EncoderSample> samples;
+  for (const auto& j : recorder.joints) {
+    samples.push_back({j.stamp_s, decoder.decode(Eigen::Vector2d(j.positions[0], j.positions[1]))});
+  }
+  const double kinematic[4] = {0.56, 0.0106, 1.54, -0.06};  // the tricycle's defaults
+  const TricycleEncoderLayout layout;
+  const Pose2 predicted = s.start_pose * integrateTricycleMotion(kinematic, layout, samples);
+  const Pose2 error = between(recorder.truth.back().T_world_base, predicted);
+  EXPECT_LT(std::hypot(error.x(), error.y()), 0.05);
+  EXPECT_LT(std::abs(error.theta()), 0.01);
+}
+
+TEST(Simulator, RayCastRangeAtAKnownPoseMatchesTheGeometry)
+{
+  Scenario s = smallScenario("diff_drive");
+  s.duration_s = 0.5;
+  s.motion.type = "scripted";
+  s.motion.script = {{10.0, Twist2()}};  // stand still
+  s.start_pose = Pose2(1.0, -1.0, 0.3);
+  s.laser.T_base_laser = Pose2(0.2, 0.1, -0.3);  // laser looks along world x
+  s.laser.range_noise_m = 0.0;
+  const World world = room();
+  const auto robot = makeRobot(s.robot);
+  Recorder recorder;
+  simulate(s, world, *robot, recorder);
+  const Pose2 T_world_laser = s.start_pose * s.laser.T_base_laser;
+  ASSERT_NEAR(T_world_laser.theta(), 0.0, 1e-12);
+  const ScanSample& scan = recorder.scans.front();
+  const std::size_t forward = 90;  // 181 rays over 180 degrees: ray 90 looks straight ahead
+  EXPECT_NEAR(scan.angle_min_rad + forward * scan.angle_increment_rad, 0.0, 1e-6);
+  EXPECT_NEAR(scan.ranges[forward], 5.0 - T_world_laser.x(), 1e-5);  // east wall x = 5
+  EXPECT_NEAR(scan.ranges[180], 4.0 - T_world_laser.y(), 1e-5);      // north wall, +90 deg
+  EXPECT_NEAR(scan.ranges[0], 4.0 + T_world_laser.y(), 1e-5);        // south wall, -90 deg
+}
+
+TEST(Simulator, CounterWrapsWhereConfigured)
+{
+  Scenario s = smallScenario("diff_drive");
+  s.duration_s = 5.0;
+  s.motion.type = "scripted";
+  s.motion.script = {{5.0, Twist2{0.2, 0.0, 0.0}}};  // straight ahead
+  s.encoders.counter_bits = 16;
+  s.encoders.initial_ticks = 65536 - 500;
+  const World world = room();
+  const auto robot = makeRobot(s.robot);
+  Recorder recorder;
+  const SimulationSummary summary = simulate(s, world, *robot, recorder);
+  EXPECT_EQ(summary.counter_wraps, 2u);  // both wheels, once
+  // 500 ticks of 2000 per turn at 0.2 m/s: 0.25 turn = 0.1210 m, reached after 0.605 s.
+  const double wrap_time_s = 0.25 * 2.0 * M_PI * 0.077 / 0.2;
+  for (const auto& sample : recorder.joints) {
+    if (sample.stamp_s < wrap_time_s - 0.02) {
+      EXPECT_GE(sample.positions[0], 65036.0) << sample.stamp_s;
+    } else if (sample.stamp_s > wrap_time_s + 0.02) {
+      EXPECT_LT(sample.positions[0], 65036.0) << sample.stamp_s;
+    }
+    EXPECT_LT(sample.positions[0], 65536.0);
+  }
+}
+
+TEST(Simulator, EncoderReadingQuantisesAndWraps)
+{
+  EncoderOptions options;
+  options.counter_bits = 8;
+  const JointEncoderSpec wheel{"w", EncoderKind::kIncremental, 100};
+  EXPECT_EQ(encoderReading(wheel, options, 2.0 * M_PI * 0.999), 99.0);
+  EXPECT_EQ(encoderReading(wheel, options, 2.0 * M_PI * 2.6), 260.0 - 256.0);
+  EXPECT_EQ(encoderReading(wheel, options, -2.0 * M_PI * 0.011), 256.0 - 2.0);
+  const JointEncoderSpec steering{"s", EncoderKind::kAbsolute, 8192};
+  EXPECT_EQ(encoderReading(steering, options, -0.1 * 2.0 * M_PI), 8192.0 - 819.0);
+  options.output_ticks = false;
+  EXPECT_NEAR(encoderReading(steering, options, -0.1 * 2.0 * M_PI), -819.0 * 2.0 * M_PI / 8192,
+              1e-12);
+}
+
+TEST(Simulator, RejectsAStartInsideTheFurnitureAndWrongJointNames)
+{
+  Scenario s = smallScenario("diff_drive");
+  s.start_pose = Pose2(4.9, 0.0, 0.0);
+  const World world = room();
+  const auto robot = makeRobot(s.robot);
+  Recorder recorder;
+  EXPECT_THROW(simulate(s, world, *robot, recorder), std::invalid_argument);
+  s.start_pose = Pose2();
+  s.encoders.joint_names = {"only_one"};
+  EXPECT_THROW(simulate(s, world, *robot, recorder), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace sim
+}  // namespace odometry_calibration
