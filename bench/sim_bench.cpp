@@ -32,8 +32,8 @@ void BM_Simulate60MinuteBag(benchmark::State& state)
   }
   std::remove(bag.c_str());
   state.counters["scans"] = static_cast<double>(summary.scans);
-  state.counters["x_realtime"] = benchmark::Counter(
-      scenario.duration_s, benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["x_realtime"] =
+      benchmark::Counter(scenario.duration_s, benchmark::Counter::kIsIterationInvariantRate);
 }
 
 void BM_RayCast720RayScanInOffice(benchmark::State& state)

@@ -27,9 +27,10 @@ TEST(SimRobots, IntegrateTwistIsTheExactArc)
 
 TEST(SimRobots, IdealDiffDriveRealisesTheCommandAndTurnsItsWheels)
 {
-  const auto robot = makeRobot({"diff_drive", {{"wheel_radius_left_m", 0.07},
-                                               {"wheel_radius_right_m", 0.08},
-                                               {"wheel_separation_m", 0.4}}});
+  const auto robot = makeRobot({"diff_drive",
+                                {{"wheel_radius_left_m", 0.07},
+                                 {"wheel_radius_right_m", 0.08},
+                                 {"wheel_separation_m", 0.4}}});
   Eigen::VectorXd joints = robot->initialJoints();
   const Twist2 twist = stepOnce(*robot, {0.3, 0.0, 0.5}, &joints, 0.1);
   EXPECT_NEAR(twist.vx_mps, 0.3, 1e-12);
@@ -70,14 +71,15 @@ TEST(SimRobots, NonCircularWheelRadiusFollowsItsAngle)
 
 TEST(SimRobots, TricycleSteersAtItsRateAndFollowsTheBicycleModel)
 {
-  const auto robot = makeRobot({"tricycle", {{"axis_length_m", 1.5},
-                                             {"steering_rate_radps", 1.0},
-                                             {"steering_offset_rad", 0.0}}});
+  const auto robot = makeRobot(
+      {"tricycle",
+       {{"axis_length_m", 1.5}, {"steering_rate_radps", 1.0}, {"steering_offset_rad", 0.0}}});
   Eigen::VectorXd joints = robot->initialJoints();
   const Twist2 command{0.5, 0.0, 0.5 * std::tan(0.4) / 1.5};  // asks for 0.4 rad of steering
   stepOnce(*robot, command, &joints, 0.1);
   EXPECT_NEAR(joints(0), 0.1, 1e-12);  // rate-limited
-  for (int i = 0; i < 10; ++i) stepOnce(*robot, command, &joints, 0.1);
+  for (int i = 0; i < 10; ++i)
+    stepOnce(*robot, command, &joints, 0.1);
   EXPECT_NEAR(joints(0), 0.4, 1e-12);
   const Twist2 twist = stepOnce(*robot, command, &joints, 0.1);
   EXPECT_NEAR(twist.vx_mps, 0.5, 1e-12);

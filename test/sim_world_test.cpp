@@ -17,10 +17,10 @@ TEST(SimWorld, RayCastHitsTheRightWallAtTheRightDistance)
 {
   const World room = squareRoom();
   const Eigen::Vector2d origin(0.5, 0.25);
-  EXPECT_NEAR(room.castRay(origin, 0.0, 20.0), 2.5, 1e-12);           // east wall x = 3
-  EXPECT_NEAR(room.castRay(origin, M_PI / 2, 20.0), 3.75, 1e-12);     // north wall y = 4
-  EXPECT_NEAR(room.castRay(origin, M_PI, 20.0), 2.5, 1e-12);          // west wall x = -2
-  EXPECT_NEAR(room.castRay(origin, -M_PI / 2, 20.0), 1.25, 1e-12);    // south wall y = -1
+  EXPECT_NEAR(room.castRay(origin, 0.0, 20.0), 2.5, 1e-12);         // east wall x = 3
+  EXPECT_NEAR(room.castRay(origin, M_PI / 2, 20.0), 3.75, 1e-12);   // north wall y = 4
+  EXPECT_NEAR(room.castRay(origin, M_PI, 20.0), 2.5, 1e-12);        // west wall x = -2
+  EXPECT_NEAR(room.castRay(origin, -M_PI / 2, 20.0), 1.25, 1e-12);  // south wall y = -1
   // Towards the corner (3, 4): along the diagonal direction.
   const double angle = std::atan2(3.75, 2.5);
   EXPECT_NEAR(room.castRay(origin, angle, 20.0), std::hypot(2.5, 3.75), 1e-9);

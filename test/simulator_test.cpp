@@ -74,8 +74,8 @@ TEST(Simulator, IntegratingTheEncodersReproducesTheTruth)
                           {"r", EncoderKind::kIncremental, 4294967296.0, 0.0}});
   const double metres_per_tick = 2.0 * M_PI * 0.077 / 2000.0;
   Pose2 pose = s.start_pose;
-  Eigen::VectorXd previous = decoder.decode(Eigen::Map<const Eigen::VectorXd>(
-      recorder.joints[0].positions.data(), 2));
+  Eigen::VectorXd previous =
+      decoder.decode(Eigen::Map<const Eigen::VectorXd>(recorder.joints[0].positions.data(), 2));
   double worst_m = 0.0;
   for (std::size_t k = 1; k < recorder.joints.size(); ++k) {
     const Eigen::VectorXd now =
@@ -89,10 +89,10 @@ TEST(Simulator, IntegratingTheEncodersReproducesTheTruth)
     worst_m = std::max(worst_m, std::hypot(error.x(), error.y()));
   }
   EXPECT_LT(worst_m, 0.02);
-  EXPECT_GT(std::hypot(recorder.truth.back().T_world_base.x(),
-                       recorder.truth.back().T_world_base.y()) +
-                std::abs(recorder.truth.back().T_world_base.theta()),
-            0.3);  // the robot did move away
+  EXPECT_GT(
+      std::hypot(recorder.truth.back().T_world_base.x(), recorder.truth.back().T_world_base.y()) +
+          std::abs(recorder.truth.back().T_world_base.theta()),
+      0.3);  // the robot did move away
 }
 
 TEST(Simulator, TricycleEncodersFollowTheSeedModel)

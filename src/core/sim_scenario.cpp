@@ -80,6 +80,8 @@ void validate(const Scenario& s)
           "encoders.counter_bits must be in [0, 52]");
   require(std::abs(s.encoders.time_offset_s) < 10.0, "encoders.time_offset_s must be within 10 s");
   require(s.encoders.initial_ticks >= 0.0, "encoders.initial_ticks must be >= 0");
+  require(s.tracker.translation_noise_m >= 0.0 && s.tracker.rotation_noise_rad >= 0.0,
+          "tracker noise must be >= 0");
   validate(s.motion);
 }
 
@@ -89,10 +91,11 @@ Scenario loadScenarioYaml(const std::string& path, const std::string& worlds_dir
   std::string where = path;
   try {
     const YAML::Node root = YAML::LoadFile(path);
-    checkKeys(root,
-              {"name", "seed", "duration_s", "start_time_s", "world", "start_pose", "robot",
-               "laser", "encoders", "motion", "ground_truth_topic", "ground_truth_frame"},
-              path);
+    checkKeys(
+        root,
+        {"name", "seed", "duration_s", "start_time_s", "world", "start_pose", "robot", "laser",
+         "encoders", "motion", "tracker", "ground_truth_topic", "ground_truth_frame"},
+        path);
     read(root, "name", &s.name);
     read(root, "seed", &s.seed);
     read(root, "duration_s", &s.duration_s);
@@ -160,6 +163,16 @@ Scenario loadScenarioYaml(const std::string& path, const std::string& worlds_dir
     read(encoders, "counter_bits", &s.encoders.counter_bits);
     read(encoders, "initial_ticks", &s.encoders.initial_ticks);
     read(encoders, "time_offset_s", &s.encoders.time_offset_s);
+
+    where = path + ": tracker";
+    const YAML::Node tracker = root["tracker"];
+    checkKeys(tracker,
+              {"enabled", "translation_noise_m", "rotation_noise_rad", "topic", "frame_id"}, where);
+    read(tracker, "enabled", &s.tracker.enabled);
+    read(tracker, "translation_noise_m", &s.tracker.translation_noise_m);
+    read(tracker, "rotation_noise_rad", &s.tracker.rotation_noise_rad);
+    read(tracker, "topic", &s.tracker.topic);
+    read(tracker, "frame_id", &s.tracker.frame_id);
 
     where = path + ": motion";
     const YAML::Node motion = root["motion"];
@@ -249,6 +262,12 @@ std::string scenarioTruthYaml(const Scenario& s, const Robot& robot)
   out << YAML::Key << "counter_bits" << YAML::Value << s.encoders.counter_bits;
   out << YAML::Key << "initial_ticks" << YAML::Value << s.encoders.initial_ticks;
   out << YAML::Key << "time_offset_s" << YAML::Value << s.encoders.time_offset_s;
+  out << YAML::EndMap;
+  out << YAML::Key << "tracker" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "enabled" << YAML::Value << s.tracker.enabled;
+  out << YAML::Key << "translation_noise_m" << YAML::Value << s.tracker.translation_noise_m;
+  out << YAML::Key << "rotation_noise_rad" << YAML::Value << s.tracker.rotation_noise_rad;
+  out << YAML::Key << "topic" << YAML::Value << s.tracker.topic;
   out << YAML::EndMap;
   out << YAML::Key << "ground_truth_topic" << YAML::Value << s.ground_truth_topic;
   out << YAML::Key << "ground_truth_frame" << YAML::Value << s.ground_truth_frame;

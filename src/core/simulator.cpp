@@ -85,6 +85,9 @@ SimulationSummary simulate(const Scenario& scenario, const World& world, const R
   std::mt19937_64 rng(scenario.seed ^ 0x5eed5eedULL);
   std::normal_distribution<double> range_noise(0.0, laser.range_noise_m);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
+  // A stream of its own, so that enabling the tracker leaves the scans unchanged.
+  std::mt19937_64 tracker_rng(scenario.seed ^ 0x7ac4e7ULL);
+  std::normal_distribution<double> unit_normal(0.0, 1.0);
 
   const std::int64_t end_ns = std::llround(scenario.duration_s * 1e9);
   const std::int64_t encoder_period = periodNs(scenario.encoders.rate_hz);
@@ -146,6 +149,13 @@ SimulationSummary simulate(const Scenario& scenario, const World& world, const R
       ++summary.joint_states;
       sink.onTruth({t, T_world_base, realised});
       ++summary.truth_samples;
+      if (scenario.tracker.enabled) {
+        const double noise_x = scenario.tracker.translation_noise_m * unit_normal(tracker_rng);
+        const double noise_y = scenario.tracker.translation_noise_m * unit_normal(tracker_rng);
+        const double noise_theta = scenario.tracker.rotation_noise_rad * unit_normal(tracker_rng);
+        const Pose2 noise(noise_x, noise_y, noise_theta);
+        sink.onTracker({t, T_world_base * laser.T_base_laser * noise});
+      }
       next_encoder += encoder_period;
     }
     if (now == next_scan) {

@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include <geometry_msgs/PoseStamped.h>
 #include <geometry_msgs/TransformStamped.h>
 #include <nav_msgs/Odometry.h>
 #include <rosbag/bag.h>
@@ -110,13 +111,23 @@ void SimBagWriter::onTruth(const sim::TruthSample& sample)
   bag_->write("/tf", stamp, tf);
 }
 
+void SimBagWriter::onTracker(const sim::TrackerSample& sample)
+{
+  geometry_msgs::PoseStamped pose;
+  pose.header.seq = tracker_seq_++;
+  pose.header.stamp = rosTime(scenario_.start_time_s, sample.stamp_s);
+  pose.header.frame_id = scenario_.tracker.frame_id;
+  pose.pose = ros_conversions::toPoseMsg(sample.T_world_sensor);
+  bag_->write(scenario_.tracker.topic, pose.header.stamp, pose);
+}
+
 void SimBagWriter::close()
 {
   bag_->close();
 }
 
 sim::SimulationSummary simulateToBag(const sim::Scenario& scenario, const std::string& bag_path,
-                                     const std::string& truth_path)
+                                     const std::string& truth_path, sim::SimulationSink* extra_sink)
 {
   const sim::World world = sim::loadWorldYaml(scenario.world_path);
   const auto robot = sim::makeRobot(scenario.robot);
@@ -124,7 +135,11 @@ sim::SimulationSummary simulateToBag(const sim::Scenario& scenario, const std::s
   sim::SimulationSummary summary;
   try {
     SimBagWriter writer(temporary, scenario, sim::publishedJointNames(scenario, *robot));
-    summary = sim::simulate(scenario, world, *robot, writer);
+    std::vector<sim::SimulationSink*> sinks = {&writer};
+    if (extra_sink)
+      sinks.push_back(extra_sink);
+    sim::TeeSink tee(sinks);
+    summary = sim::simulate(scenario, world, *robot, tee);
     writer.close();
   } catch (...) {
     std::remove(temporary.c_str());

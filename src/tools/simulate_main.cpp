@@ -2,11 +2,14 @@
 #include <cmath>
 #include <cstdlib>
 #include <iostream>
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "odometry_calibration/io/atomic_file.h"
 #include "odometry_calibration/ros/sim_bag_writer.h"
 #include "odometry_calibration/sim/scenario.h"
+#include "odometry_calibration/sim/tricycle_log_sink.h"
 
 namespace {
 
@@ -24,6 +27,10 @@ const char* kUsage =
     "  --seed N          override the scenario's seed\n"
     "  --duration S      override the scenario's duration [s]\n"
     "  --worlds DIR      folder of the shipped worlds (default: the package's config/sim/worlds)\n"
+    "  --tricycle-log F  also write the run in the tricycle dataset's text format (tricycle\n"
+    "                    robot with the tracker enabled); its header carries the real log's\n"
+    "                    nominal values (Ksteer 0.1, Ktraction 0.0106141, axis 1.4, offset 0,\n"
+    "                    laser at x = 1.5) as the calibration's starting point\n"
     "  -h, --help        this text\n";
 
 bool parseNumber(const std::string& text, double* value)
@@ -38,7 +45,7 @@ bool parseNumber(const std::string& text, double* value)
 int main(int argc, char** argv)
 {
   using namespace odometry_calibration;
-  std::string scenario_path, bag_path, truth_path;
+  std::string scenario_path, bag_path, truth_path, tricycle_log_path;
   std::string worlds = std::string(ODOMETRY_CALIBRATION_CONFIG_DIR) + "/sim/worlds";
   double seed = -1.0, duration = -1.0;
   const std::vector<std::string> args(argv + 1, argv + argc);
@@ -52,6 +59,8 @@ int main(int argc, char** argv)
       bag_path = args[++i];
     } else if (has_value && arg == "--truth") {
       truth_path = args[++i];
+    } else if (has_value && arg == "--tricycle-log") {
+      tricycle_log_path = args[++i];
     } else if (has_value && arg == "--worlds") {
       worlds = args[++i];
     } else if (has_value && arg == "--seed") {
@@ -89,13 +98,34 @@ int main(int argc, char** argv)
       truth_path =
           (ends_in_bag ? bag_path.substr(0, bag_path.size() - 4) : bag_path) + "_truth.yaml";
     }
-    const sim::SimulationSummary summary = simulateToBag(scenario, bag_path, truth_path);
+    std::unique_ptr<sim::TricycleLogSink> log_sink;
+    if (!tricycle_log_path.empty()) {
+      if (scenario.robot.type != "tricycle" || !scenario.tracker.enabled) {
+        std::cerr << "error: --tricycle-log needs a tricycle robot with 'tracker: {enabled: "
+                     "true}' in the scenario\n";
+        return 2;
+      }
+      const auto parameters = sim::makeRobot(scenario.robot)->trueParameters();
+      const TricycleParameters nominal = TricycleParameters::fromVectors(
+          Eigen::Vector4d(0.1, 0.0106141, 1.4, 0.0), Eigen::Vector3d(1.5, 0.0, 0.0));
+      log_sink = std::make_unique<sim::TricycleLogSink>(scenario, nominal,
+                                                        parameters.at("steering_ticks_per_rev"),
+                                                        parameters.at("traction_ticks_per_rev"));
+    }
+    const sim::SimulationSummary summary =
+        simulateToBag(scenario, bag_path, truth_path, log_sink.get());
+    if (log_sink) {
+      writeFileAtomically(tricycle_log_path, log_sink->text());
+    }
     std::cout << "simulated " << scenario.duration_s << " s of '" << scenario.name << "' ("
               << scenario.robot.type << "): " << summary.joint_states << " joint states, "
               << summary.scans << " scans, " << summary.distance_m << " m driven, "
               << summary.rotation_rad << " rad turned, " << summary.counter_wraps
               << " counter wrap-arounds\n"
               << "bag:   " << bag_path << "\ntruth: " << truth_path << "\n";
+    if (log_sink) {
+      std::cout << "tricycle log: " << tricycle_log_path << " (" << log_sink->rows() << " rows)\n";
+    }
   } catch (const std::exception& error) {
     std::cerr << "error: " << error.what() << "\n";
     return 1;

@@ -32,6 +32,7 @@ public:
   void onJointState(const sim::JointStateSample& sample) override;
   void onScan(const sim::ScanSample& sample) override;
   void onTruth(const sim::TruthSample& sample) override;
+  void onTracker(const sim::TrackerSample& sample) override;
 
   /// Writes the index and closes the file.
   void close();
@@ -40,13 +41,15 @@ private:
   std::unique_ptr<rosbag::Bag> bag_;
   sim::Scenario scenario_;
   std::vector<std::string> joint_names_;
-  std::uint32_t joint_seq_ = 0, scan_seq_ = 0, truth_seq_ = 0;
+  std::uint32_t joint_seq_ = 0, scan_seq_ = 0, truth_seq_ = 0, tracker_seq_ = 0;
   bool wrote_static_tf_ = false;
 };
 
 /// Runs the scenario into a bag written atomically (temporary file, renamed when complete)
-/// and writes the truth YAML next to it atomically. Returns the run's summary.
+/// and writes the truth YAML next to it atomically ("" skips it). `extra_sink`, if given,
+/// receives every sample too. Returns the run's summary.
 sim::SimulationSummary simulateToBag(const sim::Scenario& scenario, const std::string& bag_path,
-                                     const std::string& truth_path);
+                                     const std::string& truth_path,
+                                     sim::SimulationSink* extra_sink = nullptr);
 
 }  // namespace odometry_calibration

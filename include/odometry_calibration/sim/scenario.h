@@ -41,6 +41,17 @@ struct EncoderOptions
   double time_offset_s = 0.0;
 };
 
+/// An external tracker (motion capture) measuring the laser's world pose at every encoder
+/// sample, as in the tricycle dataset. Off unless enabled.
+struct TrackerOptions
+{
+  bool enabled = false;
+  double translation_noise_m = 0.003;   ///< Gaussian sigma of x and y [m]
+  double rotation_noise_rad = 0.0005;   ///< Gaussian sigma of the heading [rad]
+  std::string topic = "/tracker/pose";  ///< geometry_msgs/PoseStamped in the bag
+  std::string frame_id = "tracker";     ///< header frame of the tracker poses
+};
+
 /// Everything one simulation run needs.
 struct Scenario
 {
@@ -54,6 +65,7 @@ struct Scenario
   LaserOptions laser;
   EncoderOptions encoders;
   DrivePlanOptions motion;
+  TrackerOptions tracker;
   std::string ground_truth_topic = "/ground_truth/odom";  ///< nav_msgs/Odometry of the truth
   std::string ground_truth_frame = "sim_world";           ///< truth tree root (separate)
 };

@@ -40,7 +40,15 @@ struct TruthSample
   Twist2 twist;          ///< body velocity
 };
 
-/// Receives the simulated streams in time order.
+/// One pose of the external tracker: the laser's world pose with tracker noise.
+struct TrackerSample
+{
+  double stamp_s = 0.0;  ///< time of the measurement [s since start]
+  Pose2 T_world_sensor;  ///< measured sensor pose
+};
+
+/// Receives the simulated streams in time order. At an encoder instant the order is
+/// onJointState, onTruth, then onTracker (if the tracker is enabled).
 class SimulationSink
 {
 public:
@@ -48,6 +56,37 @@ public:
   virtual void onJointState(const JointStateSample& sample) = 0;
   virtual void onScan(const ScanSample& sample) = 0;
   virtual void onTruth(const TruthSample& sample) = 0;
+  virtual void onTracker(const TrackerSample& /*sample*/) {}
+};
+
+/// Forwards every sample to several sinks, in order.
+class TeeSink : public SimulationSink
+{
+public:
+  explicit TeeSink(std::vector<SimulationSink*> sinks) : sinks_(std::move(sinks)) {}
+  void onJointState(const JointStateSample& s) override
+  {
+    for (auto* sink : sinks_)
+      sink->onJointState(s);
+  }
+  void onScan(const ScanSample& s) override
+  {
+    for (auto* sink : sinks_)
+      sink->onScan(s);
+  }
+  void onTruth(const TruthSample& s) override
+  {
+    for (auto* sink : sinks_)
+      sink->onTruth(s);
+  }
+  void onTracker(const TrackerSample& s) override
+  {
+    for (auto* sink : sinks_)
+      sink->onTracker(s);
+  }
+
+private:
+  std::vector<SimulationSink*> sinks_;
 };
 
 /// Counts and motion statistics of a run.
