@@ -12,6 +12,7 @@
 
 #include "odometry_calibration/data/motion_pair.h"
 #include "odometry_calibration/geometry/se2.h"
+#include "odometry_calibration/models/model.h"
 #include "odometry_calibration/models/tricycle_kinematics.h"
 
 namespace odometry_calibration {
@@ -48,24 +49,6 @@ struct TricycleCalibrationOptions
 
 /// Throws std::invalid_argument naming the first invalid option and the expected range.
 void validate(const TricycleCalibrationOptions& options);
-
-/// One calibrated quantity for the report.
-struct ParameterEstimate
-{
-  std::string name;      ///< e.g. "axis_length"
-  std::string unit;      ///< e.g. "m"
-  double initial = 0.0;  ///< start value
-  double value = 0.0;    ///< estimate
-  double sigma = 0.0;    ///< standard deviation; NaN when the covariance is unavailable
-};
-
-/// RMS of the translation and rotation parts of SE(2) errors (over `count` pairs).
-struct ResidualRms
-{
-  double translation_m = 0.0;
-  double rotation_rad = 0.0;
-  std::size_t count = 0;
-};
 
 /// Everything a user needs to judge a fit.
 struct TricycleCalibrationResult

@@ -1,0 +1,98 @@
+// The one interface of all calibration models (DESIGN.md, "Model"): fit to keyframe pairs,
+// predict the sensor's displacement with a covariance, save to YAML.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "odometry_calibration/data/encoder.h"
+#include "odometry_calibration/data/motion_pair.h"
+#include "odometry_calibration/geometry/se2.h"
+
+namespace YAML {
+class Node;
+}
+
+namespace odometry_calibration {
+
+/// One calibrated quantity for reports.
+struct ParameterEstimate
+{
+  std::string name;      ///< e.g. "axis_length"
+  std::string unit;      ///< e.g. "m"
+  double initial = 0.0;  ///< start value
+  double value = 0.0;    ///< estimate
+  double sigma = 0.0;    ///< standard deviation; NaN when unavailable (unobservable)
+};
+
+/// RMS of the translation and rotation parts of SE(2) errors over `count` pairs.
+struct ResidualRms
+{
+  double translation_m = 0.0;
+  double rotation_rad = 0.0;
+  std::size_t count = 0;
+};
+
+/// A predicted sensor displacement over a pair: the sensor's pose at the end in its frame at
+/// the start, with the model's covariance of (x, y, theta) [m^2, rad^2].
+struct MotionPrediction
+{
+  Pose2 mean;
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+};
+
+/// What a fit reports, for every model.
+struct ModelReport
+{
+  std::string model;                          ///< model name
+  std::vector<ParameterEstimate> parameters;  ///< parametric models: estimates with sigma
+  ResidualRms before;                         ///< errors before the fit (initial guess), if any
+  ResidualRms after;                          ///< errors of the fit on all pairs used
+  Eigen::Vector3d residual_rms_xytheta = Eigen::Vector3d::Zero();  ///< per axis, inliers
+  std::size_t pairs_used = 0;                                      ///< pairs given to the fit
+  std::size_t outliers = 0;           ///< pairs rejected or down-weighted
+  int iterations = 0;                 ///< optimiser iterations (0 if closed form)
+  bool converged = true;              ///< the optimiser met its tolerance
+  std::string termination;            ///< optimiser's reason, in words
+  double fit_time_s = 0.0;            ///< wall time [s]
+  bool has_extrinsic = false;         ///< whether T_base_sensor was estimated
+  Pose2 T_base_sensor;                ///< the sensor's pose in base_link
+  std::vector<std::string> warnings;  ///< observability and model-adequacy warnings
+};
+
+/// The joints a model sees, in the order of EncoderSample::values.
+struct JointLayout
+{
+  std::vector<std::string> names;
+  std::vector<EncoderKind> kinds;
+};
+
+/// Input features of model-free models for the samples of one pair (paper Sec. III): the
+/// increment (last - first) of each incremental joint and the time-weighted mean of each
+/// absolute joint. Throws std::invalid_argument for fewer than two samples or a size mismatch.
+Eigen::VectorXd pairFeatures(const std::vector<EncoderSample>& samples, const JointLayout& joints);
+
+/// A calibration model.
+class MotionModel
+{
+public:
+  virtual ~MotionModel() = default;
+
+  /// Short name, e.g. "linear", "gp", "diff_drive", "tricycle".
+  virtual std::string name() const = 0;
+
+  /// Fits the model to the pairs (the model rejects outliers itself). Throws
+  /// std::invalid_argument with an actionable message for too few or degenerate pairs.
+  virtual ModelReport fit(const std::vector<MotionPair>& pairs) = 0;
+
+  /// Predicted sensor motion over encoder samples (at least two). Requires a fitted model.
+  virtual MotionPrediction predict(const std::vector<EncoderSample>& samples) const = 0;
+
+  /// The fitted model as YAML text (enough to predict again after loading).
+  virtual std::string toYaml() const = 0;
+};
+
+}  // namespace odometry_calibration
