@@ -7,10 +7,7 @@
 #include <memory>
 #include <stdexcept>
 
-#include <ceres/ceres.h>
-
-#include "odometry_calibration/models/se2_manifold.h"
-#include "odometry_calibration/models/tricycle_observability.h"
+#include "odometry_calibration/models/observability.h"
 #include "odometry_calibration/models/tricycle_residual.h"
 
 namespace odometry_calibration {
@@ -148,90 +145,35 @@ TricycleCalibrationResult calibrateTricycle(const std::vector<MotionPair>& pairs
   result.pair_count = pairs.size();
   result.before = tricycleResidualRms(pairs, layout, initial);
 
-  Eigen::Vector4d kinematic = initial.kinematicVector();
-  Eigen::Vector3d sensor_pose = initial.T_base_sensor.vector();
-
-  ceres::Problem problem;
-  for (const MotionPair& pair : pairs) {
-    auto* cost = new ceres::AutoDiffCostFunction<TricyclePairResidual, 3, 4, 3>(
-        new TricyclePairResidual(pair, layout));
-    ceres::LossFunction* loss =
-        options.huber_threshold > 0.0 ? new ceres::HuberLoss(options.huber_threshold) : nullptr;
-    problem.AddResidualBlock(cost, loss, kinematic.data(), sensor_pose.data());
-  }
-  problem.SetManifold(sensor_pose.data(), newSe2Manifold());
-
-  ceres::Solver::Options solver_options;
-  solver_options.minimizer_type = ceres::TRUST_REGION;
-  solver_options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
-  solver_options.linear_solver_type = ceres::DENSE_QR;
-  solver_options.max_num_iterations = options.max_iterations;
-  solver_options.function_tolerance = 1e-12;
-  solver_options.gradient_tolerance = 1e-12;
-  solver_options.parameter_tolerance = 1e-12;
-  solver_options.num_threads = 1;
-  ceres::Solver::Summary summary;
-  const auto start = std::chrono::steady_clock::now();
-  ceres::Solve(solver_options, &problem, &summary);
-  result.solve_time_s =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  result.iterations = static_cast<int>(summary.iterations.size()) - 1;
-  result.converged = summary.termination_type == ceres::CONVERGENCE;
-  result.termination = summary.message;
-
-  result.calibrated = TricycleParameters::fromVectors(kinematic, sensor_pose);
-  sensor_pose = result.calibrated.T_base_sensor.vector();
+  SensorMotionFitOptions fit_options;
+  fit_options.huber_threshold = options.huber_threshold;
+  fit_options.max_iterations = options.max_iterations;
+  const SensorMotionFit<4> fit = fitSensorMotion<TricycleKinematics>(
+      pairs, layout, initial.kinematicVector(), initial.T_base_sensor, fit_options);
+  result.solve_time_s = fit.solve_time_s;
+  result.iterations = fit.iterations;
+  result.converged = fit.converged;
+  result.termination = fit.termination;
+  result.calibrated = TricycleParameters::fromVectors(fit.intrinsic, fit.T_base_sensor.vector());
   result.after = tricycleResidualRms(pairs, layout, result.calibrated);
-
-  // Inliers: pairs whose whitened error stays within the Huber threshold.
   std::vector<MotionPair> inliers;
-  double chi2_inliers = 0.0;
-  for (const MotionPair& pair : pairs) {
-    TricyclePairResidual residual(pair, layout);
-    Eigen::Vector3d whitened;
-    residual(kinematic.data(), sensor_pose.data(), whitened.data());
-    const double chi2 = whitened.squaredNorm();
-    if (options.huber_threshold <= 0.0 ||
-        chi2 <= options.huber_threshold * options.huber_threshold) {
-      inliers.push_back(pair);
-      chi2_inliers += chi2;
-    }
+  for (std::size_t i = 0; i < pairs.size(); ++i) {
+    if (fit.inlier[i])
+      inliers.push_back(pairs[i]);
   }
-  result.outlier_count = pairs.size() - inliers.size();
+  result.outlier_count = fit.outliers;
   result.after_inliers = tricycleResidualRms(inliers, layout, result.calibrated);
-  const double dof = 3.0 * static_cast<double>(inliers.size()) - 7.0;
-  result.chi2_per_dof = dof > 0.0 ? chi2_inliers / dof : std::numeric_limits<double>::quiet_NaN();
-
-  // Parameter covariance at the solution, in the parameters' own coordinates, scaled by the
-  // residual spread so that sigma reflects the data rather than the assumed noise.
-  ceres::Covariance::Options covariance_options;
-  covariance_options.algorithm_type = ceres::DENSE_SVD;
-  covariance_options.null_space_rank = 0;
-  covariance_options.min_reciprocal_condition_number = 1e-14;
-  ceres::Covariance covariance(covariance_options);
-  const std::vector<std::pair<const double*, const double*>> blocks = {
-      {kinematic.data(), kinematic.data()},
-      {sensor_pose.data(), sensor_pose.data()},
-      {kinematic.data(), sensor_pose.data()}};
-  if (covariance.Compute(blocks, &problem)) {
-    Eigen::Matrix<double, 4, 4, Eigen::RowMajor> kk;
-    Eigen::Matrix<double, 3, 3, Eigen::RowMajor> ss;
-    Eigen::Matrix<double, 4, 3, Eigen::RowMajor> ks;
-    covariance.GetCovarianceBlock(kinematic.data(), kinematic.data(), kk.data());
-    covariance.GetCovarianceBlock(sensor_pose.data(), sensor_pose.data(), ss.data());
-    covariance.GetCovarianceBlock(kinematic.data(), sensor_pose.data(), ks.data());
-    result.covariance.topLeftCorner<4, 4>() = kk;
-    result.covariance.bottomRightCorner<3, 3>() = ss;
-    result.covariance.topRightCorner<4, 3>() = ks;
-    result.covariance.bottomLeftCorner<3, 4>() = ks.transpose();
-    if (std::isfinite(result.chi2_per_dof)) {
-      result.covariance *= result.chi2_per_dof;
-    }
-    result.covariance_available = true;
-  }
+  result.chi2_per_dof = fit.chi2_per_dof;
+  result.covariance = fit.covariance;
+  result.covariance_available = fit.covariance_available;
   result.estimates =
       makeEstimates(initial, result.calibrated, result.covariance, result.covariance_available);
-  result.warnings = tricycleObservabilityWarnings(pairs, result);
+  ObservabilityHints hints;
+  hints.unobservable_without_turning = "steering_scale, axis_length and sensor_y";
+  hints.confused_by_one_way_turns = "steering_offset cannot be separated from steering_scale";
+  hints.relative_parameters = {"steering_scale", "traction_scale", "axis_length"};
+  result.warnings = observabilityWarnings(pairs, result.estimates, result.covariance,
+                                          result.covariance_available, hints);
   return result;
 }
 

@@ -1,4 +1,6 @@
-#include "odometry_calibration/models/tricycle_observability.h"
+#include "odometry_calibration/models/observability.h"
+
+#include <algorithm>
 
 #include <cmath>
 #include <sstream>
@@ -24,8 +26,11 @@ std::string formatNumber(double value)
 
 }  // namespace
 
-std::vector<std::string> tricycleObservabilityWarnings(const std::vector<MotionPair>& pairs,
-                                                       const TricycleCalibrationResult& result)
+std::vector<std::string> observabilityWarnings(const std::vector<MotionPair>& pairs,
+                                               const std::vector<ParameterEstimate>& estimates,
+                                               const Eigen::MatrixXd& covariance,
+                                               bool covariance_available,
+                                               const ObservabilityHints& hints)
 {
   std::vector<std::string> warnings;
   double travel_m = 0.0;
@@ -42,30 +47,33 @@ std::vector<std::string> tricycleObservabilityWarnings(const std::vector<MotionP
                        " m with turns both ways before trusting any parameter");
   }
   if (left_turn_rad < kMinTurnRad && right_turn_rad < kMinTurnRad) {
-    warnings.push_back(
-        "no turning: steering_scale, axis_length and sensor_y are unobservable from straight "
-        "driving; drive curves in both directions");
+    warnings.push_back("no turning: " + hints.unobservable_without_turning +
+                       " are unobservable from straight driving; drive curves in both "
+                       "directions");
   } else if (left_turn_rad < kMinTurnRad || right_turn_rad < kMinTurnRad) {
     warnings.push_back(std::string("turns ") + (left_turn_rad < kMinTurnRad ? "right" : "left") +
-                       " only: steering_offset cannot be separated from steering_scale; drive "
-                       "curves in the other direction too");
+                       " only: " + hints.confused_by_one_way_turns +
+                       "; drive curves in the other direction too");
   }
 
-  if (!result.covariance_available) {
+  if (!covariance_available) {
     warnings.push_back(
         "parameter covariance unavailable (rank-deficient problem): at least one parameter is "
         "not determined by this motion; sigmas are not reported");
     return warnings;
   }
-  for (std::size_t i = 0; i < result.estimates.size(); ++i) {
-    const ParameterEstimate& estimate = result.estimates[i];
+  for (std::size_t i = 0; i < estimates.size(); ++i) {
+    const ParameterEstimate& estimate = estimates[i];
+    const bool relative =
+        std::find(hints.relative_parameters.begin(), hints.relative_parameters.end(),
+                  estimate.name) != hints.relative_parameters.end();
     bool poor = false;
     if (estimate.unit == "rad") {
       poor = estimate.sigma > kMaxAbsoluteSigmaRad;
-    } else if (estimate.name == "sensor_x" || estimate.name == "sensor_y") {
-      poor = estimate.sigma > kMaxAbsoluteSigmaM;
-    } else {
+    } else if (relative) {
       poor = estimate.sigma > kMaxRelativeSigma * std::abs(estimate.value);
+    } else {
+      poor = estimate.sigma > kMaxAbsoluteSigmaM;
     }
     if (poor) {
       warnings.push_back(estimate.name + " is poorly determined (sigma " +
@@ -73,15 +81,16 @@ std::vector<std::string> tricycleObservabilityWarnings(const std::vector<MotionP
                          "): record more varied motion (tight turns both ways, reversing)");
     }
   }
-  for (int i = 0; i < 7; ++i) {
-    for (int j = i + 1; j < 7; ++j) {
-      const double denominator = std::sqrt(result.covariance(i, i) * result.covariance(j, j));
+  const auto n = static_cast<Eigen::Index>(estimates.size());
+  for (Eigen::Index i = 0; i < n; ++i) {
+    for (Eigen::Index j = i + 1; j < n; ++j) {
+      const double denominator = std::sqrt(covariance(i, i) * covariance(j, j));
       if (denominator <= 0.0) {
         continue;
       }
-      const double correlation = result.covariance(i, j) / denominator;
+      const double correlation = covariance(i, j) / denominator;
       if (std::abs(correlation) > kMaxCorrelation) {
-        warnings.push_back(result.estimates[i].name + " and " + result.estimates[j].name +
+        warnings.push_back(estimates[i].name + " and " + estimates[j].name +
                            " are almost indistinguishable (correlation " +
                            formatNumber(correlation) +
                            "): only their combination is determined by this motion");

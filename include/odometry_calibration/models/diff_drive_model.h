@@ -1,0 +1,58 @@
+// Differential-drive calibration (wheel radii, wheel separation, sensor pose) by robust
+// nonlinear least squares on keyframe pairs: the paper's CMLE baseline model.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "odometry_calibration/models/diff_drive_kinematics.h"
+#include "odometry_calibration/models/model.h"
+
+namespace odometry_calibration {
+
+/// Options of the differential-drive model.
+struct DiffDriveOptions
+{
+  DiffDriveEncoderLayout layout;         ///< which joints are the wheels, ticks per turn
+  double initial_left_radius_m = 0.05;   ///< start value of r_L [m]
+  double initial_right_radius_m = 0.05;  ///< start value of r_R [m]
+  double initial_separation_m = 0.3;     ///< start value of b [m]
+  Pose2 initial_T_base_sensor;           ///< start value of the sensor pose
+  double huber_threshold = 3.0;          ///< Huber threshold on a pair's whitened error [sigma]
+  int max_iterations = 100;              ///< Levenberg-Marquardt iteration cap
+};
+
+/// Throws std::invalid_argument naming the first invalid option.
+void validate(const DiffDriveOptions& options);
+
+/// The fitted model: intrinsics (r_L, r_R, b), the sensor's pose, and their 6x6 covariance.
+class DiffDriveModel : public MotionModel
+{
+public:
+  explicit DiffDriveModel(DiffDriveOptions options);
+
+  std::string name() const override { return "diff_drive"; }
+  ModelReport fit(const std::vector<MotionPair>& pairs) override;
+  MotionPrediction predict(const std::vector<EncoderSample>& samples) const override;
+  std::string toYaml() const override;
+
+  /// Loads a model written by toYaml(); throws std::runtime_error naming a missing key.
+  static DiffDriveModel fromYaml(const std::string& text);
+
+  /// (r_L, r_R, b) [m].
+  const Eigen::Vector3d& intrinsics() const { return intrinsics_; }
+  const Pose2& T_base_sensor() const { return T_base_sensor_; }
+  /// Covariance of (r_L, r_R, b, x, y, theta); zero until a fit succeeds.
+  const Eigen::Matrix<double, 6, 6>& covariance() const { return covariance_; }
+
+private:
+  DiffDriveOptions options_;
+  Eigen::Vector3d intrinsics_;
+  Pose2 T_base_sensor_;
+  Eigen::Matrix<double, 6, 6> covariance_ = Eigen::Matrix<double, 6, 6>::Zero();
+  Eigen::Matrix3d residual_covariance_ = Eigen::Matrix3d::Zero();  ///< per-pair spread
+};
+
+}  // namespace odometry_calibration

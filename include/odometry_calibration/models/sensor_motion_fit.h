@@ -1,0 +1,181 @@
+// The least-squares machinery shared by the parametric models (tricycle seed sections 3-5;
+// the same structure as the CMLE of Censi et al. T-RO 2013): intrinsic parameters of a
+// kinematic model plus the sensor pose T_base_sensor, fitted to keyframe pairs by minimising
+// the whitened SE(2) error e = Z^-1 * (T_bs^-1 * Delta_base * T_bs) under a Huber loss with
+// Ceres (Levenberg-Marquardt, automatic derivatives, SE(2) manifold for the pose).
+//
+// A kinematic model plugs in as a type with
+//   using Layout = ...;                           // where its joints are
+//   static constexpr int kIntrinsics = N;         // number of intrinsic parameters
+//   template <typename T> static Pose2T<T> integrate(const T* intrinsic, const Layout&,
+//                                                    const std::vector<EncoderSample>&);
+#pragma once
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <ceres/ceres.h>
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+
+#include "odometry_calibration/data/motion_pair.h"
+#include "odometry_calibration/geometry/se2.h"
+#include "odometry_calibration/models/model.h"
+#include "odometry_calibration/models/se2_manifold.h"
+
+namespace odometry_calibration {
+
+/// Cost functor for one pair: parameter blocks are the intrinsics and the sensor pose
+/// (x, y, theta); the residual is the pair's whitened SE(2) error (3 values).
+template <class Kinematics>
+class SensorMotionResidual
+{
+public:
+  /// Keeps a reference to `pair`, which must outlive the functor.
+  SensorMotionResidual(const MotionPair& pair, const typename Kinematics::Layout& layout)
+      : pair_(pair), layout_(layout)
+  {
+    // L^-1 with covariance = L L^T, so that |L^-1 e|^2 = e^T Sigma^-1 e.
+    const Eigen::Matrix3d lower = pair.covariance.llt().matrixL();
+    sqrt_information_ = lower.inverse();
+  }
+
+  template <typename T>
+  bool operator()(const T* intrinsic, const T* sensor_pose, T* residual) const
+  {
+    const Pose2T<T> T_base_sensor(sensor_pose[0], sensor_pose[1], sensor_pose[2]);
+    const Pose2T<T> base_motion = Kinematics::integrate(intrinsic, layout_, pair_.encoder_samples);
+    const Eigen::Matrix<T, 3, 1> error =
+        boxMinus(sensorMotionFromBodyMotion(T_base_sensor, base_motion),
+                 pair_.sensor_motion.template cast<T>());
+    Eigen::Map<Eigen::Matrix<T, 3, 1>> whitened(residual);
+    whitened = sqrt_information_.cast<T>() * error;
+    return true;
+  }
+
+private:
+  const MotionPair& pair_;
+  typename Kinematics::Layout layout_;
+  Eigen::Matrix3d sqrt_information_;
+};
+
+/// Options of the shared solver.
+struct SensorMotionFitOptions
+{
+  double huber_threshold = 3.0;  ///< on a pair's whitened error norm [sigma]; <= 0: none
+  int max_iterations = 100;      ///< Levenberg-Marquardt iteration cap
+};
+
+/// The solution, with everything a report needs.
+template <int N>
+struct SensorMotionFit
+{
+  Eigen::Matrix<double, N, 1> intrinsic;
+  Pose2 T_base_sensor;
+  /// Covariance of (intrinsics, x, y, theta), scaled by chi2_per_dof of the inliers.
+  Eigen::Matrix<double, N + 3, N + 3> covariance = Eigen::Matrix<double, N + 3, N + 3>::Zero();
+  bool covariance_available = false;
+  double chi2_per_dof = std::numeric_limits<double>::quiet_NaN();
+  std::vector<bool> inlier;  ///< per pair: whitened error within the Huber threshold
+  std::size_t outliers = 0;
+  int iterations = 0;
+  bool converged = false;
+  std::string termination;
+  double solve_time_s = 0.0;
+};
+
+/// Fits the intrinsics and the sensor pose from the start values. Pairs need >= 2 samples.
+template <class Kinematics>
+SensorMotionFit<Kinematics::kIntrinsics> fitSensorMotion(
+    const std::vector<MotionPair>& pairs, const typename Kinematics::Layout& layout,
+    const Eigen::Matrix<double, Kinematics::kIntrinsics, 1>& initial_intrinsic,
+    const Pose2& initial_T_base_sensor, const SensorMotionFitOptions& options)
+{
+  constexpr int N = Kinematics::kIntrinsics;
+  using Residual = SensorMotionResidual<Kinematics>;
+  SensorMotionFit<N> fit;
+  Eigen::Matrix<double, N, 1> intrinsic = initial_intrinsic;
+  Eigen::Vector3d sensor_pose = initial_T_base_sensor.vector();
+
+  ceres::Problem problem;
+  for (const MotionPair& pair : pairs) {
+    auto* cost = new ceres::AutoDiffCostFunction<Residual, 3, N, 3>(new Residual(pair, layout));
+    ceres::LossFunction* loss =
+        options.huber_threshold > 0.0 ? new ceres::HuberLoss(options.huber_threshold) : nullptr;
+    problem.AddResidualBlock(cost, loss, intrinsic.data(), sensor_pose.data());
+  }
+  problem.SetManifold(sensor_pose.data(), newSe2Manifold());
+
+  ceres::Solver::Options solver_options;
+  solver_options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+  solver_options.linear_solver_type = ceres::DENSE_QR;
+  solver_options.max_num_iterations = options.max_iterations;
+  solver_options.function_tolerance = 1e-12;
+  solver_options.gradient_tolerance = 1e-12;
+  solver_options.parameter_tolerance = 1e-12;
+  solver_options.num_threads = 1;
+  ceres::Solver::Summary summary;
+  const auto start = std::chrono::steady_clock::now();
+  ceres::Solve(solver_options, &problem, &summary);
+  fit.solve_time_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  fit.iterations = static_cast<int>(summary.iterations.size()) - 1;
+  fit.converged = summary.termination_type == ceres::CONVERGENCE;
+  fit.termination = summary.message;
+  sensor_pose(2) = normalizeAngle(sensor_pose(2));
+
+  // Inliers: whitened error within the Huber threshold; their chi^2 scales the covariance.
+  double chi2_inliers = 0.0;
+  std::size_t inlier_count = 0;
+  for (const MotionPair& pair : pairs) {
+    Eigen::Vector3d whitened;
+    Residual(pair, layout)(intrinsic.data(), sensor_pose.data(), whitened.data());
+    const double chi2 = whitened.squaredNorm();
+    const bool is_inlier =
+        options.huber_threshold <= 0.0 || chi2 <= options.huber_threshold * options.huber_threshold;
+    fit.inlier.push_back(is_inlier);
+    if (is_inlier) {
+      chi2_inliers += chi2;
+      ++inlier_count;
+    }
+  }
+  fit.outliers = pairs.size() - inlier_count;
+  const double dof = 3.0 * static_cast<double>(inlier_count) - (N + 3);
+  if (dof > 0.0)
+    fit.chi2_per_dof = chi2_inliers / dof;
+
+  // Covariance in the parameters' own coordinates; DENSE_SVD with null_space_rank 0 refuses a
+  // rank-deficient problem instead of inventing a number for an unobservable direction.
+  ceres::Covariance::Options covariance_options;
+  covariance_options.algorithm_type = ceres::DENSE_SVD;
+  covariance_options.null_space_rank = 0;
+  covariance_options.min_reciprocal_condition_number = 1e-14;
+  ceres::Covariance covariance(covariance_options);
+  const std::vector<std::pair<const double*, const double*>> blocks = {
+      {intrinsic.data(), intrinsic.data()},
+      {sensor_pose.data(), sensor_pose.data()},
+      {intrinsic.data(), sensor_pose.data()}};
+  if (covariance.Compute(blocks, &problem)) {
+    Eigen::Matrix<double, N, N, Eigen::RowMajor> kk;
+    Eigen::Matrix<double, 3, 3, Eigen::RowMajor> ss;
+    Eigen::Matrix<double, N, 3, Eigen::RowMajor> ks;
+    covariance.GetCovarianceBlock(intrinsic.data(), intrinsic.data(), kk.data());
+    covariance.GetCovarianceBlock(sensor_pose.data(), sensor_pose.data(), ss.data());
+    covariance.GetCovarianceBlock(intrinsic.data(), sensor_pose.data(), ks.data());
+    fit.covariance.template topLeftCorner<N, N>() = kk;
+    fit.covariance.template bottomRightCorner<3, 3>() = ss;
+    fit.covariance.template topRightCorner<N, 3>() = ks;
+    fit.covariance.template bottomLeftCorner<3, N>() = ks.transpose();
+    if (std::isfinite(fit.chi2_per_dof))
+      fit.covariance *= fit.chi2_per_dof;
+    fit.covariance_available = true;
+  }
+  fit.intrinsic = intrinsic;
+  fit.T_base_sensor = Pose2(sensor_pose(0), sensor_pose(1), sensor_pose(2));
+  return fit;
+}
+
+}  // namespace odometry_calibration

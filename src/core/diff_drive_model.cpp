@@ -1,0 +1,214 @@
+#include "odometry_calibration/models/diff_drive_model.h"
+
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+#include <yaml-cpp/yaml.h>
+
+#include "odometry_calibration/models/observability.h"
+#include "odometry_calibration/models/sensor_motion_fit.h"
+
+namespace odometry_calibration {
+
+void validate(const DiffDriveOptions& o)
+{
+  auto positive = [](double value, const char* name) {
+    if (!(value > 0.0) || !std::isfinite(value)) {
+      throw std::invalid_argument(std::string("diff_drive option '") + name + "' must be > 0");
+    }
+  };
+  positive(o.layout.ticks_per_turn, "ticks_per_turn");
+  // Start values may be negative (a mirrored start); the result is always the physical one.
+  positive(std::abs(o.initial_left_radius_m), "initial_left_radius_m (absolute value)");
+  positive(std::abs(o.initial_right_radius_m), "initial_right_radius_m (absolute value)");
+  positive(std::abs(o.initial_separation_m), "initial_separation_m (absolute value)");
+  if (o.layout.left_index < 0 || o.layout.right_index < 0 ||
+      o.layout.left_index == o.layout.right_index) {
+    throw std::invalid_argument("diff_drive options: left and right joints must be two joints");
+  }
+  if (o.max_iterations < 1) {
+    throw std::invalid_argument("diff_drive option 'max_iterations' must be >= 1");
+  }
+}
+
+DiffDriveModel::DiffDriveModel(DiffDriveOptions options) : options_(std::move(options))
+{
+  validate(options_);
+  intrinsics_ << options_.initial_left_radius_m, options_.initial_right_radius_m,
+      options_.initial_separation_m;
+  T_base_sensor_ = options_.initial_T_base_sensor;
+}
+
+namespace {
+
+ResidualRms residualRms(const std::vector<MotionPair>& pairs, const DiffDriveEncoderLayout& layout,
+                        const Eigen::Vector3d& intrinsics, const Pose2& T_base_sensor,
+                        const std::vector<bool>* keep, Eigen::Vector3d* per_axis,
+                        Eigen::Matrix3d* spread)
+{
+  ResidualRms rms;
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
+  for (std::size_t i = 0; i < pairs.size(); ++i) {
+    if (keep && !(*keep)[i])
+      continue;
+    const Pose2 base =
+        integrateDiffDriveMotion(intrinsics.data(), layout, pairs[i].encoder_samples);
+    const Eigen::Vector3d e =
+        boxMinus(sensorMotionFromBodyMotion(T_base_sensor, base), pairs[i].sensor_motion);
+    sum += e.cwiseProduct(e);
+    outer += e * e.transpose();
+    ++rms.count;
+  }
+  if (rms.count > 0) {
+    const double n = static_cast<double>(rms.count);
+    rms.translation_m = std::sqrt((sum(0) + sum(1)) / n);
+    rms.rotation_rad = std::sqrt(sum(2) / n);
+    if (per_axis)
+      *per_axis = (sum / n).cwiseSqrt();
+    if (spread)
+      *spread = outer / n;
+  }
+  return rms;
+}
+
+}  // namespace
+
+ModelReport DiffDriveModel::fit(const std::vector<MotionPair>& pairs)
+{
+  if (pairs.size() < 6) {
+    throw std::invalid_argument("diff_drive calibration needs at least 6 keyframe pairs, got " +
+                                std::to_string(pairs.size()) + ": record a longer drive");
+  }
+  const int needed = std::max(options_.layout.left_index, options_.layout.right_index) + 1;
+  for (const MotionPair& pair : pairs) {
+    if (pair.encoder_samples.size() < 2 || pair.encoder_samples.front().values.size() < needed) {
+      throw std::invalid_argument(
+          "diff_drive: every pair needs two or more encoder samples with both wheel joints");
+    }
+  }
+  ModelReport report;
+  report.model = name();
+  report.pairs_used = pairs.size();
+  const Eigen::Vector3d start_intrinsics = intrinsics_;
+  const Pose2 start_pose = T_base_sensor_;
+  report.before =
+      residualRms(pairs, options_.layout, intrinsics_, T_base_sensor_, nullptr, nullptr, nullptr);
+
+  SensorMotionFitOptions fit_options;
+  fit_options.huber_threshold = options_.huber_threshold;
+  fit_options.max_iterations = options_.max_iterations;
+  SensorMotionFit<3> fit = fitSensorMotion<DiffDriveKinematics>(pairs, options_.layout, intrinsics_,
+                                                                T_base_sensor_, fit_options);
+  // Sign ambiguity: (-r_L, -r_R, -b) with the sensor at (-x, -y, theta + pi) predicts the same
+  // motions (the base motion is conjugated by a half turn). Keep the physical solution, with
+  // positive radii; the covariance changes sign in the mixed blocks accordingly.
+  if (fit.intrinsic(kLeftRadius) + fit.intrinsic(kRightRadius) < 0.0) {
+    fit.intrinsic = -fit.intrinsic;
+    fit.T_base_sensor = Pose2(-fit.T_base_sensor.x(), -fit.T_base_sensor.y(),
+                              normalizeAngle(fit.T_base_sensor.theta() + M_PI));
+    Eigen::Matrix<double, 6, 1> flip;
+    flip << -1, -1, -1, -1, -1, 1;
+    fit.covariance = flip.asDiagonal() * fit.covariance * flip.asDiagonal();
+  }
+  intrinsics_ = fit.intrinsic;
+  T_base_sensor_ = fit.T_base_sensor;
+  covariance_ = fit.covariance;
+
+  report.after =
+      residualRms(pairs, options_.layout, intrinsics_, T_base_sensor_, nullptr, nullptr, nullptr);
+  residualRms(pairs, options_.layout, intrinsics_, T_base_sensor_, &fit.inlier,
+              &report.residual_rms_xytheta, &residual_covariance_);
+  report.outliers = fit.outliers;
+  report.iterations = fit.iterations;
+  report.converged = fit.converged;
+  report.termination = fit.termination;
+  report.fit_time_s = fit.solve_time_s;
+  report.has_extrinsic = true;
+  report.T_base_sensor = T_base_sensor_;
+
+  const char* names[] = {"left_wheel_radius", "right_wheel_radius", "wheel_separation",
+                         "sensor_x",          "sensor_y",           "sensor_theta"};
+  const char* units[] = {"m", "m", "m", "m", "m", "rad"};
+  Eigen::Matrix<double, 6, 1> start, value;
+  start << start_intrinsics, start_pose.vector();
+  value << intrinsics_, T_base_sensor_.vector();
+  for (int i = 0; i < 6; ++i) {
+    const double sigma = fit.covariance_available ? std::sqrt(std::max(0.0, covariance_(i, i)))
+                                                  : std::numeric_limits<double>::quiet_NaN();
+    report.parameters.push_back({names[i], units[i], start(i), value(i), sigma});
+  }
+  ObservabilityHints hints;
+  hints.unobservable_without_turning = "wheel_separation, the radii's difference and sensor_y";
+  hints.confused_by_one_way_turns =
+      "the radii's difference is poorly separated from the sensor's position";
+  hints.relative_parameters = {"left_wheel_radius", "right_wheel_radius", "wheel_separation"};
+  report.warnings =
+      observabilityWarnings(pairs, report.parameters, covariance_, fit.covariance_available, hints);
+  return report;
+}
+
+MotionPrediction DiffDriveModel::predict(const std::vector<EncoderSample>& samples) const
+{
+  if (samples.size() < 2) {
+    throw std::invalid_argument("diff_drive prediction needs at least two encoder samples");
+  }
+  MotionPrediction prediction;
+  prediction.mean = sensorMotionFromBodyMotion(
+      T_base_sensor_, integrateDiffDriveMotion(intrinsics_.data(), options_.layout, samples));
+  prediction.covariance = residual_covariance_;
+  return prediction;
+}
+
+std::string DiffDriveModel::toYaml() const
+{
+  YAML::Emitter out;
+  out.SetDoublePrecision(17);
+  out << YAML::BeginMap;
+  out << YAML::Key << "model" << YAML::Value << name();
+  out << YAML::Key << "left_index" << YAML::Value << options_.layout.left_index;
+  out << YAML::Key << "right_index" << YAML::Value << options_.layout.right_index;
+  out << YAML::Key << "ticks_per_turn" << YAML::Value << options_.layout.ticks_per_turn;
+  out << YAML::Key << "left_wheel_radius_m" << YAML::Value << intrinsics_(kLeftRadius);
+  out << YAML::Key << "right_wheel_radius_m" << YAML::Value << intrinsics_(kRightRadius);
+  out << YAML::Key << "wheel_separation_m" << YAML::Value << intrinsics_(kWheelSeparation);
+  out << YAML::Key << "T_base_sensor" << YAML::Value << YAML::Flow << YAML::BeginSeq
+      << T_base_sensor_.x() << T_base_sensor_.y() << T_base_sensor_.theta() << YAML::EndSeq;
+  out << YAML::Key << "prediction_covariance" << YAML::Value << YAML::Flow << YAML::BeginSeq;
+  for (int i = 0; i < 9; ++i)
+    out << residual_covariance_(i / 3, i % 3);
+  out << YAML::EndSeq;
+  out << YAML::EndMap;
+  return std::string(out.c_str()) + "\n";
+}
+
+DiffDriveModel DiffDriveModel::fromYaml(const std::string& text)
+{
+  try {
+    const YAML::Node node = YAML::Load(text);
+    if (node["model"].as<std::string>() != "diff_drive") {
+      throw std::runtime_error("not a diff_drive model");
+    }
+    DiffDriveOptions options;
+    options.layout.left_index = node["left_index"].as<int>();
+    options.layout.right_index = node["right_index"].as<int>();
+    options.layout.ticks_per_turn = node["ticks_per_turn"].as<double>();
+    options.initial_left_radius_m = node["left_wheel_radius_m"].as<double>();
+    options.initial_right_radius_m = node["right_wheel_radius_m"].as<double>();
+    options.initial_separation_m = node["wheel_separation_m"].as<double>();
+    const auto pose = node["T_base_sensor"].as<std::vector<double>>();
+    const auto spread = node["prediction_covariance"].as<std::vector<double>>();
+    if (pose.size() != 3 || spread.size() != 9) {
+      throw std::runtime_error("T_base_sensor needs 3 values, prediction_covariance 9");
+    }
+    options.initial_T_base_sensor = Pose2(pose[0], pose[1], pose[2]);
+    DiffDriveModel model(options);
+    model.residual_covariance_ = Eigen::Map<const Eigen::Matrix3d>(spread.data()).transpose();
+    return model;
+  } catch (const YAML::Exception& error) {
+    throw std::runtime_error(std::string("diff_drive model YAML: ") + error.what());
+  }
+}
+
+}  // namespace odometry_calibration
