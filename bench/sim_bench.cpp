@@ -2,6 +2,8 @@
 // under 60 s), and the cost of one simulated scan. Run through scripts/bench.
 #include <benchmark/benchmark.h>
 
+#include <unistd.h>
+
 #include <cstdio>
 #include <string>
 
@@ -19,7 +21,8 @@ void BM_Simulate60MinuteBag(benchmark::State& state)
 {
   const sim::Scenario scenario = sim::loadScenarioYaml(
       kConfig + "/sim/scenarios/benchmark_60min.yaml", kConfig + "/sim/worlds");
-  const std::string bag = "/tmp/odometry_calibration_bench_60min.bag";
+  const std::string bag =
+      "/tmp/odometry_calibration_bench_60min." + std::to_string(::getpid()) + ".bag";
   sim::SimulationSummary summary;
   for (auto _ : state) {
     summary = simulateToBag(scenario, bag, "");

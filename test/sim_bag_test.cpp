@@ -1,3 +1,4 @@
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 
@@ -16,11 +17,24 @@ namespace {
 
 const std::string kWorlds = std::string(ODOMETRY_CALIBRATION_CONFIG_DIR) + "/sim/worlds";
 
-std::string scratch()
+/// A fresh directory, removed with everything in it when the object goes away.
+class Scratch
 {
-  char pattern[] = "/tmp/sim_bag_test.XXXXXX";
-  return mkdtemp(pattern);
-}
+public:
+  Scratch()
+  {
+    char pattern[] = "/tmp/sim_bag_test.XXXXXX";
+    const char* directory = mkdtemp(pattern);
+    if (directory == nullptr)
+      throw std::runtime_error("mkdtemp failed");
+    path_ = directory;
+  }
+  ~Scratch() { std::filesystem::remove_all(path_); }
+  operator const std::string&() const { return path_; }
+
+private:
+  std::string path_;
+};
 
 std::string writeScenario(const std::string& directory, const std::string& body)
 {
@@ -43,7 +57,8 @@ const char* kScenario =
 
 TEST(SimBag, WritesTheTopicsCountsAndFrames)
 {
-  const std::string directory = scratch();
+  const Scratch scratch;
+  const std::string& directory = scratch;
   const sim::Scenario scenario =
       sim::loadScenarioYaml(writeScenario(directory, kScenario), kWorlds);
   const std::string bag_path = directory + "/small.bag";
@@ -95,7 +110,8 @@ TEST(SimBag, WritesTheTopicsCountsAndFrames)
 
 TEST(SimBag, SameSeedSameBytesOtherSeedOtherBytes)
 {
-  const std::string directory = scratch();
+  const Scratch scratch;
+  const std::string& directory = scratch;
   sim::Scenario scenario = sim::loadScenarioYaml(writeScenario(directory, kScenario), kWorlds);
   simulateToBag(scenario, directory + "/a.bag", "");
   simulateToBag(scenario, directory + "/b.bag", "");
@@ -109,7 +125,8 @@ TEST(SimBag, SameSeedSameBytesOtherSeedOtherBytes)
 
 TEST(SimBag, ScenarioErrorsNameTheKey)
 {
-  const std::string directory = scratch();
+  const Scratch scratch;
+  const std::string& directory = scratch;
   auto message = [&](const std::string& body) -> std::string {
     try {
       sim::loadScenarioYaml(writeScenario(directory, body), kWorlds);

@@ -59,6 +59,21 @@ TEST(SimWorld, ClearanceIsTheDistanceToTheNearestWall)
   EXPECT_NEAR(squareRoom().clearance(Eigen::Vector2d(4.0, 5.0)), std::hypot(1.0, 1.0), 1e-12);
 }
 
+TEST(SimWorld, FreeSpaceIsInsideTheRoomAndOutsideTheFurniture)
+{
+  const World world = parseWorldYaml(
+      "polygons: [[[-5, -4], [5, -4], [5, 4], [-5, 4]]]\n"
+      "boxes: [{center: [2, 2], size: [1, 1]}]\n"
+      "circles: [{center: [-2, -2], radius: 0.5}]\n",
+      "room");
+  EXPECT_TRUE(world.isFree(Eigen::Vector2d(0, 0)));
+  EXPECT_FALSE(world.isFree(Eigen::Vector2d(2.1, 1.9)));    // in the box
+  EXPECT_FALSE(world.isFree(Eigen::Vector2d(-2.1, -1.9)));  // in the round table
+  EXPECT_FALSE(world.isFree(Eigen::Vector2d(20, 0)));       // outside the building
+  // Worlds of loose segments only (the corridor) have no inside or outside.
+  EXPECT_TRUE(parseWorldYaml("segments: [[0, 0, 1, 0]]\n", "w").isFree(Eigen::Vector2d(5, 5)));
+}
+
 TEST(SimWorld, BadYamlNamesTheEntry)
 {
   auto message = [](const std::string& text) -> std::string {

@@ -192,6 +192,13 @@ TEST(Simulator, RejectsAStartInsideTheFurnitureAndWrongJointNames)
   const auto robot = makeRobot(s.robot);
   Recorder recorder;
   EXPECT_THROW(simulate(s, world, *robot, recorder), std::invalid_argument);
+  s.start_pose = Pose2(30.0, 0.0, 0.0);  // outside the building
+  EXPECT_THROW(simulate(s, world, *robot, recorder), std::invalid_argument);
+  const World furnished = parseWorldYaml(
+      "polygons: [[[-5, -4], [5, -4], [5, 4], [-5, 4]]]\nboxes: [{center: [2, 2], size: [2, 2]}]\n",
+      "room");
+  s.start_pose = Pose2(2.0, 2.0, 0.0);  // in the middle of a table, far from its edges
+  EXPECT_THROW(simulate(s, furnished, *robot, recorder), std::invalid_argument);
   s.start_pose = Pose2();
   s.encoders.joint_names = {"only_one"};
   EXPECT_THROW(simulate(s, world, *robot, recorder), std::invalid_argument);

@@ -1,4 +1,5 @@
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -13,13 +14,24 @@ namespace {
 const std::string kDataset =
     std::string(ODOMETRY_CALIBRATION_SHARED_DATA_DIR) + "/tricycle/dataset.txt";
 
-std::string scratchDirectory()
+/// A fresh directory, removed with everything in it when the object goes away.
+class ScratchDirectory
 {
-  char pattern[] = "/tmp/tricycle_cli_test.XXXXXX";
-  const char* directory = mkdtemp(pattern);
-  EXPECT_NE(directory, nullptr);
-  return directory ? directory : "/tmp";
-}
+public:
+  ScratchDirectory()
+  {
+    char pattern[] = "/tmp/tricycle_cli_test.XXXXXX";
+    const char* directory = mkdtemp(pattern);
+    if (directory == nullptr)
+      throw std::runtime_error("mkdtemp failed");
+    path_ = directory;
+  }
+  ~ScratchDirectory() { std::filesystem::remove_all(path_); }
+  const std::string& path() const { return path_; }
+
+private:
+  std::string path_;
+};
 
 bool exists(const std::string& path)
 {
@@ -57,7 +69,12 @@ TEST(TricycleCli, NamesTheBadOption)
   EXPECT_NE(message({"a", "--interval", "0"}).find("> 0"), std::string::npos);
   EXPECT_NE(message({"a", "--interval"}).find("needs a value"), std::string::npos);
   EXPECT_NE(message({"a", "--max-iterations", "2.5"}).find("whole number"), std::string::npos);
-  EXPECT_NE(message({"a", "--rotation-sigma", "-1"}).find("rotation_sigma"), std::string::npos);
+  EXPECT_NE(message({"a", "--rotation-sigma", "-1"}).find("--rotation-sigma"), std::string::npos);
+  EXPECT_NE(message({"a", "--translation-sigma", "0"}).find("--translation-sigma"),
+            std::string::npos);
+  EXPECT_NE(message({"a", "--huber", "-1"}).find("--huber"), std::string::npos);
+  EXPECT_NE(message({"a", "--max-iterations", "99999999999999"}).find("--max-iterations"),
+            std::string::npos);
   EXPECT_NE(message({"a", "b"}).find("only one dataset"), std::string::npos);
 }
 
@@ -68,7 +85,8 @@ TEST(TricycleCli, CalibratesTheRealLogAndWritesTheYaml)
   }
   TricycleCliOptions options;
   options.dataset_path = kDataset;
-  options.output_path = scratchDirectory() + "/result.yaml";
+  const ScratchDirectory scratch;
+  options.output_path = scratch.path() + "/result.yaml";
   std::ostringstream out, err;
   ASSERT_EQ(runTricycleCli(options, out, err), 0) << err.str();
   EXPECT_NE(out.str().find("ATE (paper eq. 11)"), std::string::npos) << out.str();
@@ -85,7 +103,8 @@ TEST(TricycleCli, CalibratesTheRealLogAndWritesTheYaml)
 
 TEST(TricycleCli, BadInputFailsCleanlyAndWritesNothing)
 {
-  const std::string directory = scratchDirectory();
+  const ScratchDirectory scratch;
+  const std::string& directory = scratch.path();
   TricycleCliOptions options;
   options.output_path = directory + "/result.yaml";
   std::ostringstream out, err;
@@ -117,6 +136,52 @@ TEST(TricycleCli, BadInputFailsCleanlyAndWritesNothing)
   EXPECT_EQ(runTricycleCli(options, out, err), 1);
   EXPECT_NE(err.str().find("at least 7 keyframe pairs"), std::string::npos) << err.str();
   EXPECT_FALSE(exists(options.output_path));
+
+  // A degenerate start value in the header (axis length 0) is refused, not fitted.
+  options.dataset_path = directory + "/zero_axis.txt";
+  {
+    std::ofstream log(options.dataset_path);
+    log << "#parameter_values: 0.1 0.0106141 0 0\n#joints_max_enc_values: 8192 5000\n"
+        << "#laser wrt base_link\n#\ttranslation: [ 1.5, 0, 0 ],\n#\trotation: [ 0, 0, 0, 1 ]\n";
+    for (int i = 0; i < 200; ++i) {
+      log << "time: " << 100 + 0.1 * i << " ticks: " << 290 + 10 * (i % 7) << " " << 5000 * i
+          << " model_pose: 0 0 0 tracker_pose: " << 0.01 * i << " 0 0\n";
+    }
+  }
+  err.str("");
+  EXPECT_EQ(runTricycleCli(options, out, err), 1);
+  EXPECT_NE(err.str().find("axis_length must be > 0"), std::string::npos) << err.str();
+
+  options.dataset_path = directory;
+  err.str("");
+  EXPECT_EQ(runTricycleCli(options, out, err), 1);
+  EXPECT_NE(err.str().find("is a directory"), std::string::npos) << err.str();
+  EXPECT_FALSE(exists(options.output_path));
+}
+
+TEST(TricycleCli, WarnsAboutAnUnterminatedLastLineAndPoorlyDeterminedFits)
+{
+  if (!exists(kDataset)) {
+    GTEST_SKIP() << "real dataset not found at " << kDataset;
+  }
+  // The first 100 lines: 0.6 m of straight driving. The fit runs, but the report must say
+  // that the parameters are not determined, and the exit code must say so too (4).
+  const ScratchDirectory scratch;
+  TricycleCliOptions options;
+  options.dataset_path = scratch.path() + "/short.txt";
+  options.output_path = scratch.path() + "/result.yaml";
+  {
+    std::ifstream in(kDataset);
+    std::ofstream out(options.dataset_path);
+    std::string line;
+    for (int i = 0; i < 100 && std::getline(in, line); ++i)
+      out << line << (i < 99 ? "\n" : "");
+  }
+  std::ostringstream out, err;
+  EXPECT_EQ(runTricycleCli(options, out, err), 4) << out.str() << err.str();
+  EXPECT_NE(out.str().find("too little motion"), std::string::npos) << out.str();
+  EXPECT_NE(err.str().find("may be truncated"), std::string::npos) << err.str();
+  EXPECT_TRUE(exists(options.output_path));
 }
 
 }  // namespace

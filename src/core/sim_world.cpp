@@ -12,14 +12,70 @@
 namespace odometry_calibration {
 namespace sim {
 
-World::World(std::vector<Segment> segments) : segments_(std::move(segments))
+World::World(std::vector<Segment> segments)
 {
-  for (const Segment& s : segments_) {
-    ax_.push_back(s.a.x());
-    ay_.push_back(s.a.y());
-    dx_.push_back(s.b.x() - s.a.x());
-    dy_.push_back(s.b.y() - s.a.y());
+  for (const Segment& segment : segments) {
+    addSegment(segment);
   }
+}
+
+void World::addSegment(const Segment& segment)
+{
+  segments_.push_back(segment);
+  ax_.push_back(segment.a.x());
+  ay_.push_back(segment.a.y());
+  dx_.push_back(segment.b.x() - segment.a.x());
+  dy_.push_back(segment.b.y() - segment.a.y());
+}
+
+void World::addOutline(const std::vector<Eigen::Vector2d>& corners)
+{
+  for (std::size_t i = 0; i < corners.size(); ++i) {
+    addSegment({corners[i], corners[(i + 1) % corners.size()]});
+  }
+  outlines_.push_back(corners);
+}
+
+void World::addSolid(const std::vector<Eigen::Vector2d>& corners)
+{
+  for (std::size_t i = 0; i < corners.size(); ++i) {
+    addSegment({corners[i], corners[(i + 1) % corners.size()]});
+  }
+  solids_.push_back(corners);
+}
+
+namespace {
+
+/// Even-odd rule: does a horizontal ray from the point cross the polygon an odd number of times?
+bool insidePolygon(const std::vector<Eigen::Vector2d>& polygon, const Eigen::Vector2d& p)
+{
+  bool inside = false;
+  for (std::size_t i = 0, j = polygon.size() - 1; i < polygon.size(); j = i++) {
+    const Eigen::Vector2d& a = polygon[i];
+    const Eigen::Vector2d& b = polygon[j];
+    if ((a.y() > p.y()) != (b.y() > p.y()) &&
+        p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x()) {
+      inside = !inside;
+    }
+  }
+  return inside;
+}
+
+}  // namespace
+
+bool World::isFree(const Eigen::Vector2d& point) const
+{
+  for (const auto& solid : solids_) {
+    if (insidePolygon(solid, point))
+      return false;
+  }
+  if (outlines_.empty())
+    return true;
+  int count = 0;
+  for (const auto& outline : outlines_) {
+    count += insidePolygon(outline, point) ? 1 : 0;
+  }
+  return count % 2 == 1;
 }
 
 double World::castRay(const Eigen::Vector2d& origin, double angle_rad, double max_range_m) const
@@ -70,18 +126,11 @@ Eigen::Vector2d point2(const YAML::Node& node, const std::string& what)
   return Eigen::Vector2d(node[0].as<double>(), node[1].as<double>());
 }
 
-void addOutline(const std::vector<Eigen::Vector2d>& corners, std::vector<Segment>* segments)
-{
-  for (std::size_t i = 0; i < corners.size(); ++i) {
-    segments->push_back({corners[i], corners[(i + 1) % corners.size()]});
-  }
-}
-
 }  // namespace
 
 World parseWorldYaml(const std::string& text, const std::string& source)
 {
-  std::vector<Segment> segments;
+  World world;
   std::string entry = source;
   try {
     const YAML::Node root = YAML::Load(text);
@@ -102,8 +151,8 @@ World parseWorldYaml(const std::string& text, const std::string& source)
       if (!node.IsSequence() || node.size() != 4) {
         throw std::runtime_error("expected [x0, y0, x1, y1]");
       }
-      segments.push_back({Eigen::Vector2d(node[0].as<double>(), node[1].as<double>()),
-                          Eigen::Vector2d(node[2].as<double>(), node[3].as<double>())});
+      world.addSegment({Eigen::Vector2d(node[0].as<double>(), node[1].as<double>()),
+                        Eigen::Vector2d(node[2].as<double>(), node[3].as<double>())});
     }
     index = 0;
     for (const YAML::Node& node : root["polygons"]) {
@@ -115,7 +164,7 @@ World parseWorldYaml(const std::string& text, const std::string& source)
       if (corners.size() < 3) {
         throw std::runtime_error("a polygon needs at least 3 corners");
       }
-      addOutline(corners, &segments);
+      world.addOutline(corners);
     }
     index = 0;
     for (const YAML::Node& node : root["boxes"]) {
@@ -132,7 +181,7 @@ World parseWorldYaml(const std::string& text, const std::string& source)
                                Eigen::Vector2d(1, 1), Eigen::Vector2d(-1, 1)}) {
         corners.push_back(center + rotation * (0.5 * size.cwiseProduct(sign)));
       }
-      addOutline(corners, &segments);
+      world.addSolid(corners);
     }
     index = 0;
     for (const YAML::Node& node : root["circles"]) {
@@ -148,17 +197,17 @@ World parseWorldYaml(const std::string& text, const std::string& source)
         const double angle = 2.0 * M_PI * k / sides;
         corners.push_back(center + radius * Eigen::Vector2d(std::cos(angle), std::sin(angle)));
       }
-      addOutline(corners, &segments);
+      world.addSolid(corners);
     }
   } catch (const YAML::Exception& error) {
     throw std::runtime_error(source + ": " + entry + ": " + error.what());
   } catch (const std::runtime_error& error) {
     throw std::runtime_error(source + ": " + entry + ": " + error.what());
   }
-  if (segments.empty()) {
+  if (world.segments().empty()) {
     throw std::runtime_error(source + ": the world has no walls");
   }
-  return World(std::move(segments));
+  return world;
 }
 
 World loadWorldYaml(const std::string& path)

@@ -74,8 +74,13 @@ SimulationSummary simulate(const Scenario& scenario, const World& world, const R
   const LaserOptions& laser = scenario.laser;
   const double footprint = std::max(
       robot.footprintRadius(), std::hypot(laser.T_base_laser.x(), laser.T_base_laser.y()) + 0.1);
-  if (world.clearance(Eigen::Vector2d(scenario.start_pose.x(), scenario.start_pose.y())) <
-      footprint) {
+  const Eigen::Vector2d start(scenario.start_pose.x(), scenario.start_pose.y());
+  if (!world.isFree(start)) {
+    throw std::invalid_argument("start_pose (" + std::to_string(start.x()) + ", " +
+                                std::to_string(start.y()) +
+                                ") is inside an obstacle or outside the world's walls");
+  }
+  if (world.clearance(start) < footprint) {
     throw std::invalid_argument("start_pose is closer to a wall than the robot's footprint (" +
                                 std::to_string(footprint) + " m)");
   }

@@ -123,6 +123,23 @@ std::vector<ParameterEstimate> makeEstimates(const TricycleParameters& initial,
 
 }  // namespace
 
+void validateStartValues(const TricycleParameters& p)
+{
+  const Eigen::Vector4d k = p.kinematicVector();
+  if (!k.allFinite() || !p.T_base_sensor.vector().allFinite()) {
+    throw std::invalid_argument("tricycle start values must be finite numbers");
+  }
+  // A zero scale or axis length makes the model degenerate (no motion, or a division by zero);
+  // a negative one describes a mirrored robot. Both are configuration errors.
+  if (!(p.steering_scale > 0.0) || !(p.traction_scale_m_per_turn > 0.0) ||
+      !(p.axis_length_m > 0.0)) {
+    throw std::invalid_argument(
+        "tricycle start values: Ksteer, Ktraction and axis_length must be > 0 (got " +
+        std::to_string(p.steering_scale) + ", " + std::to_string(p.traction_scale_m_per_turn) +
+        ", " + std::to_string(p.axis_length_m) + ")");
+  }
+}
+
 TricycleCalibrationResult calibrateTricycle(const std::vector<MotionPair>& pairs,
                                             const TricycleEncoderLayout& layout,
                                             const TricycleParameters& initial,
@@ -139,6 +156,7 @@ TricycleCalibrationResult calibrateTricycle(const std::vector<MotionPair>& pairs
       throw std::invalid_argument("every pair needs at least two encoder samples");
     }
   }
+  validateStartValues(initial);
 
   TricycleCalibrationResult result;
   result.initial = initial;

@@ -3,6 +3,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -153,6 +154,8 @@ TricycleDataset parseTricycleDataset(std::istream& input, const std::string& sou
 
   while (std::getline(input, text)) {
     ++line;
+    // getline stops at EOF without a line end only on the last, unterminated line.
+    const bool unterminated = input.eof();
     if (!text.empty() && text.back() == '\r') {
       text.pop_back();
     }
@@ -220,12 +223,17 @@ TricycleDataset parseTricycleDataset(std::istream& input, const std::string& sou
                                   std::to_string(dataset.rows.back().line) + ")");
     }
     dataset.rows.push_back(row);
+    dataset.last_line_unterminated = unterminated;
   }
   return dataset;
 }
 
 TricycleDataset loadTricycleDataset(const std::string& path)
 {
+  std::error_code error;
+  if (std::filesystem::is_directory(path, error)) {
+    throw std::runtime_error("'" + path + "' is a directory, not a dataset file");
+  }
   std::ifstream file(path);
   if (!file) {
     throw std::runtime_error("cannot open dataset file '" + path + "'");

@@ -47,7 +47,9 @@ std::string tricycleCliUsage()
          "  --max-iterations N       solver iteration cap (default 100)\n"
          "  -h, --help               this text\n"
          "\n"
-         "exit status: 0 success, 1 bad input, 2 bad usage, 3 solver did not converge\n";
+         "exit status: 0 success; 1 bad input; 2 bad usage; 3 the solver did not converge;\n"
+         "4 the fit converged but the report warns that some parameter is not determined by\n"
+         "this drive (see WARNINGS): the YAML is written, do not use those numbers blindly\n";
 }
 
 TricycleCliOptions parseTricycleCliArguments(const std::vector<std::string>& arguments)
@@ -72,14 +74,23 @@ TricycleCliOptions parseTricycleCliArguments(const std::vector<std::string>& arg
       }
     } else if (argument == "--translation-sigma") {
       options.calibration.translation_sigma_m = parseNumber(argument, value());
+      if (!(options.calibration.translation_sigma_m > 0.0)) {
+        throw UsageError("option --translation-sigma: expected a standard deviation > 0 m");
+      }
     } else if (argument == "--rotation-sigma") {
       options.calibration.rotation_sigma_rad = parseNumber(argument, value());
+      if (!(options.calibration.rotation_sigma_rad > 0.0)) {
+        throw UsageError("option --rotation-sigma: expected a standard deviation > 0 rad");
+      }
     } else if (argument == "--huber") {
       options.calibration.huber_threshold = parseNumber(argument, value());
+      if (options.calibration.huber_threshold < 0.0) {
+        throw UsageError("option --huber: expected a threshold >= 0 (0 = no robust loss)");
+      }
     } else if (argument == "--max-iterations") {
       const double n = parseNumber(argument, value());
-      if (n < 1 || std::floor(n) != n) {
-        throw UsageError("option --max-iterations: expected a whole number >= 1");
+      if (n < 1 || n > 1e6 || std::floor(n) != n) {
+        throw UsageError("option --max-iterations: expected a whole number in [1, 1e6]");
       }
       options.calibration.max_iterations = static_cast<int>(n);
     } else if (!argument.empty() && argument[0] == '-') {
@@ -106,9 +117,15 @@ int runTricycleCli(const TricycleCliOptions& options, std::ostream& out, std::os
 {
   try {
     const TricycleDataset dataset = loadTricycleDataset(options.dataset_path);
+    if (dataset.last_line_unterminated) {
+      err << "warning: " << options.dataset_path
+          << " does not end with a line end: the file may be truncated (its last sample, line "
+          << dataset.rows.back().line << ", is used as read)\n";
+    }
     if (dataset.rows.size() < 2) {
-      err << "error: " << options.dataset_path << " holds " << dataset.rows.size()
-          << " samples; a calibration needs a drive of many samples\n";
+      err << "error: " << options.dataset_path << " holds "
+          << (dataset.rows.empty() ? "no samples" : "a single sample")
+          << "; a calibration needs a drive of many samples\n";
       return 1;
     }
     const TricycleEncoderLayout layout = tricycleLayoutFromHeader(dataset.header);
@@ -149,7 +166,9 @@ int runTricycleCli(const TricycleCliOptions& options, std::ostream& out, std::os
                           tricycleResultToYaml(result, evaluation, options.dataset_path));
       out << "\nresult written to " << options.output_path << "\n";
     }
-    return result.converged ? 0 : 3;
+    if (!result.converged)
+      return 3;
+    return result.warnings.empty() ? 0 : 4;
   } catch (const std::exception& error) {
     err << "error: " << error.what() << "\n";
     return 1;

@@ -59,6 +59,8 @@ struct TricycleDataset
   TricycleDatasetHeader header;          ///< what the header says
   double first_stamp_unix_s = 0.0;       ///< absolute time of the first sample [s] (~0.2 us)
   std::vector<TricycleDatasetRow> rows;  ///< samples in file order, times non-decreasing
+  /// The last sample line had no line end: the file may have been cut off while written.
+  bool last_line_unterminated = false;
 };
 
 /// Parses a log from a stream. Throws DatasetParseError (line number and what was expected) on

@@ -125,6 +125,17 @@ SensorMotionFit<Kinematics::kIntrinsics> fitSensorMotion(
   fit.iterations = static_cast<int>(summary.iterations.size()) - 1;
   fit.converged = summary.termination_type == ceres::CONVERGENCE;
   fit.termination = summary.message;
+  if (!std::isfinite(summary.final_cost) || !intrinsic.allFinite() || !sensor_pose.allFinite()) {
+    // A degenerate model (e.g. a length driven to zero): report failure, no covariance.
+    fit.converged = false;
+    fit.termination =
+        "the solution is not finite (" + summary.message + "): check the start values and the data";
+    fit.intrinsic = intrinsic;
+    fit.T_base_sensor = Pose2(sensor_pose(0), sensor_pose(1), sensor_pose(2));
+    fit.inlier.assign(pairs.size(), false);
+    fit.outliers = pairs.size();
+    return fit;
+  }
   sensor_pose(2) = normalizeAngle(sensor_pose(2));
 
   // Inliers: whitened error within the Huber threshold; their chi^2 scales the covariance.

@@ -91,8 +91,12 @@ ResidualRms tricycleResidualRms(const std::vector<MotionPair>& pairs,
                                 const TricycleEncoderLayout& layout,
                                 const TricycleParameters& parameters);
 
+/// Throws std::invalid_argument unless Ks, Kt and the axis length are > 0 and all are finite.
+void validateStartValues(const TricycleParameters& parameters);
+
 /// Fits the parameters to the pairs, starting from `initial`. Throws std::invalid_argument for
-/// invalid options, fewer than 7 pairs, or pairs with fewer than two encoder samples.
+/// invalid options or start values, fewer than 7 pairs, or pairs with fewer than two encoder
+/// samples.
 TricycleCalibrationResult calibrateTricycle(const std::vector<MotionPair>& pairs,
                                             const TricycleEncoderLayout& layout,
                                             const TricycleParameters& initial,

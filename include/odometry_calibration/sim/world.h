@@ -24,6 +24,19 @@ public:
   World() = default;
   explicit World(std::vector<Segment> segments);
 
+  /// A single wall.
+  void addSegment(const Segment& segment);
+
+  /// Closed shapes: `outlines` enclose free space (rooms: the robot belongs inside an odd
+  /// number of them, if there are any), `solids` are obstacles (the robot never belongs inside).
+  /// Their edges are added to the segments.
+  void addOutline(const std::vector<Eigen::Vector2d>& corners);
+  void addSolid(const std::vector<Eigen::Vector2d>& corners);
+
+  /// Whether a point is in free space: inside no solid, and inside the outlines (odd count)
+  /// when there are outlines.
+  bool isFree(const Eigen::Vector2d& point) const;
+
   /// Distance [m] from `origin` along the unit direction of `angle_rad` (world frame) to the
   /// nearest segment, or +infinity if no segment is hit within `max_range_m`.
   double castRay(const Eigen::Vector2d& origin, double angle_rad, double max_range_m) const;
@@ -35,6 +48,8 @@ public:
 
 private:
   std::vector<Segment> segments_;
+  std::vector<std::vector<Eigen::Vector2d>> outlines_;
+  std::vector<std::vector<Eigen::Vector2d>> solids_;
   // Per segment: a and (b - a), stored flat for a tight ray-casting loop.
   std::vector<double> ax_, ay_, dx_, dy_;
 };
