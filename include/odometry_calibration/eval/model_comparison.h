@@ -1,0 +1,37 @@
+// The paper's model comparison (Tables III/IV): models trained on some pairs, scored on
+// others by the ATE and RPE of the integrated test trajectory (eqs. 10-11) and the per-axis
+// RMSE of the predicted displacements.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "odometry_calibration/data/motion_pair.h"
+#include "odometry_calibration/models/model.h"
+
+namespace odometry_calibration {
+
+/// How one fitted model does on test pairs.
+struct ModelScore
+{
+  std::string model;
+  double ate_m = 0.0;  ///< eq. 11 between the chained predictions and the chained measurements
+  double rpe_m = 0.0;  ///< eq. 10 over consecutive test pairs
+  Eigen::Vector3d rmse_xytheta = Eigen::Vector3d::Zero();  ///< per-axis prediction RMSE
+  std::size_t test_pairs = 0;
+  double fit_time_s = 0.0;
+  std::size_t outliers = 0;  ///< rejected while training
+  std::vector<std::string> warnings;
+};
+
+/// Scores a fitted model: each test pair's displacement predicted from its encoder samples,
+/// chained into a trajectory from the origin and compared with the chain of the measured
+/// displacements (the test pairs are taken as consecutive). Throws for fewer than 2 pairs.
+ModelScore scoreModel(const MotionModel& model, const std::vector<MotionPair>& test);
+
+/// The comparison as a fixed-width text table, one row per model.
+std::string formatComparisonTable(const std::vector<ModelScore>& scores);
+
+}  // namespace odometry_calibration

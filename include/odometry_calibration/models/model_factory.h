@@ -1,0 +1,30 @@
+// Builds any calibration model by name, from one set of options.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "odometry_calibration/models/diff_drive_model.h"
+#include "odometry_calibration/models/linear_model.h"
+#include "odometry_calibration/models/model.h"
+
+namespace odometry_calibration {
+
+/// Options for every model; each model reads its own part. `joints` is the layout of the
+/// pairs' encoder samples (copied into the models that need it).
+struct ModelFactoryOptions
+{
+  JointLayout joints;
+  LinearModelOptions linear;
+  DiffDriveOptions diff_drive;
+};
+
+/// Names makeModel knows.
+std::vector<std::string> knownModelNames();
+
+/// A new, unfitted model. Throws std::invalid_argument for an unknown name (listing the known
+/// ones) or options that do not fit the joints.
+std::unique_ptr<MotionModel> makeModel(const std::string& name, const ModelFactoryOptions& options);
+
+}  // namespace odometry_calibration

@@ -1,0 +1,52 @@
+#include "odometry_calibration/eval/model_comparison.h"
+
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+#include "odometry_calibration/eval/metrics.h"
+
+namespace odometry_calibration {
+
+ModelScore scoreModel(const MotionModel& model, const std::vector<MotionPair>& test)
+{
+  if (test.size() < 2) {
+    throw std::invalid_argument("scoring needs at least two test pairs");
+  }
+  ModelScore score;
+  score.model = model.name();
+  score.test_pairs = test.size();
+  std::vector<Pose2> predicted = {Pose2()}, measured = {Pose2()};
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (const MotionPair& pair : test) {
+    const Pose2 prediction = model.predict(pair.encoder_samples).mean;
+    const Eigen::Vector3d error(prediction.x() - pair.sensor_motion.x(),
+                                prediction.y() - pair.sensor_motion.y(),
+                                normalizeAngle(prediction.theta() - pair.sensor_motion.theta()));
+    sum += error.cwiseAbs2();
+    predicted.push_back(predicted.back() * prediction);
+    measured.push_back(measured.back() * pair.sensor_motion);
+  }
+  score.rmse_xytheta = (sum / static_cast<double>(test.size())).cwiseSqrt();
+  score.ate_m = absoluteTrajectoryError(predicted, measured);
+  score.rpe_m = relativePoseError(predicted, measured);
+  return score;
+}
+
+std::string formatComparisonTable(const std::vector<ModelScore>& scores)
+{
+  std::string table;
+  char line[256];
+  std::snprintf(line, sizeof(line), "%-12s %10s %10s %11s %11s %13s %9s %8s\n", "model", "ATE [m]",
+                "RPE [m]", "RMSE x [m]", "RMSE y [m]", "RMSE th [rad]", "fit [s]", "outliers");
+  table += line;
+  for (const ModelScore& s : scores) {
+    std::snprintf(line, sizeof(line), "%-12s %10.4f %10.5f %11.5f %11.5f %13.5f %9.3f %8zu\n",
+                  s.model.c_str(), s.ate_m, s.rpe_m, s.rmse_xytheta(0), s.rmse_xytheta(1),
+                  s.rmse_xytheta(2), s.fit_time_s, s.outliers);
+    table += line;
+  }
+  return table;
+}
+
+}  // namespace odometry_calibration

@@ -1,0 +1,34 @@
+#include "odometry_calibration/models/model_factory.h"
+
+#include <stdexcept>
+
+namespace odometry_calibration {
+
+std::vector<std::string> knownModelNames()
+{
+  return {"linear", "diff_drive"};
+}
+
+std::unique_ptr<MotionModel> makeModel(const std::string& name, const ModelFactoryOptions& options)
+{
+  if (name == "linear") {
+    LinearModelOptions linear = options.linear;
+    linear.joints = options.joints;
+    return std::make_unique<LinearModel>(linear);
+  }
+  if (name == "diff_drive") {
+    const int joints = static_cast<int>(options.joints.names.size());
+    const DiffDriveEncoderLayout& layout = options.diff_drive.layout;
+    if (layout.left_index >= joints || layout.right_index >= joints) {
+      throw std::invalid_argument("diff_drive: the wheel joints are not among the pairs' " +
+                                  std::to_string(joints) + " joints");
+    }
+    return std::make_unique<DiffDriveModel>(options.diff_drive);
+  }
+  std::string known;
+  for (const std::string& model : knownModelNames())
+    known += " " + model;
+  throw std::invalid_argument("unknown model '" + name + "' (known:" + known + ")");
+}
+
+}  // namespace odometry_calibration
