@@ -1,0 +1,64 @@
+// A short history of decoded encoder samples from a live stream, with interpolation at any
+// instant inside it: keyframes fall between encoder messages, so a pair's encoder samples
+// start and end with values interpolated at the keyframes' times (DESIGN.md, "Time").
+#pragma once
+
+#include <deque>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "odometry_calibration/data/encoder.h"
+#include "odometry_calibration/data/motion_pair.h"
+
+namespace odometry_calibration {
+
+/// Decodes raw readings (wrap-around, absolute ranges) and keeps the recent samples.
+class EncoderTrack
+{
+public:
+  /// What add() did.
+  enum class AddResult
+  {
+    kAdded,
+    kDuplicate,  ///< same stamp as the last sample: ignored
+    kRestarted,  ///< time went backwards (a looping bag, a clock reset): history cleared
+  };
+
+  /// `history_s` [s]: how much history to keep behind the newest sample.
+  EncoderTrack(std::vector<EncoderChannelOptions> channels, double history_s = 30.0);
+
+  /// Adds a raw reading stamped `stamp_s` [s]. Throws std::invalid_argument (naming the
+  /// channel) for a wrong number of values or a non-finite value; the track is unchanged then.
+  AddResult add(double stamp_s, const Eigen::VectorXd& raw);
+
+  /// Forgets everything (the next reading starts the cumulative counts at zero again).
+  void clear();
+
+  bool empty() const { return samples_.empty(); }
+  double firstStamp() const { return samples_.front().stamp_s; }
+  double lastStamp() const { return samples_.back().stamp_s; }
+
+  /// Whether `stamp_s` lies within the kept samples, with no gap longer than `max_gap_s` [s]
+  /// around it.
+  bool covers(double stamp_s, double max_gap_s) const;
+
+  /// Decoded values at `stamp_s`, linearly interpolated between the neighbouring samples.
+  /// Requires covers(stamp_s, ...) to hold (throws std::out_of_range otherwise).
+  EncoderSample at(double stamp_s) const;
+
+  /// The samples of [start_s, end_s]: interpolated values at both ends and every sample
+  /// strictly inside. Requires both ends to be covered (throws std::out_of_range otherwise).
+  std::vector<EncoderSample> between(double start_s, double end_s) const;
+
+  /// The longest time between consecutive samples within [start_s, end_s] [s].
+  double largestGap(double start_s, double end_s) const;
+
+private:
+  EncoderDecoder decoder_;
+  double history_s_;
+  std::deque<EncoderSample> samples_;
+};
+
+}  // namespace odometry_calibration
