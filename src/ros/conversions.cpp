@@ -73,5 +73,26 @@ Eigen::VectorXd rawJointPositions(const sensor_msgs::JointState& message,
   return raw;
 }
 
+Scan fromLaserScanMsg(const sensor_msgs::LaserScan& message)
+{
+  Scan scan;
+  scan.angle_min_rad = message.angle_min;
+  scan.angle_increment_rad = message.angle_increment;
+  scan.range_min_m = message.range_min;
+  scan.range_max_m = message.range_max;
+  scan.ranges_m.assign(message.ranges.begin(), message.ranges.end());
+  validate(scan);
+  return scan;
+}
+
+Pose2 fromPoseMsg(const geometry_msgs::Pose& pose)
+{
+  geometry_msgs::Transform transform;
+  transform.translation.x = pose.position.x;
+  transform.translation.y = pose.position.y;
+  transform.rotation = pose.orientation;
+  return fromTransformMsg(transform);
+}
+
 }  // namespace ros_conversions
 }  // namespace odometry_calibration

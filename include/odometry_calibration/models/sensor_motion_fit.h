@@ -11,7 +11,9 @@
 //                                                    const std::vector<EncoderSample>&);
 #pragma once
 
+#include <algorithm>
 #include <chrono>
+#include <memory>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -34,13 +36,15 @@ template <class Kinematics>
 class SensorMotionResidual
 {
 public:
-  /// Keeps a reference to `pair`, which must outlive the functor.
-  SensorMotionResidual(const MotionPair& pair, const typename Kinematics::Layout& layout)
+  /// Keeps a reference to `pair`, which must outlive the functor. `noise_scale` multiplies
+  /// the pair's standard deviations (a robust estimate of how mis-scaled they are).
+  SensorMotionResidual(const MotionPair& pair, const typename Kinematics::Layout& layout,
+                       double noise_scale = 1.0)
       : pair_(pair), layout_(layout)
   {
     // L^-1 with covariance = L L^T, so that |L^-1 e|^2 = e^T Sigma^-1 e.
     const Eigen::Matrix3d lower = pair.covariance.llt().matrixL();
-    sqrt_information_ = lower.inverse();
+    sqrt_information_ = lower.inverse() / noise_scale;
   }
 
   template <typename T>
@@ -67,6 +71,11 @@ struct SensorMotionFitOptions
 {
   double huber_threshold = 3.0;  ///< on a pair's whitened error norm [sigma]; <= 0: none
   int max_iterations = 100;      ///< Levenberg-Marquardt iteration cap
+  /// Rescale the pairs' covariances by a robust estimate of the residual spread (median
+  /// whitened error norm against that of unit Gaussian noise) and solve again, so that the
+  /// Huber threshold means "n sigma of the actual noise" even when the supplied covariances
+  /// (e.g. a scan matcher's) are over- or under-confident.
+  bool estimate_noise_scale = true;
 };
 
 /// The solution, with everything a report needs.
@@ -75,11 +84,13 @@ struct SensorMotionFit
 {
   Eigen::Matrix<double, N, 1> intrinsic;
   Pose2 T_base_sensor;
-  /// Covariance of (intrinsics, x, y, theta), scaled by chi2_per_dof of the inliers.
+  /// Covariance of (intrinsics, x, y, theta), scaled by chi2_per_dof of the inliers (with
+  /// the noise scale applied).
   Eigen::Matrix<double, N + 3, N + 3> covariance = Eigen::Matrix<double, N + 3, N + 3>::Zero();
   bool covariance_available = false;
   double chi2_per_dof = std::numeric_limits<double>::quiet_NaN();
   std::vector<bool> inlier;  ///< per pair: whitened error within the Huber threshold
+  double noise_scale = 1.0;  ///< factor applied to the pairs' sigmas (estimate_noise_scale)
   std::size_t outliers = 0;
   int iterations = 0;
   bool converged = false;
@@ -100,14 +111,23 @@ SensorMotionFit<Kinematics::kIntrinsics> fitSensorMotion(
   Eigen::Matrix<double, N, 1> intrinsic = initial_intrinsic;
   Eigen::Vector3d sensor_pose = initial_T_base_sensor.vector();
 
-  ceres::Problem problem;
-  for (const MotionPair& pair : pairs) {
-    auto* cost = new ceres::AutoDiffCostFunction<Residual, 3, N, 3>(new Residual(pair, layout));
-    ceres::LossFunction* loss =
-        options.huber_threshold > 0.0 ? new ceres::HuberLoss(options.huber_threshold) : nullptr;
-    problem.AddResidualBlock(cost, loss, intrinsic.data(), sensor_pose.data());
-  }
-  problem.SetManifold(sensor_pose.data(), newSe2Manifold());
+  // A first solve with the supplied covariances; then, if asked, a second one with them
+  // rescaled by the robust spread of the first solution's whitened errors.
+  std::unique_ptr<ceres::Problem> problem_holder;
+  double scale = 1.0;
+  auto build = [&]() {
+    problem_holder = std::make_unique<ceres::Problem>();
+    for (const MotionPair& pair : pairs) {
+      auto* cost =
+          new ceres::AutoDiffCostFunction<Residual, 3, N, 3>(new Residual(pair, layout, scale));
+      ceres::LossFunction* loss = options.huber_threshold > 0.0
+                                      ? new ceres::HuberLoss(options.huber_threshold)
+                                      : nullptr;
+      problem_holder->AddResidualBlock(cost, loss, intrinsic.data(), sensor_pose.data());
+    }
+    problem_holder->SetManifold(sensor_pose.data(), newSe2Manifold());
+  };
+  build();
 
   ceres::Solver::Options solver_options;
   solver_options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
@@ -119,10 +139,27 @@ SensorMotionFit<Kinematics::kIntrinsics> fitSensorMotion(
   solver_options.num_threads = 1;
   ceres::Solver::Summary summary;
   const auto start = std::chrono::steady_clock::now();
-  ceres::Solve(solver_options, &problem, &summary);
+  ceres::Solve(solver_options, problem_holder.get(), &summary);
+  int iterations = static_cast<int>(summary.iterations.size()) - 1;
+  if (options.estimate_noise_scale && std::isfinite(summary.final_cost) && pairs.size() >= 10) {
+    std::vector<double> norms;
+    for (const MotionPair& pair : pairs) {
+      Eigen::Vector3d whitened;
+      Residual(pair, layout)(intrinsic.data(), sensor_pose.data(), whitened.data());
+      norms.push_back(whitened.norm());
+    }
+    std::nth_element(norms.begin(), norms.begin() + norms.size() / 2, norms.end());
+    // Median of |e| for 3-D unit Gaussian noise: sqrt(chi2_3 median 2.366) = 1.538.
+    scale = std::max(norms[norms.size() / 2] / 1.538, 1e-6);
+    build();
+    ceres::Solve(solver_options, problem_holder.get(), &summary);
+    iterations += static_cast<int>(summary.iterations.size()) - 1;
+  }
+  ceres::Problem& problem = *problem_holder;
+  fit.noise_scale = scale;
   fit.solve_time_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  fit.iterations = static_cast<int>(summary.iterations.size()) - 1;
+  fit.iterations = iterations;
   fit.converged = summary.termination_type == ceres::CONVERGENCE;
   fit.termination = summary.message;
   if (!std::isfinite(summary.final_cost) || !intrinsic.allFinite() || !sensor_pose.allFinite()) {
@@ -143,7 +180,7 @@ SensorMotionFit<Kinematics::kIntrinsics> fitSensorMotion(
   std::size_t inlier_count = 0;
   for (const MotionPair& pair : pairs) {
     Eigen::Vector3d whitened;
-    Residual(pair, layout)(intrinsic.data(), sensor_pose.data(), whitened.data());
+    Residual(pair, layout, scale)(intrinsic.data(), sensor_pose.data(), whitened.data());
     const double chi2 = whitened.squaredNorm();
     const bool is_inlier =
         options.huber_threshold <= 0.0 || chi2 <= options.huber_threshold * options.huber_threshold;

@@ -8,10 +8,12 @@
 #include <geometry_msgs/Pose.h>
 #include <geometry_msgs/Transform.h>
 #include <sensor_msgs/JointState.h>
+#include <sensor_msgs/LaserScan.h>
 #include <Eigen/Core>
 
 #include "odometry_calibration/data/encoder.h"
 #include "odometry_calibration/geometry/se2.h"
+#include "odometry_calibration/scan/scan.h"
 
 namespace odometry_calibration {
 namespace ros_conversions {
@@ -31,6 +33,14 @@ geometry_msgs::Pose toPoseMsg(const Pose2& pose);
 /// array of different lengths, a configured joint missing from the message, a non-finite value.
 Eigen::VectorXd rawJointPositions(const sensor_msgs::JointState& message,
                                   const std::vector<EncoderChannelOptions>& channels);
+
+/// The core's scan from a LaserScan (ranges copied as they are: the core drops NaN, inf and
+/// out-of-range readings). Throws std::invalid_argument for an unusable geometry
+/// (angle_increment zero or not finite, range limits not 0 <= min < max).
+Scan fromLaserScanMsg(const sensor_msgs::LaserScan& message);
+
+/// Planar pose of a 3D pose (x, y, yaw). Throws std::invalid_argument for a bad quaternion.
+Pose2 fromPoseMsg(const geometry_msgs::Pose& pose);
 
 }  // namespace ros_conversions
 }  // namespace odometry_calibration

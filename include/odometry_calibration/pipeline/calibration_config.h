@@ -1,0 +1,74 @@
+// The one configuration of a calibration run, shared by the live node and the bag tool:
+// read from YAML (config/*.yaml document every key), validated in one place with messages
+// that name the key.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "odometry_calibration/data/encoder.h"
+#include "odometry_calibration/models/model.h"
+#include "odometry_calibration/models/model_factory.h"
+#include "odometry_calibration/pipeline/pair_collector.h"
+
+namespace odometry_calibration {
+
+/// One joint of the JointState stream.
+struct JointConfig
+{
+  std::string name;                           ///< joint name in sensor_msgs/JointState
+  EncoderKind kind = EncoderKind::kIncremental;  ///< incremental (wheel) or absolute (steering)
+  /// Units of `position` per joint turn: 2000 for a 2000-tick wheel encoder reported in ticks,
+  /// 6.283185 (2 pi) for positions in radians.
+  double units_per_turn = 2.0 * M_PI;
+  /// Incremental: the raw counter wraps after 2^counter_bits units (0 = never wraps).
+  int counter_bits = 0;
+  /// -1 when the joint counts backwards while the robot drives forward.
+  double sign = 1.0;
+};
+
+/// Where the sensor's ego-motion comes from.
+enum class EgoMotionSource
+{
+  kScan,      ///< sensor_msgs/LaserScan matched with PLICP
+  kOdometry,  ///< nav_msgs/Odometry of the sensor (visual odometry, another matcher)
+  kPose,      ///< geometry_msgs/PoseStamped of the sensor (external tracker)
+};
+
+/// Everything a calibration run needs.
+struct CalibrationConfig
+{
+  std::vector<JointConfig> joints;
+  std::string joint_state_topic = "/joint_states";
+  EgoMotionSource ego_motion = EgoMotionSource::kScan;
+  std::string scan_topic = "/scan";
+  std::string ego_motion_topic;             ///< odometry / pose source topic
+  double ego_motion_sigma_m = 0.005;        ///< pose source: sigma of a displacement's x, y [m]
+  double ego_motion_sigma_rad = 0.002;      ///< pose source: sigma of its heading [rad]
+  CollectorOptions collector;               ///< keyframes, time offset, PLICP
+  std::string model = "diff_drive";         ///< model fitted by default
+  std::vector<std::string> compare_models;  ///< further models fitted for the comparison table
+  ModelFactoryOptions models;               ///< per-model options (joints filled in)
+  /// Model used for the matcher's initial guess ("none", or a parametric model with its start
+  /// values, e.g. "diff_drive").
+  std::string prior_model = "diff_drive";
+  std::string output_directory = "odometry_calibration_results";
+};
+
+/// Reads and validates a configuration. Throws std::runtime_error naming the file and the key.
+CalibrationConfig loadCalibrationConfig(const std::string& path);
+CalibrationConfig parseCalibrationConfig(const std::string& text, const std::string& source);
+
+/// The encoder channels of the joints (scale-free: in the message's units).
+std::vector<EncoderChannelOptions> encoderChannels(const CalibrationConfig& config);
+
+/// Raw message positions in the joints' order, signs applied.
+Eigen::VectorXd applySigns(const CalibrationConfig& config, const Eigen::VectorXd& positions);
+
+/// The joints as the models see them.
+JointLayout jointLayout(const CalibrationConfig& config);
+
+/// The matcher's initial guess from the prior model's start values (nullptr for "none").
+MotionPredictor priorPredictor(const CalibrationConfig& config);
+
+}  // namespace odometry_calibration

@@ -1,0 +1,158 @@
+// Turns live streams into calibration pairs (DESIGN.md, data flow): encoder readings into an
+// EncoderTrack; scans (or sensor poses from another ego-motion source) into keyframes every
+// T seconds; each new keyframe matched against the previous one with PLICP, the encoder-
+// predicted motion as initial guess; the result checked against the composition of the
+// consecutive-scan matches over the same interval, so that matches that fail silently (fast
+// motion, few features) are rejected without trusting any model being fitted.
+//
+// The live node and the offline bag tool feed the same collector in timestamp order, so they
+// produce the same pairs.
+#pragma once
+
+#include <deque>
+#include <functional>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "odometry_calibration/data/motion_pair.h"
+#include "odometry_calibration/pipeline/encoder_track.h"
+#include "odometry_calibration/scan/plicp.h"
+
+namespace odometry_calibration {
+
+/// Options of the keyframe pairing. Times in seconds, lengths in metres, angles in radians.
+struct CollectorOptions
+{
+  /// Keyframe spacing T [s]. Real logs' stamps jitter by tens of ms: keep T >= 0.3 s so the
+  /// jitter stays a small part of each interval (shorter pairs bias the wheel radius low).
+  double keyframe_interval_s = 0.5;
+  /// Encoder values are taken at scan time + time_offset_s [s] (clock offset between streams).
+  double time_offset_s = 0.0;
+  /// A pair is dropped when the encoder stream has a gap longer than this inside it [s].
+  double max_encoder_gap_s = 0.25;
+  /// Match consecutive scans too and reject a keyframe match that disagrees with their
+  /// composition by more than the two thresholds below.
+  bool check_consistency = true;
+  double consistency_translation_m = 0.03;
+  double consistency_rotation_rad = 0.02;
+  /// Added to every pair's covariance diagonal: unmodelled errors (stamp jitter, the sweep)
+  /// that the matcher's own covariance does not see [m^2, m^2, rad^2].
+  Eigen::Vector3d covariance_floor{1e-6, 1e-6, 1e-6};
+  PlicpOptions plicp;       ///< the scan matcher
+  LineFitOptions lines;     ///< the reference surfaces
+};
+
+/// Throws std::invalid_argument naming the first invalid option.
+void validate(const CollectorOptions& options);
+
+/// Predicts the sensor's motion over encoder samples (e.g. the nominal model); used as the
+/// scan matcher's initial guess. Without one, the guess is no motion.
+using MotionPredictor = std::function<Pose2(const std::vector<EncoderSample>&)>;
+
+/// What happened to one input.
+struct CollectorEvent
+{
+  enum class Type
+  {
+    kNothing,    ///< stored (e.g. a scan between keyframes)
+    kKeyframe,   ///< first keyframe, or a new one after a rejected pair
+    kPair,       ///< a pair was produced (`pair`)
+    kRejected,   ///< a keyframe interval gave no pair (`reason`)
+    kRestarted,  ///< time went backwards: keyframes reset, collected pairs kept
+  };
+  Type type = Type::kNothing;
+  std::string reason;
+  MotionPair pair;
+};
+
+/// Counters for diagnostics and reports.
+struct CollectorStatistics
+{
+  std::size_t encoder_messages = 0;
+  std::size_t scans = 0;
+  std::size_t keyframes = 0;
+  std::size_t pairs = 0;
+  std::size_t consecutive_matches = 0;
+  std::size_t consecutive_failures = 0;
+  std::size_t restarts = 0;
+  std::size_t unverified_pairs = 0;  ///< pairs kept without the consistency check (it failed)
+  std::map<std::string, std::size_t> rejected;  ///< reason -> count
+};
+
+/// The pairing state machine.
+class PairCollector
+{
+public:
+  PairCollector(std::vector<EncoderChannelOptions> channels, CollectorOptions options,
+                MotionPredictor predictor = nullptr);
+
+  /// A raw encoder reading (one value per channel). Throws std::invalid_argument for bad
+  /// readings (the caller reports them); a time going backwards restarts the pairing. Scans
+  /// waiting for encoder data up to their time are processed now (hence the events).
+  std::vector<CollectorEvent> addEncoders(double stamp_s, const Eigen::VectorXd& raw);
+
+  /// A laser scan stamped with the laser clock. It waits until the encoder stream has reached
+  /// its time (+ time_offset_s), or until max_encoder_gap_s later input shows it never will:
+  /// messages of the two streams with equal stamps may come in either order.
+  std::vector<CollectorEvent> addScan(double stamp_s, const Scan& scan);
+
+  /// Processes every waiting scan now (end of a bag).
+  std::vector<CollectorEvent> flush();
+
+  /// A sensor pose from another ego-motion source (tracker, visual odometry), in place of
+  /// scans: the pair's displacement is the relative pose, with `covariance`. Waits for the
+  /// encoders like addScan.
+  std::vector<CollectorEvent> addSensorPose(double stamp_s, const Pose2& T_world_sensor,
+                                            const Eigen::Matrix3d& covariance);
+
+  /// Forgets keyframes and encoder history (pairs already produced are the caller's).
+  void reset();
+
+  const CollectorStatistics& statistics() const { return statistics_; }
+  const CollectorOptions& options() const { return options_; }
+
+private:
+  CollectorEvent processScan(double stamp_s, std::shared_ptr<const PreparedScan> prepared);
+  CollectorEvent processPose(double stamp_s, const Pose2& T_world_sensor,
+                             const Eigen::Matrix3d& covariance);
+  std::vector<CollectorEvent> processReadyScans(bool all);
+  CollectorEvent reject(const std::string& reason);
+  CollectorEvent restart(const std::string& what);
+  /// Encoder window of [start_s, end_s] (laser clock), or a reason why there is none.
+  std::optional<std::vector<EncoderSample>> encoderWindow(double start_s, double end_s,
+                                                          std::string* reason) const;
+  Pose2 predict(const std::vector<EncoderSample>& window) const;
+
+  CollectorOptions options_;
+  MotionPredictor predictor_;
+  EncoderTrack track_;
+  CollectorStatistics statistics_;
+
+  struct Keyframe
+  {
+    double stamp_s = 0.0;
+    std::shared_ptr<const PreparedScan> scan;  ///< laser source
+    Pose2 T_world_sensor;                      ///< pose source
+  };
+  std::optional<Keyframe> keyframe_;
+  std::shared_ptr<const PreparedScan> previous_scan_;
+  double previous_scan_stamp_s_ = 0.0;
+  Pose2 chain_;             ///< composed consecutive matches since the keyframe
+  bool chain_valid_ = false;
+  double last_input_stamp_s_ = -1e300;  ///< newest stamp of any stream
+  double last_scan_stamp_s_ = -1e300;   ///< newest scan / sensor pose stamp
+  /// A scan or a sensor pose waiting for the encoder stream to reach its time.
+  struct PendingInput
+  {
+    double stamp_s;
+    std::shared_ptr<const PreparedScan> scan;  ///< null for a sensor pose
+    Pose2 T_world_sensor;
+    Eigen::Matrix3d covariance;
+  };
+  std::deque<PendingInput> pending_;
+};
+
+}  // namespace odometry_calibration

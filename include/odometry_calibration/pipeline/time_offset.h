@@ -1,0 +1,54 @@
+// Estimation of the time offset tau between the encoder and the laser clocks: encoder values
+// are taken at scan time + tau. The pairs' measured displacements do not depend on tau, their
+// encoder windows do: for each tau of a grid the windows are cut again from the full encoder
+// history, the model is refitted, and the robust prediction error is recorded; the minimum is
+// refined with a parabola through its neighbours, whose curvature gives the offset's sigma.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <utility>
+#include <vector>
+
+#include "odometry_calibration/data/motion_pair.h"
+#include "odometry_calibration/models/model.h"
+
+namespace odometry_calibration {
+
+/// The search.
+struct TimeOffsetOptions
+{
+  double min_s = -0.4;   ///< search range start [s]
+  double max_s = 0.4;    ///< search range end [s]
+  double step_s = 0.02;  ///< grid step [s]
+  double trim = 0.1;     ///< fraction of the largest errors ignored in the cost [-]
+};
+
+/// The estimate and the cost curve behind it.
+struct TimeOffsetResult
+{
+  double offset_s = 0.0;  ///< tau [s]
+  double sigma_s = 0.0;   ///< its standard deviation from the cost curvature [s]; NaN if flat
+  std::vector<std::pair<double, double>> curve;  ///< (tau [s], cost [-]) over the grid
+  bool at_boundary = false;  ///< the minimum lies on the search range's edge
+};
+
+/// Cuts the encoder samples of [start + tau, end + tau] out of the full, time-ordered history
+/// (interpolated at both ends). Empty if the history does not cover the interval.
+std::vector<EncoderSample> encoderWindow(const std::vector<EncoderSample>& history,
+                                         double start_s, double end_s);
+
+/// Searches tau. `make_model` gives a fresh model for each fit; `pairs` are the collected
+/// pairs (their encoder samples are replaced per tau); `history` all decoded encoder samples.
+/// Throws std::invalid_argument for an empty search range or too few pairs at every tau.
+TimeOffsetResult estimateTimeOffset(const std::vector<MotionPair>& pairs,
+                                    const std::vector<EncoderSample>& history,
+                                    const std::function<std::unique_ptr<MotionModel>()>& make_model,
+                                    const TimeOffsetOptions& options);
+
+/// The pairs with their encoder windows cut at offset `tau_s` (pairs the history does not
+/// cover are left out).
+std::vector<MotionPair> rewindowPairs(const std::vector<MotionPair>& pairs,
+                                      const std::vector<EncoderSample>& history, double tau_s);
+
+}  // namespace odometry_calibration

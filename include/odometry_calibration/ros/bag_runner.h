@@ -1,0 +1,46 @@
+// Reads bags directly with the rosbag C++ API (no playback), in timestamp order, and feeds the
+// same PairCollector as the live node: the offline half of DESIGN.md's data flow.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "odometry_calibration/pipeline/calibration_config.h"
+#include "odometry_calibration/pipeline/pair_collector.h"
+
+namespace odometry_calibration {
+
+/// Progress of a run, for a terminal display.
+struct BagProgress
+{
+  double fraction = 0.0;          ///< of the bags' time span [0, 1]
+  std::size_t messages = 0;       ///< messages read so far
+  double elapsed_s = 0.0;         ///< wall time so far [s]
+};
+
+/// What a run produced, and where the time went.
+struct BagRunResult
+{
+  std::vector<MotionPair> pairs;
+  CollectorStatistics statistics;
+  std::size_t joint_state_messages = 0;
+  std::size_t ego_motion_messages = 0;
+  std::size_t bad_joint_states = 0;  ///< skipped: missing joints, mismatched arrays, NaN
+  std::string first_bad_joint_state;  ///< the first such problem, in words
+  std::vector<std::string> restarts;  ///< time going backwards, in words
+  double bag_span_s = 0.0;            ///< time covered by the bags [s]
+  double wall_time_s = 0.0;           ///< total wall time [s]
+  double read_time_s = 0.0;           ///< reading and deserialising messages [s]
+  double pairing_time_s = 0.0;        ///< scan preparation, matching, pairing [s]
+};
+
+/// Runs the bags through a collector. Only messages within [start_offset_s, end_offset_s]
+/// after the first message are used (end <= 0: to the end). Throws std::runtime_error for a
+/// bag that cannot be read (missing, truncated, unindexed: the message says which and what to
+/// do) or a topic that carries no message.
+BagRunResult runBags(const std::vector<std::string>& bag_paths, const CalibrationConfig& config,
+                     double start_offset_s = 0.0, double end_offset_s = 0.0,
+                     const std::function<void(const BagProgress&)>& progress = nullptr);
+
+}  // namespace odometry_calibration

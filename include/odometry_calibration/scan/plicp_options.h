@@ -1,0 +1,72 @@
+// Options of the point-to-line ICP matcher (PLICP), with units and defaults.
+#pragma once
+
+#include <string>
+
+#include "odometry_calibration/scan/scan_lines.h"
+
+namespace odometry_calibration {
+
+/// How correspondences are searched (both exact; see nearest_point_search.h).
+enum class CorrespondenceSearch
+{
+  kAngularOrder,  ///< walk the reference scan's rays outwards from the query's bearing (faster)
+  kKdTree,        ///< PCL FLANN kd-tree over the reference points
+};
+
+/// Options of matchScans(). Defaults suit 2D lidars of ~1 cm noise indoors with an odometry
+/// initial guess a few centimetres and degrees off. Names follow Censi's CSM where one exists.
+struct PlicpOptions
+{
+  /// A new point is matched only to a reference point within this distance [m] (CSM
+  /// max_correspondence_dist).
+  double max_correspondence_distance_m = 0.5;
+  /// ... and only when the two local lines differ by less than this angle [rad] (surfaces seen
+  /// from the same side; larger than the initial guess' heading error).
+  double max_normal_angle_rad = 0.6;
+  /// Fixed trimming: keep at most this fraction of the correspondences, the ones with the
+  /// smallest point-to-line residuals [-], in (0, 1] (CSM outliers_maxPerc).
+  double trim_keep_fraction = 0.95;
+  /// Adaptive trimming: drop residuals larger than adaptive_trim_multiplier times the
+  /// adaptive_trim_quantile-th quantile of |residual| [-] (CSM outliers_adaptive_order / _mult).
+  double adaptive_trim_quantile = 0.7;
+  double adaptive_trim_multiplier = 2.0;
+  /// ... but never drop a residual below this [m]: keeps noise-level residuals (>= 0).
+  double adaptive_trim_floor_m = 0.02;
+  /// Converged when one iteration moves the pose by less than both tolerances [m], [rad]
+  /// (CSM epsilon_xy, epsilon_theta).
+  double translation_tolerance_m = 1e-4;
+  double rotation_tolerance_rad = 1e-4;
+  /// Iteration cap; reaching it without converging is a failure [iterations].
+  int max_iterations = 50;
+  /// The result may differ from the initial guess by at most this much, else it fails as
+  /// "correction too large" [m], [rad] (CSM max_linear_correction, max_angular_correction_deg).
+  double max_correction_translation_m = 0.5;
+  double max_correction_rotation_rad = 0.5;
+  /// Each scan needs at least this many usable points [points].
+  int min_points = 20;
+  /// Every iteration needs at least this many kept correspondences [correspondences].
+  int min_correspondences = 20;
+  /// A converged match is valid only if at least this fraction of the new scan's points have a
+  /// correspondence within inlier_distance_m of their line [-]: a match that converged to a
+  /// wrong pose leaves most points far from any surface (real indoor scans give 0.4-0.9 when
+  /// right).
+  double min_inlier_fraction = 0.3;
+  double inlier_distance_m = 0.05;
+  /// Standard deviation of a range reading [m], for the covariance (Censi ICRA 2007).
+  double range_sigma_m = 0.01;
+  /// A motion direction whose information is below this fraction of the strongest direction's
+  /// is reported degenerate and held at the initial guess [-], in (0, 1).
+  double min_information_ratio = 0.02;
+  /// Compute the covariance (Censi ICRA 2007); without it the result's covariance is zero.
+  bool compute_covariance = true;
+  /// Correspondence search.
+  CorrespondenceSearch correspondence_search = CorrespondenceSearch::kAngularOrder;
+  /// Local line fits of both scans.
+  LineFitOptions line_fit;
+};
+
+/// Throws std::invalid_argument naming the first invalid option and the valid range.
+void validate(const PlicpOptions& options);
+
+}  // namespace odometry_calibration

@@ -1,0 +1,59 @@
+// A planar laser scan (ranges on equally spaced rays) and its conversion to Cartesian points.
+//
+// The scan mirrors sensor_msgs/LaserScan without depending on ROS: ray i points at
+// angle_min_rad + i * angle_increment_rad in the sensor frame (x forward, y left, counter-clockwise
+// positive, REP 103) and measured ranges_m[i]. Readings that are NaN, infinite, zero, outside
+// [range_min_m, range_max_m] or marked invalid are dropped when the scan turns into points.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/StdVector>
+
+namespace odometry_calibration {
+
+/// One planar range scan in the sensor's own frame.
+struct Scan
+{
+  double angle_min_rad = 0.0;        ///< angle of ray 0 [rad]
+  double angle_increment_rad = 0.0;  ///< angle between consecutive rays [rad], != 0
+  double range_min_m = 0.0;          ///< readings below this are not returns [m]
+  double range_max_m = 0.0;          ///< readings above this are not returns [m]
+  std::vector<double> ranges_m;      ///< one reading per ray [m]
+  /// Optional per-ray validity (1 = usable); empty means "all rays usable". When not empty it
+  /// must have one entry per ray (e.g. to mask the sensor's housing).
+  std::vector<std::uint8_t> valid;
+};
+
+/// Throws std::invalid_argument naming the offending field when the scan's geometry is unusable
+/// (angle_increment_rad zero or not finite, range limits not 0 <= min < max, a validity mask of
+/// the wrong length). Readings themselves are never rejected: bad ones are dropped by
+/// scanToPoints().
+void validate(const Scan& scan);
+
+/// The usable readings of a scan as points in the sensor frame, ordered by increasing ray angle
+/// (reverse ray order when angle_increment_rad < 0). All vectors have the same length.
+struct ScanPoints
+{
+  /// Points (x, y) in the sensor frame [m].
+  std::vector<Eigen::Vector2d, Eigen::aligned_allocator<Eigen::Vector2d>> points_m;
+  /// Unit ray directions (cos, sin) of each point's ray: the direction along which its range
+  /// noise acts (Censi ICRA 2007, the readings z are the ranges).
+  std::vector<Eigen::Vector2d, Eigen::aligned_allocator<Eigen::Vector2d>> directions;
+  std::vector<double> angles_rad;  ///< ray angle of each point [rad]
+  std::vector<double> ranges_m;    ///< range of each point [m]
+  std::vector<int> ray_indices;    ///< index of each point's ray in Scan::ranges_m
+
+  std::size_t size() const { return points_m.size(); }
+  bool empty() const { return points_m.empty(); }
+};
+
+/// Converts the usable readings of `scan` to points: drops NaN, +-inf, zero, below range_min_m,
+/// above range_max_m and masked-out readings. Throws std::invalid_argument (via validate) only
+/// for an unusable scan geometry; a scan with no usable reading gives an empty ScanPoints.
+ScanPoints scanToPoints(const Scan& scan);
+
+}  // namespace odometry_calibration

@@ -1,0 +1,251 @@
+#include "odometry_calibration/pipeline/calibration_config.h"
+
+#include <cmath>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+#include <yaml-cpp/yaml.h>
+
+namespace odometry_calibration {
+namespace {
+
+void checkKeys(const YAML::Node& node, const std::set<std::string>& allowed,
+               const std::string& where)
+{
+  if (!node) return;
+  if (!node.IsMap()) throw std::runtime_error(where + ": expected a map");
+  for (const auto& entry : node) {
+    const std::string key = entry.first.as<std::string>();
+    if (allowed.count(key) == 0) {
+      std::string known;
+      for (const auto& name : allowed) known += " " + name;
+      throw std::runtime_error(where + ": unknown key '" + key + "' (known:" + known + ")");
+    }
+  }
+}
+
+template <typename T>
+void read(const YAML::Node& node, const char* key, T* value)
+{
+  if (node && node[key]) *value = node[key].as<T>();
+}
+
+int jointIndex(const CalibrationConfig& config, const std::string& name, const std::string& key)
+{
+  for (std::size_t j = 0; j < config.joints.size(); ++j) {
+    if (config.joints[j].name == name) return static_cast<int>(j);
+  }
+  throw std::runtime_error(key + ": no joint named '" + name + "' among 'joints'");
+}
+
+}  // namespace
+
+CalibrationConfig parseCalibrationConfig(const std::string& text, const std::string& source)
+{
+  CalibrationConfig c;
+  std::string where = source;
+  try {
+    const YAML::Node root = YAML::Load(text);
+    checkKeys(root,
+              {"joints", "joint_state_topic", "ego_motion", "keyframes", "scan_matching",
+               "model", "compare_models", "prior_model", "diff_drive", "linear",
+               "output_directory"},
+              source);
+    where = source + ": joints";
+    if (!root["joints"] || !root["joints"].IsSequence() || root["joints"].size() == 0) {
+      throw std::runtime_error("a list of joints is required");
+    }
+    for (const YAML::Node& node : root["joints"]) {
+      where = source + ": joints[" + std::to_string(c.joints.size()) + "]";
+      checkKeys(node, {"name", "kind", "units_per_turn", "counter_bits", "sign"}, where);
+      JointConfig joint;
+      read(node, "name", &joint.name);
+      std::string kind = "incremental";
+      read(node, "kind", &kind);
+      if (kind != "incremental" && kind != "absolute") {
+        throw std::runtime_error("kind must be 'incremental' or 'absolute', got '" + kind + "'");
+      }
+      joint.kind = kind == "incremental" ? EncoderKind::kIncremental : EncoderKind::kAbsolute;
+      read(node, "units_per_turn", &joint.units_per_turn);
+      read(node, "counter_bits", &joint.counter_bits);
+      read(node, "sign", &joint.sign);
+      if (joint.name.empty()) throw std::runtime_error("name is required");
+      if (!(joint.units_per_turn > 0.0)) throw std::runtime_error("units_per_turn must be > 0");
+      if (joint.counter_bits < 0 || joint.counter_bits > 52) {
+        throw std::runtime_error("counter_bits must be in [0, 52]");
+      }
+      if (joint.sign != 1.0 && joint.sign != -1.0) throw std::runtime_error("sign must be 1 or -1");
+      c.joints.push_back(joint);
+    }
+    where = source;
+    read(root, "joint_state_topic", &c.joint_state_topic);
+    read(root, "model", &c.model);
+    read(root, "compare_models", &c.compare_models);
+    read(root, "prior_model", &c.prior_model);
+    read(root, "output_directory", &c.output_directory);
+
+    where = source + ": ego_motion";
+    const YAML::Node ego = root["ego_motion"];
+    checkKeys(ego, {"source", "scan_topic", "topic", "sigma_m", "sigma_rad"}, where);
+    std::string kind = "scan";
+    read(ego, "source", &kind);
+    if (kind == "scan") {
+      c.ego_motion = EgoMotionSource::kScan;
+    } else if (kind == "odometry") {
+      c.ego_motion = EgoMotionSource::kOdometry;
+    } else if (kind == "pose") {
+      c.ego_motion = EgoMotionSource::kPose;
+    } else {
+      throw std::runtime_error("source must be scan, odometry or pose, got '" + kind + "'");
+    }
+    read(ego, "scan_topic", &c.scan_topic);
+    read(ego, "topic", &c.ego_motion_topic);
+    read(ego, "sigma_m", &c.ego_motion_sigma_m);
+    read(ego, "sigma_rad", &c.ego_motion_sigma_rad);
+    if (c.ego_motion != EgoMotionSource::kScan && c.ego_motion_topic.empty()) {
+      throw std::runtime_error("source '" + kind + "' needs 'topic'");
+    }
+
+    where = source + ": keyframes";
+    const YAML::Node keyframes = root["keyframes"];
+    checkKeys(keyframes,
+              {"interval_s", "time_offset_s", "max_encoder_gap_s", "check_consistency",
+               "consistency_translation_m", "consistency_rotation_rad"},
+              where);
+    CollectorOptions& k = c.collector;
+    read(keyframes, "interval_s", &k.keyframe_interval_s);
+    read(keyframes, "time_offset_s", &k.time_offset_s);
+    read(keyframes, "max_encoder_gap_s", &k.max_encoder_gap_s);
+    read(keyframes, "check_consistency", &k.check_consistency);
+    read(keyframes, "consistency_translation_m", &k.consistency_translation_m);
+    read(keyframes, "consistency_rotation_rad", &k.consistency_rotation_rad);
+
+    where = source + ": scan_matching";
+    const YAML::Node matching = root["scan_matching"];
+    checkKeys(matching,
+              {"max_correspondence_distance_m", "max_iterations", "range_sigma_m",
+               "max_correction_translation_m", "max_correction_rotation_rad", "min_points"},
+              where);
+    PlicpOptions& p = k.plicp;
+    read(matching, "max_correspondence_distance_m", &p.max_correspondence_distance_m);
+    read(matching, "max_iterations", &p.max_iterations);
+    read(matching, "range_sigma_m", &p.range_sigma_m);
+    read(matching, "max_correction_translation_m", &p.max_correction_translation_m);
+    read(matching, "max_correction_rotation_rad", &p.max_correction_rotation_rad);
+    read(matching, "min_points", &p.min_points);
+    validate(k);
+
+    where = source + ": diff_drive";
+    const YAML::Node diff = root["diff_drive"];
+    checkKeys(diff,
+              {"left_joint", "right_joint", "wheel_radius_m", "wheel_separation_m",
+               "sensor_pose", "huber_threshold"},
+              where);
+    DiffDriveOptions& d = c.models.diff_drive;
+    std::string left = c.joints[0].name;
+    std::string right = c.joints.size() > 1 ? c.joints[1].name : "";
+    read(diff, "left_joint", &left);
+    read(diff, "right_joint", &right);
+    double radius = 0.05;
+    read(diff, "wheel_radius_m", &radius);
+    d.initial_left_radius_m = d.initial_right_radius_m = radius;
+    read(diff, "wheel_separation_m", &d.initial_separation_m);
+    read(diff, "huber_threshold", &d.huber_threshold);
+    std::vector<double> pose = {0.0, 0.0, 0.0};
+    read(diff, "sensor_pose", &pose);
+    if (pose.size() != 3) throw std::runtime_error("sensor_pose needs [x_m, y_m, theta_rad]");
+    d.initial_T_base_sensor = Pose2(pose[0], pose[1], pose[2]);
+    if (c.model == "diff_drive" || c.prior_model == "diff_drive") {
+      d.layout.left_index = jointIndex(c, left, where + ".left_joint");
+      d.layout.right_index = jointIndex(c, right, where + ".right_joint");
+      if (c.joints[d.layout.left_index].units_per_turn !=
+          c.joints[d.layout.right_index].units_per_turn) {
+        throw std::runtime_error("the two wheels need the same units_per_turn");
+      }
+      d.layout.ticks_per_turn = c.joints[d.layout.left_index].units_per_turn;
+      validate(d);
+    }
+
+    where = source + ": linear";
+    const YAML::Node linear = root["linear"];
+    checkKeys(linear, {"huber_threshold", "outlier_threshold"}, where);
+    read(linear, "huber_threshold", &c.models.linear.huber_threshold);
+    read(linear, "outlier_threshold", &c.models.linear.outlier_threshold);
+    c.models.joints = jointLayout(c);
+
+    where = source;
+    if (c.prior_model != "none" && c.prior_model != "diff_drive") {
+      throw std::runtime_error("prior_model must be 'none' or 'diff_drive', got '" +
+                               c.prior_model + "'");
+    }
+    bool known = false;
+    for (const std::string& name : knownModelNames()) known |= name == c.model;
+    if (!known) throw std::runtime_error("unknown model '" + c.model + "'");
+  } catch (const YAML::Exception& error) {
+    throw std::runtime_error(where + ": " + error.what());
+  } catch (const std::runtime_error& error) {
+    const std::string message = error.what();
+    throw std::runtime_error(message.rfind(source, 0) == 0 ? message : where + ": " + message);
+  } catch (const std::invalid_argument& error) {
+    throw std::runtime_error(where + ": " + error.what());
+  }
+  return c;
+}
+
+CalibrationConfig loadCalibrationConfig(const std::string& path)
+{
+  std::ifstream file(path);
+  if (!file) throw std::runtime_error("cannot open configuration '" + path + "'");
+  std::stringstream text;
+  text << file.rdbuf();
+  return parseCalibrationConfig(text.str(), path);
+}
+
+std::vector<EncoderChannelOptions> encoderChannels(const CalibrationConfig& config)
+{
+  std::vector<EncoderChannelOptions> channels;
+  for (const JointConfig& joint : config.joints) {
+    const bool incremental = joint.kind == EncoderKind::kIncremental;
+    channels.push_back({joint.name, joint.kind,
+                        incremental && joint.counter_bits > 0
+                            ? std::ldexp(1.0, joint.counter_bits)
+                            : 0.0,
+                        incremental ? 0.0 : joint.units_per_turn});
+  }
+  return channels;
+}
+
+Eigen::VectorXd applySigns(const CalibrationConfig& config, const Eigen::VectorXd& positions)
+{
+  Eigen::VectorXd signed_positions = positions;
+  for (std::size_t j = 0; j < config.joints.size(); ++j) {
+    signed_positions(static_cast<Eigen::Index>(j)) *= config.joints[j].sign;
+  }
+  return signed_positions;
+}
+
+JointLayout jointLayout(const CalibrationConfig& config)
+{
+  JointLayout layout;
+  for (const JointConfig& joint : config.joints) {
+    layout.names.push_back(joint.name);
+    layout.kinds.push_back(joint.kind);
+  }
+  return layout;
+}
+
+MotionPredictor priorPredictor(const CalibrationConfig& config)
+{
+  if (config.prior_model != "diff_drive") return nullptr;
+  const DiffDriveOptions options = config.models.diff_drive;
+  return [options](const std::vector<EncoderSample>& samples) {
+    const double intrinsic[3] = {options.initial_left_radius_m, options.initial_right_radius_m,
+                                 options.initial_separation_m};
+    return sensorMotionFromBodyMotion(options.initial_T_base_sensor,
+                                      integrateDiffDriveMotion(intrinsic, options.layout, samples));
+  };
+}
+
+}  // namespace odometry_calibration

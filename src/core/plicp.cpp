@@ -1,0 +1,370 @@
+#include "odometry_calibration/scan/plicp.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <optional>
+
+#include <Eigen/Geometry>
+
+#include "odometry_calibration/scan/nearest_point_search.h"
+#include "odometry_calibration/scan/point_to_line_solver.h"
+
+namespace odometry_calibration {
+namespace {
+
+std::string formatNumber(double value)
+{
+  char buffer[32];
+  std::snprintf(buffer, sizeof(buffer), "%.3g", value);
+  return buffer;
+}
+
+/// Everything one match needs, built once per call.
+class Matcher
+{
+public:
+  Matcher(const PreparedScan& reference, const PreparedScan& current, const PlicpOptions& options)
+      : reference_(reference),
+        current_(current),
+        options_(options),
+        cos_max_normal_angle_(std::cos(options.max_normal_angle_rad))
+  {
+    search_ = options.correspondence_search == CorrespondenceSearch::kKdTree
+                  ? makeKdTreeSearch(reference.points, reference.lines)
+                  : makeAngularSearch(reference.points, reference.lines);
+    double range2_sum_m2 = 0.0;
+    for (const double range_m : current.points.ranges_m) {
+      range2_sum_m2 += range_m * range_m;
+    }
+    rms_range_m_ = current.points.empty()
+                       ? 0.0
+                       : std::sqrt(range2_sum_m2 / static_cast<double>(current.points.size()));
+    all_.reserve(current.points.size());
+    kept_.reserve(current.points.size());
+    magnitudes_.reserve(current.points.size());
+  }
+
+  /// Matches every new point, transformed by T_ref_new, to the nearest reference point with a
+  /// line whose direction is compatible; fills all_ with the residuals to those lines.
+  void findCorrespondences(const Pose2& T_ref_new)
+  {
+    all_.clear();
+    const Eigen::Rotation2Dd R(T_ref_new.theta());
+    const Eigen::Vector2d t(T_ref_new.x(), T_ref_new.y());
+    const ScanPoints& points = current_.points;
+    const ScanLines& lines = current_.lines;
+    const ScanLines& reference_lines = reference_.lines;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      const Eigen::Vector2d q = R * points.points_m[i] + t;
+      // The new point's own line, if it has one, must face the same way as the reference's
+      // (the same surface seen from the same side).
+      const Eigen::Vector2d query_normal =
+          lines.fitted[i] != 0 ? Eigen::Vector2d(R * lines.normals[i]) : Eigen::Vector2d::Zero();
+      const int j = search_->nearest(q, query_normal, cos_max_normal_angle_,
+                                     options_.max_correspondence_distance_m, nullptr);
+      if (j < 0) {
+        continue;
+      }
+      const Eigen::Vector2d& normal = reference_lines.normals[j];
+      const Eigen::Vector2d offset = q - reference_lines.centroids_m[j];
+      const double along_m = normal.x() * offset.y() - normal.y() * offset.x();  // tangent . offset
+      if (along_m < reference_lines.along_min_m[j] || along_m > reference_lines.along_max_m[j]) {
+        continue;  // beyond the end of the observed surface
+      }
+      all_.push_back({static_cast<int>(i), j, normal.dot(offset)});
+    }
+  }
+
+  /// Keeps the correspondences of all_ that pass both trimmings into kept_. The adaptive
+  /// threshold never drops below `pose_uncertainty_m` [m]: while the pose still moves, large
+  /// residuals are the pose's error, not outliers, and dropping them would freeze the pose
+  /// wherever it stands (typically at the initial guess).
+  void trim(double pose_uncertainty_m)
+  {
+    kept_.clear();
+    const std::size_t n = all_.size();
+    if (n == 0) {
+      return;
+    }
+    magnitudes_.resize(n);
+    for (std::size_t k = 0; k < n; ++k) {
+      magnitudes_[k] = std::abs(all_[k].residual_m);
+    }
+    auto quantile = [&](double fraction) {
+      const auto rank = static_cast<std::size_t>(
+          std::clamp(std::ceil(fraction * static_cast<double>(n)) - 1.0, 0.0, n - 1.0));
+      std::nth_element(magnitudes_.begin(), magnitudes_.begin() + rank, magnitudes_.end());
+      return magnitudes_[rank];
+    };
+    // Fixed percentile (the largest residual still kept), then the adaptive threshold.
+    const double fixed_m = quantile(options_.trim_keep_fraction);
+    const double adaptive_m =
+        std::max({options_.adaptive_trim_floor_m, pose_uncertainty_m,
+                  options_.adaptive_trim_multiplier * quantile(options_.adaptive_trim_quantile)});
+    const double threshold_m =
+        frozen_threshold_m_ > 0.0 ? frozen_threshold_m_ : std::min(fixed_m, adaptive_m);
+    last_threshold_m_ = threshold_m;
+    for (const Correspondence& c : all_) {
+      if (std::abs(c.residual_m) <= threshold_m) {
+        kept_.push_back(c);
+      }
+    }
+  }
+
+  /// From now on trims at the last threshold: the trimmed set no longer follows the residual
+  /// quantiles, whose changes can keep the iteration cycling through nearby poses forever.
+  void freezeTrimThreshold() { frozen_threshold_m_ = last_threshold_m_; }
+
+  /// Closed-form step on kept_ (Censi ICRA 2008) under `constraint`.
+  std::optional<Pose2> step(const StepConstraint& constraint) const
+  {
+    PointToLineSystem system;
+    for (const Correspondence& c : kept_) {
+      system.add(current_.points.points_m[c.current_index],
+                 reference_.lines.centroids_m[c.reference_index],
+                 reference_.lines.normals[c.reference_index]);
+    }
+    return system.solve(constraint);
+  }
+
+  Degeneracy degeneracy(const Pose2& T_ref_new) const
+  {
+    double lever_arm_m = 1.0;
+    const Eigen::Matrix3d information = pointToLineInformation(
+        reference_.points, reference_.lines, current_.points, kept_, T_ref_new, &lever_arm_m);
+    return analyzeDegeneracy(information, lever_arm_m, options_.min_information_ratio);
+  }
+
+  /// Largest displacement of a new point [m] caused by a pose change of step_m [m] and
+  /// step_rad [rad], at the RMS range of the new scan.
+  double pointDisplacement(double step_m, double step_rad) const
+  {
+    return step_m + step_rad * rms_range_m_;
+  }
+
+  const std::vector<Correspondence>& all() const { return all_; }
+  const std::vector<Correspondence>& kept() const { return kept_; }
+
+private:
+  const PreparedScan& reference_;
+  const PreparedScan& current_;
+  const PlicpOptions& options_;
+  const double cos_max_normal_angle_;
+  std::unique_ptr<NearestPointSearch> search_;
+  std::vector<Correspondence> all_;
+  std::vector<Correspondence> kept_;
+  std::vector<double> magnitudes_;
+  double rms_range_m_ = 0.0;
+  double last_threshold_m_ = 0.0;
+  double frozen_threshold_m_ = 0.0;  // > 0 once frozen
+};
+
+/// Holds what the scene does not constrain at its initial-guess value.
+StepConstraint constraintFor(const Degeneracy& degeneracy, const Pose2& T_ref_new_guess)
+{
+  StepConstraint constraint;
+  if (degeneracy.direction == DegenerateDirection::kTranslation) {
+    constraint.fix_translation_along_axis = true;
+    constraint.fixed_axis_ref = degeneracy.axis_ref;
+    constraint.fixed_along_m =
+        degeneracy.axis_ref.dot(Eigen::Vector2d(T_ref_new_guess.x(), T_ref_new_guess.y()));
+  } else if (degeneracy.direction == DegenerateDirection::kRotation) {
+    constraint.fix_rotation = true;
+    constraint.fixed_theta_rad = T_ref_new_guess.theta();
+  }
+  return constraint;
+}
+
+PlicpResult failure(PlicpResult result, PlicpStatus status, const std::string& message)
+{
+  result.status = status;
+  result.message = message;
+  result.covariance.setZero();
+  return result;
+}
+
+}  // namespace
+
+const char* toString(PlicpStatus status)
+{
+  switch (status) {
+    case PlicpStatus::kValid:
+      return "valid";
+    case PlicpStatus::kDegenerate:
+      return "degenerate";
+    case PlicpStatus::kTooFewPoints:
+      return "too few points";
+    case PlicpStatus::kTooFewCorrespondences:
+      return "too few correspondences";
+    case PlicpStatus::kNoConvergence:
+      return "no convergence";
+    case PlicpStatus::kCorrectionTooLarge:
+      return "correction too large";
+    case PlicpStatus::kPoorOverlap:
+      return "poor overlap";
+    case PlicpStatus::kUnconstrained:
+      return "unconstrained";
+  }
+  return "unknown";
+}
+
+PreparedScan prepareScan(const Scan& scan, const LineFitOptions& options)
+{
+  validate(options);
+  PreparedScan prepared;
+  prepared.points = scanToPoints(scan);
+  prepared.lines = fitScanLines(prepared.points, options);
+  return prepared;
+}
+
+PlicpResult matchScans(const PreparedScan& reference, const PreparedScan& current,
+                       const Pose2& T_ref_new_guess, const PlicpOptions& options)
+{
+  validate(options);
+  PlicpResult result;
+  result.T_ref_new = T_ref_new_guess;
+  const auto min_points = static_cast<std::size_t>(options.min_points);
+  if (reference.lines.valid_count < min_points || current.points.size() < min_points) {
+    return failure(result, PlicpStatus::kTooFewPoints,
+                   "too few usable points: the reference scan has " +
+                       std::to_string(reference.lines.valid_count) +
+                       " points on straight surfaces, the new scan " +
+                       std::to_string(current.points.size()) + " usable readings; min_points is " +
+                       std::to_string(options.min_points));
+  }
+
+  Matcher matcher(reference, current, options);
+  Pose2 T_ref_new = T_ref_new_guess;
+  // The last few iterates, for cycle detection.
+  std::array<Pose2, 8> recent;
+  recent.fill(Pose2(std::nan(""), std::nan(""), std::nan("")));
+  bool converged = false;
+  Degeneracy last_degeneracy;  // the one the last step obeyed
+  // How far the pose may still be from the solution, as a displacement of the points: unknown
+  // at first (no adaptive trimming), then twice the last step.
+  double pose_uncertainty_m = options.max_correspondence_distance_m;
+  for (int iteration = 1; iteration <= options.max_iterations && !converged; ++iteration) {
+    result.iterations = iteration;
+    if (iteration == options.max_iterations / 2 + 1) {
+      matcher.freezeTrimThreshold();
+    }
+    matcher.findCorrespondences(T_ref_new);
+    matcher.trim(pose_uncertainty_m);
+    if (matcher.kept().size() < static_cast<std::size_t>(options.min_correspondences)) {
+      return failure(result, PlicpStatus::kTooFewCorrespondences,
+                     "only " + std::to_string(matcher.kept().size()) +
+                         " correspondences at iteration " + std::to_string(iteration) +
+                         " (min_correspondences " + std::to_string(options.min_correspondences) +
+                         "): the scans do not overlap near the initial guess");
+    }
+    const Degeneracy degeneracy = matcher.degeneracy(T_ref_new);
+    if (degeneracy.direction == DegenerateDirection::kSeveral) {
+      result.degeneracy = degeneracy;
+      return failure(result, PlicpStatus::kUnconstrained, degeneracy.description);
+    }
+    last_degeneracy = degeneracy;
+    const std::optional<Pose2> next = matcher.step(constraintFor(degeneracy, T_ref_new_guess));
+    if (!next) {
+      return failure(result, PlicpStatus::kUnconstrained,
+                     "the correspondences do not determine the motion (singular system)");
+    }
+    const double step_m = std::hypot(next->x() - T_ref_new.x(), next->y() - T_ref_new.y());
+    const double step_rad = std::abs(normalizeAngle(next->theta() - T_ref_new.theta()));
+    // A pose equal to one a few steps back is a cycle: correspondences flip in and out of the
+    // trimmed set. The poses of the cycle are fixed points of equal merit: the match converged.
+    bool cycle = false;
+    for (const Pose2& earlier : recent) {
+      cycle = cycle || (std::hypot(next->x() - earlier.x(), next->y() - earlier.y()) <
+                            options.translation_tolerance_m &&
+                        std::abs(normalizeAngle(next->theta() - earlier.theta())) <
+                            options.rotation_tolerance_rad);
+    }
+    recent[iteration % recent.size()] = T_ref_new;
+    pose_uncertainty_m = 2.0 * matcher.pointDisplacement(step_m, step_rad);
+    T_ref_new = *next;
+    result.T_ref_new = T_ref_new;
+    const double correction_m =
+        std::hypot(T_ref_new.x() - T_ref_new_guess.x(), T_ref_new.y() - T_ref_new_guess.y());
+    const double correction_rad =
+        std::abs(normalizeAngle(T_ref_new.theta() - T_ref_new_guess.theta()));
+    if (correction_m > options.max_correction_translation_m ||
+        correction_rad > options.max_correction_rotation_rad) {
+      return failure(result, PlicpStatus::kCorrectionTooLarge,
+                     "the match moved " + formatNumber(correction_m) + " m and " +
+                         formatNumber(correction_rad) + " rad from the initial guess (limits " +
+                         formatNumber(options.max_correction_translation_m) + " m, " +
+                         formatNumber(options.max_correction_rotation_rad) +
+                         " rad): the guess is too far off or the match is wrong");
+    }
+    converged = cycle || (step_m < options.translation_tolerance_m &&
+                          step_rad < options.rotation_tolerance_rad);
+  }
+
+  // Statistics, degeneracy and covariance at the solution.
+  matcher.findCorrespondences(T_ref_new);
+  matcher.trim(0.0);
+  const std::vector<Correspondence>& kept = matcher.kept();
+  result.correspondence_count = static_cast<int>(kept.size());
+  double residual_sum_m = 0.0;
+  for (const Correspondence& c : kept) {
+    residual_sum_m += std::abs(c.residual_m);
+  }
+  result.mean_residual_m = kept.empty() ? 0.0 : residual_sum_m / static_cast<double>(kept.size());
+  std::size_t inliers = 0;
+  for (const Correspondence& c : matcher.all()) {
+    inliers += std::abs(c.residual_m) <= options.inlier_distance_m ? 1 : 0;
+  }
+  result.inlier_fraction =
+      static_cast<double>(inliers) / static_cast<double>(current.points.size());
+
+  if (!converged) {
+    return failure(result, PlicpStatus::kNoConvergence,
+                   "no convergence in " + std::to_string(options.max_iterations) +
+                       " iterations (max_iterations)");
+  }
+  if (kept.size() < static_cast<std::size_t>(options.min_correspondences)) {
+    return failure(result, PlicpStatus::kTooFewCorrespondences,
+                   "only " + std::to_string(kept.size()) + " correspondences at the solution");
+  }
+  result.degeneracy = matcher.degeneracy(T_ref_new);
+  if (result.degeneracy.direction == DegenerateDirection::kTranslation &&
+      last_degeneracy.direction == DegenerateDirection::kTranslation) {
+    // Report the axis the solution was held on (the re-analysis differs in round-off only).
+    result.degeneracy = last_degeneracy;
+  }
+  if (result.degeneracy.direction == DegenerateDirection::kSeveral) {
+    return failure(result, PlicpStatus::kUnconstrained, result.degeneracy.description);
+  }
+  if (result.inlier_fraction < options.min_inlier_fraction) {
+    return failure(
+        result, PlicpStatus::kPoorOverlap,
+        "only " + formatNumber(100.0 * result.inlier_fraction) +
+            " % of the new scan's points lie within " + formatNumber(options.inlier_distance_m) +
+            " m of a reference surface (min_inlier_fraction " +
+            formatNumber(options.min_inlier_fraction) + "): probably a wrong local minimum");
+  }
+  if (options.compute_covariance) {
+    result.covariance = plicpCovariance(reference.points, reference.lines, current.points, kept,
+                                        T_ref_new, options.range_sigma_m);
+  }
+  if (result.degeneracy.degenerate()) {
+    result.status = PlicpStatus::kDegenerate;
+    result.message = result.degeneracy.description;
+  } else {
+    result.status = PlicpStatus::kValid;
+  }
+  return result;
+}
+
+PlicpResult matchScans(const Scan& reference, const Scan& current, const Pose2& T_ref_new_guess,
+                       const PlicpOptions& options)
+{
+  validate(options);
+  return matchScans(prepareScan(reference, options.line_fit),
+                    prepareScan(current, options.line_fit), T_ref_new_guess, options);
+}
+
+}  // namespace odometry_calibration

@@ -1,0 +1,59 @@
+#include "odometry_calibration/scan/plicp_options.h"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace odometry_calibration {
+namespace {
+
+void require(bool condition, const std::string& message)
+{
+  if (!condition) {
+    throw std::invalid_argument(message);
+  }
+}
+
+bool positive(double value)
+{
+  return std::isfinite(value) && value > 0.0;
+}
+
+}  // namespace
+
+void validate(const PlicpOptions& options)
+{
+  require(positive(options.max_correspondence_distance_m),
+          "max_correspondence_distance_m must be a positive number of metres");
+  require(positive(options.max_normal_angle_rad) && options.max_normal_angle_rad <= M_PI,
+          "max_normal_angle_rad must be in (0, pi] radians");
+  require(positive(options.trim_keep_fraction) && options.trim_keep_fraction <= 1.0,
+          "trim_keep_fraction must be in (0, 1]");
+  require(positive(options.adaptive_trim_quantile) && options.adaptive_trim_quantile <= 1.0,
+          "adaptive_trim_quantile must be in (0, 1]");
+  require(positive(options.adaptive_trim_multiplier),
+          "adaptive_trim_multiplier must be a positive number");
+  require(std::isfinite(options.adaptive_trim_floor_m) && options.adaptive_trim_floor_m >= 0.0,
+          "adaptive_trim_floor_m must be a number of metres >= 0");
+  require(positive(options.translation_tolerance_m),
+          "translation_tolerance_m must be a positive number of metres");
+  require(positive(options.rotation_tolerance_rad),
+          "rotation_tolerance_rad must be a positive number of radians");
+  require(options.max_iterations >= 1, "max_iterations must be at least 1");
+  require(positive(options.max_correction_translation_m),
+          "max_correction_translation_m must be a positive number of metres");
+  require(positive(options.max_correction_rotation_rad),
+          "max_correction_rotation_rad must be a positive number of radians");
+  require(options.min_points >= 3, "min_points must be at least 3");
+  require(options.min_correspondences >= 3, "min_correspondences must be at least 3");
+  require(std::isfinite(options.min_inlier_fraction) && options.min_inlier_fraction >= 0.0 &&
+              options.min_inlier_fraction <= 1.0,
+          "min_inlier_fraction must be in [0, 1]");
+  require(positive(options.inlier_distance_m),
+          "inlier_distance_m must be a positive number of metres");
+  require(positive(options.range_sigma_m), "range_sigma_m must be a positive number of metres");
+  require(positive(options.min_information_ratio) && options.min_information_ratio < 1.0,
+          "min_information_ratio must be in (0, 1)");
+  validate(options.line_fit, "line_fit.");
+}
+
+}  // namespace odometry_calibration

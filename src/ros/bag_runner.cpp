@@ -1,0 +1,147 @@
+#include "odometry_calibration/ros/bag_runner.h"
+
+#include <chrono>
+#include <memory>
+#include <stdexcept>
+
+#include <geometry_msgs/PoseStamped.h>
+#include <nav_msgs/Odometry.h>
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
+#include <sensor_msgs/JointState.h>
+#include <sensor_msgs/LaserScan.h>
+
+#include "odometry_calibration/ros/conversions.h"
+
+namespace odometry_calibration {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds(Clock::duration duration) { return std::chrono::duration<double>(duration).count(); }
+
+}  // namespace
+
+BagRunResult runBags(const std::vector<std::string>& bag_paths, const CalibrationConfig& config,
+                     double start_offset_s, double end_offset_s,
+                     const std::function<void(const BagProgress&)>& progress)
+{
+  const auto run_start = Clock::now();
+  std::vector<std::unique_ptr<rosbag::Bag>> bags;
+  for (const std::string& path : bag_paths) {
+    auto bag = std::make_unique<rosbag::Bag>();
+    try {
+      bag->open(path, rosbag::bagmode::Read);
+    } catch (const rosbag::BagException& error) {
+      throw std::runtime_error("cannot read bag '" + path + "': " + error.what() +
+                               " (a truncated or unindexed bag can be repaired with "
+                               "'rosbag reindex')");
+    }
+    bags.push_back(std::move(bag));
+  }
+  const std::string ego_topic =
+      config.ego_motion == EgoMotionSource::kScan ? config.scan_topic : config.ego_motion_topic;
+  rosbag::View all;
+  for (const auto& bag : bags) {
+    all.addQuery(*bag, rosbag::TopicQuery(std::vector<std::string>{config.joint_state_topic,
+                                                                    ego_topic}));
+  }
+  if (all.size() == 0) {
+    throw std::runtime_error("the bags hold no message on '" + config.joint_state_topic +
+                             "' or '" + ego_topic + "'");
+  }
+  const ros::Time begin = all.getBeginTime() + ros::Duration(start_offset_s);
+  const ros::Time end =
+      end_offset_s > 0.0 ? all.getBeginTime() + ros::Duration(end_offset_s) : all.getEndTime();
+  rosbag::View view;
+  for (const auto& bag : bags) {
+    view.addQuery(*bag,
+                  rosbag::TopicQuery(std::vector<std::string>{config.joint_state_topic, ego_topic}),
+                  begin, end);
+  }
+
+  BagRunResult result;
+  result.bag_span_s = (end - begin).toSec();
+  PairCollector collector(encoderChannels(config), config.collector, priorPredictor(config));
+  std::vector<EncoderChannelOptions> channels = encoderChannels(config);
+  const Eigen::Matrix3d pose_covariance =
+      Eigen::Vector3d(config.ego_motion_sigma_m * config.ego_motion_sigma_m,
+                      config.ego_motion_sigma_m * config.ego_motion_sigma_m,
+                      config.ego_motion_sigma_rad * config.ego_motion_sigma_rad)
+          .asDiagonal();
+  auto take = [&](const std::vector<CollectorEvent>& events, double stamp_s) {
+    for (const CollectorEvent& event : events) {
+      if (event.type == CollectorEvent::Type::kPair) {
+        result.pairs.push_back(event.pair);
+      } else if (event.type == CollectorEvent::Type::kRestarted) {
+        result.restarts.push_back("at " + std::to_string(stamp_s) + " s: " + event.reason);
+      }
+    }
+  };
+
+  std::size_t messages = 0;
+  Clock::duration pairing{};
+  for (const rosbag::MessageInstance& message : view) {
+    ++messages;
+    if (message.getTopic() == config.joint_state_topic) {
+      const auto joints = message.instantiate<sensor_msgs::JointState>();
+      if (!joints) continue;
+      ++result.joint_state_messages;
+      try {
+        const Eigen::VectorXd raw =
+            applySigns(config, ros_conversions::rawJointPositions(*joints, channels));
+        const auto start = Clock::now();
+        take(collector.addEncoders(joints->header.stamp.toSec(), raw),
+             joints->header.stamp.toSec());
+        pairing += Clock::now() - start;
+      } catch (const std::invalid_argument& error) {
+        if (result.bad_joint_states++ == 0) result.first_bad_joint_state = error.what();
+      }
+    } else if (config.ego_motion == EgoMotionSource::kScan) {
+      const auto scan = message.instantiate<sensor_msgs::LaserScan>();
+      if (!scan) continue;
+      ++result.ego_motion_messages;
+      const auto start = Clock::now();
+      take(collector.addScan(scan->header.stamp.toSec(), ros_conversions::fromLaserScanMsg(*scan)),
+           scan->header.stamp.toSec());
+      pairing += Clock::now() - start;
+    } else {
+      double stamp_s = 0.0;
+      Pose2 pose;
+      if (const auto odometry = message.instantiate<nav_msgs::Odometry>()) {
+        stamp_s = odometry->header.stamp.toSec();
+        pose = ros_conversions::fromPoseMsg(odometry->pose.pose);
+      } else if (const auto stamped = message.instantiate<geometry_msgs::PoseStamped>()) {
+        stamp_s = stamped->header.stamp.toSec();
+        pose = ros_conversions::fromPoseMsg(stamped->pose);
+      } else {
+        continue;
+      }
+      ++result.ego_motion_messages;
+      take(collector.addSensorPose(stamp_s, pose, pose_covariance), stamp_s);
+    }
+    if (progress && messages % 500 == 0) {
+      progress({(message.getTime() - begin).toSec() / std::max(1e-9, result.bag_span_s), messages,
+                seconds(Clock::now() - run_start)});
+    }
+  }
+  take(collector.flush(), end.toSec());
+  if (progress) progress({1.0, messages, seconds(Clock::now() - run_start)});
+  if (result.joint_state_messages == 0) {
+    throw std::runtime_error("no sensor_msgs/JointState on '" + config.joint_state_topic +
+                             "' in the bags");
+  }
+  if (result.ego_motion_messages == 0) {
+    throw std::runtime_error("no ego-motion message (" + ego_topic + ") in the bags");
+  }
+  if (result.bad_joint_states == result.joint_state_messages) {
+    throw std::runtime_error("no usable JointState: " + result.first_bad_joint_state);
+  }
+  result.statistics = collector.statistics();
+  result.wall_time_s = seconds(Clock::now() - run_start);
+  result.pairing_time_s = seconds(pairing);
+  result.read_time_s = result.wall_time_s - result.pairing_time_s;
+  return result;
+}
+
+}  // namespace odometry_calibration

@@ -1,0 +1,173 @@
+// calibrate_bag: reads bags directly (no playback), pairs keyframes with the same code as the
+// live node, fits the configured model, and writes the pairs, the result and a report.
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <glog/logging.h>
+
+#include "odometry_calibration/eval/model_comparison.h"
+#include "odometry_calibration/eval/model_report.h"
+#include "odometry_calibration/io/atomic_file.h"
+#include "odometry_calibration/io/pairs_csv.h"
+#include "odometry_calibration/ros/bag_runner.h"
+
+namespace {
+
+using namespace odometry_calibration;
+
+const char* kUsage =
+    "usage: calibrate_bag --config CONFIG.yaml BAG [BAG ...] [options]\n"
+    "\n"
+    "Reads the bags in timestamp order with the rosbag API, makes keyframe pairs (PLICP scan\n"
+    "matching, or the configured ego-motion topic), fits the configured model and writes\n"
+    "pairs.csv, result.yaml and report.txt to the output directory.\n"
+    "\n"
+    "options:\n"
+    "  --output-dir DIR     where to write (default: the config's output_directory)\n"
+    "  --model NAME         fit this model instead of the config's (linear, diff_drive)\n"
+    "  --test BAG           score the models on this bag too (repeatable); prints the paper's\n"
+    "                       comparison table for the model and the config's compare_models\n"
+    "  --start S, --end S   use only [S, E] seconds after the first message\n"
+    "  --quiet              no progress display\n"
+    "\n"
+    "exit status: 0 success; 1 bad input (message says what); 2 bad usage; 3 the fit did not\n"
+    "converge; 4 the fit warns that some parameter is not determined\n";
+
+double number(const std::string& option, const std::string& text)
+{
+  char* end = nullptr;
+  const double value = std::strtod(text.c_str(), &end);
+  if (text.empty() || *end != '\0' || !std::isfinite(value) || value < 0.0) {
+    throw std::invalid_argument("option " + option + ": expected a number >= 0");
+  }
+  return value;
+}
+
+void showProgress(const BagProgress& p)
+{
+  const double rate = p.elapsed_s > 0.0 ? p.messages / p.elapsed_s : 0.0;
+  const double eta = p.fraction > 0.0 ? p.elapsed_s * (1.0 - p.fraction) / p.fraction : 0.0;
+  std::fprintf(stderr, "\r%5.1f %%  %8.0f msg/s  ETA %5.1f s ", 100.0 * p.fraction, rate, eta);
+  if (p.fraction >= 1.0) std::fprintf(stderr, "\n");
+}
+
+std::string runSummary(const BagRunResult& run)
+{
+  std::ostringstream text;
+  text << "bags: " << run.bag_span_s << " s of data in " << run.wall_time_s << " s ("
+       << (run.wall_time_s > 0 ? run.bag_span_s / run.wall_time_s : 0.0)
+       << "x real time; reading " << run.read_time_s << " s, pairing " << run.pairing_time_s
+       << " s)\n";
+  const CollectorStatistics& s = run.statistics;
+  text << "keyframe pairs: " << s.pairs << " from " << s.scans << " scans, " << s.keyframes
+       << " keyframes";
+  if (s.consecutive_matches > 0) {
+    text << ", " << s.consecutive_failures << " of " << s.consecutive_matches
+         << " consecutive matches failed, " << s.unverified_pairs << " pairs unverified";
+  }
+  text << "\n";
+  for (const auto& [reason, count] : s.rejected) {
+    text << "  rejected " << count << ": " << reason << "\n";
+  }
+  if (run.bad_joint_states > 0) {
+    text << "skipped " << run.bad_joint_states << " JointState messages, first: "
+         << run.first_bad_joint_state << "\n";
+  }
+  for (const std::string& restart : run.restarts) text << "restart " << restart << "\n";
+  return text.str();
+}
+
+}  // namespace
+
+int main(int argc, char** argv)
+{
+  google::InitGoogleLogging(argv[0]);
+  FLAGS_minloglevel = google::GLOG_FATAL;
+  std::string config_path, output_dir, model_name;
+  std::vector<std::string> bags, test_bags;
+  double start_s = 0.0, end_s = 0.0;
+  bool quiet = !isatty(STDERR_FILENO);
+  try {
+    const std::vector<std::string> args(argv + 1, argv + argc);
+    for (std::size_t i = 0; i < args.size(); ++i) {
+      const std::string& arg = args[i];
+      if (arg == "-h" || arg == "--help") {
+        std::cout << kUsage;
+        return 0;
+      } else if (arg == "--quiet") {
+        quiet = true;
+      } else if (arg.rfind("--", 0) == 0) {
+        if (i + 1 >= args.size()) throw std::invalid_argument("option " + arg + " needs a value");
+        const std::string& value = args[++i];
+        if (arg == "--config") config_path = value;
+        else if (arg == "--output-dir") output_dir = value;
+        else if (arg == "--model") model_name = value;
+        else if (arg == "--test") test_bags.push_back(value);
+        else if (arg == "--start") start_s = number(arg, value);
+        else if (arg == "--end") end_s = number(arg, value);
+        else throw std::invalid_argument("unknown option '" + arg + "'");
+      } else {
+        bags.push_back(arg);
+      }
+    }
+    if (config_path.empty() || bags.empty()) {
+      throw std::invalid_argument("give --config and at least one bag");
+    }
+  } catch (const std::exception& error) {
+    std::cerr << "error: " << error.what() << "\n\n" << kUsage;
+    return 2;
+  }
+  try {
+    CalibrationConfig config = loadCalibrationConfig(config_path);
+    if (!model_name.empty()) config.model = model_name;
+    if (output_dir.empty()) output_dir = config.output_directory;
+    std::filesystem::create_directories(output_dir);
+
+    const BagRunResult run = runBags(bags, config, start_s, end_s,
+                                     quiet ? nullptr : std::function<void(const BagProgress&)>(
+                                                           showProgress));
+    const std::string summary = runSummary(run);
+    std::cout << summary;
+    writePairsCsv(output_dir + "/pairs.csv", {jointLayout(config), run.pairs});
+
+    auto model = makeModel(config.model, config.models);
+    const ModelReport report = model->fit(run.pairs);
+    std::string text = summary + "\n" + formatModelReport(report);
+    if (!test_bags.empty()) {
+      const BagRunResult test = runBags(test_bags, config, 0.0, 0.0);
+      std::vector<ModelScore> scores;
+      std::vector<std::string> names = {config.model};
+      for (const std::string& name : config.compare_models) {
+        if (name != config.model) names.push_back(name);
+      }
+      for (const std::string& name : names) {
+        auto candidate = name == config.model ? std::move(model) : makeModel(name, config.models);
+        const ModelReport fitted = name == config.model ? report : candidate->fit(run.pairs);
+        ModelScore score = scoreModel(*candidate, test.pairs);
+        score.fit_time_s = fitted.fit_time_s;
+        score.outliers = fitted.outliers;
+        scores.push_back(score);
+        if (name == config.model) model = std::move(candidate);
+      }
+      text += "\ntest bags: " + std::to_string(test.pairs.size()) + " pairs\n" +
+              formatComparisonTable(scores);
+    }
+    std::cout << "\n" << text.substr(summary.size() + 1);
+    writeFileAtomically(output_dir + "/result.yaml",
+                        modelResultYaml(report, model->toYaml(), bags.front()));
+    writeFileAtomically(output_dir + "/report.txt", text);
+    std::cout << "\nwritten: " << output_dir << "/{pairs.csv, result.yaml, report.txt}\n";
+    if (!report.converged) return 3;
+    return report.warnings.empty() ? 0 : 4;
+  } catch (const std::exception& error) {
+    std::cerr << "error: " << error.what() << "\n";
+    return 1;
+  }
+}

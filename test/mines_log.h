@@ -1,0 +1,99 @@
+// Reader of the Mines ParisTech rover log (../shared/data/mines/exp1.dat, see its README) for
+// the PLICP tests and benchmarks: 682-ray Hokuyo URG-04LX scans and cumulative wheel ticks.
+//
+// Header-only test helper (shared by test/ and bench/); not part of the library.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "odometry_calibration/geometry/se2.h"
+#include "odometry_calibration/scan/scan.h"
+
+namespace odometry_calibration {
+namespace mines {
+
+/// Nominal (uncalibrated) robot of the README.
+constexpr double kWheelRadiusM = 0.077;
+constexpr double kWheelSeparationM = 0.330;
+constexpr double kTicksPerRevolution = 2000.0;
+constexpr double kLaserAheadOfAxleM = 0.145;
+constexpr int kRayCount = 682;
+
+/// One line of the log.
+struct Record
+{
+  double stamp_s = 0.0;
+  double left_ticks = 0.0;
+  double right_ticks = 0.0;
+  Scan scan;
+};
+
+/// Path of the log under the shared data folder.
+inline std::string logPath(const std::string& shared_data_dir)
+{
+  return shared_data_dir + "/mines/exp1.dat";
+}
+
+/// Reads every line; empty when the file is missing. Ray i points at -120 deg + i * 240/681 deg;
+/// 0 mm means no return (dropped as a zero reading).
+inline std::vector<Record> loadLog(const std::string& path)
+{
+  std::vector<Record> records;
+  std::ifstream file(path);
+  std::string line;
+  while (std::getline(file, line)) {
+    std::istringstream fields(line);
+    std::vector<double> values;
+    double value = 0.0;
+    while (fields >> value) {
+      values.push_back(value);
+    }
+    if (values.size() < 24 + static_cast<std::size_t>(kRayCount)) {
+      continue;
+    }
+    Record record;
+    record.stamp_s = values[0] * 1e-6;
+    record.left_ticks = values[2];
+    record.right_ticks = values[3];
+    record.scan.angle_min_rad = -120.0 * M_PI / 180.0;
+    record.scan.angle_increment_rad = 240.0 / (kRayCount - 1) * M_PI / 180.0;
+    record.scan.range_min_m = 0.02;
+    record.scan.range_max_m = 5.6;
+    record.scan.ranges_m.resize(kRayCount);
+    for (int i = 0; i < kRayCount; ++i) {
+      record.scan.ranges_m[i] = values[24 + i] * 1e-3;
+    }
+    records.push_back(std::move(record));
+  }
+  return records;
+}
+
+/// Motion of the axle centre between two records from the nominal wheel odometry (constant
+/// curvature over the interval), in the frame of the first [m, m, rad].
+inline Pose2 wheelOdometry(const Record& from, const Record& to)
+{
+  const double metres_per_tick = 2.0 * M_PI * kWheelRadiusM / kTicksPerRevolution;
+  const double left_m = (to.left_ticks - from.left_ticks) * metres_per_tick;
+  const double right_m = (to.right_ticks - from.right_ticks) * metres_per_tick;
+  const double distance_m = 0.5 * (left_m + right_m);
+  const double turn_rad = (right_m - left_m) / kWheelSeparationM;
+  // Chord of the arc: length 2 R sin(turn/2) along the mean heading turn/2.
+  const double chord_m = std::abs(turn_rad) > 1e-9
+                             ? distance_m * std::sin(0.5 * turn_rad) / (0.5 * turn_rad)
+                             : distance_m;
+  return Pose2(chord_m * std::cos(0.5 * turn_rad), chord_m * std::sin(0.5 * turn_rad), turn_rad);
+}
+
+/// The laser's motion for a given axle-centre motion (laser 0.145 m ahead, aligned).
+inline Pose2 laserMotion(const Pose2& axle_motion)
+{
+  return sensorMotionFromBodyMotion(Pose2(kLaserAheadOfAxleM, 0.0, 0.0), axle_motion);
+}
+
+}  // namespace mines
+}  // namespace odometry_calibration

@@ -1,0 +1,197 @@
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "odometry_calibration/models/diff_drive_kinematics.h"
+#include "odometry_calibration/pipeline/pair_collector.h"
+#include "odometry_calibration/sim/robot.h"
+#include "odometry_calibration/sim/simulator.h"
+
+namespace odometry_calibration {
+namespace {
+
+std::vector<EncoderChannelOptions> wheels()
+{
+  return {{"left_wheel", EncoderKind::kIncremental, 4294967296.0, 0.0},
+          {"right_wheel", EncoderKind::kIncremental, 4294967296.0, 0.0}};
+}
+
+/// Feeds a simulated run to a collector in time order, as the node and the bag tool do.
+struct Feeder : sim::SimulationSink
+{
+  PairCollector* collector;
+  bool use_tracker = false;
+  std::vector<MotionPair> pairs;
+  std::vector<double> truth_stamps;
+  std::vector<Pose2> truth;
+  void onJointState(const sim::JointStateSample& s) override
+  {
+    take(collector->addEncoders(s.stamp_s,
+                                Eigen::Map<const Eigen::VectorXd>(s.positions.data(), 2)));
+  }
+  void onScan(const sim::ScanSample& s) override
+  {
+    if (use_tracker) return;
+    Scan scan;
+    scan.angle_min_rad = s.angle_min_rad;
+    scan.angle_increment_rad = s.angle_increment_rad;
+    scan.range_min_m = s.range_min_m;
+    scan.range_max_m = s.range_max_m;
+    scan.ranges_m.assign(s.ranges.begin(), s.ranges.end());
+    take(collector->addScan(s.stamp_s, scan));
+  }
+  void onTruth(const sim::TruthSample& s) override
+  {
+    truth_stamps.push_back(s.stamp_s);
+    truth.push_back(s.T_world_base);
+  }
+  void onTracker(const sim::TrackerSample& s) override
+  {
+    if (use_tracker) {
+      take(collector->addSensorPose(s.stamp_s, s.T_world_sensor,
+                                    Eigen::Vector3d(1e-5, 1e-5, 1e-6).asDiagonal()));
+    }
+  }
+  void take(const std::vector<CollectorEvent>& events)
+  {
+    for (const CollectorEvent& event : events) {
+      if (event.type == CollectorEvent::Type::kPair) pairs.push_back(event.pair);
+    }
+  }
+  Pose2 truthAt(double t) const
+  {
+    for (std::size_t k = 0; k < truth_stamps.size(); ++k) {
+      if (std::abs(truth_stamps[k] - t) < 1e-9) return truth[k];
+    }
+    ADD_FAILURE() << "no truth at " << t;
+    return Pose2();
+  }
+};
+
+sim::Scenario scenario(double duration_s)
+{
+  sim::Scenario s;
+  s.duration_s = duration_s;
+  s.laser.rays = 682;
+  s.laser.fov_rad = 4.18879;
+  s.laser.T_base_laser = Pose2(0.15, 0.0, 0.0);
+  s.encoders.rate_hz = 50.0;
+  s.motion.max_speed_mps = 0.4;
+  s.motion.max_turn_rate_radps = 0.8;
+  return s;
+}
+
+const char* kRoom =
+    "polygons: [[[-5, -4], [5, -4], [5, 4], [-5, 4]]]\n"
+    "boxes: [{center: [2.5, 2.0], size: [1.0, 0.6]}, {center: [-3, -2.5], size: [0.8, 0.8]}]\n"
+    "circles: [{center: [-2.0, 2.2], radius: 0.3}]\n";
+
+TEST(PairCollector, ScanPairsMatchTheTrueSensorMotion)
+{
+  const sim::Scenario s = scenario(30.0);
+  const sim::World world = sim::parseWorldYaml(kRoom, "room");
+  const auto robot = sim::makeRobot(s.robot);
+  CollectorOptions options;
+  options.keyframe_interval_s = 0.5;
+  // The nominal model as the matcher's initial guess.
+  const DiffDriveEncoderLayout layout;
+  MotionPredictor predictor = [layout](const std::vector<EncoderSample>& samples) {
+    const double intrinsic[3] = {0.077, 0.077, 0.33};
+    return sensorMotionFromBodyMotion(Pose2(0.15, 0, 0),
+                                      integrateDiffDriveMotion(intrinsic, layout, samples));
+  };
+  PairCollector collector(wheels(), options, predictor);
+  Feeder feeder;
+  feeder.collector = &collector;
+  sim::simulate(s, world, *robot, feeder);
+
+  ASSERT_GT(feeder.pairs.size(), 40u);
+  int off = 0;
+  for (const MotionPair& pair : feeder.pairs) {
+    EXPECT_NEAR(pair.end_stamp_s - pair.start_stamp_s, 0.5, 1e-6);
+    const Pose2 truth = between(feeder.truthAt(pair.start_stamp_s) * s.laser.T_base_laser,
+                                feeder.truthAt(pair.end_stamp_s) * s.laser.T_base_laser);
+    const Pose2 error = between(truth, pair.sensor_motion);
+    off += std::hypot(error.x(), error.y()) > 0.01 || std::abs(error.theta()) > 0.005;
+    // The encoder window spans the interval exactly.
+    EXPECT_NEAR(pair.encoder_samples.front().stamp_s, pair.start_stamp_s, 1e-9);
+    EXPECT_NEAR(pair.encoder_samples.back().stamp_s, pair.end_stamp_s, 1e-9);
+    EXPECT_GT(pair.covariance(0, 0), 0.0);
+  }
+  EXPECT_LE(off, 1) << "pairs more than 1 cm / 0.3 deg off the truth";
+  const CollectorStatistics& stats = collector.statistics();
+  EXPECT_EQ(stats.pairs, feeder.pairs.size());
+  EXPECT_EQ(stats.scans, 301u);
+}
+
+TEST(PairCollector, SensorPoseSourceAndTimeOffset)
+{
+  sim::Scenario s = scenario(20.0);
+  s.tracker.enabled = true;
+  s.tracker.translation_noise_m = 0.0;
+  s.tracker.rotation_noise_rad = 0.0;
+  s.encoders.time_offset_s = -0.15;  // encoder stamps early by 0.15 s
+  const sim::World world = sim::parseWorldYaml(kRoom, "room");
+  const auto robot = sim::makeRobot(s.robot);
+  CollectorOptions options;
+  options.time_offset_s = -0.15;  // ... which the collector undoes
+  PairCollector collector(wheels(), options);
+  Feeder feeder;
+  feeder.collector = &collector;
+  feeder.use_tracker = true;
+  sim::simulate(s, world, *robot, feeder);
+  ASSERT_GT(feeder.pairs.size(), 30u);
+  // With the offset undone, the encoder increments of a pair are those of its true interval:
+  // the ideal kinematics reproduce the measured (noise-free) motion to tick quantisation.
+  const double intrinsic[3] = {0.077, 0.077, 0.33};
+  double worst = 0.0;
+  for (const MotionPair& pair : feeder.pairs) {
+    const Pose2 predicted = sensorMotionFromBodyMotion(
+        s.laser.T_base_laser,
+        integrateDiffDriveMotion(intrinsic, DiffDriveEncoderLayout(), pair.encoder_samples));
+    const Pose2 error = between(pair.sensor_motion, predicted);
+    worst = std::max(worst, std::hypot(error.x(), error.y()));
+  }
+  EXPECT_LT(worst, 0.003);
+}
+
+TEST(PairCollector, RestartsWhenTimeGoesBackwardsAndRejectsEncoderGaps)
+{
+  PairCollector collector(wheels(), CollectorOptions());
+  const Eigen::Matrix3d covariance = Eigen::Matrix3d::Identity() * 1e-4;
+  for (int k = 0; k <= 50; ++k) collector.addEncoders(0.02 * k, Eigen::Vector2d(10 * k, 10 * k));
+  auto only = [](const std::vector<CollectorEvent>& events) {
+    EXPECT_EQ(events.size(), 1u);
+    return events.empty() ? CollectorEvent() : events.front();
+  };
+  EXPECT_EQ(only(collector.addSensorPose(0.0, Pose2(), covariance)).type,
+            CollectorEvent::Type::kKeyframe);
+  EXPECT_EQ(only(collector.addSensorPose(0.5, Pose2(0.1, 0, 0), covariance)).type,
+            CollectorEvent::Type::kPair);
+  // A pose ahead of the encoders waits for them (equal stamps come in either order).
+  EXPECT_TRUE(collector.addSensorPose(1.4, Pose2(0.2, 0, 0), covariance).empty());
+  // The encoders were silent for 0.4 s: no pair over that interval.
+  const CollectorEvent gap = only(collector.addEncoders(1.4, Eigen::Vector2d(700, 700)));
+  EXPECT_EQ(gap.type, CollectorEvent::Type::kRejected);
+  EXPECT_NE(gap.reason.find("encoder"), std::string::npos) << gap.reason;
+  // A looping bag: time jumps back.
+  const CollectorEvent back = only(collector.addSensorPose(0.1, Pose2(), covariance));
+  EXPECT_EQ(back.type, CollectorEvent::Type::kRestarted);
+  EXPECT_EQ(collector.statistics().restarts, 1u);
+  EXPECT_EQ(collector.statistics().pairs, 1u);
+}
+
+TEST(PairCollector, InvalidOptionsAreNamed)
+{
+  CollectorOptions options;
+  options.keyframe_interval_s = 0.0;
+  try {
+    PairCollector collector(wheels(), options);
+    FAIL();
+  } catch (const std::invalid_argument& error) {
+    EXPECT_NE(std::string(error.what()).find("keyframe_interval_s"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace odometry_calibration
