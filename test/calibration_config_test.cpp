@@ -39,10 +39,8 @@ TEST(CalibrationConfig, ErrorsNameTheKey)
             std::string::npos);
   EXPECT_NE(message(joints + "keyframes: {interval_s: -1}\n").find("keyframe_interval_s"),
             std::string::npos);
-  EXPECT_NE(message("joints: [{name: l, kind: sideways}]\n").find("joints[0]"),
-            std::string::npos);
-  EXPECT_NE(message(joints + "diff_drive: {left_joint: front}\n").find("front"),
-            std::string::npos);
+  EXPECT_NE(message("joints: [{name: l, kind: sideways}]\n").find("joints[0]"), std::string::npos);
+  EXPECT_NE(message(joints + "diff_drive: {left_joint: front}\n").find("front"), std::string::npos);
   EXPECT_NE(message(joints + "ego_motion: {source: pose}\n").find("topic"), std::string::npos);
   EXPECT_NE(message(joints + "model: magic\n").find("magic"), std::string::npos);
   // Wheels in different units cannot share one diff-drive model.

@@ -31,7 +31,8 @@ struct Feeder : sim::SimulationSink
   }
   void onScan(const sim::ScanSample& s) override
   {
-    if (use_tracker) return;
+    if (use_tracker)
+      return;
     Scan scan;
     scan.angle_min_rad = s.angle_min_rad;
     scan.angle_increment_rad = s.angle_increment_rad;
@@ -55,13 +56,15 @@ struct Feeder : sim::SimulationSink
   void take(const std::vector<CollectorEvent>& events)
   {
     for (const CollectorEvent& event : events) {
-      if (event.type == CollectorEvent::Type::kPair) pairs.push_back(event.pair);
+      if (event.type == CollectorEvent::Type::kPair)
+        pairs.push_back(event.pair);
     }
   }
   Pose2 truthAt(double t) const
   {
     for (std::size_t k = 0; k < truth_stamps.size(); ++k) {
-      if (std::abs(truth_stamps[k] - t) < 1e-9) return truth[k];
+      if (std::abs(truth_stamps[k] - t) < 1e-9)
+        return truth[k];
     }
     ADD_FAILURE() << "no truth at " << t;
     return Pose2();
@@ -159,7 +162,8 @@ TEST(PairCollector, RestartsWhenTimeGoesBackwardsAndRejectsEncoderGaps)
 {
   PairCollector collector(wheels(), CollectorOptions());
   const Eigen::Matrix3d covariance = Eigen::Matrix3d::Identity() * 1e-4;
-  for (int k = 0; k <= 50; ++k) collector.addEncoders(0.02 * k, Eigen::Vector2d(10 * k, 10 * k));
+  for (int k = 0; k <= 50; ++k)
+    collector.addEncoders(0.02 * k, Eigen::Vector2d(10 * k, 10 * k));
   auto only = [](const std::vector<CollectorEvent>& events) {
     EXPECT_EQ(events.size(), 1u);
     return events.empty() ? CollectorEvent() : events.front();

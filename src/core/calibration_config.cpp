@@ -14,13 +14,16 @@ namespace {
 void checkKeys(const YAML::Node& node, const std::set<std::string>& allowed,
                const std::string& where)
 {
-  if (!node) return;
-  if (!node.IsMap()) throw std::runtime_error(where + ": expected a map");
+  if (!node)
+    return;
+  if (!node.IsMap())
+    throw std::runtime_error(where + ": expected a map");
   for (const auto& entry : node) {
     const std::string key = entry.first.as<std::string>();
     if (allowed.count(key) == 0) {
       std::string known;
-      for (const auto& name : allowed) known += " " + name;
+      for (const auto& name : allowed)
+        known += " " + name;
       throw std::runtime_error(where + ": unknown key '" + key + "' (known:" + known + ")");
     }
   }
@@ -29,13 +32,15 @@ void checkKeys(const YAML::Node& node, const std::set<std::string>& allowed,
 template <typename T>
 void read(const YAML::Node& node, const char* key, T* value)
 {
-  if (node && node[key]) *value = node[key].as<T>();
+  if (node && node[key])
+    *value = node[key].as<T>();
 }
 
 int jointIndex(const CalibrationConfig& config, const std::string& name, const std::string& key)
 {
   for (std::size_t j = 0; j < config.joints.size(); ++j) {
-    if (config.joints[j].name == name) return static_cast<int>(j);
+    if (config.joints[j].name == name)
+      return static_cast<int>(j);
   }
   throw std::runtime_error(key + ": no joint named '" + name + "' among 'joints'");
 }
@@ -49,9 +54,8 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
   try {
     const YAML::Node root = YAML::Load(text);
     checkKeys(root,
-              {"joints", "joint_state_topic", "ego_motion", "keyframes", "scan_matching",
-               "model", "compare_models", "prior_model", "diff_drive", "linear",
-               "output_directory"},
+              {"joints", "joint_state_topic", "ego_motion", "keyframes", "scan_matching", "model",
+               "compare_models", "prior_model", "diff_drive", "linear", "output_directory"},
               source);
     where = source + ": joints";
     if (!root["joints"] || !root["joints"].IsSequence() || root["joints"].size() == 0) {
@@ -71,12 +75,15 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
       read(node, "units_per_turn", &joint.units_per_turn);
       read(node, "counter_bits", &joint.counter_bits);
       read(node, "sign", &joint.sign);
-      if (joint.name.empty()) throw std::runtime_error("name is required");
-      if (!(joint.units_per_turn > 0.0)) throw std::runtime_error("units_per_turn must be > 0");
+      if (joint.name.empty())
+        throw std::runtime_error("name is required");
+      if (!(joint.units_per_turn > 0.0))
+        throw std::runtime_error("units_per_turn must be > 0");
       if (joint.counter_bits < 0 || joint.counter_bits > 52) {
         throw std::runtime_error("counter_bits must be in [0, 52]");
       }
-      if (joint.sign != 1.0 && joint.sign != -1.0) throw std::runtime_error("sign must be 1 or -1");
+      if (joint.sign != 1.0 && joint.sign != -1.0)
+        throw std::runtime_error("sign must be 1 or -1");
       c.joints.push_back(joint);
     }
     where = source;
@@ -112,7 +119,8 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
     const YAML::Node keyframes = root["keyframes"];
     checkKeys(keyframes,
               {"interval_s", "time_offset_s", "max_encoder_gap_s", "check_consistency",
-               "consistency_translation_m", "consistency_rotation_rad"},
+               "consistency_translation_m", "consistency_rotation_rad", "estimate_time_offset",
+               "time_offset_search_s"},
               where);
     CollectorOptions& k = c.collector;
     read(keyframes, "interval_s", &k.keyframe_interval_s);
@@ -121,6 +129,15 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
     read(keyframes, "check_consistency", &k.check_consistency);
     read(keyframes, "consistency_translation_m", &k.consistency_translation_m);
     read(keyframes, "consistency_rotation_rad", &k.consistency_rotation_rad);
+    read(keyframes, "estimate_time_offset", &c.estimate_time_offset);
+    if (keyframes && keyframes["time_offset_search_s"]) {
+      const auto range = keyframes["time_offset_search_s"].as<std::vector<double>>();
+      if (range.size() != 2 || !(range[1] > range[0])) {
+        throw std::runtime_error("time_offset_search_s needs [min, max] with min < max");
+      }
+      c.time_offset_search_min_s = range[0];
+      c.time_offset_search_max_s = range[1];
+    }
 
     where = source + ": scan_matching";
     const YAML::Node matching = root["scan_matching"];
@@ -140,8 +157,8 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
     where = source + ": diff_drive";
     const YAML::Node diff = root["diff_drive"];
     checkKeys(diff,
-              {"left_joint", "right_joint", "wheel_radius_m", "wheel_separation_m",
-               "sensor_pose", "huber_threshold"},
+              {"left_joint", "right_joint", "wheel_radius_m", "wheel_separation_m", "sensor_pose",
+               "huber_threshold"},
               where);
     DiffDriveOptions& d = c.models.diff_drive;
     std::string left = c.joints[0].name;
@@ -155,7 +172,8 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
     read(diff, "huber_threshold", &d.huber_threshold);
     std::vector<double> pose = {0.0, 0.0, 0.0};
     read(diff, "sensor_pose", &pose);
-    if (pose.size() != 3) throw std::runtime_error("sensor_pose needs [x_m, y_m, theta_rad]");
+    if (pose.size() != 3)
+      throw std::runtime_error("sensor_pose needs [x_m, y_m, theta_rad]");
     d.initial_T_base_sensor = Pose2(pose[0], pose[1], pose[2]);
     if (c.model == "diff_drive" || c.prior_model == "diff_drive") {
       d.layout.left_index = jointIndex(c, left, where + ".left_joint");
@@ -177,12 +195,14 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
 
     where = source;
     if (c.prior_model != "none" && c.prior_model != "diff_drive") {
-      throw std::runtime_error("prior_model must be 'none' or 'diff_drive', got '" +
-                               c.prior_model + "'");
+      throw std::runtime_error("prior_model must be 'none' or 'diff_drive', got '" + c.prior_model +
+                               "'");
     }
     bool known = false;
-    for (const std::string& name : knownModelNames()) known |= name == c.model;
-    if (!known) throw std::runtime_error("unknown model '" + c.model + "'");
+    for (const std::string& name : knownModelNames())
+      known |= name == c.model;
+    if (!known)
+      throw std::runtime_error("unknown model '" + c.model + "'");
   } catch (const YAML::Exception& error) {
     throw std::runtime_error(where + ": " + error.what());
   } catch (const std::runtime_error& error) {
@@ -197,7 +217,8 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
 CalibrationConfig loadCalibrationConfig(const std::string& path)
 {
   std::ifstream file(path);
-  if (!file) throw std::runtime_error("cannot open configuration '" + path + "'");
+  if (!file)
+    throw std::runtime_error("cannot open configuration '" + path + "'");
   std::stringstream text;
   text << file.rdbuf();
   return parseCalibrationConfig(text.str(), path);
@@ -208,11 +229,10 @@ std::vector<EncoderChannelOptions> encoderChannels(const CalibrationConfig& conf
   std::vector<EncoderChannelOptions> channels;
   for (const JointConfig& joint : config.joints) {
     const bool incremental = joint.kind == EncoderKind::kIncremental;
-    channels.push_back({joint.name, joint.kind,
-                        incremental && joint.counter_bits > 0
-                            ? std::ldexp(1.0, joint.counter_bits)
-                            : 0.0,
-                        incremental ? 0.0 : joint.units_per_turn});
+    channels.push_back(
+        {joint.name, joint.kind,
+         incremental && joint.counter_bits > 0 ? std::ldexp(1.0, joint.counter_bits) : 0.0,
+         incremental ? 0.0 : joint.units_per_turn});
   }
   return channels;
 }
@@ -238,7 +258,8 @@ JointLayout jointLayout(const CalibrationConfig& config)
 
 MotionPredictor priorPredictor(const CalibrationConfig& config)
 {
-  if (config.prior_model != "diff_drive") return nullptr;
+  if (config.prior_model != "diff_drive")
+    return nullptr;
   const DiffDriveOptions options = config.models.diff_drive;
   return [options](const std::vector<EncoderSample>& samples) {
     const double intrinsic[3] = {options.initial_left_radius_m, options.initial_right_radius_m,

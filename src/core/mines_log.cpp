@@ -30,18 +30,19 @@ std::vector<MinesRecord> parseMinesLog(std::istream& input, const std::string& s
       const double value = std::strtod(token.c_str(), &end);
       if (*end != '\0' || !std::isfinite(value)) {
         throw std::runtime_error(source + ":" + std::to_string(line) + ": field " +
-                                 std::to_string(values.size() + 1) + " is not a number: '" +
-                                 token + "'");
+                                 std::to_string(values.size() + 1) + " is not a number: '" + token +
+                                 "'");
       }
       values.push_back(value);
     }
-    if (values.empty()) continue;
+    if (values.empty())
+      continue;
     if (values.size() != kFields) {
-      throw std::runtime_error(source + ":" + std::to_string(line) + ": expected " +
-                               std::to_string(kFields) + " fields (stamp, counter, left ticks, "
-                               "right ticks, 20 telemetry fields, 683 ranges), found " +
-                               std::to_string(values.size()) +
-                               (records.empty() ? "" : " (a truncated file?)"));
+      throw std::runtime_error(
+          source + ":" + std::to_string(line) + ": expected " + std::to_string(kFields) +
+          " fields (stamp, counter, left ticks, "
+          "right ticks, 20 telemetry fields, 683 ranges), found " +
+          std::to_string(values.size()) + (records.empty() ? "" : " (a truncated file?)"));
     }
     MinesRecord record;
     record.line = line;
@@ -64,7 +65,8 @@ std::vector<MinesRecord> parseMinesLog(std::istream& input, const std::string& s
 std::vector<MinesRecord> loadMinesLog(const std::string& path)
 {
   std::ifstream file(path);
-  if (!file) throw std::runtime_error("cannot open log '" + path + "'");
+  if (!file)
+    throw std::runtime_error("cannot open log '" + path + "'");
   return parseMinesLog(file, path);
 }
 

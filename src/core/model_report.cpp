@@ -35,7 +35,8 @@ std::string formatModelReport(const ModelReport& r)
                 r.residual_rms_xytheta(2));
   text += line;
   if (r.has_extrinsic) {
-    std::snprintf(line, sizeof(line), "sensor pose in base_link: x %.4f m, y %.4f m, theta %.5f rad\n",
+    std::snprintf(line, sizeof(line),
+                  "sensor pose in base_link: x %.4f m, y %.4f m, theta %.5f rad\n",
                   r.T_base_sensor.x(), r.T_base_sensor.y(), r.T_base_sensor.theta());
     text += line;
   }
@@ -43,7 +44,8 @@ std::string formatModelReport(const ModelReport& r)
     text += "observability: no warning\n";
   } else {
     text += "WARNINGS:\n";
-    for (const std::string& warning : r.warnings) text += "  - " + warning + "\n";
+    for (const std::string& warning : r.warnings)
+      text += "  - " + warning + "\n";
   }
   return text;
 }
@@ -74,13 +76,14 @@ std::string modelResultYaml(const ModelReport& r, const std::string& model_yaml,
   }
   out << YAML::EndMap;
   if (r.has_extrinsic) {
-    out << YAML::Key << "T_base_sensor" << YAML::Value << YAML::Flow << YAML::BeginMap
-        << YAML::Key << "x_m" << YAML::Value << r.T_base_sensor.x() << YAML::Key << "y_m"
-        << YAML::Value << r.T_base_sensor.y() << YAML::Key << "theta_rad" << YAML::Value
-        << r.T_base_sensor.theta() << YAML::EndMap;
+    out << YAML::Key << "T_base_sensor" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key
+        << "x_m" << YAML::Value << r.T_base_sensor.x() << YAML::Key << "y_m" << YAML::Value
+        << r.T_base_sensor.y() << YAML::Key << "theta_rad" << YAML::Value << r.T_base_sensor.theta()
+        << YAML::EndMap;
   }
   out << YAML::Key << "warnings" << YAML::Value << YAML::BeginSeq;
-  for (const std::string& warning : r.warnings) out << warning;
+  for (const std::string& warning : r.warnings)
+    out << warning;
   out << YAML::EndSeq << YAML::EndMap;
   return "# odometry_calibration result\n" + std::string(out.c_str()) + "\n";
 }

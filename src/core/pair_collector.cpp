@@ -8,7 +8,8 @@ namespace odometry_calibration {
 void validate(const CollectorOptions& o)
 {
   auto require = [](bool ok, const char* message) {
-    if (!ok) throw std::invalid_argument(message);
+    if (!ok)
+      throw std::invalid_argument(message);
   };
   require(o.keyframe_interval_s > 0.0 && std::isfinite(o.keyframe_interval_s),
           "keyframe_interval_s must be > 0 s");
@@ -47,8 +48,9 @@ CollectorEvent PairCollector::restart(const std::string& what)
   ++statistics_.restarts;
   CollectorEvent event;
   event.type = CollectorEvent::Type::kRestarted;
-  event.reason = what + " went backwards in time (a looping bag or a clock reset): keyframes "
-                        "and encoder history restarted, collected pairs kept";
+  event.reason = what +
+                 " went backwards in time (a looping bag or a clock reset): keyframes "
+                 "and encoder history restarted, collected pairs kept";
   return event;
 }
 
@@ -74,7 +76,10 @@ std::vector<CollectorEvent> PairCollector::addEncoders(double stamp_s, const Eig
   return processReadyScans(false);
 }
 
-std::vector<CollectorEvent> PairCollector::flush() { return processReadyScans(true); }
+std::vector<CollectorEvent> PairCollector::flush()
+{
+  return processReadyScans(true);
+}
 
 std::vector<CollectorEvent> PairCollector::processReadyScans(bool all)
 {
@@ -85,19 +90,20 @@ std::vector<CollectorEvent> PairCollector::processReadyScans(bool all)
     // Input this much later shows the encoders will not come (a gap, a dead stream).
     const bool given_up = last_input_stamp_s_ > needed + options_.max_encoder_gap_s &&
                           (track_.empty() || track_.lastStamp() < needed);
-    if (!all && !encoders_there && !given_up) break;
+    if (!all && !encoders_there && !given_up)
+      break;
     const PendingInput input = pending_.front();
     pending_.pop_front();
-    CollectorEvent event = input.scan ? processScan(input.stamp_s, input.scan)
-                                      : processPose(input.stamp_s, input.T_world_sensor,
-                                                    input.covariance);
-    if (event.type != CollectorEvent::Type::kNothing) events.push_back(std::move(event));
+    CollectorEvent event = input.scan
+                               ? processScan(input.stamp_s, input.scan)
+                               : processPose(input.stamp_s, input.T_world_sensor, input.covariance);
+    if (event.type != CollectorEvent::Type::kNothing)
+      events.push_back(std::move(event));
   }
   return events;
 }
 
-std::optional<std::vector<EncoderSample>> PairCollector::encoderWindow(double start_s,
-                                                                       double end_s,
+std::optional<std::vector<EncoderSample>> PairCollector::encoderWindow(double start_s, double end_s,
                                                                        std::string* reason) const
 {
   const double from = start_s + options_.time_offset_s;
@@ -122,7 +128,8 @@ Pose2 PairCollector::predict(const std::vector<EncoderSample>& window) const
 std::vector<CollectorEvent> PairCollector::addScan(double stamp_s, const Scan& scan)
 {
   ++statistics_.scans;
-  if (stamp_s < last_scan_stamp_s_) return {restart("the scan stream")};
+  if (stamp_s < last_scan_stamp_s_)
+    return {restart("the scan stream")};
   last_scan_stamp_s_ = stamp_s;
   last_input_stamp_s_ = std::max(last_input_stamp_s_, stamp_s);
   pending_.push_back({stamp_s,
@@ -163,11 +170,13 @@ CollectorEvent PairCollector::processScan(double stamp_s,
     event.type = CollectorEvent::Type::kKeyframe;
     return start_keyframe(event);
   }
-  if (stamp_s - keyframe_->stamp_s < options_.keyframe_interval_s) return {};
+  if (stamp_s - keyframe_->stamp_s < options_.keyframe_interval_s)
+    return {};
 
   std::string reason;
   const auto window = encoderWindow(keyframe_->stamp_s, stamp_s, &reason);
-  if (!window) return start_keyframe(reject(reason));
+  if (!window)
+    return start_keyframe(reject(reason));
   const PlicpResult match =
       matchScans(*keyframe_->scan, *prepared, predict(*window), options_.plicp);
   if (!match.valid()) {
@@ -198,7 +207,8 @@ std::vector<CollectorEvent> PairCollector::addSensorPose(double stamp_s,
                                                          const Pose2& T_world_sensor,
                                                          const Eigen::Matrix3d& covariance)
 {
-  if (stamp_s < last_scan_stamp_s_) return {restart("the sensor pose stream")};
+  if (stamp_s < last_scan_stamp_s_)
+    return {restart("the sensor pose stream")};
   last_scan_stamp_s_ = stamp_s;
   last_input_stamp_s_ = std::max(last_input_stamp_s_, stamp_s);
   pending_.push_back({stamp_s, nullptr, T_world_sensor, covariance});
@@ -218,10 +228,12 @@ CollectorEvent PairCollector::processPose(double stamp_s, const Pose2& T_world_s
     event.type = CollectorEvent::Type::kKeyframe;
     return start_keyframe(event);
   }
-  if (stamp_s - keyframe_->stamp_s < options_.keyframe_interval_s) return {};
+  if (stamp_s - keyframe_->stamp_s < options_.keyframe_interval_s)
+    return {};
   std::string reason;
   const auto window = encoderWindow(keyframe_->stamp_s, stamp_s, &reason);
-  if (!window) return start_keyframe(reject(reason));
+  if (!window)
+    return start_keyframe(reject(reason));
   CollectorEvent event;
   event.type = CollectorEvent::Type::kPair;
   event.pair.start_stamp_s = keyframe_->stamp_s;

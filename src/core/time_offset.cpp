@@ -9,18 +9,19 @@
 
 namespace odometry_calibration {
 
-std::vector<EncoderSample> encoderWindow(const std::vector<EncoderSample>& history,
-                                         double start_s, double end_s)
+std::vector<EncoderSample> encoderWindow(const std::vector<EncoderSample>& history, double start_s,
+                                         double end_s)
 {
-  if (history.size() < 2 || start_s < history.front().stamp_s ||
-      end_s > history.back().stamp_s || !(end_s > start_s)) {
+  if (history.size() < 2 || start_s < history.front().stamp_s || end_s > history.back().stamp_s ||
+      !(end_s > start_s)) {
     return {};
   }
   auto interpolate = [&](double t) {
     const auto after = std::lower_bound(
         history.begin(), history.end(), t,
         [](const EncoderSample& sample, double stamp) { return sample.stamp_s < stamp; });
-    if (after->stamp_s == t || after == history.begin()) return *after;
+    if (after->stamp_s == t || after == history.begin())
+      return *after;
     const EncoderSample& before = *std::prev(after);
     const double fraction = (t - before.stamp_s) / (after->stamp_s - before.stamp_s);
     return EncoderSample{t, before.values + fraction * (after->values - before.values)};
@@ -29,7 +30,8 @@ std::vector<EncoderSample> encoderWindow(const std::vector<EncoderSample>& histo
   auto it = std::upper_bound(
       history.begin(), history.end(), start_s,
       [](double stamp, const EncoderSample& sample) { return stamp < sample.stamp_s; });
-  for (; it != history.end() && it->stamp_s < end_s; ++it) window.push_back(*it);
+  for (; it != history.end() && it->stamp_s < end_s; ++it)
+    window.push_back(*it);
   window.push_back(interpolate(end_s));
   return window;
 }
@@ -43,7 +45,8 @@ std::vector<MotionPair> rewindowPairs(const std::vector<MotionPair>& pairs,
     MotionPair moved = pair;
     moved.encoder_samples =
         encoderWindow(history, pair.start_stamp_s + tau_s, pair.end_stamp_s + tau_s);
-    if (moved.encoder_samples.size() >= 2) result.push_back(std::move(moved));
+    if (moved.encoder_samples.size() >= 2)
+      result.push_back(std::move(moved));
   }
   return result;
 }
@@ -65,7 +68,8 @@ double robustCost(const std::vector<MotionPair>& pairs, MotionModel& model, doub
   const std::size_t kept = std::max<std::size_t>(
       1, static_cast<std::size_t>(std::floor((1.0 - trim) * static_cast<double>(errors.size()))));
   double sum = 0.0;
-  for (std::size_t i = 0; i < kept; ++i) sum += errors[i];
+  for (std::size_t i = 0; i < kept; ++i)
+    sum += errors[i];
   return sum / static_cast<double>(kept);
 }
 
@@ -78,8 +82,9 @@ TimeOffsetResult estimateTimeOffset(const std::vector<MotionPair>& pairs,
 {
   if (!(options.max_s > options.min_s) || !(options.step_s > 0.0) || options.trim < 0.0 ||
       options.trim >= 1.0) {
-    throw std::invalid_argument("time offset search: need min_s < max_s, step_s > 0, "
-                                "0 <= trim < 1");
+    throw std::invalid_argument(
+        "time offset search: need min_s < max_s, step_s > 0, "
+        "0 <= trim < 1");
   }
   TimeOffsetResult result;
   const int steps = static_cast<int>(std::round((options.max_s - options.min_s) / options.step_s));
@@ -95,7 +100,8 @@ TimeOffsetResult estimateTimeOffset(const std::vector<MotionPair>& pairs,
       // Too few pairs covered at this offset: leave it out of the curve's minimum.
     }
     result.curve.emplace_back(tau, cost);
-    if (cost < result.curve[best].second) best = result.curve.size() - 1;
+    if (cost < result.curve[best].second)
+      best = result.curve.size() - 1;
   }
   if (!std::isfinite(result.curve[best].second)) {
     throw std::invalid_argument("time offset search: no offset in the range gave enough pairs");

@@ -18,7 +18,10 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double seconds(Clock::duration duration) { return std::chrono::duration<double>(duration).count(); }
+double seconds(Clock::duration duration)
+{
+  return std::chrono::duration<double>(duration).count();
+}
 
 }  // namespace
 
@@ -43,12 +46,12 @@ BagRunResult runBags(const std::vector<std::string>& bag_paths, const Calibratio
       config.ego_motion == EgoMotionSource::kScan ? config.scan_topic : config.ego_motion_topic;
   rosbag::View all;
   for (const auto& bag : bags) {
-    all.addQuery(*bag, rosbag::TopicQuery(std::vector<std::string>{config.joint_state_topic,
-                                                                    ego_topic}));
+    all.addQuery(*bag,
+                 rosbag::TopicQuery(std::vector<std::string>{config.joint_state_topic, ego_topic}));
   }
   if (all.size() == 0) {
-    throw std::runtime_error("the bags hold no message on '" + config.joint_state_topic +
-                             "' or '" + ego_topic + "'");
+    throw std::runtime_error("the bags hold no message on '" + config.joint_state_topic + "' or '" +
+                             ego_topic + "'");
   }
   const ros::Time begin = all.getBeginTime() + ros::Duration(start_offset_s);
   const ros::Time end =
@@ -64,6 +67,7 @@ BagRunResult runBags(const std::vector<std::string>& bag_paths, const Calibratio
   result.bag_span_s = (end - begin).toSec();
   PairCollector collector(encoderChannels(config), config.collector, priorPredictor(config));
   std::vector<EncoderChannelOptions> channels = encoderChannels(config);
+  EncoderDecoder history_decoder(channels);
   const Eigen::Matrix3d pose_covariance =
       Eigen::Vector3d(config.ego_motion_sigma_m * config.ego_motion_sigma_m,
                       config.ego_motion_sigma_m * config.ego_motion_sigma_m,
@@ -85,21 +89,28 @@ BagRunResult runBags(const std::vector<std::string>& bag_paths, const Calibratio
     ++messages;
     if (message.getTopic() == config.joint_state_topic) {
       const auto joints = message.instantiate<sensor_msgs::JointState>();
-      if (!joints) continue;
+      if (!joints)
+        continue;
       ++result.joint_state_messages;
       try {
         const Eigen::VectorXd raw =
             applySigns(config, ros_conversions::rawJointPositions(*joints, channels));
+        const double stamp_s = joints->header.stamp.toSec();
+        if (result.encoder_history.empty() || stamp_s > result.encoder_history.back().stamp_s) {
+          result.encoder_history.push_back({stamp_s, history_decoder.decode(raw)});
+        }
         const auto start = Clock::now();
         take(collector.addEncoders(joints->header.stamp.toSec(), raw),
              joints->header.stamp.toSec());
         pairing += Clock::now() - start;
       } catch (const std::invalid_argument& error) {
-        if (result.bad_joint_states++ == 0) result.first_bad_joint_state = error.what();
+        if (result.bad_joint_states++ == 0)
+          result.first_bad_joint_state = error.what();
       }
     } else if (config.ego_motion == EgoMotionSource::kScan) {
       const auto scan = message.instantiate<sensor_msgs::LaserScan>();
-      if (!scan) continue;
+      if (!scan)
+        continue;
       ++result.ego_motion_messages;
       const auto start = Clock::now();
       take(collector.addScan(scan->header.stamp.toSec(), ros_conversions::fromLaserScanMsg(*scan)),
@@ -126,7 +137,8 @@ BagRunResult runBags(const std::vector<std::string>& bag_paths, const Calibratio
     }
   }
   take(collector.flush(), end.toSec());
-  if (progress) progress({1.0, messages, seconds(Clock::now() - run_start)});
+  if (progress)
+    progress({1.0, messages, seconds(Clock::now() - run_start)});
   if (result.joint_state_messages == 0) {
     throw std::runtime_error("no sensor_msgs/JointState on '" + config.joint_state_topic +
                              "' in the bags");
@@ -138,6 +150,8 @@ BagRunResult runBags(const std::vector<std::string>& bag_paths, const Calibratio
     throw std::runtime_error("no usable JointState: " + result.first_bad_joint_state);
   }
   result.statistics = collector.statistics();
+  if (!result.restarts.empty())
+    result.encoder_history.clear();
   result.wall_time_s = seconds(Clock::now() - run_start);
   result.pairing_time_s = seconds(pairing);
   result.read_time_s = result.wall_time_s - result.pairing_time_s;

@@ -16,6 +16,7 @@
 #include "odometry_calibration/eval/model_report.h"
 #include "odometry_calibration/io/atomic_file.h"
 #include "odometry_calibration/io/pairs_csv.h"
+#include "odometry_calibration/pipeline/time_offset.h"
 #include "odometry_calibration/ros/bag_runner.h"
 
 namespace {
@@ -55,16 +56,16 @@ void showProgress(const BagProgress& p)
   const double rate = p.elapsed_s > 0.0 ? p.messages / p.elapsed_s : 0.0;
   const double eta = p.fraction > 0.0 ? p.elapsed_s * (1.0 - p.fraction) / p.fraction : 0.0;
   std::fprintf(stderr, "\r%5.1f %%  %8.0f msg/s  ETA %5.1f s ", 100.0 * p.fraction, rate, eta);
-  if (p.fraction >= 1.0) std::fprintf(stderr, "\n");
+  if (p.fraction >= 1.0)
+    std::fprintf(stderr, "\n");
 }
 
 std::string runSummary(const BagRunResult& run)
 {
   std::ostringstream text;
   text << "bags: " << run.bag_span_s << " s of data in " << run.wall_time_s << " s ("
-       << (run.wall_time_s > 0 ? run.bag_span_s / run.wall_time_s : 0.0)
-       << "x real time; reading " << run.read_time_s << " s, pairing " << run.pairing_time_s
-       << " s)\n";
+       << (run.wall_time_s > 0 ? run.bag_span_s / run.wall_time_s : 0.0) << "x real time; reading "
+       << run.read_time_s << " s, pairing " << run.pairing_time_s << " s)\n";
   const CollectorStatistics& s = run.statistics;
   text << "keyframe pairs: " << s.pairs << " from " << s.scans << " scans, " << s.keyframes
        << " keyframes";
@@ -77,10 +78,11 @@ std::string runSummary(const BagRunResult& run)
     text << "  rejected " << count << ": " << reason << "\n";
   }
   if (run.bad_joint_states > 0) {
-    text << "skipped " << run.bad_joint_states << " JointState messages, first: "
-         << run.first_bad_joint_state << "\n";
+    text << "skipped " << run.bad_joint_states
+         << " JointState messages, first: " << run.first_bad_joint_state << "\n";
   }
-  for (const std::string& restart : run.restarts) text << "restart " << restart << "\n";
+  for (const std::string& restart : run.restarts)
+    text << "restart " << restart << "\n";
   return text.str();
 }
 
@@ -104,15 +106,23 @@ int main(int argc, char** argv)
       } else if (arg == "--quiet") {
         quiet = true;
       } else if (arg.rfind("--", 0) == 0) {
-        if (i + 1 >= args.size()) throw std::invalid_argument("option " + arg + " needs a value");
+        if (i + 1 >= args.size())
+          throw std::invalid_argument("option " + arg + " needs a value");
         const std::string& value = args[++i];
-        if (arg == "--config") config_path = value;
-        else if (arg == "--output-dir") output_dir = value;
-        else if (arg == "--model") model_name = value;
-        else if (arg == "--test") test_bags.push_back(value);
-        else if (arg == "--start") start_s = number(arg, value);
-        else if (arg == "--end") end_s = number(arg, value);
-        else throw std::invalid_argument("unknown option '" + arg + "'");
+        if (arg == "--config")
+          config_path = value;
+        else if (arg == "--output-dir")
+          output_dir = value;
+        else if (arg == "--model")
+          model_name = value;
+        else if (arg == "--test")
+          test_bags.push_back(value);
+        else if (arg == "--start")
+          start_s = number(arg, value);
+        else if (arg == "--end")
+          end_s = number(arg, value);
+        else
+          throw std::invalid_argument("unknown option '" + arg + "'");
       } else {
         bags.push_back(arg);
       }
@@ -126,45 +136,79 @@ int main(int argc, char** argv)
   }
   try {
     CalibrationConfig config = loadCalibrationConfig(config_path);
-    if (!model_name.empty()) config.model = model_name;
-    if (output_dir.empty()) output_dir = config.output_directory;
+    if (!model_name.empty())
+      config.model = model_name;
+    if (output_dir.empty())
+      output_dir = config.output_directory;
     std::filesystem::create_directories(output_dir);
 
-    const BagRunResult run = runBags(bags, config, start_s, end_s,
-                                     quiet ? nullptr : std::function<void(const BagProgress&)>(
-                                                           showProgress));
+    const BagRunResult run =
+        runBags(bags, config, start_s, end_s,
+                quiet ? nullptr : std::function<void(const BagProgress&)>(showProgress));
     const std::string summary = runSummary(run);
     std::cout << summary;
-    writePairsCsv(output_dir + "/pairs.csv", {jointLayout(config), run.pairs});
 
+    std::vector<MotionPair> pairs = run.pairs;
+    std::string offset_text;
+    double time_offset_s = config.collector.time_offset_s;
+    if (config.estimate_time_offset) {
+      if (run.encoder_history.empty()) {
+        throw std::runtime_error(
+            "time offset estimation needs one continuous encoder stream "
+            "(the bags went back in time)");
+      }
+      TimeOffsetOptions search;
+      search.min_s = config.time_offset_search_min_s;
+      search.max_s = config.time_offset_search_max_s;
+      const TimeOffsetResult offset = estimateTimeOffset(
+          run.pairs, run.encoder_history, [&]() { return makeModel(config.model, config.models); },
+          search);
+      time_offset_s = offset.offset_s;
+      pairs = rewindowPairs(run.pairs, run.encoder_history, time_offset_s);
+      std::ostringstream out;
+      out << "time offset (encoder values at scan time + tau): tau = " << offset.offset_s
+          << " s +- " << offset.sigma_s << " s"
+          << (offset.at_boundary ? "  WARNING: at the edge of the search range" : "")
+          << "\ncost curve (tau [s], trimmed mean chi^2):";
+      for (const auto& [tau, cost] : offset.curve)
+        out << " " << tau << ":" << cost;
+      offset_text = out.str() + "\n";
+    }
+    writePairsCsv(output_dir + "/pairs.csv", {jointLayout(config), pairs});
     auto model = makeModel(config.model, config.models);
-    const ModelReport report = model->fit(run.pairs);
-    std::string text = summary + "\n" + formatModelReport(report);
+    const ModelReport report = model->fit(pairs);
+    std::string text = summary + offset_text + "\n" + formatModelReport(report);
     if (!test_bags.empty()) {
-      const BagRunResult test = runBags(test_bags, config, 0.0, 0.0);
+      CalibrationConfig test_config = config;
+      test_config.collector.time_offset_s = time_offset_s;
+      const BagRunResult test = runBags(test_bags, test_config, 0.0, 0.0);
       std::vector<ModelScore> scores;
       std::vector<std::string> names = {config.model};
       for (const std::string& name : config.compare_models) {
-        if (name != config.model) names.push_back(name);
+        if (name != config.model)
+          names.push_back(name);
       }
       for (const std::string& name : names) {
         auto candidate = name == config.model ? std::move(model) : makeModel(name, config.models);
-        const ModelReport fitted = name == config.model ? report : candidate->fit(run.pairs);
+        const ModelReport fitted = name == config.model ? report : candidate->fit(pairs);
         ModelScore score = scoreModel(*candidate, test.pairs);
         score.fit_time_s = fitted.fit_time_s;
         score.outliers = fitted.outliers;
         scores.push_back(score);
-        if (name == config.model) model = std::move(candidate);
+        if (name == config.model)
+          model = std::move(candidate);
       }
       text += "\ntest bags: " + std::to_string(test.pairs.size()) + " pairs\n" +
               formatComparisonTable(scores);
     }
-    std::cout << "\n" << text.substr(summary.size() + 1);
+    std::cout << text.substr(summary.size());
     writeFileAtomically(output_dir + "/result.yaml",
-                        modelResultYaml(report, model->toYaml(), bags.front()));
+                        modelResultYaml(report, model->toYaml(), bags.front()) +
+                            "time_offset_s: " + std::to_string(time_offset_s) + "\n");
     writeFileAtomically(output_dir + "/report.txt", text);
     std::cout << "\nwritten: " << output_dir << "/{pairs.csv, result.yaml, report.txt}\n";
-    if (!report.converged) return 3;
+    if (!report.converged)
+      return 3;
     return report.warnings.empty() ? 0 : 4;
   } catch (const std::exception& error) {
     std::cerr << "error: " << error.what() << "\n";

@@ -21,7 +21,8 @@ int main(int argc, char** argv)
   const std::string partial = output + ".partial";
   try {
     const std::vector<MinesRecord> records = loadMinesLog(argv[1]);
-    if (records.empty()) throw std::runtime_error(std::string(argv[1]) + " holds no line");
+    if (records.empty())
+      throw std::runtime_error(std::string(argv[1]) + " holds no line");
     rosbag::Bag bag(partial, rosbag::bagmode::Write);
     std::uint32_t seq = 0;
     for (const MinesRecord& record : records) {
@@ -39,8 +40,8 @@ int main(int argc, char** argv)
       scan.header.frame_id = "laser";
       scan.angle_min = static_cast<float>(core.angle_min_rad);
       scan.angle_increment = static_cast<float>(core.angle_increment_rad);
-      scan.angle_max = static_cast<float>(core.angle_min_rad +
-                                          core.angle_increment_rad * (kMinesRayCount - 1));
+      scan.angle_max =
+          static_cast<float>(core.angle_min_rad + core.angle_increment_rad * (kMinesRayCount - 1));
       scan.scan_time = 0.1f;
       scan.range_min = static_cast<float>(core.range_min_m);
       scan.range_max = static_cast<float>(core.range_max_m);

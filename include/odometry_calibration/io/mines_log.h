@@ -13,10 +13,10 @@ namespace odometry_calibration {
 /// One line of the log.
 struct MinesRecord
 {
-  std::size_t line = 0;        ///< 1-based line number
-  double stamp_s = 0.0;        ///< the line's stamp [s] (the log's microseconds / 1e6)
-  double left_ticks = 0.0;     ///< cumulative left wheel ticks (rise driving forward)
-  double right_ticks = 0.0;    ///< cumulative right wheel ticks
+  std::size_t line = 0;          ///< 1-based line number
+  double stamp_s = 0.0;          ///< the line's stamp [s] (the log's microseconds / 1e6)
+  double left_ticks = 0.0;       ///< cumulative left wheel ticks (rise driving forward)
+  double right_ticks = 0.0;      ///< cumulative right wheel ticks
   std::vector<double> ranges_m;  ///< the first 682 ranges [m]; +inf where the log has 0
 };
 

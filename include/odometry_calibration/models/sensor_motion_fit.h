@@ -13,9 +13,9 @@
 
 #include <algorithm>
 #include <chrono>
-#include <memory>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -120,9 +120,8 @@ SensorMotionFit<Kinematics::kIntrinsics> fitSensorMotion(
     for (const MotionPair& pair : pairs) {
       auto* cost =
           new ceres::AutoDiffCostFunction<Residual, 3, N, 3>(new Residual(pair, layout, scale));
-      ceres::LossFunction* loss = options.huber_threshold > 0.0
-                                      ? new ceres::HuberLoss(options.huber_threshold)
-                                      : nullptr;
+      ceres::LossFunction* loss =
+          options.huber_threshold > 0.0 ? new ceres::HuberLoss(options.huber_threshold) : nullptr;
       problem_holder->AddResidualBlock(cost, loss, intrinsic.data(), sensor_pose.data());
     }
     problem_holder->SetManifold(sensor_pose.data(), newSe2Manifold());

@@ -16,7 +16,7 @@ namespace odometry_calibration {
 /// One joint of the JointState stream.
 struct JointConfig
 {
-  std::string name;                           ///< joint name in sensor_msgs/JointState
+  std::string name;                              ///< joint name in sensor_msgs/JointState
   EncoderKind kind = EncoderKind::kIncremental;  ///< incremental (wheel) or absolute (steering)
   /// Units of `position` per joint turn: 2000 for a 2000-tick wheel encoder reported in ticks,
   /// 6.283185 (2 pi) for positions in radians.
@@ -42,10 +42,15 @@ struct CalibrationConfig
   std::string joint_state_topic = "/joint_states";
   EgoMotionSource ego_motion = EgoMotionSource::kScan;
   std::string scan_topic = "/scan";
-  std::string ego_motion_topic;             ///< odometry / pose source topic
-  double ego_motion_sigma_m = 0.005;        ///< pose source: sigma of a displacement's x, y [m]
-  double ego_motion_sigma_rad = 0.002;      ///< pose source: sigma of its heading [rad]
-  CollectorOptions collector;               ///< keyframes, time offset, PLICP
+  std::string ego_motion_topic;         ///< odometry / pose source topic
+  double ego_motion_sigma_m = 0.005;    ///< pose source: sigma of a displacement's x, y [m]
+  double ego_motion_sigma_rad = 0.002;  ///< pose source: sigma of its heading [rad]
+  CollectorOptions collector;           ///< keyframes, time offset, PLICP
+  /// Estimate the encoder-laser time offset (bag tool) by searching this range [s]; the
+  /// configured time_offset_s is then only the matcher's starting point.
+  bool estimate_time_offset = false;
+  double time_offset_search_min_s = -0.4;
+  double time_offset_search_max_s = 0.4;
   std::string model = "diff_drive";         ///< model fitted by default
   std::vector<std::string> compare_models;  ///< further models fitted for the comparison table
   ModelFactoryOptions models;               ///< per-model options (joints filled in)

@@ -41,8 +41,8 @@ struct CollectorOptions
   /// Added to every pair's covariance diagonal: unmodelled errors (stamp jitter, the sweep)
   /// that the matcher's own covariance does not see [m^2, m^2, rad^2].
   Eigen::Vector3d covariance_floor{1e-6, 1e-6, 1e-6};
-  PlicpOptions plicp;       ///< the scan matcher
-  LineFitOptions lines;     ///< the reference surfaces
+  PlicpOptions plicp;    ///< the scan matcher
+  LineFitOptions lines;  ///< the reference surfaces
 };
 
 /// Throws std::invalid_argument naming the first invalid option.
@@ -140,7 +140,7 @@ private:
   std::optional<Keyframe> keyframe_;
   std::shared_ptr<const PreparedScan> previous_scan_;
   double previous_scan_stamp_s_ = 0.0;
-  Pose2 chain_;             ///< composed consecutive matches since the keyframe
+  Pose2 chain_;  ///< composed consecutive matches since the keyframe
   bool chain_valid_ = false;
   double last_input_stamp_s_ = -1e300;  ///< newest stamp of any stream
   double last_scan_stamp_s_ = -1e300;   ///< newest scan / sensor pose stamp

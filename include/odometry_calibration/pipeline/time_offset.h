@@ -30,13 +30,13 @@ struct TimeOffsetResult
   double offset_s = 0.0;  ///< tau [s]
   double sigma_s = 0.0;   ///< its standard deviation from the cost curvature [s]; NaN if flat
   std::vector<std::pair<double, double>> curve;  ///< (tau [s], cost [-]) over the grid
-  bool at_boundary = false;  ///< the minimum lies on the search range's edge
+  bool at_boundary = false;                      ///< the minimum lies on the search range's edge
 };
 
 /// Cuts the encoder samples of [start + tau, end + tau] out of the full, time-ordered history
 /// (interpolated at both ends). Empty if the history does not cover the interval.
-std::vector<EncoderSample> encoderWindow(const std::vector<EncoderSample>& history,
-                                         double start_s, double end_s);
+std::vector<EncoderSample> encoderWindow(const std::vector<EncoderSample>& history, double start_s,
+                                         double end_s);
 
 /// Searches tau. `make_model` gives a fresh model for each fit; `pairs` are the collected
 /// pairs (their encoder samples are replaced per tau); `history` all decoded encoder samples.

@@ -14,19 +14,22 @@ namespace odometry_calibration {
 /// Progress of a run, for a terminal display.
 struct BagProgress
 {
-  double fraction = 0.0;          ///< of the bags' time span [0, 1]
-  std::size_t messages = 0;       ///< messages read so far
-  double elapsed_s = 0.0;         ///< wall time so far [s]
+  double fraction = 0.0;     ///< of the bags' time span [0, 1]
+  std::size_t messages = 0;  ///< messages read so far
+  double elapsed_s = 0.0;    ///< wall time so far [s]
 };
 
 /// What a run produced, and where the time went.
 struct BagRunResult
 {
   std::vector<MotionPair> pairs;
+  /// Every decoded encoder sample, in time order (empty after a restart: the history is not
+  /// continuous then), for re-cutting the pairs' windows at another time offset.
+  std::vector<EncoderSample> encoder_history;
   CollectorStatistics statistics;
   std::size_t joint_state_messages = 0;
   std::size_t ego_motion_messages = 0;
-  std::size_t bad_joint_states = 0;  ///< skipped: missing joints, mismatched arrays, NaN
+  std::size_t bad_joint_states = 0;   ///< skipped: missing joints, mismatched arrays, NaN
   std::string first_bad_joint_state;  ///< the first such problem, in words
   std::vector<std::string> restarts;  ///< time going backwards, in words
   double bag_span_s = 0.0;            ///< time covered by the bags [s]
