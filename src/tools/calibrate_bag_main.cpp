@@ -2,6 +2,7 @@
 // live node, fits the configured model, and writes the pairs, the result and a report.
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -16,6 +17,7 @@
 #include "odometry_calibration/eval/model_report.h"
 #include "odometry_calibration/io/atomic_file.h"
 #include "odometry_calibration/io/pairs_csv.h"
+#include "odometry_calibration/models/diff_drive_model.h"
 #include "odometry_calibration/pipeline/time_offset.h"
 #include "odometry_calibration/ros/bag_runner.h"
 
@@ -178,6 +180,29 @@ int main(int argc, char** argv)
     auto model = makeModel(config.model, config.models);
     const ModelReport report = model->fit(pairs);
     std::string text = summary + offset_text + "\n" + formatModelReport(report);
+    if (config.prior_model == "diff_drive" && !run.encoder_history.empty()) {
+      // Median per-pair RPE against the matched displacements: the nominal robot (start
+      // values, no time offset) against the calibrated model.
+      auto median_error = [](const MotionModel& m, const std::vector<MotionPair>& set) {
+        std::vector<double> errors;
+        for (const MotionPair& pair : set) {
+          const Pose2 e = between(pair.sensor_motion, m.predict(pair.encoder_samples).mean);
+          errors.push_back(std::hypot(e.x(), e.y()));
+        }
+        std::nth_element(errors.begin(), errors.begin() + errors.size() / 2, errors.end());
+        return errors.empty() ? 0.0 : errors[errors.size() / 2];
+      };
+      const DiffDriveModel nominal(config.models.diff_drive);
+      const double before =
+          median_error(nominal, rewindowPairs(run.pairs, run.encoder_history, 0.0));
+      const double after = median_error(*model, pairs);
+      char line[200];
+      std::snprintf(line, sizeof(line),
+                    "median per-pair RPE vs the matched displacements: nominal (start values, "
+                    "no time offset) %.4f m -> calibrated %.4f m\n",
+                    before, after);
+      text += line;
+    }
     if (!test_bags.empty()) {
       CalibrationConfig test_config = config;
       test_config.collector.time_offset_s = time_offset_s;
