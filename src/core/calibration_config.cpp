@@ -8,6 +8,8 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "odometry_calibration/models/gp_options.h"
+
 namespace odometry_calibration {
 namespace {
 
@@ -55,7 +57,7 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
     const YAML::Node root = YAML::Load(text);
     checkKeys(root,
               {"joints", "joint_state_topic", "ego_motion", "keyframes", "scan_matching", "model",
-               "compare_models", "prior_model", "diff_drive", "linear", "output_directory"},
+               "compare_models", "prior_model", "diff_drive", "linear", "gp", "output_directory"},
               source);
     where = source + ": joints";
     if (!root["joints"] || !root["joints"].IsSequence() || root["joints"].size() == 0) {
@@ -192,6 +194,21 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
     read(linear, "huber_threshold", &c.models.linear.huber_threshold);
     read(linear, "outlier_threshold", &c.models.linear.outlier_threshold);
     c.models.joints = jointLayout(c);
+
+    where = source + ": gp";
+    const YAML::Node gp = root["gp"];
+    checkKeys(
+        gp, {"kernel", "mean", "starts", "max_exact_pairs", "inducing_points", "outlier_threshold"},
+        where);
+    if (gp && gp["kernel"])
+      c.models.gp.kernel = parseGpKernelType(gp["kernel"].as<std::string>());
+    if (gp && gp["mean"])
+      c.models.gp.mean = parseGpMeanFunction(gp["mean"].as<std::string>());
+    read(gp, "starts", &c.models.gp.starts);
+    read(gp, "max_exact_pairs", &c.models.gp.max_exact_pairs);
+    read(gp, "inducing_points", &c.models.gp.inducing_points);
+    read(gp, "outlier_threshold", &c.models.gp.outlier_threshold);
+    validate(c.models.gp);
 
     where = source;
     if (c.prior_model != "none" && c.prior_model != "diff_drive") {

@@ -2,6 +2,8 @@
 
 #include <stdexcept>
 
+#include "odometry_calibration/models/gp_model.h"
+
 namespace odometry_calibration {
 
 std::vector<std::string> knownModelNames()
@@ -24,6 +26,9 @@ std::unique_ptr<MotionModel> makeModel(const std::string& name, const ModelFacto
                                   std::to_string(joints) + " joints");
     }
     return std::make_unique<DiffDriveModel>(options.diff_drive);
+  }
+  if (name == "gp") {
+    return std::make_unique<GaussianProcessModel>(options.gp, options.joints);
   }
   std::string known;
   for (const std::string& model : knownModelNames())

@@ -17,7 +17,7 @@ using namespace odometry_calibration;
 
 const char* kUsage =
     "usage: compare_models --train PAIRS.csv [--train ...] --test PAIRS.csv [--test ...]\n"
-    "                      [--models linear,diff_drive] [diff_drive options]\n"
+    "                      [--models linear,diff_drive,gp] [diff_drive options]\n"
     "\n"
     "Fits each model on the training pairs and prints, per model, the ATE and RPE of the\n"
     "test trajectory integrated from its predictions (paper eqs. 10-11, against the chain of\n"
@@ -78,7 +78,7 @@ int indexOf(const JointLayout& joints, const std::string& name, int nth_incremen
 
 int main(int argc, char** argv)
 {
-  std::vector<std::string> train, test, models = {"linear", "diff_drive"};
+  std::vector<std::string> train, test, models = {"linear", "diff_drive", "gp"};
   std::string left, right;
   double ticks_per_rev = 2000.0;
   std::vector<double> start = {0.077, 0.077, 0.33, 0.15, 0.0, 0.0};

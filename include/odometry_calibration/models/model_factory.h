@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "odometry_calibration/models/diff_drive_model.h"
+#include "odometry_calibration/models/gp_options.h"
 #include "odometry_calibration/models/linear_model.h"
 #include "odometry_calibration/models/model.h"
 
@@ -18,6 +19,7 @@ struct ModelFactoryOptions
   JointLayout joints;
   LinearModelOptions linear;
   DiffDriveOptions diff_drive;
+  GpOptions gp;
 };
 
 /// Names makeModel knows.

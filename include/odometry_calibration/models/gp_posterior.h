@@ -1,0 +1,92 @@
+// The posterior of one GP output, ready to predict (paper eq. 5 and Algorithm 1): everything
+// that does not depend on the test input is computed once, so the mean at a new input costs one
+// kernel row times a stored weight vector, O(n) (exact) or O(M) (sparse).
+//
+//   exact:  mean = k_*^T alpha,  alpha = (K + S)^-1 (y - mu_bar);  var = k_** - |L^-1 k_*|^2
+//   sparse (VFE / DTC predictive, inducing inputs Z):
+//           mean = k_*Z^T w,  w = (K_ZZ + K_Zn S^-1 K_nZ)^-1 K_Zn S^-1 (y - mu_bar)
+//           var = k_** - k_*Z^T V k_*Z,  V = K_ZZ^-1 - (K_ZZ + K_Zn S^-1 K_nZ)^-1
+// The prior mean mu(x) is added by the caller (GaussianProcessModel).
+#pragma once
+
+#include <Eigen/Core>
+
+#include "odometry_calibration/models/gp_kernel.h"
+#include "odometry_calibration/models/gp_likelihood.h"
+
+namespace odometry_calibration {
+
+/// Predictive distribution of f for one output.
+class GpPosterior
+{
+public:
+  enum class Kind
+  {
+    kExact,
+    kSparse,
+  };
+
+  GpPosterior() = default;
+
+  /// Exact posterior on `inputs` (m x n) with residual targets y - mu_bar and noise variances:
+  /// Cholesky of K + S once. Throws std::runtime_error if K + S is not positive definite.
+  static GpPosterior exact(const GpKernel& kernel, const Eigen::VectorXd& log_parameters,
+                           const Eigen::MatrixXd& inputs, const Eigen::VectorXd& residuals,
+                           const Eigen::VectorXd& noise_variance);
+  /// Sparse posterior with inducing inputs Z (m x M), O(n M^2). Throws std::runtime_error if a
+  /// factorisation fails.
+  static GpPosterior sparse(const GpKernel& kernel, const Eigen::VectorXd& log_parameters,
+                            const Eigen::MatrixXd& inputs, const Eigen::VectorXd& residuals,
+                            const Eigen::VectorXd& noise_variance,
+                            const Eigen::MatrixXd& inducing_inputs);
+  /// Exact posterior of a regression problem with a profiled linear mean: the mean
+  /// coefficients C (gp_likelihood.h) come from the same Cholesky factor and are returned;
+  /// the posterior is of f given y - H^T C.
+  static GpPosterior exact(const GpKernel& kernel, const Eigen::VectorXd& log_parameters,
+                           const GpRegressionData& data, Eigen::VectorXd* mean_coefficients);
+  /// Sparse counterpart: C by generalised least squares under Q + S (Woodbury).
+  static GpPosterior sparse(const GpKernel& kernel, const Eigen::VectorXd& log_parameters,
+                            const GpRegressionData& data, const Eigen::MatrixXd& inducing_inputs,
+                            Eigen::VectorXd* mean_coefficients);
+  /// Rebuilds an exact posterior from its saved state (inputs, alpha, noise): the Cholesky
+  /// factor is recomputed exactly as in exact(), so predictions are identical.
+  static GpPosterior exactFromState(const GpKernel& kernel, const Eigen::VectorXd& log_parameters,
+                                    const Eigen::MatrixXd& inputs, const Eigen::VectorXd& alpha,
+                                    const Eigen::VectorXd& noise_variance);
+  /// Rebuilds a sparse posterior from its saved state (Z, w, V).
+  static GpPosterior sparseFromState(const GpKernel& kernel, const Eigen::VectorXd& log_parameters,
+                                     const Eigen::MatrixXd& inducing_inputs,
+                                     const Eigen::VectorXd& weights,
+                                     const Eigen::MatrixXd& variance_matrix);
+
+  /// Posterior mean (without the prior mean) and variance of f at x (m) [target units, ^2].
+  void predict(const Eigen::VectorXd& x, double* mean, double* variance) const;
+  /// Posterior means at the columns of `inputs`, O(n) each.
+  Eigen::VectorXd means(const Eigen::MatrixXd& inputs) const;
+
+  Kind kind() const { return kind_; }
+  const GpKernel& kernel() const { return kernel_; }
+  const Eigen::VectorXd& logParameters() const { return log_parameters_; }
+  /// Training inputs (exact) or inducing inputs (sparse), m x n.
+  const Eigen::MatrixXd& basis() const { return basis_; }
+  /// alpha (exact) or w (sparse).
+  const Eigen::VectorXd& weights() const { return weights_; }
+  /// Exact: the noise variances of the training inputs.
+  const Eigen::VectorXd& noiseVariance() const { return noise_variance_; }
+  /// Sparse: V.
+  const Eigen::MatrixXd& varianceMatrix() const { return variance_matrix_; }
+
+private:
+  void factorExact();
+
+  Kind kind_ = Kind::kExact;
+  GpKernel kernel_;
+  Eigen::VectorXd log_parameters_;
+  Eigen::MatrixXd basis_;
+  Eigen::VectorXd weights_;
+  Eigen::VectorXd noise_variance_;   ///< exact
+  Eigen::MatrixXd factor_;           ///< exact: lower Cholesky factor of K + S
+  Eigen::MatrixXd variance_matrix_;  ///< sparse: V
+};
+
+}  // namespace odometry_calibration

@@ -1,0 +1,191 @@
+#include "odometry_calibration/models/gp_posterior.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Dense>
+
+#include "odometry_calibration/models/gp_likelihood.h"
+
+namespace odometry_calibration {
+
+void GpPosterior::factorExact()
+{
+  Eigen::MatrixXd covariance = kernel_.gram(log_parameters_, basis_);
+  covariance.diagonal() += noise_variance_;
+  Eigen::LLT<Eigen::MatrixXd> llt(covariance);
+  if (llt.info() != Eigen::Success) {
+    throw std::runtime_error("gp: K + Sigma is not positive definite (degenerate hyperparameters)");
+  }
+  factor_ = llt.matrixL();
+}
+
+GpPosterior GpPosterior::exact(const GpKernel& kernel, const Eigen::VectorXd& log_parameters,
+                               const Eigen::MatrixXd& inputs, const Eigen::VectorXd& residuals,
+                               const Eigen::VectorXd& noise_variance)
+{
+  const GpRegressionData data{inputs, residuals, noise_variance, Eigen::MatrixXd(0, inputs.cols())};
+  Eigen::VectorXd unused;
+  return exact(kernel, log_parameters, data, &unused);
+}
+
+GpPosterior GpPosterior::exact(const GpKernel& kernel, const Eigen::VectorXd& log_parameters,
+                               const GpRegressionData& data, Eigen::VectorXd* mean_coefficients)
+{
+  GpPosterior posterior;
+  posterior.kind_ = Kind::kExact;
+  posterior.kernel_ = kernel;
+  posterior.log_parameters_ = log_parameters;
+  posterior.basis_ = data.inputs;
+  posterior.noise_variance_ = data.noise_variance;
+  posterior.factorExact();
+  const auto lower = posterior.factor_.triangularView<Eigen::Lower>();
+  const auto upper = posterior.factor_.transpose().triangularView<Eigen::Upper>();
+  const auto apply_inverse = [&](Eigen::MatrixXd v) {
+    lower.solveInPlace(v);
+    upper.solveInPlace(v);
+    return v;
+  };
+  Eigen::VectorXd residuals = data.targets;
+  mean_coefficients->resize(0);
+  if (data.mean_basis.rows() > 0) {
+    *mean_coefficients =
+        profiledMeanCoefficients(data.mean_basis, apply_inverse(data.mean_basis.transpose()),
+                                 apply_inverse(data.targets).col(0));
+    residuals.noalias() -= data.mean_basis.transpose() * *mean_coefficients;
+  }
+  posterior.weights_ = apply_inverse(residuals).col(0);
+  return posterior;
+}
+
+GpPosterior GpPosterior::exactFromState(const GpKernel& kernel,
+                                        const Eigen::VectorXd& log_parameters,
+                                        const Eigen::MatrixXd& inputs, const Eigen::VectorXd& alpha,
+                                        const Eigen::VectorXd& noise_variance)
+{
+  if (alpha.size() != inputs.cols() || noise_variance.size() != inputs.cols()) {
+    throw std::runtime_error("gp: exact posterior needs one weight and one noise per input");
+  }
+  GpPosterior posterior;
+  posterior.kind_ = Kind::kExact;
+  posterior.kernel_ = kernel;
+  posterior.log_parameters_ = log_parameters;
+  posterior.basis_ = inputs;
+  posterior.noise_variance_ = noise_variance;
+  posterior.weights_ = alpha;
+  posterior.factorExact();
+  return posterior;
+}
+
+GpPosterior GpPosterior::sparse(const GpKernel& kernel, const Eigen::VectorXd& log_parameters,
+                                const Eigen::MatrixXd& inputs, const Eigen::VectorXd& residuals,
+                                const Eigen::VectorXd& noise_variance,
+                                const Eigen::MatrixXd& inducing_inputs)
+{
+  const GpRegressionData data{inputs, residuals, noise_variance, Eigen::MatrixXd(0, inputs.cols())};
+  Eigen::VectorXd unused;
+  return sparse(kernel, log_parameters, data, inducing_inputs, &unused);
+}
+
+GpPosterior GpPosterior::sparse(const GpKernel& kernel, const Eigen::VectorXd& log_parameters,
+                                const GpRegressionData& data,
+                                const Eigen::MatrixXd& inducing_inputs,
+                                Eigen::VectorXd* mean_coefficients)
+{
+  const Eigen::Index m = inducing_inputs.cols();
+  Eigen::MatrixXd l_m;
+  if (!factorInducingCovariance(kernel.gram(log_parameters, inducing_inputs), &l_m)) {
+    throw std::runtime_error("gp: the inducing covariance is not positive definite");
+  }
+  const Eigen::VectorXd inv_sqrt_noise = data.noise_variance.array().rsqrt();
+  Eigen::MatrixXd a = kernel.cross(log_parameters, inducing_inputs, data.inputs);
+  l_m.triangularView<Eigen::Lower>().solveInPlace(a);
+  a = a * inv_sqrt_noise.asDiagonal();
+  Eigen::MatrixXd b = Eigen::MatrixXd::Identity(m, m);
+  b.selfadjointView<Eigen::Lower>().rankUpdate(a);
+  Eigen::LLT<Eigen::MatrixXd> llt_b(b);
+  if (llt_b.info() != Eigen::Success) {
+    throw std::runtime_error("gp: the sparse posterior's system is not positive definite");
+  }
+  // (Q + S)^-1 v = S^-1 v - S^-1/2 A^T B^-1 A S^-1/2 v for the mean's least squares.
+  const auto apply_inverse = [&](const Eigen::MatrixXd& v) {
+    const Eigen::MatrixXd scaled = inv_sqrt_noise.asDiagonal() * v;
+    const Eigen::MatrixXd out = scaled - a.transpose() * llt_b.solve(a * scaled);
+    return Eigen::MatrixXd(inv_sqrt_noise.asDiagonal() * out);
+  };
+  Eigen::VectorXd residuals = data.targets;
+  mean_coefficients->resize(0);
+  if (data.mean_basis.rows() > 0) {
+    *mean_coefficients =
+        profiledMeanCoefficients(data.mean_basis, apply_inverse(data.mean_basis.transpose()),
+                                 apply_inverse(data.targets).col(0));
+    residuals.noalias() -= data.mean_basis.transpose() * *mean_coefficients;
+  }
+  const auto upper_m = l_m.transpose().triangularView<Eigen::Upper>();
+  GpPosterior posterior;
+  posterior.kind_ = Kind::kSparse;
+  posterior.kernel_ = kernel;
+  posterior.log_parameters_ = log_parameters;
+  posterior.basis_ = inducing_inputs;
+  // w = L_m^-T B^-1 A S^-1/2 r.
+  posterior.weights_ = llt_b.solve(a * inv_sqrt_noise.cwiseProduct(residuals));
+  upper_m.solveInPlace(posterior.weights_);
+  // V = L_m^-T (I - B^-1) L_m^-1.
+  Eigen::MatrixXd middle =
+      Eigen::MatrixXd::Identity(m, m) - llt_b.solve(Eigen::MatrixXd::Identity(m, m));
+  upper_m.solveInPlace(middle);
+  Eigen::MatrixXd v = middle.transpose();
+  upper_m.solveInPlace(v);
+  posterior.variance_matrix_ = 0.5 * (v + v.transpose());
+  return posterior;
+}
+
+GpPosterior GpPosterior::sparseFromState(const GpKernel& kernel,
+                                         const Eigen::VectorXd& log_parameters,
+                                         const Eigen::MatrixXd& inducing_inputs,
+                                         const Eigen::VectorXd& weights,
+                                         const Eigen::MatrixXd& variance_matrix)
+{
+  const Eigen::Index m = inducing_inputs.cols();
+  if (weights.size() != m || variance_matrix.rows() != m || variance_matrix.cols() != m) {
+    throw std::runtime_error("gp: sparse posterior needs M weights and an M x M variance matrix");
+  }
+  GpPosterior posterior;
+  posterior.kind_ = Kind::kSparse;
+  posterior.kernel_ = kernel;
+  posterior.log_parameters_ = log_parameters;
+  posterior.basis_ = inducing_inputs;
+  posterior.weights_ = weights;
+  posterior.variance_matrix_ = variance_matrix;
+  return posterior;
+}
+
+void GpPosterior::predict(const Eigen::VectorXd& x, double* mean, double* variance) const
+{
+  const Eigen::VectorXd k = kernel_.column(log_parameters_, basis_, x);
+  const double prior = kernel_.diagonal(log_parameters_, x)(0);
+  *mean = k.dot(weights_);
+  double explained = 0.0;
+  if (kind_ == Kind::kExact) {
+    explained = factor_.triangularView<Eigen::Lower>().solve(k).squaredNorm();
+  } else {
+    explained = k.dot(variance_matrix_ * k);
+  }
+  *variance = std::max(prior - explained, 0.0);
+}
+
+Eigen::VectorXd GpPosterior::means(const Eigen::MatrixXd& inputs) const
+{
+  Eigen::VectorXd out(inputs.cols());
+  // Blocks keep the kernel matrix small for many inputs.
+  constexpr Eigen::Index kBlock = 512;
+  for (Eigen::Index start = 0; start < inputs.cols(); start += kBlock) {
+    const Eigen::Index count = std::min(kBlock, inputs.cols() - start);
+    out.segment(start, count) =
+        kernel_.cross(log_parameters_, inputs.middleCols(start, count), basis_) * weights_;
+  }
+  return out;
+}
+
+}  // namespace odometry_calibration
