@@ -24,6 +24,10 @@ void validate(const DrivePlanOptions& options)
   if (!(options.max_segment_s >= options.min_segment_s)) {
     throw std::invalid_argument("motion option 'max_segment_s' must be >= min_segment_s");
   }
+  if (!(options.max_acceleration_mps2 >= 0.0) ||
+      !(options.max_angular_acceleration_radps2 >= 0.0)) {
+    throw std::invalid_argument("motion accelerations must be >= 0 (0 = instant)");
+  }
   if (!(options.clearance_m >= 0.0)) {
     throw std::invalid_argument("motion option 'clearance_m' must be >= 0");
   }

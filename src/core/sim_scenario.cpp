@@ -178,7 +178,8 @@ Scenario loadScenarioYaml(const std::string& path, const std::string& worlds_dir
     const YAML::Node motion = root["motion"];
     checkKeys(motion,
               {"type", "max_speed_mps", "max_turn_rate_radps", "min_segment_s", "max_segment_s",
-               "clearance_m", "lookahead_s", "script"},
+               "clearance_m", "lookahead_s", "max_acceleration_mps2",
+               "max_angular_acceleration_radps2", "script"},
               where);
     read(motion, "type", &s.motion.type);
     read(motion, "max_speed_mps", &s.motion.max_speed_mps);
@@ -187,6 +188,8 @@ Scenario loadScenarioYaml(const std::string& path, const std::string& worlds_dir
     read(motion, "max_segment_s", &s.motion.max_segment_s);
     read(motion, "clearance_m", &s.motion.clearance_m);
     read(motion, "lookahead_s", &s.motion.lookahead_s);
+    read(motion, "max_acceleration_mps2", &s.motion.max_acceleration_mps2);
+    read(motion, "max_angular_acceleration_radps2", &s.motion.max_angular_acceleration_radps2);
     if (motion && motion["script"]) {
       std::size_t index = 0;
       for (const YAML::Node& step : motion["script"]) {

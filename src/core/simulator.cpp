@@ -102,7 +102,20 @@ SimulationSummary simulate(const Scenario& scenario, const World& world, const R
 
   Pose2 T_world_base = scenario.start_pose;
   Eigen::VectorXd joints = robot.initialJoints();
-  Twist2 command, realised;
+  Twist2 target, command, realised;
+  // Ramp the command towards the planner's target with bounded accelerations.
+  auto ramp = [&](double dt) {
+    auto approach = [dt](double current, double goal, double rate) {
+      if (rate <= 0.0)
+        return goal;
+      const double step = rate * dt;
+      return current + std::clamp(goal - current, -step, step);
+    };
+    command.vx_mps = approach(command.vx_mps, target.vx_mps, scenario.motion.max_acceleration_mps2);
+    command.vy_mps = approach(command.vy_mps, target.vy_mps, scenario.motion.max_acceleration_mps2);
+    command.omega_radps = approach(command.omega_radps, target.omega_radps,
+                                   scenario.motion.max_angular_acceleration_radps2);
+  };
   SimulationSummary summary;
   std::vector<double> previous_reading(specs.size(), std::numeric_limits<double>::quiet_NaN());
   // Period of each incremental output in its units (0: never wraps), to count wrap-arounds.
@@ -125,6 +138,7 @@ SimulationSummary simulate(const Scenario& scenario, const World& world, const R
     while (now < next_event) {
       const std::int64_t step = std::min(kMaxSubstepNs, next_event - now);
       const double dt = static_cast<double>(step) / kNanoseconds;
+      ramp(dt);
       realised = robot.step(command, dt, &joints);
       const Pose2 motion = integrateTwist(realised, dt);
       summary.distance_m += std::hypot(motion.x(), motion.y());
@@ -134,7 +148,7 @@ SimulationSummary simulate(const Scenario& scenario, const World& world, const R
     }
     const double t = static_cast<double>(now) / kNanoseconds;
     if (now == next_control) {
-      command = planner.command(t, T_world_base);
+      target = planner.command(t, T_world_base);
       next_control += kControlPeriodNs;
     }
     if (now == next_encoder) {

@@ -24,14 +24,18 @@ struct ScriptedMotion
 /// Options of the drive plan.
 struct DrivePlanOptions
 {
-  std::string type = "random";         ///< "random" or "scripted"
-  double max_speed_mps = 0.6;          ///< random: speed limit [m/s]
-  double max_turn_rate_radps = 1.2;    ///< random: turn-rate limit [rad/s]
-  double min_segment_s = 1.0;          ///< random: shortest motion [s]
-  double max_segment_s = 4.0;          ///< random: longest motion [s]
-  double clearance_m = 0.3;            ///< random: kept free around the footprint [m]
-  double lookahead_s = 1.5;            ///< random: how far ahead a motion is checked [s]
-  std::vector<ScriptedMotion> script;  ///< scripted: the motions, in order, then stop
+  std::string type = "random";       ///< "random" or "scripted"
+  double max_speed_mps = 0.6;        ///< random: speed limit [m/s]
+  double max_turn_rate_radps = 1.2;  ///< random: turn-rate limit [rad/s]
+  double min_segment_s = 1.0;        ///< random: shortest motion [s]
+  double max_segment_s = 4.0;        ///< random: longest motion [s]
+  double clearance_m = 0.3;          ///< random: kept free around the footprint [m]
+  double lookahead_s = 1.5;          ///< random: how far ahead a motion is checked [s]
+  /// The robot follows a new command with at most these accelerations (real drives cannot
+  /// change speed instantly); 0 = instantly.
+  double max_acceleration_mps2 = 1.0;            ///< [m/s^2]
+  double max_angular_acceleration_radps2 = 3.0;  ///< [rad/s^2]
+  std::vector<ScriptedMotion> script;            ///< scripted: the motions, in order, then stop
 };
 
 /// Throws std::invalid_argument naming the first invalid option.
