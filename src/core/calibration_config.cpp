@@ -8,35 +8,12 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "odometry_calibration/io/yaml_reading.h"
+
 #include "odometry_calibration/models/gp_options.h"
 
 namespace odometry_calibration {
 namespace {
-
-void checkKeys(const YAML::Node& node, const std::set<std::string>& allowed,
-               const std::string& where)
-{
-  if (!node)
-    return;
-  if (!node.IsMap())
-    throw std::runtime_error(where + ": expected a map");
-  for (const auto& entry : node) {
-    const std::string key = entry.first.as<std::string>();
-    if (allowed.count(key) == 0) {
-      std::string known;
-      for (const auto& name : allowed)
-        known += " " + name;
-      throw std::runtime_error(where + ": unknown key '" + key + "' (known:" + known + ")");
-    }
-  }
-}
-
-template <typename T>
-void read(const YAML::Node& node, const char* key, T* value)
-{
-  if (node && node[key])
-    *value = node[key].as<T>();
-}
 
 int jointIndex(const CalibrationConfig& config, const std::string& name, const std::string& key)
 {
@@ -55,28 +32,29 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
   std::string where = source;
   try {
     const YAML::Node root = YAML::Load(text);
-    checkKeys(root,
-              {"joints", "joint_state_topic", "ego_motion", "keyframes", "scan_matching", "model",
-               "compare_models", "prior_model", "diff_drive", "linear", "gp", "output_directory"},
-              source);
+    checkYamlKeys(
+        root,
+        {"joints", "joint_state_topic", "ego_motion", "keyframes", "scan_matching", "model",
+         "compare_models", "prior_model", "diff_drive", "linear", "gp", "output_directory"},
+        source);
     where = source + ": joints";
     if (!root["joints"] || !root["joints"].IsSequence() || root["joints"].size() == 0) {
       throw std::runtime_error("a list of joints is required");
     }
     for (const YAML::Node& node : root["joints"]) {
       where = source + ": joints[" + std::to_string(c.joints.size()) + "]";
-      checkKeys(node, {"name", "kind", "units_per_turn", "counter_bits", "sign"}, where);
+      checkYamlKeys(node, {"name", "kind", "units_per_turn", "counter_bits", "sign"}, where);
       JointConfig joint;
-      read(node, "name", &joint.name);
+      readYaml(node, "name", &joint.name);
       std::string kind = "incremental";
-      read(node, "kind", &kind);
+      readYaml(node, "kind", &kind);
       if (kind != "incremental" && kind != "absolute") {
         throw std::runtime_error("kind must be 'incremental' or 'absolute', got '" + kind + "'");
       }
       joint.kind = kind == "incremental" ? EncoderKind::kIncremental : EncoderKind::kAbsolute;
-      read(node, "units_per_turn", &joint.units_per_turn);
-      read(node, "counter_bits", &joint.counter_bits);
-      read(node, "sign", &joint.sign);
+      readYaml(node, "units_per_turn", &joint.units_per_turn);
+      readYaml(node, "counter_bits", &joint.counter_bits);
+      readYaml(node, "sign", &joint.sign);
       if (joint.name.empty())
         throw std::runtime_error("name is required");
       if (!(joint.units_per_turn > 0.0))
@@ -89,17 +67,17 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
       c.joints.push_back(joint);
     }
     where = source;
-    read(root, "joint_state_topic", &c.joint_state_topic);
-    read(root, "model", &c.model);
-    read(root, "compare_models", &c.compare_models);
-    read(root, "prior_model", &c.prior_model);
-    read(root, "output_directory", &c.output_directory);
+    readYaml(root, "joint_state_topic", &c.joint_state_topic);
+    readYaml(root, "model", &c.model);
+    readYaml(root, "compare_models", &c.compare_models);
+    readYaml(root, "prior_model", &c.prior_model);
+    readYaml(root, "output_directory", &c.output_directory);
 
     where = source + ": ego_motion";
     const YAML::Node ego = root["ego_motion"];
-    checkKeys(ego, {"source", "scan_topic", "topic", "sigma_m", "sigma_rad"}, where);
+    checkYamlKeys(ego, {"source", "scan_topic", "topic", "sigma_m", "sigma_rad"}, where);
     std::string kind = "scan";
-    read(ego, "source", &kind);
+    readYaml(ego, "source", &kind);
     if (kind == "scan") {
       c.ego_motion = EgoMotionSource::kScan;
     } else if (kind == "odometry") {
@@ -109,29 +87,29 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
     } else {
       throw std::runtime_error("source must be scan, odometry or pose, got '" + kind + "'");
     }
-    read(ego, "scan_topic", &c.scan_topic);
-    read(ego, "topic", &c.ego_motion_topic);
-    read(ego, "sigma_m", &c.ego_motion_sigma_m);
-    read(ego, "sigma_rad", &c.ego_motion_sigma_rad);
+    readYaml(ego, "scan_topic", &c.scan_topic);
+    readYaml(ego, "topic", &c.ego_motion_topic);
+    readYaml(ego, "sigma_m", &c.ego_motion_sigma_m);
+    readYaml(ego, "sigma_rad", &c.ego_motion_sigma_rad);
     if (c.ego_motion != EgoMotionSource::kScan && c.ego_motion_topic.empty()) {
       throw std::runtime_error("source '" + kind + "' needs 'topic'");
     }
 
     where = source + ": keyframes";
     const YAML::Node keyframes = root["keyframes"];
-    checkKeys(keyframes,
-              {"interval_s", "time_offset_s", "max_encoder_gap_s", "check_consistency",
-               "consistency_translation_m", "consistency_rotation_rad", "estimate_time_offset",
-               "time_offset_search_s"},
-              where);
+    checkYamlKeys(keyframes,
+                  {"interval_s", "time_offset_s", "max_encoder_gap_s", "check_consistency",
+                   "consistency_translation_m", "consistency_rotation_rad", "estimate_time_offset",
+                   "time_offset_search_s"},
+                  where);
     CollectorOptions& k = c.collector;
-    read(keyframes, "interval_s", &k.keyframe_interval_s);
-    read(keyframes, "time_offset_s", &k.time_offset_s);
-    read(keyframes, "max_encoder_gap_s", &k.max_encoder_gap_s);
-    read(keyframes, "check_consistency", &k.check_consistency);
-    read(keyframes, "consistency_translation_m", &k.consistency_translation_m);
-    read(keyframes, "consistency_rotation_rad", &k.consistency_rotation_rad);
-    read(keyframes, "estimate_time_offset", &c.estimate_time_offset);
+    readYaml(keyframes, "interval_s", &k.keyframe_interval_s);
+    readYaml(keyframes, "time_offset_s", &k.time_offset_s);
+    readYaml(keyframes, "max_encoder_gap_s", &k.max_encoder_gap_s);
+    readYaml(keyframes, "check_consistency", &k.check_consistency);
+    readYaml(keyframes, "consistency_translation_m", &k.consistency_translation_m);
+    readYaml(keyframes, "consistency_rotation_rad", &k.consistency_rotation_rad);
+    readYaml(keyframes, "estimate_time_offset", &c.estimate_time_offset);
     if (keyframes && keyframes["time_offset_search_s"]) {
       const auto range = keyframes["time_offset_search_s"].as<std::vector<double>>();
       if (range.size() != 2 || !(range[1] > range[0])) {
@@ -143,37 +121,37 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
 
     where = source + ": scan_matching";
     const YAML::Node matching = root["scan_matching"];
-    checkKeys(matching,
-              {"max_correspondence_distance_m", "max_iterations", "range_sigma_m",
-               "max_correction_translation_m", "max_correction_rotation_rad", "min_points"},
-              where);
+    checkYamlKeys(matching,
+                  {"max_correspondence_distance_m", "max_iterations", "range_sigma_m",
+                   "max_correction_translation_m", "max_correction_rotation_rad", "min_points"},
+                  where);
     PlicpOptions& p = k.plicp;
-    read(matching, "max_correspondence_distance_m", &p.max_correspondence_distance_m);
-    read(matching, "max_iterations", &p.max_iterations);
-    read(matching, "range_sigma_m", &p.range_sigma_m);
-    read(matching, "max_correction_translation_m", &p.max_correction_translation_m);
-    read(matching, "max_correction_rotation_rad", &p.max_correction_rotation_rad);
-    read(matching, "min_points", &p.min_points);
+    readYaml(matching, "max_correspondence_distance_m", &p.max_correspondence_distance_m);
+    readYaml(matching, "max_iterations", &p.max_iterations);
+    readYaml(matching, "range_sigma_m", &p.range_sigma_m);
+    readYaml(matching, "max_correction_translation_m", &p.max_correction_translation_m);
+    readYaml(matching, "max_correction_rotation_rad", &p.max_correction_rotation_rad);
+    readYaml(matching, "min_points", &p.min_points);
     validate(k);
 
     where = source + ": diff_drive";
     const YAML::Node diff = root["diff_drive"];
-    checkKeys(diff,
-              {"left_joint", "right_joint", "wheel_radius_m", "wheel_separation_m", "sensor_pose",
-               "huber_threshold"},
-              where);
+    checkYamlKeys(diff,
+                  {"left_joint", "right_joint", "wheel_radius_m", "wheel_separation_m",
+                   "sensor_pose", "huber_threshold"},
+                  where);
     DiffDriveOptions& d = c.models.diff_drive;
     std::string left = c.joints[0].name;
     std::string right = c.joints.size() > 1 ? c.joints[1].name : "";
-    read(diff, "left_joint", &left);
-    read(diff, "right_joint", &right);
+    readYaml(diff, "left_joint", &left);
+    readYaml(diff, "right_joint", &right);
     double radius = 0.05;
-    read(diff, "wheel_radius_m", &radius);
+    readYaml(diff, "wheel_radius_m", &radius);
     d.initial_left_radius_m = d.initial_right_radius_m = radius;
-    read(diff, "wheel_separation_m", &d.initial_separation_m);
-    read(diff, "huber_threshold", &d.huber_threshold);
+    readYaml(diff, "wheel_separation_m", &d.initial_separation_m);
+    readYaml(diff, "huber_threshold", &d.huber_threshold);
     std::vector<double> pose = {0.0, 0.0, 0.0};
-    read(diff, "sensor_pose", &pose);
+    readYaml(diff, "sensor_pose", &pose);
     if (pose.size() != 3)
       throw std::runtime_error("sensor_pose needs [x_m, y_m, theta_rad]");
     d.initial_T_base_sensor = Pose2(pose[0], pose[1], pose[2]);
@@ -190,24 +168,24 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
 
     where = source + ": linear";
     const YAML::Node linear = root["linear"];
-    checkKeys(linear, {"huber_threshold", "outlier_threshold"}, where);
-    read(linear, "huber_threshold", &c.models.linear.huber_threshold);
-    read(linear, "outlier_threshold", &c.models.linear.outlier_threshold);
+    checkYamlKeys(linear, {"huber_threshold", "outlier_threshold"}, where);
+    readYaml(linear, "huber_threshold", &c.models.linear.huber_threshold);
+    readYaml(linear, "outlier_threshold", &c.models.linear.outlier_threshold);
     c.models.joints = jointLayout(c);
 
     where = source + ": gp";
     const YAML::Node gp = root["gp"];
-    checkKeys(
+    checkYamlKeys(
         gp, {"kernel", "mean", "starts", "max_exact_pairs", "inducing_points", "outlier_threshold"},
         where);
     if (gp && gp["kernel"])
       c.models.gp.kernel = parseGpKernelType(gp["kernel"].as<std::string>());
     if (gp && gp["mean"])
       c.models.gp.mean = parseGpMeanFunction(gp["mean"].as<std::string>());
-    read(gp, "starts", &c.models.gp.starts);
-    read(gp, "max_exact_pairs", &c.models.gp.max_exact_pairs);
-    read(gp, "inducing_points", &c.models.gp.inducing_points);
-    read(gp, "outlier_threshold", &c.models.gp.outlier_threshold);
+    readYaml(gp, "starts", &c.models.gp.starts);
+    readYaml(gp, "max_exact_pairs", &c.models.gp.max_exact_pairs);
+    readYaml(gp, "inducing_points", &c.models.gp.inducing_points);
+    readYaml(gp, "outlier_threshold", &c.models.gp.outlier_threshold);
     validate(c.models.gp);
 
     where = source;

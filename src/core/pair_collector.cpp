@@ -54,6 +54,22 @@ CollectorEvent PairCollector::restart(const std::string& what)
   return event;
 }
 
+CollectorEvent PairCollector::pairEvent(double end_stamp_s, std::vector<EncoderSample> window,
+                                        const Pose2& sensor_motion,
+                                        const Eigen::Matrix3d& covariance)
+{
+  CollectorEvent event;
+  event.type = CollectorEvent::Type::kPair;
+  event.pair.start_stamp_s = keyframe_->stamp_s;
+  event.pair.end_stamp_s = end_stamp_s;
+  event.pair.encoder_samples = std::move(window);
+  event.pair.sensor_motion = sensor_motion;
+  event.pair.covariance = covariance;
+  event.pair.covariance.diagonal() += options_.covariance_floor;
+  ++statistics_.pairs;
+  return event;
+}
+
 CollectorEvent PairCollector::reject(const std::string& reason)
 {
   ++statistics_.rejected[reason];
@@ -191,16 +207,7 @@ CollectorEvent PairCollector::processScan(double stamp_s,
       return start_keyframe(reject("keyframe match disagrees with consecutive matches"));
     }
   }
-  CollectorEvent event;
-  event.type = CollectorEvent::Type::kPair;
-  event.pair.start_stamp_s = keyframe_->stamp_s;
-  event.pair.end_stamp_s = stamp_s;
-  event.pair.encoder_samples = *window;
-  event.pair.sensor_motion = match.T_ref_new;
-  event.pair.covariance = match.covariance;
-  event.pair.covariance.diagonal() += options_.covariance_floor;
-  ++statistics_.pairs;
-  return start_keyframe(event);
+  return start_keyframe(pairEvent(stamp_s, *window, match.T_ref_new, match.covariance));
 }
 
 std::vector<CollectorEvent> PairCollector::addSensorPose(double stamp_s,
@@ -234,16 +241,8 @@ CollectorEvent PairCollector::processPose(double stamp_s, const Pose2& T_world_s
   const auto window = encoderWindow(keyframe_->stamp_s, stamp_s, &reason);
   if (!window)
     return start_keyframe(reject(reason));
-  CollectorEvent event;
-  event.type = CollectorEvent::Type::kPair;
-  event.pair.start_stamp_s = keyframe_->stamp_s;
-  event.pair.end_stamp_s = stamp_s;
-  event.pair.encoder_samples = *window;
-  event.pair.sensor_motion = between(keyframe_->T_world_sensor, T_world_sensor);
-  event.pair.covariance = covariance;
-  event.pair.covariance.diagonal() += options_.covariance_floor;
-  ++statistics_.pairs;
-  return start_keyframe(event);
+  return start_keyframe(
+      pairEvent(stamp_s, *window, between(keyframe_->T_world_sensor, T_world_sensor), covariance));
 }
 
 }  // namespace odometry_calibration

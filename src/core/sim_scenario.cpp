@@ -6,46 +6,21 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "odometry_calibration/io/yaml_reading.h"
+
 namespace odometry_calibration {
 namespace sim {
 namespace {
-
-void checkKeys(const YAML::Node& node, const std::set<std::string>& allowed,
-               const std::string& where)
-{
-  if (!node)
-    return;
-  if (!node.IsMap()) {
-    throw std::runtime_error(where + ": expected a map");
-  }
-  for (const auto& entry : node) {
-    const std::string key = entry.first.as<std::string>();
-    if (allowed.count(key) == 0) {
-      std::string known;
-      for (const auto& name : allowed)
-        known += " " + name;
-      throw std::runtime_error(where + ": unknown key '" + key + "' (known:" + known + ")");
-    }
-  }
-}
-
-template <typename T>
-void read(const YAML::Node& node, const char* key, T* value)
-{
-  if (node && node[key]) {
-    *value = node[key].as<T>();
-  }
-}
 
 Pose2 readPose(const YAML::Node& node, const std::string& where, const Pose2& fallback)
 {
   if (!node)
     return fallback;
-  checkKeys(node, {"x", "y", "theta"}, where);
+  checkYamlKeys(node, {"x", "y", "theta"}, where);
   double x = fallback.x(), y = fallback.y(), theta = fallback.theta();
-  read(node, "x", &x);
-  read(node, "y", &y);
-  read(node, "theta", &theta);
+  readYaml(node, "x", &x);
+  readYaml(node, "y", &y);
+  readYaml(node, "theta", &theta);
   return Pose2(x, y, theta);
 }
 
@@ -91,19 +66,19 @@ Scenario loadScenarioYaml(const std::string& path, const std::string& worlds_dir
   std::string where = path;
   try {
     const YAML::Node root = YAML::LoadFile(path);
-    checkKeys(
+    checkYamlKeys(
         root,
         {"name", "seed", "duration_s", "start_time_s", "world", "start_pose", "robot", "laser",
          "encoders", "motion", "tracker", "ground_truth_topic", "ground_truth_frame"},
         path);
-    read(root, "name", &s.name);
-    read(root, "seed", &s.seed);
-    read(root, "duration_s", &s.duration_s);
-    read(root, "start_time_s", &s.start_time_s);
-    read(root, "ground_truth_topic", &s.ground_truth_topic);
-    read(root, "ground_truth_frame", &s.ground_truth_frame);
+    readYaml(root, "name", &s.name);
+    readYaml(root, "seed", &s.seed);
+    readYaml(root, "duration_s", &s.duration_s);
+    readYaml(root, "start_time_s", &s.start_time_s);
+    readYaml(root, "ground_truth_topic", &s.ground_truth_topic);
+    readYaml(root, "ground_truth_frame", &s.ground_truth_frame);
     std::string world = "office";
-    read(root, "world", &world);
+    readYaml(root, "world", &world);
     if (world.size() > 5 && world.substr(world.size() - 5) == ".yaml") {
       s.world_path = world[0] == '/' ? world : directoryOf(path) + "/" + world;
     } else {
@@ -128,78 +103,79 @@ Scenario loadScenarioYaml(const std::string& path, const std::string& worlds_dir
 
     where = path + ": laser";
     const YAML::Node laser = root["laser"];
-    checkKeys(laser,
-              {"pose", "rays", "fov_rad", "rate_hz", "range_noise_m", "min_range_m", "max_range_m",
-               "dropout_probability", "frame_id", "topic"},
-              where);
+    checkYamlKeys(laser,
+                  {"pose", "rays", "fov_rad", "rate_hz", "range_noise_m", "min_range_m",
+                   "max_range_m", "dropout_probability", "frame_id", "topic"},
+                  where);
     if (laser) {
       s.laser.T_base_laser = readPose(laser["pose"], where + ".pose", s.laser.T_base_laser);
     }
-    read(laser, "rays", &s.laser.rays);
-    read(laser, "fov_rad", &s.laser.fov_rad);
-    read(laser, "rate_hz", &s.laser.rate_hz);
-    read(laser, "range_noise_m", &s.laser.range_noise_m);
-    read(laser, "min_range_m", &s.laser.min_range_m);
-    read(laser, "max_range_m", &s.laser.max_range_m);
-    read(laser, "dropout_probability", &s.laser.dropout_probability);
-    read(laser, "frame_id", &s.laser.frame_id);
-    read(laser, "topic", &s.laser.topic);
+    readYaml(laser, "rays", &s.laser.rays);
+    readYaml(laser, "fov_rad", &s.laser.fov_rad);
+    readYaml(laser, "rate_hz", &s.laser.rate_hz);
+    readYaml(laser, "range_noise_m", &s.laser.range_noise_m);
+    readYaml(laser, "min_range_m", &s.laser.min_range_m);
+    readYaml(laser, "max_range_m", &s.laser.max_range_m);
+    readYaml(laser, "dropout_probability", &s.laser.dropout_probability);
+    readYaml(laser, "frame_id", &s.laser.frame_id);
+    readYaml(laser, "topic", &s.laser.topic);
 
     where = path + ": encoders";
     const YAML::Node encoders = root["encoders"];
-    checkKeys(encoders,
-              {"rate_hz", "topic", "joint_names", "units", "counter_bits", "initial_ticks",
-               "time_offset_s"},
-              where);
-    read(encoders, "rate_hz", &s.encoders.rate_hz);
-    read(encoders, "topic", &s.encoders.topic);
-    read(encoders, "joint_names", &s.encoders.joint_names);
+    checkYamlKeys(encoders,
+                  {"rate_hz", "topic", "joint_names", "units", "counter_bits", "initial_ticks",
+                   "time_offset_s"},
+                  where);
+    readYaml(encoders, "rate_hz", &s.encoders.rate_hz);
+    readYaml(encoders, "topic", &s.encoders.topic);
+    readYaml(encoders, "joint_names", &s.encoders.joint_names);
     std::string units = "ticks";
-    read(encoders, "units", &units);
+    readYaml(encoders, "units", &units);
     if (units != "ticks" && units != "radians") {
       throw std::runtime_error("units must be 'ticks' or 'radians', got '" + units + "'");
     }
     s.encoders.output_ticks = units == "ticks";
-    read(encoders, "counter_bits", &s.encoders.counter_bits);
-    read(encoders, "initial_ticks", &s.encoders.initial_ticks);
-    read(encoders, "time_offset_s", &s.encoders.time_offset_s);
+    readYaml(encoders, "counter_bits", &s.encoders.counter_bits);
+    readYaml(encoders, "initial_ticks", &s.encoders.initial_ticks);
+    readYaml(encoders, "time_offset_s", &s.encoders.time_offset_s);
 
     where = path + ": tracker";
     const YAML::Node tracker = root["tracker"];
-    checkKeys(tracker,
-              {"enabled", "translation_noise_m", "rotation_noise_rad", "topic", "frame_id"}, where);
-    read(tracker, "enabled", &s.tracker.enabled);
-    read(tracker, "translation_noise_m", &s.tracker.translation_noise_m);
-    read(tracker, "rotation_noise_rad", &s.tracker.rotation_noise_rad);
-    read(tracker, "topic", &s.tracker.topic);
-    read(tracker, "frame_id", &s.tracker.frame_id);
+    checkYamlKeys(tracker,
+                  {"enabled", "translation_noise_m", "rotation_noise_rad", "topic", "frame_id"},
+                  where);
+    readYaml(tracker, "enabled", &s.tracker.enabled);
+    readYaml(tracker, "translation_noise_m", &s.tracker.translation_noise_m);
+    readYaml(tracker, "rotation_noise_rad", &s.tracker.rotation_noise_rad);
+    readYaml(tracker, "topic", &s.tracker.topic);
+    readYaml(tracker, "frame_id", &s.tracker.frame_id);
 
     where = path + ": motion";
     const YAML::Node motion = root["motion"];
-    checkKeys(motion,
-              {"type", "max_speed_mps", "max_turn_rate_radps", "min_segment_s", "max_segment_s",
-               "clearance_m", "lookahead_s", "max_acceleration_mps2",
-               "max_angular_acceleration_radps2", "script"},
-              where);
-    read(motion, "type", &s.motion.type);
-    read(motion, "max_speed_mps", &s.motion.max_speed_mps);
-    read(motion, "max_turn_rate_radps", &s.motion.max_turn_rate_radps);
-    read(motion, "min_segment_s", &s.motion.min_segment_s);
-    read(motion, "max_segment_s", &s.motion.max_segment_s);
-    read(motion, "clearance_m", &s.motion.clearance_m);
-    read(motion, "lookahead_s", &s.motion.lookahead_s);
-    read(motion, "max_acceleration_mps2", &s.motion.max_acceleration_mps2);
-    read(motion, "max_angular_acceleration_radps2", &s.motion.max_angular_acceleration_radps2);
+    checkYamlKeys(motion,
+                  {"type", "max_speed_mps", "max_turn_rate_radps", "min_segment_s", "max_segment_s",
+                   "clearance_m", "lookahead_s", "max_acceleration_mps2",
+                   "max_angular_acceleration_radps2", "script"},
+                  where);
+    readYaml(motion, "type", &s.motion.type);
+    readYaml(motion, "max_speed_mps", &s.motion.max_speed_mps);
+    readYaml(motion, "max_turn_rate_radps", &s.motion.max_turn_rate_radps);
+    readYaml(motion, "min_segment_s", &s.motion.min_segment_s);
+    readYaml(motion, "max_segment_s", &s.motion.max_segment_s);
+    readYaml(motion, "clearance_m", &s.motion.clearance_m);
+    readYaml(motion, "lookahead_s", &s.motion.lookahead_s);
+    readYaml(motion, "max_acceleration_mps2", &s.motion.max_acceleration_mps2);
+    readYaml(motion, "max_angular_acceleration_radps2", &s.motion.max_angular_acceleration_radps2);
     if (motion && motion["script"]) {
       std::size_t index = 0;
       for (const YAML::Node& step : motion["script"]) {
         where = path + ": motion.script[" + std::to_string(index++) + "]";
-        checkKeys(step, {"duration_s", "vx_mps", "vy_mps", "omega_radps"}, where);
+        checkYamlKeys(step, {"duration_s", "vx_mps", "vy_mps", "omega_radps"}, where);
         ScriptedMotion scripted;
-        read(step, "duration_s", &scripted.duration_s);
-        read(step, "vx_mps", &scripted.twist.vx_mps);
-        read(step, "vy_mps", &scripted.twist.vy_mps);
-        read(step, "omega_radps", &scripted.twist.omega_radps);
+        readYaml(step, "duration_s", &scripted.duration_s);
+        readYaml(step, "vx_mps", &scripted.twist.vx_mps);
+        readYaml(step, "vy_mps", &scripted.twist.vy_mps);
+        readYaml(step, "omega_radps", &scripted.twist.omega_radps);
         s.motion.script.push_back(scripted);
       }
     }

@@ -119,6 +119,9 @@ private:
   CollectorEvent processPose(double stamp_s, const Pose2& T_world_sensor,
                              const Eigen::Matrix3d& covariance);
   std::vector<CollectorEvent> processReadyScans(bool all);
+  /// A pair from the current keyframe to `end_stamp_s` (covariance floor added, counted).
+  CollectorEvent pairEvent(double end_stamp_s, std::vector<EncoderSample> window,
+                           const Pose2& sensor_motion, const Eigen::Matrix3d& covariance);
   CollectorEvent reject(const std::string& reason);
   CollectorEvent restart(const std::string& what);
   /// Encoder window of [start_s, end_s] (laser clock), or a reason why there is none.

@@ -1,0 +1,41 @@
+// Small helpers for reading configuration YAML strictly: unknown keys are errors (a typo must
+// not silently fall back to a default), optional keys keep their defaults.
+#pragma once
+
+#include <set>
+#include <stdexcept>
+#include <string>
+
+#include <yaml-cpp/yaml.h>
+
+namespace odometry_calibration {
+
+/// Throws std::runtime_error "<where>: unknown key 'k' (known: ...)" for a key not in
+/// `allowed`, or "<where>: expected a map". An absent node is fine.
+inline void checkYamlKeys(const YAML::Node& node, const std::set<std::string>& allowed,
+                          const std::string& where)
+{
+  if (!node)
+    return;
+  if (!node.IsMap())
+    throw std::runtime_error(where + ": expected a map");
+  for (const auto& entry : node) {
+    const std::string key = entry.first.as<std::string>();
+    if (allowed.count(key) == 0) {
+      std::string known;
+      for (const auto& name : allowed)
+        known += " " + name;
+      throw std::runtime_error(where + ": unknown key '" + key + "' (known:" + known + ")");
+    }
+  }
+}
+
+/// Reads `node[key]` into `value` when present (yaml-cpp throws on a wrong type).
+template <typename T>
+void readYaml(const YAML::Node& node, const char* key, T* value)
+{
+  if (node && node[key])
+    *value = node[key].as<T>();
+}
+
+}  // namespace odometry_calibration
