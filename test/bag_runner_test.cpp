@@ -106,8 +106,15 @@ TEST_F(BagRunner, BadInputGivesClearErrors)
     }
     return std::string();
   };
-  EXPECT_NE(message({directory_ + "/missing.bag"}, config_).find("cannot read bag"),
+  EXPECT_NE(message({directory_ + "/missing.bag"}, config_).find("no bag file"),
             std::string::npos);
+  // A time window beyond the bag's end.
+  try {
+    runBags({bag_}, config_, 1000.0, 0.0);
+    ADD_FAILURE() << "an empty window was accepted";
+  } catch (const std::runtime_error& error) {
+    EXPECT_NE(std::string(error.what()).find("is empty"), std::string::npos) << error.what();
+  }
   // A truncated bag (cut in the middle, index lost).
   const std::string truncated = directory_ + "/truncated.bag";
   {

@@ -43,6 +43,9 @@ TEST(CalibrationConfig, ErrorsNameTheKey)
   EXPECT_NE(message(joints + "diff_drive: {left_joint: front}\n").find("front"), std::string::npos);
   EXPECT_NE(message(joints + "ego_motion: {source: pose}\n").find("topic"), std::string::npos);
   EXPECT_NE(message(joints + "model: magic\n").find("magic"), std::string::npos);
+  EXPECT_EQ(message(joints + "model: gp\ncompare_models: [linear, diff_drive]\n"), "");
+  EXPECT_NE(message(joints + "compare_models: [linear, gpp]\n").find("compare_models"),
+            std::string::npos);
   // Wheels in different units cannot share one diff-drive model.
   EXPECT_NE(message("joints: [{name: l, units_per_turn: 100}, {name: r}]\n").find("units_per_turn"),
             std::string::npos);

@@ -193,11 +193,18 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
       throw std::runtime_error("prior_model must be 'none' or 'diff_drive', got '" + c.prior_model +
                                "'");
     }
-    bool known = false;
-    for (const std::string& name : knownModelNames())
-      known |= name == c.model;
-    if (!known)
-      throw std::runtime_error("unknown model '" + c.model + "'");
+    auto check_model = [](const std::string& name, const std::string& key) {
+      std::string list;
+      for (const std::string& known : knownModelNames()) {
+        if (known == name)
+          return;
+        list += " " + known;
+      }
+      throw std::runtime_error(key + ": unknown model '" + name + "' (known:" + list + ")");
+    };
+    check_model(c.model, "model");
+    for (const std::string& name : c.compare_models)
+      check_model(name, "compare_models");
   } catch (const YAML::Exception& error) {
     throw std::runtime_error(where + ": " + error.what());
   } catch (const std::runtime_error& error) {

@@ -135,8 +135,9 @@ ModelReport DiffDriveModel::fit(const std::vector<MotionPair>& pairs)
   start << start_intrinsics, start_pose.vector();
   value << intrinsics_, T_base_sensor_.vector();
   for (int i = 0; i < 6; ++i) {
-    const double sigma = fit.covariance_available ? std::sqrt(std::max(0.0, covariance_(i, i)))
-                                                  : std::numeric_limits<double>::quiet_NaN();
+    const double sigma = fit.covariance_available && covariance_(i, i) > 0.0
+                             ? std::sqrt(covariance_(i, i))
+                             : std::numeric_limits<double>::quiet_NaN();
     report.parameters.push_back({names[i], units[i], start(i), value(i), sigma});
   }
   ObservabilityHints hints;

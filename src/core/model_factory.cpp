@@ -8,7 +8,7 @@ namespace odometry_calibration {
 
 std::vector<std::string> knownModelNames()
 {
-  return {"linear", "diff_drive"};
+  return {"linear", "diff_drive", "gp"};
 }
 
 std::unique_ptr<MotionModel> makeModel(const std::string& name, const ModelFactoryOptions& options)

@@ -96,8 +96,10 @@ TimeOffsetResult estimateTimeOffset(const std::vector<MotionPair>& pairs,
     try {
       auto model = make_model();
       cost = robustCost(moved, *model, options.trim);
-    } catch (const std::invalid_argument&) {
+    } catch (const std::invalid_argument& error) {
       // Too few pairs covered at this offset: leave it out of the curve's minimum.
+      if (moved.size() >= pairs.size() / 2)
+        throw;  // not a coverage problem: report it
     }
     result.curve.emplace_back(tau, cost);
     if (cost < result.curve[best].second)
@@ -106,6 +108,13 @@ TimeOffsetResult estimateTimeOffset(const std::vector<MotionPair>& pairs,
   if (!std::isfinite(result.curve[best].second)) {
     throw std::invalid_argument("time offset search: no offset in the range gave enough pairs");
   }
+  double highest = result.curve[best].second;
+  for (const auto& point : result.curve) {
+    if (std::isfinite(point.second))
+      highest = std::max(highest, point.second);
+  }
+  result.flat = highest - result.curve[best].second <=
+                1e-6 * std::max(1e-12, std::abs(result.curve[best].second));
   result.offset_s = result.curve[best].first;
   result.sigma_s = std::numeric_limits<double>::quiet_NaN();
   result.at_boundary = best == 0 || best + 1 == result.curve.size();

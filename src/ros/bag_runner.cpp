@@ -1,6 +1,7 @@
 #include "odometry_calibration/ros/bag_runner.h"
 
 #include <chrono>
+#include <filesystem>
 #include <memory>
 #include <stdexcept>
 
@@ -33,6 +34,10 @@ BagRunResult runBags(const std::vector<std::string>& bag_paths, const Calibratio
   std::vector<std::unique_ptr<rosbag::Bag>> bags;
   for (const std::string& path : bag_paths) {
     auto bag = std::make_unique<rosbag::Bag>();
+    std::error_code error_code;
+    if (!std::filesystem::is_regular_file(path, error_code)) {
+      throw std::runtime_error("no bag file '" + path + "'");
+    }
     try {
       bag->open(path, rosbag::bagmode::Read);
     } catch (const rosbag::BagException& error) {
@@ -53,9 +58,16 @@ BagRunResult runBags(const std::vector<std::string>& bag_paths, const Calibratio
     throw std::runtime_error("the bags hold no message on '" + config.joint_state_topic + "' or '" +
                              ego_topic + "'");
   }
+  const double span_s = (all.getEndTime() - all.getBeginTime()).toSec();
+  if (start_offset_s >= span_s || (end_offset_s > 0.0 && end_offset_s <= start_offset_s)) {
+    throw std::runtime_error("the time window [" + std::to_string(start_offset_s) + ", " +
+                             (end_offset_s > 0.0 ? std::to_string(end_offset_s) : "end") +
+                             "] s is empty: the bags hold " + std::to_string(span_s) + " s");
+  }
   const ros::Time begin = all.getBeginTime() + ros::Duration(start_offset_s);
-  const ros::Time end =
-      end_offset_s > 0.0 ? all.getBeginTime() + ros::Duration(end_offset_s) : all.getEndTime();
+  const ros::Time end = end_offset_s > 0.0 && end_offset_s < span_s
+                            ? all.getBeginTime() + ros::Duration(end_offset_s)
+                            : all.getEndTime();
   rosbag::View view;
   for (const auto& bag : bags) {
     view.addQuery(*bag,

@@ -18,6 +18,7 @@
 #include "odometry_calibration/io/atomic_file.h"
 #include "odometry_calibration/io/pairs_csv.h"
 #include "odometry_calibration/models/diff_drive_model.h"
+#include "odometry_calibration/models/model_factory.h"
 #include "odometry_calibration/pipeline/time_offset.h"
 #include "odometry_calibration/ros/bag_runner.h"
 
@@ -34,7 +35,7 @@ const char* kUsage =
     "\n"
     "options:\n"
     "  --output-dir DIR     where to write (default: the config's output_directory)\n"
-    "  --model NAME         fit this model instead of the config's (linear, diff_drive)\n"
+    "  --model NAME         fit this model instead of the config's (linear, diff_drive, gp)\n"
     "  --test BAG           score the models on this bag too (repeatable); prints the paper's\n"
     "                       comparison table for the model and the config's compare_models\n"
     "  --start S, --end S   use only [S, E] seconds after the first message\n"
@@ -132,6 +133,16 @@ int main(int argc, char** argv)
     if (config_path.empty() || bags.empty()) {
       throw std::invalid_argument("give --config and at least one bag");
     }
+    if (end_s > 0.0 && end_s <= start_s) {
+      throw std::invalid_argument("--end must come after --start");
+    }
+    if (!model_name.empty()) {
+      bool known = false;
+      for (const std::string& name : knownModelNames())
+        known |= name == model_name;
+      if (!known)
+        throw std::invalid_argument("--model: unknown model '" + model_name + "'");
+    }
   } catch (const std::exception& error) {
     std::cerr << "error: " << error.what() << "\n\n" << kUsage;
     return 2;
@@ -142,7 +153,11 @@ int main(int argc, char** argv)
       config.model = model_name;
     if (output_dir.empty())
       output_dir = config.output_directory;
-    std::filesystem::create_directories(output_dir);
+    for (const std::string& bag : test_bags) {
+      if (!std::filesystem::is_regular_file(bag)) {
+        throw std::runtime_error("no test bag file '" + bag + "'");
+      }
+    }
 
     const BagRunResult run =
         runBags(bags, config, start_s, end_s,
@@ -152,6 +167,7 @@ int main(int argc, char** argv)
 
     std::vector<MotionPair> pairs = run.pairs;
     std::string offset_text;
+    std::vector<std::string> offset_warnings;
     double time_offset_s = config.collector.time_offset_s;
     if (config.estimate_time_offset) {
       if (run.encoder_history.empty()) {
@@ -165,7 +181,18 @@ int main(int argc, char** argv)
       const TimeOffsetResult offset = estimateTimeOffset(
           run.pairs, run.encoder_history, [&]() { return makeModel(config.model, config.models); },
           search);
-      time_offset_s = offset.offset_s;
+      if (offset.flat) {
+        offset_warnings.push_back(
+            "the time offset is not observable from this drive (flat cost curve): kept the "
+            "configured " +
+            std::to_string(time_offset_s) + " s");
+      } else {
+        time_offset_s = offset.offset_s;
+        if (offset.at_boundary) {
+          offset_warnings.push_back("the time offset estimate " + std::to_string(time_offset_s) +
+                                    " s lies at the edge of time_offset_search_s: widen it");
+        }
+      }
       pairs = rewindowPairs(run.pairs, run.encoder_history, time_offset_s);
       std::ostringstream out;
       out << "time offset (encoder values at scan time + tau): tau = " << offset.offset_s
@@ -176,9 +203,9 @@ int main(int argc, char** argv)
         out << " " << tau << ":" << cost;
       offset_text = out.str() + "\n";
     }
-    writePairsCsv(output_dir + "/pairs.csv", {jointLayout(config), pairs});
     auto model = makeModel(config.model, config.models);
-    const ModelReport report = model->fit(pairs);
+    ModelReport report = model->fit(pairs);
+    report.warnings.insert(report.warnings.end(), offset_warnings.begin(), offset_warnings.end());
     std::string text = summary + offset_text + "\n" + formatModelReport(report);
     if (config.prior_model == "diff_drive" && !run.encoder_history.empty()) {
       // Median per-pair RPE against the matched displacements: the nominal robot (start
@@ -227,6 +254,9 @@ int main(int argc, char** argv)
               formatComparisonTable(scores);
     }
     std::cout << text.substr(summary.size());
+    // Everything succeeded: write the three files together.
+    std::filesystem::create_directories(output_dir);
+    writePairsCsv(output_dir + "/pairs.csv", {jointLayout(config), pairs});
     writeFileAtomically(output_dir + "/result.yaml",
                         modelResultYaml(report, model->toYaml(), bags.front()) +
                             "time_offset_s: " + std::to_string(time_offset_s) + "\n");

@@ -123,11 +123,11 @@ int main(int argc, char** argv)
               << summary.rotation_rad << " rad turned, " << summary.counter_wraps
               << " counter wrap-arounds\n"
               << "bag:   " << bag_path << "\ntruth: " << truth_path << "\n";
-    if (scenario.motion.type == "random" &&
-        summary.distance_m < 0.05 * scenario.motion.max_speed_mps * scenario.duration_s) {
+    if (summary.distance_m < 0.05 * scenario.motion.max_speed_mps * scenario.duration_s) {
       std::cerr << "warning: the robot drove only " << summary.distance_m
-                << " m: its planner found little free space around the start pose (boxed in?); "
-                   "move start_pose or lower motion.clearance_m\n";
+                << " m (a script that stands still, or a random planner boxed in near the start "
+                   "pose: move start_pose or lower motion.clearance_m); a calibration needs "
+                   "motion\n";
     }
     if (log_sink) {
       std::cout << "tricycle log: " << tricycle_log_path << " (" << log_sink->rows() << " rows)\n";

@@ -218,7 +218,9 @@ SensorMotionFit<Kinematics::kIntrinsics> fitSensorMotion(
     fit.covariance.template bottomLeftCorner<3, N>() = ks.transpose();
     if (std::isfinite(fit.chi2_per_dof))
       fit.covariance *= fit.chi2_per_dof;
-    fit.covariance_available = true;
+    // No residual at all (e.g. no motion: every prediction is zero) measures nothing.
+    fit.covariance_available =
+        fit.covariance.allFinite() && fit.covariance.diagonal().minCoeff() > 0.0;
   }
   fit.intrinsic = intrinsic;
   fit.T_base_sensor = Pose2(sensor_pose(0), sensor_pose(1), sensor_pose(2));

@@ -31,6 +31,7 @@ struct TimeOffsetResult
   double sigma_s = 0.0;   ///< its standard deviation from the cost curvature [s]; NaN if flat
   std::vector<std::pair<double, double>> curve;  ///< (tau [s], cost [-]) over the grid
   bool at_boundary = false;                      ///< the minimum lies on the search range's edge
+  bool flat = false;  ///< the cost does not change with tau: nothing to estimate from
 };
 
 /// Cuts the encoder samples of [start + tau, end + tau] out of the full, time-ordered history
