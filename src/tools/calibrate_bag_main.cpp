@@ -42,7 +42,8 @@ const char* kUsage =
     "  --quiet              no progress display\n"
     "\n"
     "exit status: 0 success; 1 bad input (message says what); 2 bad usage; 3 the fit did not\n"
-    "converge; 4 the fit warns that some parameter is not determined\n";
+    "converge; 4 the fit warns that some parameter is not determined, or that the time\n"
+    "offset sits at the edge of its search range or is not observable\n";
 
 double number(const std::string& option, const std::string& text)
 {
