@@ -106,8 +106,7 @@ TEST_F(BagRunner, BadInputGivesClearErrors)
     }
     return std::string();
   };
-  EXPECT_NE(message({directory_ + "/missing.bag"}, config_).find("no bag file"),
-            std::string::npos);
+  EXPECT_NE(message({directory_ + "/missing.bag"}, config_).find("no bag file"), std::string::npos);
   // A time window beyond the bag's end.
   try {
     runBags({bag_}, config_, 1000.0, 0.0);

@@ -150,7 +150,7 @@ TEST(Simulator, CounterWrapsWhereConfigured)
   s.duration_s = 5.0;
   s.motion.type = "scripted";
   s.motion.script = {{5.0, Twist2{0.2, 0.0, 0.0}}};  // straight ahead
-  s.motion.max_acceleration_mps2 = 0.0;               // at full speed from the start
+  s.motion.max_acceleration_mps2 = 0.0;              // at full speed from the start
   s.encoders.counter_bits = 16;
   s.encoders.initial_ticks = 65536 - 500;
   const World world = room();
