@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "odometry_calibration/geometry/se2.h"
+#include "odometry_calibration/io/mines_log.h"
 #include "odometry_calibration/scan/scan.h"
 
 namespace odometry_calibration {
@@ -22,7 +23,7 @@ constexpr double kWheelRadiusM = 0.077;
 constexpr double kWheelSeparationM = 0.330;
 constexpr double kTicksPerRevolution = 2000.0;
 constexpr double kLaserAheadOfAxleM = 0.145;
-constexpr int kRayCount = 682;
+constexpr int kRayCount = kMinesRayCount;
 
 /// One line of the log.
 struct Record
@@ -39,36 +40,14 @@ inline std::string logPath(const std::string& shared_data_dir)
   return shared_data_dir + "/mines/exp1.dat";
 }
 
-/// Reads every line; empty when the file is missing. Ray i points at -120 deg + i * 240/681 deg;
-/// 0 mm means no return (dropped as a zero reading).
+/// Reads every line with the library's reader (io/mines_log.h); empty when the file is missing.
 inline std::vector<Record> loadLog(const std::string& path)
 {
   std::vector<Record> records;
-  std::ifstream file(path);
-  std::string line;
-  while (std::getline(file, line)) {
-    std::istringstream fields(line);
-    std::vector<double> values;
-    double value = 0.0;
-    while (fields >> value) {
-      values.push_back(value);
-    }
-    if (values.size() < 24 + static_cast<std::size_t>(kRayCount)) {
-      continue;
-    }
-    Record record;
-    record.stamp_s = values[0] * 1e-6;
-    record.left_ticks = values[2];
-    record.right_ticks = values[3];
-    record.scan.angle_min_rad = -120.0 * M_PI / 180.0;
-    record.scan.angle_increment_rad = 240.0 / (kRayCount - 1) * M_PI / 180.0;
-    record.scan.range_min_m = 0.02;
-    record.scan.range_max_m = 5.6;
-    record.scan.ranges_m.resize(kRayCount);
-    for (int i = 0; i < kRayCount; ++i) {
-      record.scan.ranges_m[i] = values[24 + i] * 1e-3;
-    }
-    records.push_back(std::move(record));
+  if (!std::ifstream(path))
+    return records;
+  for (const MinesRecord& line : loadMinesLog(path)) {
+    records.push_back({line.stamp_s, line.left_ticks, line.right_ticks, minesScan(line)});
   }
   return records;
 }
