@@ -93,6 +93,7 @@ TEST_F(PairsCsv, ErrorsNameTheLine)
   };
   const std::string header = pairsCsvHeader(joints());
   EXPECT_NE(message("1,2,3\n").find("joints"), std::string::npos);
+  EXPECT_NE(message("").find("p.csv: the file is empty"), std::string::npos);
   EXPECT_NE(message(header + "1,2,3\n").find("p.csv:4: expected 12"), std::string::npos);
   std::string row = pairsCsvRow(pair(0.0));
   EXPECT_EQ(message(header + row), "");

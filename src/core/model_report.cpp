@@ -1,5 +1,6 @@
 #include "odometry_calibration/eval/model_report.h"
 
+#include <cmath>
 #include <cstdio>
 
 #include <yaml-cpp/yaml.h>
@@ -22,8 +23,14 @@ std::string formatModelReport(const ModelReport& r)
                   "estimate", "sigma", "unit");
     text += line;
     for (const ParameterEstimate& p : r.parameters) {
-      std::snprintf(line, sizeof(line), "%-24s %12.6g %14.7g %12.3g  %s\n", p.name.c_str(),
-                    p.initial, p.value, p.sigma, p.unit.c_str());
+      // Learned quantities without a start value or a sigma (GP hyperparameters) show "-".
+      char initial[32] = "-", sigma[32] = "-";
+      if (std::isfinite(p.initial))
+        std::snprintf(initial, sizeof(initial), "%.6g", p.initial);
+      if (std::isfinite(p.sigma))
+        std::snprintf(sigma, sizeof(sigma), "%.3g", p.sigma);
+      std::snprintf(line, sizeof(line), "%-24s %12s %14.7g %12s  %s\n", p.name.c_str(), initial,
+                    p.value, sigma, p.unit.c_str());
       text += line;
     }
   }

@@ -157,8 +157,10 @@ PairsFile parsePairsCsv(std::istream& input, const std::string& source)
     file.pairs.push_back(std::move(pair));
   }
   if (!has_joints) {
-    number_of_line = 0;
-    fail("not a pairs file: the '# joints: ...' line is missing");
+    throw std::runtime_error(source + (number_of_line == 0
+                                           ? ": the file is empty"
+                                           : ": not a pairs file: the '# joints: ...' line is "
+                                             "missing"));
   }
   return file;
 }

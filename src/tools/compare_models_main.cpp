@@ -17,7 +17,8 @@ using namespace odometry_calibration;
 
 const char* kUsage =
     "usage: compare_models --train PAIRS.csv [--train ...] --test PAIRS.csv [--test ...]\n"
-    "                      [--models linear,diff_drive,gp] [diff_drive options]\n"
+    "                      [--models linear,diff_drive,gp (default: all three)]\n"
+    "                      [diff_drive options]\n"
     "\n"
     "Fits each model on the training pairs and prints, per model, the ATE and RPE of the\n"
     "test trajectory integrated from its predictions (paper eqs. 10-11, against the chain of\n"
@@ -117,6 +118,13 @@ int main(int argc, char** argv)
         throw std::invalid_argument("unknown option '" + arg + "'");
       }
     }
+    for (const std::string& name : models) {
+      bool known = false;
+      for (const std::string& model : knownModelNames())
+        known |= model == name;
+      if (!known)
+        throw std::invalid_argument("--models: unknown model '" + name + "'");
+    }
     if (train.empty() || test.empty()) {
       throw std::invalid_argument("give at least one --train and one --test pairs file");
     }
@@ -143,6 +151,8 @@ int main(int argc, char** argv)
     std::vector<ModelScore> scores;
     for (const std::string& name : models) {
       auto model = makeModel(name, options);
+      if (training.pairs.empty())
+        throw std::invalid_argument("the training files hold no pair");
       const ModelReport report = model->fit(training.pairs);
       ModelScore score = scoreModel(*model, testing.pairs);
       score.fit_time_s = report.fit_time_s;
