@@ -53,25 +53,17 @@ EncoderSample EncoderTrack::at(double stamp_s) const
   if (samples_.empty() || stamp_s < firstStamp() || stamp_s > lastStamp()) {
     throw std::out_of_range("no encoder data at the requested time");
   }
-  const auto after =
-      std::lower_bound(samples_.begin(), samples_.end(), stamp_s,
-                       [](const EncoderSample& sample, double t) { return sample.stamp_s < t; });
-  if (after->stamp_s == stamp_s)
-    return *after;
-  const EncoderSample& before = *std::prev(after);
-  const double fraction = (stamp_s - before.stamp_s) / (after->stamp_s - before.stamp_s);
-  return {stamp_s, before.values + fraction * (after->values - before.values)};
+  return interpolateEncoderSample(samples_, stamp_s);
 }
 
 std::vector<EncoderSample> EncoderTrack::between(double start_s, double end_s) const
 {
-  std::vector<EncoderSample> window = {at(start_s)};
-  for (const EncoderSample& sample : samples_) {
-    if (sample.stamp_s > start_s && sample.stamp_s < end_s)
-      window.push_back(sample);
+  if (samples_.empty() || start_s < firstStamp() || end_s > lastStamp()) {
+    throw std::out_of_range("no encoder data over the requested interval");
   }
-  window.push_back(at(end_s));
-  return window;
+  if (!(end_s > start_s))
+    return {at(start_s), at(end_s)};
+  return cutEncoderWindow(samples_, start_s, end_s);
 }
 
 double EncoderTrack::largestGap(double start_s, double end_s) const

@@ -1,5 +1,7 @@
 #include "odometry_calibration/pipeline/time_offset.h"
 
+#include "odometry_calibration/pipeline/encoder_track.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -9,33 +11,6 @@
 
 namespace odometry_calibration {
 
-std::vector<EncoderSample> encoderWindow(const std::vector<EncoderSample>& history, double start_s,
-                                         double end_s)
-{
-  if (history.size() < 2 || start_s < history.front().stamp_s || end_s > history.back().stamp_s ||
-      !(end_s > start_s)) {
-    return {};
-  }
-  auto interpolate = [&](double t) {
-    const auto after = std::lower_bound(
-        history.begin(), history.end(), t,
-        [](const EncoderSample& sample, double stamp) { return sample.stamp_s < stamp; });
-    if (after->stamp_s == t || after == history.begin())
-      return *after;
-    const EncoderSample& before = *std::prev(after);
-    const double fraction = (t - before.stamp_s) / (after->stamp_s - before.stamp_s);
-    return EncoderSample{t, before.values + fraction * (after->values - before.values)};
-  };
-  std::vector<EncoderSample> window = {interpolate(start_s)};
-  auto it = std::upper_bound(
-      history.begin(), history.end(), start_s,
-      [](double stamp, const EncoderSample& sample) { return stamp < sample.stamp_s; });
-  for (; it != history.end() && it->stamp_s < end_s; ++it)
-    window.push_back(*it);
-  window.push_back(interpolate(end_s));
-  return window;
-}
-
 std::vector<MotionPair> rewindowPairs(const std::vector<MotionPair>& pairs,
                                       const std::vector<EncoderSample>& history, double tau_s)
 {
@@ -44,7 +19,7 @@ std::vector<MotionPair> rewindowPairs(const std::vector<MotionPair>& pairs,
   for (const MotionPair& pair : pairs) {
     MotionPair moved = pair;
     moved.encoder_samples =
-        encoderWindow(history, pair.start_stamp_s + tau_s, pair.end_stamp_s + tau_s);
+        cutEncoderWindow(history, pair.start_stamp_s + tau_s, pair.end_stamp_s + tau_s);
     if (moved.encoder_samples.size() >= 2)
       result.push_back(std::move(moved));
   }

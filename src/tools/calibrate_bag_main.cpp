@@ -13,6 +13,7 @@
 
 #include <glog/logging.h>
 
+#include "odometry_calibration/cli/arguments.h"
 #include "odometry_calibration/eval/model_comparison.h"
 #include "odometry_calibration/eval/model_report.h"
 #include "odometry_calibration/io/atomic_file.h"
@@ -44,16 +45,6 @@ const char* kUsage =
     "exit status: 0 success; 1 bad input (message says what); 2 bad usage; 3 the fit did not\n"
     "converge; 4 the fit warns that some parameter is not determined, or that the time\n"
     "offset sits at the edge of its search range or is not observable\n";
-
-double number(const std::string& option, const std::string& text)
-{
-  char* end = nullptr;
-  const double value = std::strtod(text.c_str(), &end);
-  if (text.empty() || *end != '\0' || !std::isfinite(value) || value < 0.0) {
-    throw std::invalid_argument("option " + option + ": expected a number >= 0");
-  }
-  return value;
-}
 
 void showProgress(const BagProgress& p)
 {
@@ -122,9 +113,9 @@ int main(int argc, char** argv)
         else if (arg == "--test")
           test_bags.push_back(value);
         else if (arg == "--start")
-          start_s = number(arg, value);
+          start_s = parseNumberArgument(arg, value, 0.0);
         else if (arg == "--end")
-          end_s = number(arg, value);
+          end_s = parseNumberArgument(arg, value, 0.0);
         else
           throw std::invalid_argument("unknown option '" + arg + "'");
       } else {

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "odometry_calibration/cli/arguments.h"
 #include "odometry_calibration/eval/model_comparison.h"
 #include "odometry_calibration/io/pairs_csv.h"
 #include "odometry_calibration/models/model_factory.h"
@@ -31,18 +32,13 @@ const char* kUsage =
     "  --start R_L,R_R,B,X,Y,THETA  start values [m, m, m, m, m, rad]\n"
     "                         (default 0.077,0.077,0.33,0.15,0,0)\n";
 
-std::vector<double> numbers(const std::string& text)
+std::vector<double> numbers(const std::string& option, const std::string& text)
 {
   std::vector<double> values;
   std::stringstream stream(text);
   std::string part;
-  while (std::getline(stream, part, ',')) {
-    char* end = nullptr;
-    values.push_back(std::strtod(part.c_str(), &end));
-    if (part.empty() || *end != '\0' || !std::isfinite(values.back())) {
-      throw std::invalid_argument("'" + part + "' is not a number");
-    }
-  }
+  while (std::getline(stream, part, ','))
+    values.push_back(parseNumberArgument(option, part));
   return values;
 }
 
@@ -109,9 +105,9 @@ int main(int argc, char** argv)
       } else if (arg == "--right-joint") {
         right = value;
       } else if (arg == "--ticks-per-rev") {
-        ticks_per_rev = numbers(value).at(0);
+        ticks_per_rev = parseNumberArgument(arg, value, 1.0);
       } else if (arg == "--start") {
-        start = numbers(value);
+        start = numbers(arg, value);
         if (start.size() != 6)
           throw std::invalid_argument("--start needs 6 numbers");
       } else {

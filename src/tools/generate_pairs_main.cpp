@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "odometry_calibration/cli/arguments.h"
 #include "odometry_calibration/io/pairs_csv.h"
 #include "odometry_calibration/sim/pair_generator.h"
 #include "odometry_calibration/sim/scenario.h"
@@ -24,17 +25,6 @@ const char* kUsage =
     "  --noise-rad R       sigma of the heading noise [rad] (default 0.002)\n"
     "  --seed N            override the scenario's seed\n"
     "  --duration S        override the scenario's duration [s]\n";
-
-double number(const std::string& option, const std::string& text)
-{
-  char* end = nullptr;
-  const double value = std::strtod(text.c_str(), &end);
-  if (text.empty() || *end != '\0' || !std::isfinite(value) || value < 0.0) {
-    throw std::invalid_argument("option " + option + ": expected a number >= 0, got '" + text +
-                                "'");
-  }
-  return value;
-}
 
 }  // namespace
 
@@ -62,15 +52,15 @@ int main(int argc, char** argv)
       if (arg == "--output") {
         output = value;
       } else if (arg == "--interval") {
-        options.interval_s = number(arg, value);
+        options.interval_s = parseNumberArgument(arg, value, 0.0);
       } else if (arg == "--noise-m") {
-        options.translation_noise_m = number(arg, value);
+        options.translation_noise_m = parseNumberArgument(arg, value, 0.0);
       } else if (arg == "--noise-rad") {
-        options.rotation_noise_rad = number(arg, value);
+        options.rotation_noise_rad = parseNumberArgument(arg, value, 0.0);
       } else if (arg == "--seed") {
-        seed = number(arg, value);
+        seed = parseNumberArgument(arg, value, 0.0);
       } else if (arg == "--duration") {
-        duration = number(arg, value);
+        duration = parseNumberArgument(arg, value, 0.0);
       } else {
         throw std::invalid_argument("unknown option '" + arg + "'");
       }

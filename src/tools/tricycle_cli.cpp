@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <sstream>
 
+#include "odometry_calibration/cli/arguments.h"
 #include "odometry_calibration/data/tricycle_log.h"
 #include "odometry_calibration/eval/tricycle_report.h"
 #include "odometry_calibration/io/atomic_file.h"
@@ -16,13 +17,11 @@ namespace {
 
 double parseNumber(const std::string& option, const std::string& text)
 {
-  errno = 0;
-  char* end = nullptr;
-  const double value = std::strtod(text.c_str(), &end);
-  if (text.empty() || errno != 0 || end != text.c_str() + text.size() || !std::isfinite(value)) {
-    throw UsageError("option " + option + ": expected a number, got '" + text + "'");
+  try {
+    return parseNumberArgument(option, text);
+  } catch (const std::invalid_argument& error) {
+    throw UsageError(error.what());
   }
-  return value;
 }
 
 }  // namespace

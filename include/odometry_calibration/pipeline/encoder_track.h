@@ -3,7 +3,9 @@
 // start and end with values interpolated at the keyframes' times (DESIGN.md, "Time").
 #pragma once
 
+#include <algorithm>
 #include <deque>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -13,6 +15,40 @@
 #include "odometry_calibration/data/motion_pair.h"
 
 namespace odometry_calibration {
+
+/// Decoded values at `stamp_s`, linearly interpolated in time-ordered `samples` (a vector or a
+/// deque). Requires samples.front().stamp_s <= stamp_s <= samples.back().stamp_s.
+template <class Samples>
+EncoderSample interpolateEncoderSample(const Samples& samples, double stamp_s)
+{
+  const auto after =
+      std::lower_bound(samples.begin(), samples.end(), stamp_s,
+                       [](const EncoderSample& sample, double t) { return sample.stamp_s < t; });
+  if (after->stamp_s == stamp_s || after == samples.begin())
+    return *after;
+  const EncoderSample& before = *std::prev(after);
+  const double fraction = (stamp_s - before.stamp_s) / (after->stamp_s - before.stamp_s);
+  return {stamp_s, before.values + fraction * (after->values - before.values)};
+}
+
+/// The samples of [start_s, end_s] from time-ordered `samples`: values interpolated at both
+/// ends and every sample strictly inside. Empty when the samples do not cover the interval.
+template <class Samples>
+std::vector<EncoderSample> cutEncoderWindow(const Samples& samples, double start_s, double end_s)
+{
+  if (samples.size() < 2 || !(end_s > start_s) || start_s < samples.front().stamp_s ||
+      end_s > samples.back().stamp_s) {
+    return {};
+  }
+  std::vector<EncoderSample> window = {interpolateEncoderSample(samples, start_s)};
+  auto it =
+      std::upper_bound(samples.begin(), samples.end(), start_s,
+                       [](double t, const EncoderSample& sample) { return t < sample.stamp_s; });
+  for (; it != samples.end() && it->stamp_s < end_s; ++it)
+    window.push_back(*it);
+  window.push_back(interpolateEncoderSample(samples, end_s));
+  return window;
+}
 
 /// Decodes raw readings (wrap-around, absolute ranges) and keeps the recent samples.
 class EncoderTrack

@@ -34,11 +34,6 @@ struct TimeOffsetResult
   bool flat = false;  ///< the cost does not change with tau: nothing to estimate from
 };
 
-/// Cuts the encoder samples of [start + tau, end + tau] out of the full, time-ordered history
-/// (interpolated at both ends). Empty if the history does not cover the interval.
-std::vector<EncoderSample> encoderWindow(const std::vector<EncoderSample>& history, double start_s,
-                                         double end_s);
-
 /// Searches tau. `make_model` gives a fresh model for each fit; `pairs` are the collected
 /// pairs (their encoder samples are replaced per tau); `history` all decoded encoder samples.
 /// Throws std::invalid_argument for an empty search range or too few pairs at every tau.
