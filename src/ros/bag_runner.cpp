@@ -96,7 +96,7 @@ BagRunResult runBags(const std::vector<std::string>& bag_paths, const Calibratio
   };
 
   std::size_t messages = 0;
-  Clock::duration pairing{};
+  Clock::duration pairing{}, conversion{};
   for (const rosbag::MessageInstance& message : view) {
     ++messages;
     if (message.getTopic() == config.joint_state_topic) {
@@ -105,6 +105,7 @@ BagRunResult runBags(const std::vector<std::string>& bag_paths, const Calibratio
         continue;
       ++result.joint_state_messages;
       try {
+        const auto converting = Clock::now();
         const Eigen::VectorXd raw =
             applySigns(config, ros_conversions::rawJointPositions(*joints, channels));
         const double stamp_s = joints->header.stamp.toSec();
@@ -112,6 +113,7 @@ BagRunResult runBags(const std::vector<std::string>& bag_paths, const Calibratio
           result.encoder_history.push_back({stamp_s, history_decoder.decode(raw)});
         }
         const auto start = Clock::now();
+        conversion += start - converting;
         take(collector.addEncoders(joints->header.stamp.toSec(), raw),
              joints->header.stamp.toSec());
         pairing += Clock::now() - start;
@@ -124,9 +126,11 @@ BagRunResult runBags(const std::vector<std::string>& bag_paths, const Calibratio
       if (!scan)
         continue;
       ++result.ego_motion_messages;
+      const auto converting = Clock::now();
+      const Scan converted = ros_conversions::fromLaserScanMsg(*scan);
       const auto start = Clock::now();
-      take(collector.addScan(scan->header.stamp.toSec(), ros_conversions::fromLaserScanMsg(*scan)),
-           scan->header.stamp.toSec());
+      conversion += start - converting;
+      take(collector.addScan(scan->header.stamp.toSec(), converted), scan->header.stamp.toSec());
       pairing += Clock::now() - start;
     } else {
       double stamp_s = 0.0;
@@ -166,7 +170,8 @@ BagRunResult runBags(const std::vector<std::string>& bag_paths, const Calibratio
     result.encoder_history.clear();
   result.wall_time_s = seconds(Clock::now() - run_start);
   result.pairing_time_s = seconds(pairing);
-  result.read_time_s = result.wall_time_s - result.pairing_time_s;
+  result.conversion_time_s = seconds(conversion);
+  result.read_time_s = result.wall_time_s - result.pairing_time_s - result.conversion_time_s;
   return result;
 }
 

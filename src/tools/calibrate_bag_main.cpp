@@ -3,10 +3,13 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <memory>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -16,8 +19,8 @@
 #include "odometry_calibration/cli/arguments.h"
 #include "odometry_calibration/eval/model_comparison.h"
 #include "odometry_calibration/eval/model_report.h"
-#include "odometry_calibration/io/atomic_file.h"
-#include "odometry_calibration/io/pairs_csv.h"
+#include "odometry_calibration/eval/trajectory_comparison.h"
+#include "odometry_calibration/io/result_files.h"
 #include "odometry_calibration/models/diff_drive_model.h"
 #include "odometry_calibration/models/model_factory.h"
 #include "odometry_calibration/pipeline/time_offset.h"
@@ -32,7 +35,8 @@ const char* kUsage =
     "\n"
     "Reads the bags in timestamp order with the rosbag API, makes keyframe pairs (PLICP scan\n"
     "matching, or the configured ego-motion topic), fits the configured model and writes\n"
-    "pairs.csv, result.yaml and report.txt to the output directory.\n"
+    "pairs.csv, result.yaml, report.txt and report.md (the report with plots in plots/, drawn\n"
+    "by gnuplot) to the output directory.\n"
     "\n"
     "options:\n"
     "  --output-dir DIR     where to write (default: the config's output_directory)\n"
@@ -41,6 +45,8 @@ const char* kUsage =
     "                       comparison table for the model and the config's compare_models\n"
     "  --start S, --end S   use only [S, E] seconds after the first message\n"
     "  --quiet              no progress display\n"
+    "  --gnuplot PROGRAM    the plotting program (default: gnuplot from PATH; without it the\n"
+    "                       report is written without images and says what is missing)\n"
     "\n"
     "exit status: 0 success; 1 bad input (message says what); 2 bad usage; 3 the fit did not\n"
     "converge; 4 the fit warns that some parameter is not determined, or that the time\n"
@@ -60,7 +66,8 @@ std::string runSummary(const BagRunResult& run)
   std::ostringstream text;
   text << "bags: " << run.bag_span_s << " s of data in " << run.wall_time_s << " s ("
        << (run.wall_time_s > 0 ? run.bag_span_s / run.wall_time_s : 0.0) << "x real time; reading "
-       << run.read_time_s << " s, pairing " << run.pairing_time_s << " s)\n";
+       << run.read_time_s << " s, conversion " << run.conversion_time_s << " s, pairing "
+       << run.pairing_time_s << " s)\n";
   const CollectorStatistics& s = run.statistics;
   text << "keyframe pairs: " << s.pairs << " from " << s.scans << " scans, " << s.keyframes
        << " keyframes";
@@ -88,6 +95,7 @@ int main(int argc, char** argv)
   google::InitGoogleLogging(argv[0]);
   FLAGS_minloglevel = google::GLOG_FATAL;
   std::string config_path, output_dir, model_name;
+  GnuplotOptions gnuplot;
   std::vector<std::string> bags, test_bags;
   double start_s = 0.0, end_s = 0.0;
   bool quiet = !isatty(STDERR_FILENO);
@@ -110,6 +118,8 @@ int main(int argc, char** argv)
           output_dir = value;
         else if (arg == "--model")
           model_name = value;
+        else if (arg == "--gnuplot")
+          gnuplot.program = value;
         else if (arg == "--test")
           test_bags.push_back(value);
         else if (arg == "--start")
@@ -157,9 +167,11 @@ int main(int argc, char** argv)
     const std::string summary = runSummary(run);
     std::cout << summary;
 
+    const auto fit_start = std::chrono::steady_clock::now();
     std::vector<MotionPair> pairs = run.pairs;
     std::string offset_text;
     std::vector<std::string> offset_warnings;
+    std::optional<TimeOffsetResult> offset;
     double time_offset_s = config.collector.time_offset_s;
     if (config.estimate_time_offset) {
       if (run.encoder_history.empty()) {
@@ -170,56 +182,59 @@ int main(int argc, char** argv)
       TimeOffsetOptions search;
       search.min_s = config.time_offset_search_min_s;
       search.max_s = config.time_offset_search_max_s;
-      const TimeOffsetResult offset = estimateTimeOffset(
+      offset = estimateTimeOffset(
           run.pairs, run.encoder_history, [&]() { return makeModel(config.model, config.models); },
           search);
-      if (offset.flat) {
+      if (offset->flat) {
         offset_warnings.push_back(
             "the time offset is not observable from this drive (flat cost curve): kept the "
             "configured " +
             std::to_string(time_offset_s) + " s");
       } else {
-        time_offset_s = offset.offset_s;
-        if (offset.at_boundary) {
+        time_offset_s = offset->offset_s;
+        if (offset->at_boundary) {
           offset_warnings.push_back("the time offset estimate " + std::to_string(time_offset_s) +
                                     " s lies at the edge of time_offset_search_s: widen it");
         }
       }
       pairs = rewindowPairs(run.pairs, run.encoder_history, time_offset_s);
       std::ostringstream out;
-      out << "time offset (encoder values at scan time + tau): tau = " << offset.offset_s
-          << " s +- " << offset.sigma_s << " s"
-          << (offset.at_boundary ? "  WARNING: at the edge of the search range" : "")
+      out << "time offset (encoder values at scan time + tau): tau = " << offset->offset_s
+          << " s +- " << offset->sigma_s << " s"
+          << (offset->at_boundary ? "  WARNING: at the edge of the search range" : "")
           << "\ncost curve (tau [s], trimmed mean chi^2):";
-      for (const auto& [tau, cost] : offset.curve)
+      for (const auto& [tau, cost] : offset->curve)
         out << " " << tau << ":" << cost;
       offset_text = out.str() + "\n";
     }
     auto model = makeModel(config.model, config.models);
     ModelReport report = model->fit(pairs);
     report.warnings.insert(report.warnings.end(), offset_warnings.begin(), offset_warnings.end());
+    const double fit_time_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - fit_start).count();
     std::string text = summary + offset_text + "\n" + formatModelReport(report);
-    if (config.prior_model == "diff_drive" && !run.encoder_history.empty()) {
-      // Median per-pair RPE against the matched displacements: the nominal robot (start
-      // values, no time offset) against the calibrated model.
-      auto median_error = [](const MotionModel& m, const std::vector<MotionPair>& set) {
-        std::vector<double> errors;
-        for (const MotionPair& pair : set) {
-          const Pose2 e = between(pair.sensor_motion, m.predict(pair.encoder_samples).mean);
-          errors.push_back(std::hypot(e.x(), e.y()));
-        }
-        std::nth_element(errors.begin(), errors.begin() + errors.size() / 2, errors.end());
-        return errors.empty() ? 0.0 : errors[errors.size() / 2];
-      };
-      const DiffDriveModel nominal(config.models.diff_drive);
-      const double before =
-          median_error(nominal, rewindowPairs(run.pairs, run.encoder_history, 0.0));
-      const double after = median_error(*model, pairs);
+
+    // The evidence: the calibrated model against the scan matches, and the nominal robot (the
+    // prior's start values, no time offset) when there is one.
+    ResultFiles files;
+    std::unique_ptr<DiffDriveModel> nominal;
+    std::vector<MotionPair> nominal_pairs;
+    if (config.prior_model == "diff_drive") {
+      nominal = std::make_unique<DiffDriveModel>(config.models.diff_drive);
+      nominal_pairs = run.encoder_history.empty()
+                          ? run.pairs
+                          : rewindowPairs(run.pairs, run.encoder_history, 0.0);
+      files.markdown.nominal_description =
+          "the diff_drive start values of the configuration at time offset 0";
+    }
+    files.markdown.trajectories = compareTrajectories(pairs, *model, nominal_pairs, nominal.get());
+    if (nominal && !run.encoder_history.empty()) {
       char line[200];
       std::snprintf(line, sizeof(line),
                     "median per-pair RPE vs the matched displacements: nominal (start values, "
                     "no time offset) %.4f m -> calibrated %.4f m\n",
-                    before, after);
+                    median(translationErrors(files.markdown.trajectories.nominal_errors)),
+                    median(translationErrors(files.markdown.trajectories.calibrated_errors)));
       text += line;
     }
     if (!test_bags.empty()) {
@@ -242,18 +257,53 @@ int main(int argc, char** argv)
         if (name == config.model)
           model = std::move(candidate);
       }
+      files.markdown.test_table = formatComparisonTable(scores);
+      files.markdown.test_pairs = test.pairs.size();
       text += "\ntest bags: " + std::to_string(test.pairs.size()) + " pairs\n" +
-              formatComparisonTable(scores);
+              files.markdown.test_table;
     }
+    char timing[200];
+    std::snprintf(timing, sizeof(timing),
+                  "time: reading %.2f s, scan conversion %.2f s, matching and pairing %.2f s, "
+                  "fitting %.2f s\n",
+                  run.read_time_s, run.conversion_time_s, run.pairing_time_s, fit_time_s);
+    text += timing;
     std::cout << text.substr(summary.size());
-    // Everything succeeded: write the three files together.
-    std::filesystem::create_directories(output_dir);
-    writePairsCsv(output_dir + "/pairs.csv", {jointLayout(config), pairs});
-    writeFileAtomically(output_dir + "/result.yaml",
-                        modelResultYaml(report, model->toYaml(), bags.front()) +
-                            "time_offset_s: " + std::to_string(time_offset_s) + "\n");
-    writeFileAtomically(output_dir + "/report.txt", text);
-    std::cout << "\nwritten: " << output_dir << "/{pairs.csv, result.yaml, report.txt}\n";
+
+    // Everything succeeded: write the files together.
+    files.pairs = {jointLayout(config), pairs};
+    files.result_yaml = modelResultYaml(report, model->toYaml(), bags.front()) +
+                        "time_offset_s: " + std::to_string(time_offset_s) + "\n";
+    files.text_report = text;
+    files.plots.trajectories = files.markdown.trajectories;
+    files.plots.calibrated_label = report.model;
+    if (offset) {
+      files.plots.time_offset_curve = offset->curve;
+      files.plots.time_offset_s = offset->offset_s;
+      files.plots.time_offset_sigma_s = offset->sigma_s;
+    }
+    files.gnuplot = gnuplot;
+    files.markdown.bags = bags;
+    files.markdown.data_span_s = run.bag_span_s;
+    files.markdown.run_time_s = run.wall_time_s;
+    files.markdown.statistics = run.statistics;
+    if (run.bad_joint_states > 0) {
+      files.markdown.collection_notes.push_back(
+          "skipped " + std::to_string(run.bad_joint_states) +
+          " JointState messages, first: " + run.first_bad_joint_state);
+    }
+    for (const std::string& restart : run.restarts)
+      files.markdown.collection_notes.push_back("restart " + restart);
+    files.markdown.report = report;
+    files.markdown.time_offset = offset;
+    files.markdown.time_offset_used_s = time_offset_s;
+    const ReportPlots plots = writeResultFiles(output_dir, std::move(files));
+    std::cout << "\nwritten: " << output_dir << "/{" << kPairsFileName << ", " << kResultFileName
+              << ", " << kTextReportFileName << ", " << kReportFileName << ", " << kPlotFolderName
+              << "/}\nreport: " << output_dir << "/" << kReportFileName << "\n";
+    if (!plots.problem.empty()) {
+      std::cerr << "warning: the report has no plots or only some: " << plots.problem << "\n";
+    }
     if (!report.converged)
       return 3;
     return report.warnings.empty() ? 0 : 4;

@@ -35,6 +35,7 @@ struct BagRunResult
   double bag_span_s = 0.0;            ///< time covered by the bags [s]
   double wall_time_s = 0.0;           ///< total wall time [s]
   double read_time_s = 0.0;           ///< reading and deserialising messages [s]
+  double conversion_time_s = 0.0;     ///< messages to the core's types (scans, joints) [s]
   double pairing_time_s = 0.0;        ///< scan preparation, matching, pairing [s]
 };
 
