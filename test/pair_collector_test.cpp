@@ -1,4 +1,7 @@
+#include <chrono>
 #include <cmath>
+#include <random>
+#include <thread>
 
 #include <gtest/gtest.h>
 
@@ -183,6 +186,98 @@ TEST(PairCollector, RestartsWhenTimeGoesBackwardsAndRejectsEncoderGaps)
   EXPECT_EQ(back.type, CollectorEvent::Type::kRestarted);
   EXPECT_EQ(collector.statistics().restarts, 1u);
   EXPECT_EQ(collector.statistics().pairs, 1u);
+}
+
+/// Feeds one simulated run to two collectors: one matching in the background (its predictor
+/// sleeps at random to shuffle the threads' timing), one matching in the calling thread; every
+/// 13th scan is blanked so that matches fail. Compares what every call returned.
+struct TwinFeeder : sim::SimulationSink
+{
+  PairCollector* background;
+  PairCollector* inline_matching;
+  std::size_t calls = 0, scans = 0, pairs = 0;
+  void compare(const std::vector<CollectorEvent>& a, const std::vector<CollectorEvent>& b)
+  {
+    ++calls;
+    ASSERT_EQ(a.size(), b.size()) << "call " << calls;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      EXPECT_EQ(a[i].type, b[i].type) << "call " << calls;
+      EXPECT_EQ(a[i].reason, b[i].reason) << "call " << calls;
+      EXPECT_EQ(a[i].pair.start_stamp_s, b[i].pair.start_stamp_s);
+      EXPECT_EQ(a[i].pair.sensor_motion.vector(), b[i].pair.sensor_motion.vector());
+      EXPECT_EQ(a[i].pair.covariance, b[i].pair.covariance);
+      EXPECT_EQ(a[i].pair.encoder_samples.size(), b[i].pair.encoder_samples.size());
+      pairs += a[i].type == CollectorEvent::Type::kPair;
+    }
+    if (calls % 37 == 0)  // mid-run statistics count the matches submitted so far
+      compareStatistics();
+  }
+  void compareStatistics()
+  {
+    const CollectorStatistics& a = background->statistics();
+    const CollectorStatistics& b = inline_matching->statistics();
+    EXPECT_EQ(a.consecutive_matches, b.consecutive_matches) << "call " << calls;
+    EXPECT_EQ(a.consecutive_failures, b.consecutive_failures) << "call " << calls;
+    EXPECT_EQ(a.unverified_pairs, b.unverified_pairs);
+    EXPECT_EQ(a.keyframes, b.keyframes);
+    EXPECT_EQ(a.pairs, b.pairs);
+    EXPECT_EQ(a.rejected, b.rejected);
+  }
+  void onJointState(const sim::JointStateSample& s) override
+  {
+    const Eigen::Vector2d raw(s.positions[0], s.positions[1]);
+    compare(background->addEncoders(s.stamp_s, raw), inline_matching->addEncoders(s.stamp_s, raw));
+  }
+  void onScan(const sim::ScanSample& s) override
+  {
+    Scan scan;
+    scan.angle_min_rad = s.angle_min_rad;
+    scan.angle_increment_rad = s.angle_increment_rad;
+    scan.range_min_m = s.range_min_m;
+    scan.range_max_m = s.range_max_m;
+    scan.ranges_m.assign(s.ranges.begin(), s.ranges.end());
+    if (++scans % 13 == 0)
+      scan.ranges_m.assign(scan.ranges_m.size(), 0.0);  // nothing usable: matches fail
+    compare(background->addScan(s.stamp_s, scan), inline_matching->addScan(s.stamp_s, scan));
+  }
+  void onTruth(const sim::TruthSample&) override {}
+  void onTracker(const sim::TrackerSample&) override {}
+};
+
+TEST(PairCollector, ResultsDoNotDependOnThreadTiming)
+{
+  const sim::Scenario s = scenario(40.0);
+  const sim::World world = sim::parseWorldYaml(kRoom, "room");
+  const auto robot = sim::makeRobot(s.robot);
+  const DiffDriveEncoderLayout layout;
+  auto nominal = [layout](const std::vector<EncoderSample>& samples) {
+    const double intrinsic[3] = {0.077, 0.077, 0.33};
+    return sensorMotionFromBodyMotion(Pose2(0.15, 0, 0),
+                                      integrateDiffDriveMotion(intrinsic, layout, samples));
+  };
+  std::mt19937 random(5);
+  MotionPredictor jittery = [&](const std::vector<EncoderSample>& samples) {
+    std::this_thread::sleep_for(std::chrono::microseconds(random() % 700));
+    return nominal(samples);
+  };
+  CollectorOptions options;
+  PairCollector background(wheels(), options, jittery);
+  options.background_matching = false;
+  PairCollector inline_matching(wheels(), options, nominal);
+  TwinFeeder feeder;
+  feeder.background = &background;
+  feeder.inline_matching = &inline_matching;
+  sim::simulate(s, world, *robot, feeder);
+  feeder.compare(background.flush(), inline_matching.flush());
+  feeder.compareStatistics();
+  // The blanked scans exercised the failure paths.
+  const CollectorStatistics& stats = background.statistics();
+  EXPECT_GT(feeder.pairs, 40u);
+  EXPECT_GE(stats.consecutive_failures, 20u);
+  EXPECT_GT(stats.unverified_pairs, 0u);
+  EXPECT_FALSE(stats.rejected.empty());
+  // A one-threaded run skips the matches after a failure until the next keyframe.
+  EXPECT_LT(stats.consecutive_matches, stats.scans - 1);
 }
 
 TEST(PairCollector, InvalidOptionsAreNamed)

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <stdexcept>
+#include <thread>
 
 namespace odometry_calibration {
 
@@ -29,10 +30,45 @@ PairCollector::PairCollector(std::vector<EncoderChannelOptions> channels, Collec
       track_(std::move(channels), std::max(30.0, 4.0 * options_.keyframe_interval_s))
 {
   validate(options_);
+  // The chain uses only the consecutive matches' poses and statuses; the covariance (which
+  // does not change either) would cost time for nothing.
+  consecutive_options_ = options_.plicp;
+  consecutive_options_.compute_covariance = false;
+  if (options_.check_consistency)
+    matches_ = std::make_unique<MatchQueue>(options_.background_matching &&
+                                            std::thread::hardware_concurrency() > 1);
+}
+
+PairCollector::~PairCollector() = default;
+
+const CollectorStatistics& PairCollector::statistics() const
+{
+  foldConsecutiveMatches();
+  return statistics_;
+}
+
+void PairCollector::foldConsecutiveMatches() const
+{
+  while (!consecutive_.empty()) {
+    const PlicpResult step = matches_->wait(consecutive_.front());
+    consecutive_.pop_front();
+    // A one-threaded run matches only while the chain is valid: later matches after a failure
+    // were submitted speculatively and are dropped uncounted.
+    if (!chain_valid_)
+      continue;
+    ++statistics_.consecutive_matches;
+    if (step.valid()) {
+      chain_ = chain_ * step.T_ref_new;
+    } else {
+      ++statistics_.consecutive_failures;
+      chain_valid_ = false;
+    }
+  }
 }
 
 void PairCollector::reset()
 {
+  foldConsecutiveMatches();
   pending_.clear();
   track_.clear();
   keyframe_.reset();
@@ -94,7 +130,9 @@ std::vector<CollectorEvent> PairCollector::addEncoders(double stamp_s, const Eig
 
 std::vector<CollectorEvent> PairCollector::flush()
 {
-  return processReadyScans(true);
+  std::vector<CollectorEvent> events = processReadyScans(true);
+  foldConsecutiveMatches();
+  return events;
 }
 
 std::vector<CollectorEvent> PairCollector::processReadyScans(bool all)
@@ -148,33 +186,30 @@ std::vector<CollectorEvent> PairCollector::addScan(double stamp_s, const Scan& s
     return {restart("the scan stream")};
   last_scan_stamp_s_ = stamp_s;
   last_input_stamp_s_ = std::max(last_input_stamp_s_, stamp_s);
-  pending_.push_back({stamp_s,
-                      std::make_shared<const PreparedScan>(prepareScan(scan, options_.lines)),
+  // Prepared later, by the first match that needs it (possibly on the matching thread).
+  pending_.push_back({stamp_s, std::make_shared<const LazyPreparedScan>(scan, options_.lines),
                       Pose2(), Eigen::Matrix3d::Zero()});
   return processReadyScans(false);
 }
 
 CollectorEvent PairCollector::processScan(double stamp_s,
-                                          std::shared_ptr<const PreparedScan> prepared)
+                                          std::shared_ptr<const LazyPreparedScan> prepared)
 {
-  // Consecutive-scan chain: the reference for the keyframe match's consistency.
-  if (options_.check_consistency && previous_scan_ && chain_valid_) {
+  // Consecutive-scan chain: the reference for the keyframe match's consistency. The match is
+  // submitted now, with the guess from the encoders as they are now, and folded in before the
+  // next keyframe decision; while its predecessors are unfolded, whether the chain is still
+  // valid is not known yet, so it is submitted and the fold applies the rule.
+  if (options_.check_consistency && previous_scan_ && (chain_valid_ || !consecutive_.empty())) {
     std::string reason;
     const auto window = encoderWindow(previous_scan_stamp_s_, stamp_s, &reason);
     const Pose2 guess = window ? predict(*window) : Pose2();
-    const PlicpResult step = matchScans(*previous_scan_, *prepared, guess, options_.plicp);
-    ++statistics_.consecutive_matches;
-    if (step.valid()) {
-      chain_ = chain_ * step.T_ref_new;
-    } else {
-      ++statistics_.consecutive_failures;
-      chain_valid_ = false;
-    }
+    consecutive_.push_back(matches_->submit(previous_scan_, prepared, guess, consecutive_options_));
   }
   previous_scan_ = prepared;
   previous_scan_stamp_s_ = stamp_s;
 
   auto start_keyframe = [&](CollectorEvent event) {
+    foldConsecutiveMatches();  // the matches up to this scan belong to the ending chain
     keyframe_ = Keyframe{stamp_s, prepared, Pose2()};
     chain_ = Pose2();
     chain_valid_ = true;
@@ -193,8 +228,10 @@ CollectorEvent PairCollector::processScan(double stamp_s,
   const auto window = encoderWindow(keyframe_->stamp_s, stamp_s, &reason);
   if (!window)
     return start_keyframe(reject(reason));
+  // Runs here while the background thread works through the consecutive matches.
   const PlicpResult match =
-      matchScans(*keyframe_->scan, *prepared, predict(*window), options_.plicp);
+      matchScans(keyframe_->scan->get(), prepared->get(), predict(*window), options_.plicp);
+  foldConsecutiveMatches();
   if (!match.valid()) {
     return start_keyframe(reject(std::string("scan match ") + toString(match.status)));
   }

@@ -7,6 +7,12 @@
 //
 // The live node and the offline bag tool feed the same collector in timestamp order, so they
 // produce the same pairs.
+//
+// Speed: the consecutive-scan matches run on a background thread (match_queue.h) while the
+// caller goes on with the next messages; they are folded into the chain, in order and with the
+// rules of a one-threaded run, before the next keyframe decision (and before statistics() or
+// reset() answer). Every match's inputs are fixed when it is submitted, so the events, pairs
+// and statistics are the same as if each match ran at once, whatever the threads' timing.
 #pragma once
 
 #include <deque>
@@ -19,6 +25,7 @@
 
 #include "odometry_calibration/data/motion_pair.h"
 #include "odometry_calibration/pipeline/encoder_track.h"
+#include "odometry_calibration/pipeline/match_queue.h"
 #include "odometry_calibration/scan/plicp.h"
 
 namespace odometry_calibration {
@@ -41,6 +48,10 @@ struct CollectorOptions
   /// Added to every pair's covariance diagonal: unmodelled errors (stamp jitter, the sweep)
   /// that the matcher's own covariance does not see [m^2, m^2, rad^2].
   Eigen::Vector3d covariance_floor{1e-6, 1e-6, 1e-6};
+  /// Run the consecutive-scan matches on a background thread (on machines with more than one
+  /// core). The events, pairs and statistics are the same either way; off, every match runs
+  /// in the calling thread.
+  bool background_matching = true;
   PlicpOptions plicp;    ///< the scan matcher
   LineFitOptions lines;  ///< the reference surfaces
 };
@@ -88,6 +99,9 @@ class PairCollector
 public:
   PairCollector(std::vector<EncoderChannelOptions> channels, CollectorOptions options,
                 MotionPredictor predictor = nullptr);
+  ~PairCollector();
+  PairCollector(const PairCollector&) = delete;
+  PairCollector& operator=(const PairCollector&) = delete;
 
   /// A raw encoder reading (one value per channel). Throws std::invalid_argument for bad
   /// readings (the caller reports them); a time going backwards restarts the pairing. Scans
@@ -111,11 +125,12 @@ public:
   /// Forgets keyframes and encoder history (pairs already produced are the caller's).
   void reset();
 
-  const CollectorStatistics& statistics() const { return statistics_; }
+  /// The counters, with every consecutive match submitted so far counted.
+  const CollectorStatistics& statistics() const;
   const CollectorOptions& options() const { return options_; }
 
 private:
-  CollectorEvent processScan(double stamp_s, std::shared_ptr<const PreparedScan> prepared);
+  CollectorEvent processScan(double stamp_s, std::shared_ptr<const LazyPreparedScan> prepared);
   CollectorEvent processPose(double stamp_s, const Pose2& T_world_sensor,
                              const Eigen::Matrix3d& covariance);
   std::vector<CollectorEvent> processReadyScans(bool all);
@@ -128,30 +143,38 @@ private:
   std::optional<std::vector<EncoderSample>> encoderWindow(double start_s, double end_s,
                                                           std::string* reason) const;
   Pose2 predict(const std::vector<EncoderSample>& window) const;
+  /// Waits for the submitted consecutive matches and folds them into the chain, in order.
+  void foldConsecutiveMatches() const;
 
   CollectorOptions options_;
   MotionPredictor predictor_;
   EncoderTrack track_;
-  CollectorStatistics statistics_;
+  // Mutable: the consecutive matches run in the background and are folded in lazily, also
+  // from statistics(); the folded state is what a one-threaded run would have had.
+  mutable CollectorStatistics statistics_;
 
   struct Keyframe
   {
     double stamp_s = 0.0;
-    std::shared_ptr<const PreparedScan> scan;  ///< laser source
-    Pose2 T_world_sensor;                      ///< pose source
+    std::shared_ptr<const LazyPreparedScan> scan;  ///< laser source
+    Pose2 T_world_sensor;                          ///< pose source
   };
   std::optional<Keyframe> keyframe_;
-  std::shared_ptr<const PreparedScan> previous_scan_;
+  std::shared_ptr<const LazyPreparedScan> previous_scan_;
   double previous_scan_stamp_s_ = 0.0;
-  Pose2 chain_;  ///< composed consecutive matches since the keyframe
-  bool chain_valid_ = false;
-  double last_input_stamp_s_ = -1e300;  ///< newest stamp of any stream
-  double last_scan_stamp_s_ = -1e300;   ///< newest scan / sensor pose stamp
+  mutable Pose2 chain_;  ///< composed consecutive matches since the keyframe
+  mutable bool chain_valid_ = false;
+  /// Consecutive matches submitted but not yet folded into the chain, oldest first.
+  mutable std::deque<std::shared_ptr<MatchJob>> consecutive_;
+  PlicpOptions consecutive_options_;     ///< options_.plicp without the unused covariance
+  std::unique_ptr<MatchQueue> matches_;  ///< last member: its worker stops first
+  double last_input_stamp_s_ = -1e300;   ///< newest stamp of any stream
+  double last_scan_stamp_s_ = -1e300;    ///< newest scan / sensor pose stamp
   /// A scan or a sensor pose waiting for the encoder stream to reach its time.
   struct PendingInput
   {
     double stamp_s;
-    std::shared_ptr<const PreparedScan> scan;  ///< null for a sensor pose
+    std::shared_ptr<const LazyPreparedScan> scan;  ///< null for a sensor pose
     Pose2 T_world_sensor;
     Eigen::Matrix3d covariance;
   };

@@ -1,0 +1,33 @@
+// A scan whose preparation for matching (points, local lines: prepareScan) runs once, in the
+// first thread that needs it: the reading thread hands scans on without preparing them, and
+// whichever thread matches a scan first prepares it (match_queue.h).
+#pragma once
+
+#include <mutex>
+
+#include "odometry_calibration/scan/plicp.h"
+#include "odometry_calibration/scan/scan.h"
+
+namespace odometry_calibration {
+
+/// A scan, prepared on first use. Thread-safe.
+class LazyPreparedScan
+{
+public:
+  /// Checks the scan's geometry and the options now (throws std::invalid_argument like
+  /// prepareScan), so that a bad scan is reported by the call that brought it.
+  LazyPreparedScan(Scan scan, const LineFitOptions& options);
+  LazyPreparedScan(const LazyPreparedScan&) = delete;
+  LazyPreparedScan& operator=(const LazyPreparedScan&) = delete;
+
+  /// The prepared scan (prepared by the first caller; the others wait for it).
+  const PreparedScan& get() const;
+
+private:
+  mutable std::once_flag once_;
+  mutable Scan scan_;  ///< released once prepared
+  LineFitOptions options_;
+  mutable PreparedScan prepared_;
+};
+
+}  // namespace odometry_calibration
