@@ -1,8 +1,24 @@
 #include "odometry_calibration/pipeline/match_queue.h"
 
+#include <chrono>
 #include <utility>
 
 namespace odometry_calibration {
+
+PlicpResult timedMatch(const LazyPreparedScan& reference, const LazyPreparedScan& current,
+                       const Pose2& T_ref_new_guess, const PlicpOptions& options,
+                       double* preparation_time_s, double* matching_time_s)
+{
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  const PreparedScan& prepared_reference = reference.get();
+  const PreparedScan& prepared_current = current.get();
+  const auto prepared = Clock::now();
+  PlicpResult result = matchScans(prepared_reference, prepared_current, T_ref_new_guess, options);
+  *preparation_time_s += std::chrono::duration<double>(prepared - start).count();
+  *matching_time_s += std::chrono::duration<double>(Clock::now() - prepared).count();
+  return result;
+}
 
 MatchQueue::MatchQueue(bool background_thread)
 {
@@ -46,8 +62,8 @@ void MatchQueue::runFront(std::unique_lock<std::mutex>& lock)
   queue_.pop_front();
   lock.unlock();
   try {
-    job->result =
-        matchScans(job->reference->get(), job->current->get(), job->T_ref_new_guess, job->options);
+    job->result = timedMatch(*job->reference, *job->current, job->T_ref_new_guess, job->options,
+                             &job->preparation_time_s, &job->matching_time_s);
   } catch (...) {
     job->error = std::current_exception();
   }

@@ -51,6 +51,8 @@ void PairCollector::foldConsecutiveMatches() const
 {
   while (!consecutive_.empty()) {
     const PlicpResult step = matches_->wait(consecutive_.front());
+    statistics_.preparation_time_s += consecutive_.front()->preparation_time_s;
+    statistics_.matching_time_s += consecutive_.front()->matching_time_s;
     consecutive_.pop_front();
     // A one-threaded run matches only while the chain is valid: later matches after a failure
     // were submitted speculatively and are dropped uncounted.
@@ -230,7 +232,8 @@ CollectorEvent PairCollector::processScan(double stamp_s,
     return start_keyframe(reject(reason));
   // Runs here while the background thread works through the consecutive matches.
   const PlicpResult match =
-      matchScans(keyframe_->scan->get(), prepared->get(), predict(*window), options_.plicp);
+      timedMatch(*keyframe_->scan, *prepared, predict(*window), options_.plicp,
+                 &statistics_.preparation_time_s, &statistics_.matching_time_s);
   foldConsecutiveMatches();
   if (!match.valid()) {
     return start_keyframe(reject(std::string("scan match ") + toString(match.status)));

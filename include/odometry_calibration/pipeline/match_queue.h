@@ -24,10 +24,18 @@ struct MatchJob
   std::shared_ptr<const LazyPreparedScan> current;
   Pose2 T_ref_new_guess;
   PlicpOptions options;
-  PlicpResult result;        ///< valid once done
-  std::exception_ptr error;  ///< what matchScans threw, if it did
+  PlicpResult result;               ///< valid once done
+  double preparation_time_s = 0.0;  ///< spent preparing the scans (if this job did) [s]
+  double matching_time_s = 0.0;     ///< spent matching [s]
+  std::exception_ptr error;         ///< what matchScans threw, if it did
   bool done = false;
 };
+
+/// matchScans on two lazily prepared scans, adding the time spent preparing them (if this
+/// call does) and matching to the two counters [s].
+PlicpResult timedMatch(const LazyPreparedScan& reference, const LazyPreparedScan& current,
+                       const Pose2& T_ref_new_guess, const PlicpOptions& options,
+                       double* preparation_time_s, double* matching_time_s);
 
 /// The queue and its worker. Not copyable (it owns a thread).
 class MatchQueue

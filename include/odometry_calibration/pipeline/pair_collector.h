@@ -91,6 +91,8 @@ struct CollectorStatistics
   std::size_t restarts = 0;
   std::size_t unverified_pairs = 0;  ///< pairs kept without the consistency check (it failed)
   std::map<std::string, std::size_t> rejected;  ///< reason -> count
+  double preparation_time_s = 0.0;              ///< thread time preparing scans (points, lines) [s]
+  double matching_time_s = 0.0;                 ///< thread time matching scans, both kinds [s]
 };
 
 /// The pairing state machine.
