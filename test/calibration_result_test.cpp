@@ -98,9 +98,8 @@ TEST(ConfigOverride, ReplacesModelSectionsKeyByKeyAndRefusesOthers)
       "joints:\n  - {name: l, units_per_turn: 2000}\n  - {name: r, units_per_turn: 2000}\n"
       "diff_drive: {wheel_radius_m: 0.077, wheel_separation_m: 0.33}\n"
       "gp: {kernel: rbf}\n";
-  const CalibrationConfig changed =
-      overrideModelOptions(config, "{diff_drive: {wheel_radius_m: 0.08}, gp: {kernel: linear}}",
-                           "test.yaml");
+  const CalibrationConfig changed = overrideModelOptions(
+      config, "{diff_drive: {wheel_radius_m: 0.08}, gp: {kernel: linear}}", "test.yaml");
   EXPECT_DOUBLE_EQ(changed.models.diff_drive.initial_left_radius_m, 0.08);
   EXPECT_DOUBLE_EQ(changed.models.diff_drive.initial_separation_m, 0.33);  // kept
   EXPECT_NE(changed.models.gp.kernel, parseCalibrationConfig(config, "c").models.gp.kernel);

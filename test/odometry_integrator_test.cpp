@@ -28,8 +28,8 @@ std::vector<EncoderSample> constantWheelSpeeds(double v_left, double v_right, do
   std::vector<EncoderSample> samples;
   for (int i = 0; i * 0.02 <= duration_s + 1e-9; ++i) {
     const double t = i * 0.02;
-    samples.push_back({100.0 + t, Eigen::Vector2d(v_left * t * ticks_per_m,
-                                                  v_right * t * ticks_per_m)});
+    samples.push_back(
+        {100.0 + t, Eigen::Vector2d(v_left * t * ticks_per_m, v_right * t * ticks_per_m)});
   }
   return samples;
 }

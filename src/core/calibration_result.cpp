@@ -37,8 +37,8 @@ CalibrationResult parseCalibrationResult(const std::string& text, const std::str
   try {
     result.model = loadModel(model_yaml.str());
     if (const YAML::Node pose = root["T_base_sensor"]) {
-      result.T_base_sensor = Pose2(pose["x_m"].as<double>(), pose["y_m"].as<double>(),
-                                   pose["theta_rad"].as<double>());
+      result.T_base_sensor =
+          Pose2(pose["x_m"].as<double>(), pose["y_m"].as<double>(), pose["theta_rad"].as<double>());
       result.has_extrinsic = true;
     }
     if (const YAML::Node offset = root["time_offset_s"])

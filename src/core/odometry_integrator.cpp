@@ -31,7 +31,7 @@ Eigen::Vector3d se2Log(const Pose2& step)
 
 OdometryIntegrator::OdometryIntegrator(std::shared_ptr<const MotionModel> model,
                                        std::optional<Pose2> T_base_sensor, double segment_s)
-  : model_(std::move(model)), T_base_sensor_(T_base_sensor), segment_s_(segment_s)
+    : model_(std::move(model)), T_base_sensor_(T_base_sensor), segment_s_(segment_s)
 {
   if (!model_)
     throw std::invalid_argument("OdometryIntegrator: no model");
@@ -76,8 +76,8 @@ bool OdometryIntegrator::add(const EncoderSample& sample)
   const Pose2 previous = pose();
   const double dt = sample.stamp_s - window_.back().stamp_s;
   T_odom_sensor_ = T_odom_sensor_anchor_ * prediction.mean;
-  covariance_sensor_ = composeCovariance(T_odom_sensor_anchor_, covariance_anchor_,
-                                         prediction.mean, prediction.covariance);
+  covariance_sensor_ = composeCovariance(T_odom_sensor_anchor_, covariance_anchor_, prediction.mean,
+                                         prediction.covariance);
   velocity_ = se2Log(between(previous, pose())) / dt;
   if (sample.stamp_s - window.front().stamp_s >= segment_s_) {
     T_odom_sensor_anchor_ = T_odom_sensor_;

@@ -101,13 +101,13 @@ NodeOptions readNodeOptions(const ros::NodeHandle& p)
 }
 
 CalibrationNode::CalibrationNode(ros::NodeHandle handle, ros::NodeHandle private_handle)
-  : handle_(handle),
-    private_handle_(private_handle),
-    options_(readNodeOptions(private_handle)),
-    config_text_(readText(options_.config_path)),
-    config_(parseCalibrationConfig(config_text_, options_.config_path)),
-    channels_(encoderChannels(config_)),
-    odometry_decoder_(channels_)
+    : handle_(handle),
+      private_handle_(private_handle),
+      options_(readNodeOptions(private_handle)),
+      config_text_(readText(options_.config_path)),
+      config_(parseCalibrationConfig(config_text_, options_.config_path)),
+      channels_(encoderChannels(config_)),
+      odometry_decoder_(channels_)
 {
   if (options_.output_directory.empty())
     options_.output_directory = config_.output_directory;
@@ -133,7 +133,8 @@ CalibrationNode::CalibrationNode(ros::NodeHandle handle, ros::NodeHandle private
     }
   }
 
-  collector_ = std::make_unique<PairCollector>(channels_, config_.collector, priorPredictor(config_));
+  collector_ =
+      std::make_unique<PairCollector>(channels_, config_.collector, priorPredictor(config_));
   const std::string pairs_path = options_.output_directory + "/pairs.csv";
   if (!options_.resume_pairs && fs::exists(pairs_path))
     archivePairsFile("~resume_pairs is false");
@@ -165,41 +166,43 @@ CalibrationNode::CalibrationNode(ros::NodeHandle handle, ros::NodeHandle private
   }
   if (active_model_) {
     corrected_odometry_ = std::make_unique<OdometryIntegrator>(
-        active_model_, T_base_sensor_ ? T_base_sensor_
-                                      : (active_model_->name() == "diff_drive"
-                                             ? std::optional<Pose2>(
-                                                   config_.models.diff_drive.initial_T_base_sensor)
-                                             : std::nullopt),
+        active_model_,
+        T_base_sensor_
+            ? T_base_sensor_
+            : (active_model_->name() == "diff_drive"
+                   ? std::optional<Pose2>(config_.models.diff_drive.initial_T_base_sensor)
+                   : std::nullopt),
         config_.collector.keyframe_interval_s);
   } else {
-    ROS_WARN("no odometry until the first ~calibrate: prior_model is 'none' and there is no "
-             "saved calibration");
+    ROS_WARN(
+        "no odometry until the first ~calibrate: prior_model is 'none' and there is no "
+        "saved calibration");
   }
 
   for (nav_msgs::Path* path : {&nominal_path_, &corrected_path_, &scan_matched_path_})
     path->header.frame_id = options_.odom_frame;
 
   joint_health_.topic = handle_.resolveName(config_.joint_state_topic);
-  joint_subscriber_ = handle_.subscribe(config_.joint_state_topic, 2000,
-                                        &CalibrationNode::onJointState, this,
-                                        ros::TransportHints().tcpNoDelay());
+  joint_subscriber_ =
+      handle_.subscribe(config_.joint_state_topic, 2000, &CalibrationNode::onJointState, this,
+                        ros::TransportHints().tcpNoDelay());
   switch (config_.ego_motion) {
-  case EgoMotionSource::kScan:
-    ego_health_.topic = handle_.resolveName(config_.scan_topic);
-    ego_subscriber_ = handle_.subscribe(config_.scan_topic, 400, &CalibrationNode::onScan, this,
-                                        ros::TransportHints().tcpNoDelay());
-    break;
-  case EgoMotionSource::kOdometry:
-    ego_health_.topic = handle_.resolveName(config_.ego_motion_topic);
-    ego_subscriber_ = handle_.subscribe(config_.ego_motion_topic, 400,
-                                        &CalibrationNode::onOdometry, this,
-                                        ros::TransportHints().tcpNoDelay());
-    break;
-  case EgoMotionSource::kPose:
-    ego_health_.topic = handle_.resolveName(config_.ego_motion_topic);
-    ego_subscriber_ = handle_.subscribe(config_.ego_motion_topic, 400, &CalibrationNode::onPose,
-                                        this, ros::TransportHints().tcpNoDelay());
-    break;
+    case EgoMotionSource::kScan:
+      ego_health_.topic = handle_.resolveName(config_.scan_topic);
+      ego_subscriber_ = handle_.subscribe(config_.scan_topic, 400, &CalibrationNode::onScan, this,
+                                          ros::TransportHints().tcpNoDelay());
+      break;
+    case EgoMotionSource::kOdometry:
+      ego_health_.topic = handle_.resolveName(config_.ego_motion_topic);
+      ego_subscriber_ =
+          handle_.subscribe(config_.ego_motion_topic, 400, &CalibrationNode::onOdometry, this,
+                            ros::TransportHints().tcpNoDelay());
+      break;
+    case EgoMotionSource::kPose:
+      ego_health_.topic = handle_.resolveName(config_.ego_motion_topic);
+      ego_subscriber_ = handle_.subscribe(config_.ego_motion_topic, 400, &CalibrationNode::onPose,
+                                          this, ros::TransportHints().tcpNoDelay());
+      break;
   }
 
   odom_publisher_ = private_handle_.advertise<nav_msgs::Odometry>("odom", 50);
@@ -223,11 +226,11 @@ CalibrationNode::CalibrationNode(ros::NodeHandle handle, ros::NodeHandle private
                                           &CalibrationNode::onTimer, this);
   service_spinner_ = std::make_unique<ros::AsyncSpinner>(1, &service_queue_);
   service_spinner_->start();
-  ROS_INFO("collecting pairs: JointState on %s, ego-motion on %s, keyframes every %.2f s, "
-           "time offset %.3f s; output in %s",
-           joint_health_.topic.c_str(), ego_health_.topic.c_str(),
-           config_.collector.keyframe_interval_s, config_.collector.time_offset_s,
-           options_.output_directory.c_str());
+  ROS_INFO(
+      "collecting pairs: JointState on %s, ego-motion on %s, keyframes every %.2f s, "
+      "time offset %.3f s; output in %s",
+      joint_health_.topic.c_str(), ego_health_.topic.c_str(), config_.collector.keyframe_interval_s,
+      config_.collector.time_offset_s, options_.output_directory.c_str());
 }
 
 CalibrationNode::~CalibrationNode()
@@ -245,6 +248,18 @@ std::string CalibrationNode::sensorFrame() const
 
 // --- Inputs -------------------------------------------------------------------------------
 
+void CalibrationNode::warnInput(const std::string& problem, const std::string& text)
+{
+  // Each problem at once, then at most every 5 s (the counts go on in /diagnostics).
+  const std::string& key = problem;
+  const ros::WallTime now = ros::WallTime::now();
+  auto [entry, is_new] = input_warnings_.emplace(key, now);
+  if (is_new || (now - entry->second).toSec() > 5.0) {
+    entry->second = now;
+    ROS_WARN("%s", text.c_str());
+  }
+}
+
 void CalibrationNode::onJointState(const sensor_msgs::JointState::ConstPtr& message)
 {
   std::lock_guard<std::mutex> lock(state_mutex_);
@@ -256,8 +271,8 @@ void CalibrationNode::onJointState(const sensor_msgs::JointState::ConstPtr& mess
   } catch (const std::invalid_argument& error) {
     ++bad_joint_states_;
     last_problem_ = "JointState skipped: " + std::string(error.what());
-    ROS_WARN_THROTTLE(5.0, "JointState on %s skipped (%zu so far): %s", joint_health_.topic.c_str(),
-                      bad_joint_states_, error.what());
+    warnInput(error.what(), "JointState on " + joint_health_.topic + " skipped (" +
+                                std::to_string(bad_joint_states_) + " so far): " + error.what());
     return;
   }
   const double stamp_s = message->header.stamp.toSec();
@@ -266,8 +281,7 @@ void CalibrationNode::onJointState(const sensor_msgs::JointState::ConstPtr& mess
   } catch (const std::invalid_argument& error) {
     ++bad_joint_states_;
     last_problem_ = "JointState rejected: " + std::string(error.what());
-    ROS_WARN_THROTTLE(5.0, "JointState on %s rejected: %s", joint_health_.topic.c_str(),
-                      error.what());
+    warnInput(error.what(), "JointState on " + joint_health_.topic + " rejected: " + error.what());
     return;
   }
   integrateOdometry(stamp_s, raw);
@@ -289,12 +303,20 @@ void CalibrationNode::onScan(const sensor_msgs::LaserScan::ConstPtr& message)
   const double stamp_s = message->header.stamp.toSec();
   try {
     const Scan scan = ros_conversions::fromLaserScanMsg(*message);
+    const std::size_t usable = scanToPoints(scan).size();
+    if (static_cast<int>(usable) < config_.collector.plicp.min_points) {
+      throw std::invalid_argument(
+          "only " + std::to_string(usable) + " of " + std::to_string(scan.ranges_m.size()) +
+          " ranges are usable (the rest NaN, inf or outside [range_min, range_max]); matching "
+          "needs scan_matching.min_points = " +
+          std::to_string(config_.collector.plicp.min_points));
+    }
     handleEvents(collector_->addScan(stamp_s, scan), stamp_s);
   } catch (const std::invalid_argument& error) {
     ++bad_scans_;
     last_problem_ = "LaserScan skipped: " + std::string(error.what());
-    ROS_WARN_THROTTLE(5.0, "LaserScan on %s skipped (%zu so far): %s", ego_health_.topic.c_str(),
-                      bad_scans_, error.what());
+    warnInput(error.what(), "LaserScan on " + ego_health_.topic + " skipped (" +
+                                std::to_string(bad_scans_) + " so far): " + error.what());
   }
 }
 
@@ -327,7 +349,7 @@ void CalibrationNode::onSensorPose(double stamp_s, const geometry_msgs::Pose& po
   } catch (const std::invalid_argument& error) {
     ++bad_scans_;
     last_problem_ = "sensor pose skipped: " + std::string(error.what());
-    ROS_WARN_THROTTLE(5.0, "pose on %s skipped: %s", ego_health_.topic.c_str(), error.what());
+    warnInput(error.what(), "pose on " + ego_health_.topic + " skipped: " + error.what());
   }
 }
 
@@ -335,30 +357,37 @@ void CalibrationNode::handleEvents(const std::vector<CollectorEvent>& events, do
 {
   for (const CollectorEvent& event : events) {
     switch (event.type) {
-    case CollectorEvent::Type::kPair:
-      pairs_.push_back(event.pair);
-      try {
-        appender_->append(event.pair);
-      } catch (const std::exception& error) {
-        ROS_ERROR_THROTTLE(10.0, "cannot append to the pairs file: %s (pairs stay in memory)",
-                           error.what());
-      }
-      pairs_publisher_.publish(
-          ros_conversions::toPairMsg(event.pair, jointLayout(config_), sensorFrame()));
-      addScanMatchedPose(event.pair);
-      break;
-    case CollectorEvent::Type::kRestarted:
-      ROS_WARN("time went backwards at %.3f s (%s): keyframe pairing and odometry restarted, "
-               "the %zu pairs collected are kept",
-               stamp_s, event.reason.c_str(), pairs_.size());
-      last_problem_ = "time went backwards: " + event.reason;
-      restartOdometry();
-      break;
-    case CollectorEvent::Type::kRejected:
-      ROS_DEBUG("keyframe interval rejected: %s", event.reason.c_str());
-      break;
-    default:
-      break;
+      case CollectorEvent::Type::kPair:
+        pairs_.push_back(event.pair);
+        try {
+          appender_->append(event.pair);
+        } catch (const std::exception& error) {
+          ROS_ERROR_THROTTLE(10.0, "cannot append to the pairs file: %s (pairs stay in memory)",
+                             error.what());
+        }
+        pairs_publisher_.publish(
+            ros_conversions::toPairMsg(event.pair, jointLayout(config_), sensorFrame()));
+        addScanMatchedPose(event.pair);
+        break;
+      case CollectorEvent::Type::kRestarted:
+        ROS_WARN(
+            "time went backwards at %.3f s (%s): keyframe pairing and odometry restarted, "
+            "the %zu pairs collected are kept",
+            stamp_s, event.reason.c_str(), pairs_.size());
+        last_problem_ = "time went backwards: " + event.reason;
+        restartOdometry();
+        break;
+      case CollectorEvent::Type::kRejected:
+        // Each reason once as a warning; the counts are on /diagnostics.
+        if (rejection_reasons_seen_.insert(event.reason).second) {
+          ROS_WARN(
+              "keyframe interval rejected (first time for this reason; counted on "
+              "/diagnostics): %s",
+              event.reason.c_str());
+        }
+        break;
+      default:
+        break;
     }
   }
 }
@@ -480,9 +509,9 @@ void CalibrationNode::publishPaths()
     path->header.stamp = now;
   // The scan-matched sensor poses drawn as base_link poses through the current extrinsic (or
   // the configured one), so the three paths overlay.
-  const Pose2 T_sensor_base = (T_base_sensor_ ? *T_base_sensor_
-                                              : config_.models.diff_drive.initial_T_base_sensor)
-                                  .inverse();
+  const Pose2 T_sensor_base =
+      (T_base_sensor_ ? *T_base_sensor_ : config_.models.diff_drive.initial_T_base_sensor)
+          .inverse();
   scan_matched_path_.poses.clear();
   for (const auto& [stamp_s, T_odom_sensor] : scan_matched_sensor_poses_) {
     scan_matched_path_.poses.push_back(
@@ -511,9 +540,8 @@ void CalibrationNode::publishExtrinsic()
 void CalibrationNode::onTimer(const ros::WallTimerEvent& event)
 {
   std::lock_guard<std::mutex> lock(state_mutex_);
-  const double period_s = event.last_real.isZero()
-                              ? options_.diagnostics_period_s
-                              : (event.current_real - event.last_real).toSec();
+  const double period_s = event.last_real.isZero() ? options_.diagnostics_period_s
+                                                   : (event.current_real - event.last_real).toSec();
   warnSilentTopics();
   publishDiagnostics(period_s);
   publishPaths();
@@ -573,6 +601,8 @@ void CalibrationNode::publishDiagnostics(double period_s)
   add("pairs collected", std::to_string(pairs_.size()));
   add("pairs resumed from file", std::to_string(pairs_resumed_));
   add("keyframe intervals rejected", std::to_string(rejected));
+  for (const auto& [reason, count] : s.rejected)
+    add("rejected: " + reason, std::to_string(count));
   add("JointStates skipped", std::to_string(bad_joint_states_));
   add("scans skipped", std::to_string(bad_scans_));
   add("restarts (time went backwards)", std::to_string(s.restarts));
@@ -611,7 +641,8 @@ bool CalibrationNode::onCalibrate(Calibrate::Request& request, Calibrate::Respon
   }
   try {
     if (!request.options.empty())
-      config.models = overrideModelOptions(config_text_, request.options, options_.config_path).models;
+      config.models =
+          overrideModelOptions(config_text_, request.options, options_.config_path).models;
   } catch (const std::exception& error) {
     response.message = std::string("bad options: ") + error.what();
     return true;
@@ -644,14 +675,13 @@ bool CalibrationNode::onCalibrate(Calibrate::Request& request, Calibrate::Respon
   report_publisher_.publish(response.report);
   const std::string summary = formatModelReport(report);
   if (!report.converged) {
-    response.message = name + " fit did not converge (" + report.termination +
-                       "); the active model is unchanged";
+    response.message =
+        name + " fit did not converge (" + report.termination + "); the active model is unchanged";
     ROS_WARN("%s\n%s", response.message.c_str(), summary.c_str());
     return true;
   }
-  const std::string result_yaml =
-      calibrationResultYaml(report, *model, "live node " + ros::this_node::getName(),
-                            time_offset_s);
+  const std::string result_yaml = calibrationResultYaml(
+      report, *model, "live node " + ros::this_node::getName(), time_offset_s);
   try {
     // Every fit is kept (last_fit.yaml); ~save makes it the calibration loaded on start.
     writeFileAtomically(options_.output_directory + "/last_fit.yaml", result_yaml);
@@ -748,7 +778,8 @@ std::string CalibrationNode::archivePairsFile(const std::string& why)
   const std::string pairs_path = options_.output_directory + "/pairs.csv";
   std::string archived = options_.output_directory + "/pairs-" + wallClockTag() + ".csv";
   for (int i = 1; fs::exists(archived); ++i)
-    archived = options_.output_directory + "/pairs-" + wallClockTag() + "-" + std::to_string(i) + ".csv";
+    archived =
+        options_.output_directory + "/pairs-" + wallClockTag() + "-" + std::to_string(i) + ".csv";
   fs::rename(pairs_path, archived);
   ROS_WARN("moved %s to %s (%s)", pairs_path.c_str(), archived.c_str(), why.c_str());
   return archived;

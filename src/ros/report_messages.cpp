@@ -43,7 +43,7 @@ odometry_calibration::CalibrationReport toReportMsg(const ModelReport& report,
 }
 
 odometry_calibration::CalibrationPair toPairMsg(const MotionPair& pair, const JointLayout& joints,
-                                           const std::string& sensor_frame)
+                                                const std::string& sensor_frame)
 {
   odometry_calibration::CalibrationPair msg;
   msg.header.stamp = ros::Time(pair.end_stamp_s);

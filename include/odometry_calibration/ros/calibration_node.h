@@ -4,9 +4,11 @@
 // and diagnostics out. A thin layer: every computation is the core's.
 #pragma once
 
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -32,20 +34,20 @@ namespace odometry_calibration {
 /// The node's own parameters (private namespace); the calibration itself is the YAML file.
 struct NodeOptions
 {
-  std::string config_path;             ///< ~config: the calibration YAML (required)
-  std::string output_directory;        ///< ~output_directory [config's output_directory]
-  std::string odom_frame = "odom";     ///< ~odom_frame
+  std::string config_path;               ///< ~config: the calibration YAML (required)
+  std::string output_directory;          ///< ~output_directory [config's output_directory]
+  std::string odom_frame = "odom";       ///< ~odom_frame
   std::string base_frame = "base_link";  ///< ~base_frame
-  std::string sensor_frame;            ///< ~sensor_frame: used until a scan names its frame
-  bool publish_odom_tf = false;        ///< ~publish_odom_tf: odom -> base_link on tf
-  bool publish_extrinsic_tf = true;    ///< ~publish_extrinsic_tf: base_link -> laser (static)
-  bool load_saved_calibration = true;  ///< ~load_saved_calibration: result.yaml on start
-  bool resume_pairs = true;            ///< ~resume_pairs: continue the pairs file on start
-  double silent_topic_timeout_s = 5.0;  ///< ~silent_topic_timeout_s [s]
-  int min_pairs = 10;                  ///< ~min_pairs: fewer and ~calibrate refuses
-  double path_spacing_s = 0.1;         ///< ~path_spacing_s: odometry path sampling [s]
-  int path_max_poses = 20000;          ///< ~path_max_poses: oldest poses dropped beyond [-]
-  double diagnostics_period_s = 1.0;   ///< ~diagnostics_period_s [s]
+  std::string sensor_frame;              ///< ~sensor_frame: used until a scan names its frame
+  bool publish_odom_tf = false;          ///< ~publish_odom_tf: odom -> base_link on tf
+  bool publish_extrinsic_tf = true;      ///< ~publish_extrinsic_tf: base_link -> laser (static)
+  bool load_saved_calibration = true;    ///< ~load_saved_calibration: result.yaml on start
+  bool resume_pairs = true;              ///< ~resume_pairs: continue the pairs file on start
+  double silent_topic_timeout_s = 5.0;   ///< ~silent_topic_timeout_s [s]
+  int min_pairs = 10;                    ///< ~min_pairs: fewer and ~calibrate refuses
+  double path_spacing_s = 0.1;           ///< ~path_spacing_s: odometry path sampling [s]
+  int path_max_poses = 20000;            ///< ~path_max_poses: oldest poses dropped beyond [-]
+  double diagnostics_period_s = 1.0;     ///< ~diagnostics_period_s [s]
 };
 
 /// Reads and checks ~parameters. Throws std::invalid_argument naming a bad parameter.
@@ -66,6 +68,8 @@ private:
   void onPose(const geometry_msgs::PoseStamped::ConstPtr& message);
   void onSensorPose(double stamp_s, const geometry_msgs::Pose& pose, const std::string& frame);
   void onTimer(const ros::WallTimerEvent& event);
+  /// A bad-input warning: each distinct problem at once, then at most every 5 s.
+  void warnInput(const std::string& problem, const std::string& text);
 
   bool onCalibrate(Calibrate::Request& request, Calibrate::Response& response);
   bool onSave(std_srvs::Trigger::Request& request, std_srvs::Trigger::Response& response);
@@ -127,6 +131,8 @@ private:
   std::size_t bad_joint_states_ = 0;
   std::size_t bad_scans_ = 0;
   std::string last_problem_;
+  std::set<std::string> rejection_reasons_seen_;
+  std::map<std::string, ros::WallTime> input_warnings_;
   ros::WallTime started_;
 
   ros::Subscriber joint_subscriber_, ego_subscriber_;

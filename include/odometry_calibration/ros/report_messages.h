@@ -3,8 +3,8 @@
 
 #include <string>
 
-#include "odometry_calibration/CalibrationReport.h"
 #include "odometry_calibration/CalibrationPair.h"
+#include "odometry_calibration/CalibrationReport.h"
 #include "odometry_calibration/data/motion_pair.h"
 #include "odometry_calibration/models/model.h"
 
@@ -18,7 +18,7 @@ odometry_calibration::CalibrationReport toReportMsg(const ModelReport& report,
 
 /// A pair with its features (increments of incremental joints, means of absolute ones).
 odometry_calibration::CalibrationPair toPairMsg(const MotionPair& pair, const JointLayout& joints,
-                                           const std::string& sensor_frame);
+                                                const std::string& sensor_frame);
 
 }  // namespace ros_conversions
 }  // namespace odometry_calibration
