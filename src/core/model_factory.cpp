@@ -2,6 +2,8 @@
 
 #include <stdexcept>
 
+#include <yaml-cpp/yaml.h>
+
 #include "odometry_calibration/models/gp_model.h"
 
 namespace odometry_calibration {
@@ -34,6 +36,23 @@ std::unique_ptr<MotionModel> makeModel(const std::string& name, const ModelFacto
   for (const std::string& model : knownModelNames())
     known += " " + model;
   throw std::invalid_argument("unknown model '" + name + "' (known:" + known + ")");
+}
+
+std::unique_ptr<MotionModel> loadModel(const std::string& model_yaml)
+{
+  std::string name;
+  try {
+    name = YAML::Load(model_yaml)["model"].as<std::string>("");
+  } catch (const YAML::Exception& error) {
+    throw std::runtime_error(std::string("model YAML: ") + error.what());
+  }
+  if (name == "diff_drive")
+    return std::make_unique<DiffDriveModel>(DiffDriveModel::fromYaml(model_yaml));
+  if (name == "linear")
+    return std::make_unique<LinearModel>(LinearModel::fromYaml(model_yaml));
+  if (name == "gp")
+    return GaussianProcessModel::fromYaml(model_yaml);
+  throw std::runtime_error("model YAML: unknown or missing 'model' ('" + name + "')");
 }
 
 }  // namespace odometry_calibration

@@ -29,4 +29,8 @@ std::vector<std::string> knownModelNames();
 /// ones) or options that do not fit the joints.
 std::unique_ptr<MotionModel> makeModel(const std::string& name, const ModelFactoryOptions& options);
 
+/// A fitted model from its toYaml() text (the `model` key names which). Throws
+/// std::runtime_error for an unknown model or a missing key.
+std::unique_ptr<MotionModel> loadModel(const std::string& model_yaml);
+
 }  // namespace odometry_calibration

@@ -1,0 +1,39 @@
+// The saved calibration (result.yaml): the fitted model, its report, the sensor's pose on the
+// robot and the encoder-laser time offset; written by calibrate_bag and the live node's ~save,
+// read back by the node on start. Plus the URDF snippet of the laser joint.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "odometry_calibration/geometry/se2.h"
+#include "odometry_calibration/models/model.h"
+
+namespace odometry_calibration {
+
+/// A calibration read back from result.yaml.
+struct CalibrationResult
+{
+  std::shared_ptr<MotionModel> model;  ///< fitted model, ready to predict
+  bool has_extrinsic = false;          ///< whether T_base_sensor was estimated
+  Pose2 T_base_sensor;                 ///< the sensor's pose in base_link [m, m, rad]
+  double time_offset_s = 0.0;          ///< encoder values at scan time + offset [s]
+};
+
+/// result.yaml's text: the report's numbers, the fitted model (enough to predict again), the
+/// extrinsic and `time_offset_s`.
+std::string calibrationResultYaml(const ModelReport& report, const MotionModel& model,
+                                  const std::string& source, double time_offset_s);
+
+/// Parses result.yaml's text. Throws std::runtime_error naming `source` and what is missing.
+CalibrationResult parseCalibrationResult(const std::string& text, const std::string& source);
+
+/// Reads result.yaml. Throws std::runtime_error if it cannot be read or parsed.
+CalibrationResult readCalibrationResult(const std::string& path);
+
+/// A URDF <joint> element placing the laser on the robot (fixed joint, planar pose: z and
+/// roll/pitch are not observable from planar motion and are left at zero, said in a comment).
+std::string laserJointUrdf(const Pose2& T_base_laser, const std::string& base_frame,
+                           const std::string& laser_frame);
+
+}  // namespace odometry_calibration

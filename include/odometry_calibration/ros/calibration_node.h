@@ -1,0 +1,149 @@
+// The live calibration node (DESIGN.md, "Interfaces users touch"): JointState and LaserScan (or
+// another ego-motion topic) in, keyframe pairs through the core's PairCollector, a fit on the
+// ~calibrate service, corrected odometry, the learned base -> laser transform, paths for rviz
+// and diagnostics out. A thin layer: every computation is the core's.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include <geometry_msgs/PoseStamped.h>
+#include <nav_msgs/Odometry.h>
+#include <nav_msgs/Path.h>
+#include <ros/callback_queue.h>
+#include <ros/ros.h>
+#include <sensor_msgs/JointState.h>
+#include <sensor_msgs/LaserScan.h>
+#include <std_srvs/Trigger.h>
+#include <tf2_ros/static_transform_broadcaster.h>
+#include <tf2_ros/transform_broadcaster.h>
+
+#include "odometry_calibration/Calibrate.h"
+#include "odometry_calibration/io/pairs_csv.h"
+#include "odometry_calibration/pipeline/calibration_config.h"
+#include "odometry_calibration/pipeline/odometry_integrator.h"
+#include "odometry_calibration/pipeline/pair_collector.h"
+
+namespace odometry_calibration {
+
+/// The node's own parameters (private namespace); the calibration itself is the YAML file.
+struct NodeOptions
+{
+  std::string config_path;               ///< ~config: the calibration YAML (required)
+  std::string output_directory;          ///< ~output_directory [config's output_directory]
+  std::string odom_frame = "odom";       ///< ~odom_frame
+  std::string base_frame = "base_link";  ///< ~base_frame
+  std::string sensor_frame;              ///< ~sensor_frame: used until a scan names its frame
+  bool publish_odom_tf = false;          ///< ~publish_odom_tf: odom -> base_link on tf
+  bool publish_extrinsic_tf = true;      ///< ~publish_extrinsic_tf: base_link -> laser (static)
+  bool load_saved_calibration = true;    ///< ~load_saved_calibration: result.yaml on start
+  bool resume_pairs = true;              ///< ~resume_pairs: continue the pairs file on start
+  double silent_topic_timeout_s = 5.0;   ///< ~silent_topic_timeout_s [s]
+  int min_pairs = 10;                    ///< ~min_pairs: fewer and ~calibrate refuses
+  double path_spacing_s = 0.1;           ///< ~path_spacing_s: odometry path sampling [s]
+  int path_max_poses = 20000;            ///< ~path_max_poses: oldest poses dropped beyond [-]
+  double diagnostics_period_s = 1.0;     ///< ~diagnostics_period_s [s]
+};
+
+/// Reads and checks ~parameters. Throws std::invalid_argument naming a bad parameter.
+NodeOptions readNodeOptions(const ros::NodeHandle& private_handle);
+
+class CalibrationNode
+{
+public:
+  /// Subscribes, advertises, loads the saved calibration and the pairs file. Throws
+  /// std::runtime_error with an actionable message when it cannot start (bad config).
+  CalibrationNode(ros::NodeHandle handle, ros::NodeHandle private_handle);
+  ~CalibrationNode();
+
+private:
+  void onJointState(const sensor_msgs::JointState::ConstPtr& message);
+  void onScan(const sensor_msgs::LaserScan::ConstPtr& message);
+  void onOdometry(const nav_msgs::Odometry::ConstPtr& message);
+  void onPose(const geometry_msgs::PoseStamped::ConstPtr& message);
+  void onSensorPose(double stamp_s, const geometry_msgs::Pose& pose, const std::string& frame);
+  void onTimer(const ros::WallTimerEvent& event);
+  /// A bad-input warning: each distinct problem at once, then at most every 5 s.
+  void warnInput(const std::string& problem, const std::string& text);
+
+  bool onCalibrate(Calibrate::Request& request, Calibrate::Response& response);
+  bool onSave(std_srvs::Trigger::Request& request, std_srvs::Trigger::Response& response);
+  bool onReset(std_srvs::Trigger::Request& request, std_srvs::Trigger::Response& response);
+
+  // The following run with state_mutex_ held.
+  void handleEvents(const std::vector<CollectorEvent>& events, double stamp_s);
+  void integrateOdometry(double encoder_stamp_s, const Eigen::VectorXd& raw);
+  void restartOdometry();
+  void addScanMatchedPose(const MotionPair& pair);
+  void publishExtrinsic();
+  void publishPaths();
+  void publishDiagnostics(double period_s);
+  void warnSilentTopics();
+  /// Moves the pairs file aside (pairs-<time>.csv); returns the new name.
+  std::string archivePairsFile(const std::string& why);
+  /// Installs a model for the corrected odometry, continuing from the current pose.
+  void activateModel(std::shared_ptr<const MotionModel> model, const std::string& origin);
+  std::string sensorFrame() const;
+
+  ros::NodeHandle handle_, private_handle_;
+  NodeOptions options_;
+  std::string config_text_;
+  CalibrationConfig config_;
+  std::vector<EncoderChannelOptions> channels_;
+
+  std::mutex state_mutex_;
+  std::unique_ptr<PairCollector> collector_;
+  std::unique_ptr<PairsCsvAppender> appender_;
+  std::vector<MotionPair> pairs_;
+  std::size_t pairs_resumed_ = 0;
+  EncoderDecoder odometry_decoder_;
+  double last_encoder_stamp_s_ = -1e300;
+  std::unique_ptr<OdometryIntegrator> nominal_odometry_;
+  std::unique_ptr<OdometryIntegrator> corrected_odometry_;
+  std::shared_ptr<const MotionModel> active_model_;
+  std::string active_model_origin_;  ///< "nominal", "saved result.yaml", "fit at ..."
+  std::shared_ptr<const MotionModel> fitted_model_;  ///< last successful fit (for ~save)
+  std::string fitted_result_yaml_;                   ///< its result.yaml text
+  std::optional<Pose2> T_base_sensor_;               ///< learned (or saved) extrinsic
+  std::string scan_frame_;                           ///< from the scans' headers
+  nav_msgs::Path nominal_path_, corrected_path_, scan_matched_path_;
+  std::vector<std::pair<double, Pose2>> scan_matched_sensor_poses_;
+  double last_path_stamp_s_ = -1e300;
+  /// Recent corrected sensor poses (laser clock), to place the scan-matched path after a gap.
+  std::vector<std::pair<double, Pose2>> recent_sensor_poses_;
+  std::optional<double> scan_matched_end_s_;
+
+  // Input health.
+  struct TopicHealth
+  {
+    std::string topic;
+    std::size_t messages = 0;
+    std::size_t messages_at_last_tick = 0;
+    ros::WallTime last_message;
+    ros::WallTime last_warning;
+  };
+  TopicHealth joint_health_, ego_health_;
+  std::size_t bad_joint_states_ = 0;
+  std::size_t bad_scans_ = 0;
+  std::string last_problem_;
+  std::set<std::string> rejection_reasons_seen_;
+  std::map<std::string, ros::WallTime> input_warnings_;
+  ros::WallTime started_;
+
+  ros::Subscriber joint_subscriber_, ego_subscriber_;
+  ros::Publisher odom_publisher_, nominal_path_publisher_, corrected_path_publisher_,
+      scan_path_publisher_, pairs_publisher_, report_publisher_, diagnostics_publisher_;
+  tf2_ros::TransformBroadcaster tf_broadcaster_;
+  tf2_ros::StaticTransformBroadcaster static_broadcaster_;
+  ros::WallTimer timer_;
+  ros::CallbackQueue service_queue_;
+  std::unique_ptr<ros::AsyncSpinner> service_spinner_;
+  ros::ServiceServer calibrate_service_, save_service_, reset_service_;
+};
+
+}  // namespace odometry_calibration

@@ -1,0 +1,788 @@
+#include "odometry_calibration/ros/calibration_node.h"
+
+#include <algorithm>
+#include <cmath>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <diagnostic_msgs/DiagnosticArray.h>
+#include <geometry_msgs/TransformStamped.h>
+
+#include "odometry_calibration/eval/model_report.h"
+#include "odometry_calibration/io/atomic_file.h"
+#include "odometry_calibration/io/calibration_result.h"
+#include "odometry_calibration/models/diff_drive_model.h"
+#include "odometry_calibration/models/model_factory.h"
+#include "odometry_calibration/ros/conversions.h"
+#include "odometry_calibration/ros/report_messages.h"
+
+namespace odometry_calibration {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// Scan-matched and odometry paths keep this many seconds of corrected sensor poses to bridge
+/// rejected keyframe intervals.
+constexpr double kRecentPoseHistoryS = 60.0;
+
+std::string readText(const std::string& path)
+{
+  std::ifstream file(path);
+  if (!file)
+    throw std::runtime_error("cannot read the configuration '" + path + "'");
+  std::ostringstream text;
+  text << file.rdbuf();
+  return text.str();
+}
+
+std::string wallClockTag()
+{
+  const std::time_t now = std::time(nullptr);
+  char tag[32];
+  std::strftime(tag, sizeof(tag), "%Y%m%d-%H%M%S", std::localtime(&now));
+  return tag;
+}
+
+geometry_msgs::PoseStamped poseStamped(const Pose2& pose, double stamp_s, const std::string& frame)
+{
+  geometry_msgs::PoseStamped msg;
+  msg.header.stamp = ros::Time(std::max(0.0, stamp_s));
+  msg.header.frame_id = frame;
+  msg.pose = ros_conversions::toPoseMsg(pose);
+  return msg;
+}
+
+void appendToPath(nav_msgs::Path* path, const geometry_msgs::PoseStamped& pose, int max_poses)
+{
+  path->poses.push_back(pose);
+  if (static_cast<int>(path->poses.size()) > max_poses)
+    path->poses.erase(path->poses.begin(), path->poses.begin() + (path->poses.size() - max_poses));
+}
+
+}  // namespace
+
+NodeOptions readNodeOptions(const ros::NodeHandle& p)
+{
+  NodeOptions o;
+  p.param("config", o.config_path, o.config_path);
+  p.param("output_directory", o.output_directory, o.output_directory);
+  p.param("odom_frame", o.odom_frame, o.odom_frame);
+  p.param("base_frame", o.base_frame, o.base_frame);
+  p.param("sensor_frame", o.sensor_frame, o.sensor_frame);
+  p.param("publish_odom_tf", o.publish_odom_tf, o.publish_odom_tf);
+  p.param("publish_extrinsic_tf", o.publish_extrinsic_tf, o.publish_extrinsic_tf);
+  p.param("load_saved_calibration", o.load_saved_calibration, o.load_saved_calibration);
+  p.param("resume_pairs", o.resume_pairs, o.resume_pairs);
+  p.param("silent_topic_timeout_s", o.silent_topic_timeout_s, o.silent_topic_timeout_s);
+  p.param("min_pairs", o.min_pairs, o.min_pairs);
+  p.param("path_spacing_s", o.path_spacing_s, o.path_spacing_s);
+  p.param("path_max_poses", o.path_max_poses, o.path_max_poses);
+  p.param("diagnostics_period_s", o.diagnostics_period_s, o.diagnostics_period_s);
+  if (o.config_path.empty()) {
+    throw std::invalid_argument(
+        "~config is required: the calibration YAML (e.g. $(find odometry_calibration)/config/"
+        "diff_drive.yaml)");
+  }
+  if (o.odom_frame.empty() || o.base_frame.empty())
+    throw std::invalid_argument("~odom_frame and ~base_frame must not be empty");
+  if (!(o.silent_topic_timeout_s > 0.0))
+    throw std::invalid_argument("~silent_topic_timeout_s must be > 0 s");
+  if (o.min_pairs < 1)
+    throw std::invalid_argument("~min_pairs must be >= 1");
+  if (!(o.path_spacing_s >= 0.0))
+    throw std::invalid_argument("~path_spacing_s must be >= 0 s");
+  if (o.path_max_poses < 2)
+    throw std::invalid_argument("~path_max_poses must be >= 2");
+  if (!(o.diagnostics_period_s > 0.0))
+    throw std::invalid_argument("~diagnostics_period_s must be > 0 s");
+  return o;
+}
+
+CalibrationNode::CalibrationNode(ros::NodeHandle handle, ros::NodeHandle private_handle)
+    : handle_(handle),
+      private_handle_(private_handle),
+      options_(readNodeOptions(private_handle)),
+      config_text_(readText(options_.config_path)),
+      config_(parseCalibrationConfig(config_text_, options_.config_path)),
+      channels_(encoderChannels(config_)),
+      odometry_decoder_(channels_)
+{
+  if (options_.output_directory.empty())
+    options_.output_directory = config_.output_directory;
+  fs::create_directories(options_.output_directory);
+  started_ = ros::WallTime::now();
+
+  // The last saved calibration: its model drives the corrected odometry, its time offset the
+  // pairing, its extrinsic the static transform.
+  const std::string result_path = options_.output_directory + "/result.yaml";
+  if (options_.load_saved_calibration && fs::exists(result_path)) {
+    try {
+      const CalibrationResult saved = readCalibrationResult(result_path);
+      active_model_ = saved.model;
+      active_model_origin_ = "saved " + result_path;
+      if (saved.has_extrinsic)
+        T_base_sensor_ = saved.T_base_sensor;
+      config_.collector.time_offset_s = saved.time_offset_s;
+      ROS_INFO("loaded the saved calibration %s (model %s, time offset %.3f s)",
+               result_path.c_str(), saved.model->name().c_str(), saved.time_offset_s);
+    } catch (const std::exception& error) {
+      ROS_ERROR("cannot use the saved calibration (%s): starting from the nominal model",
+                error.what());
+    }
+  }
+
+  collector_ =
+      std::make_unique<PairCollector>(channels_, config_.collector, priorPredictor(config_));
+  const std::string pairs_path = options_.output_directory + "/pairs.csv";
+  if (!options_.resume_pairs && fs::exists(pairs_path))
+    archivePairsFile("~resume_pairs is false");
+  try {
+    appender_ = std::make_unique<PairsCsvAppender>(pairs_path, jointLayout(config_));
+  } catch (const std::runtime_error& error) {
+    // Another robot's or configuration's pairs: keep them aside, never delete them.
+    ROS_WARN("%s", error.what());
+    archivePairsFile("its joints differ from the configuration's");
+    appender_ = std::make_unique<PairsCsvAppender>(pairs_path, jointLayout(config_));
+  }
+  pairs_ = appender_->existing();
+  pairs_resumed_ = pairs_.size();
+  if (appender_->dropped_partial_line())
+    ROS_WARN("%s: dropped a last line cut off by a crash", pairs_path.c_str());
+  if (!pairs_.empty())
+    ROS_INFO("resumed %zu pairs from %s", pairs_.size(), pairs_path.c_str());
+
+  if (config_.prior_model == "diff_drive") {
+    auto nominal = std::make_shared<DiffDriveModel>(config_.models.diff_drive);
+    nominal_odometry_ = std::make_unique<OdometryIntegrator>(
+        nominal, config_.models.diff_drive.initial_T_base_sensor,
+        config_.collector.keyframe_interval_s);
+    if (!active_model_) {
+      active_model_ = nominal;
+      active_model_origin_ = "nominal diff_drive (configuration's start values)";
+      T_base_sensor_.reset();
+    }
+  }
+  if (active_model_) {
+    corrected_odometry_ = std::make_unique<OdometryIntegrator>(
+        active_model_,
+        T_base_sensor_
+            ? T_base_sensor_
+            : (active_model_->name() == "diff_drive"
+                   ? std::optional<Pose2>(config_.models.diff_drive.initial_T_base_sensor)
+                   : std::nullopt),
+        config_.collector.keyframe_interval_s);
+  } else {
+    ROS_WARN(
+        "no odometry until the first ~calibrate: prior_model is 'none' and there is no "
+        "saved calibration");
+  }
+
+  for (nav_msgs::Path* path : {&nominal_path_, &corrected_path_, &scan_matched_path_})
+    path->header.frame_id = options_.odom_frame;
+
+  joint_health_.topic = handle_.resolveName(config_.joint_state_topic);
+  joint_subscriber_ =
+      handle_.subscribe(config_.joint_state_topic, 2000, &CalibrationNode::onJointState, this,
+                        ros::TransportHints().tcpNoDelay());
+  switch (config_.ego_motion) {
+    case EgoMotionSource::kScan:
+      ego_health_.topic = handle_.resolveName(config_.scan_topic);
+      ego_subscriber_ = handle_.subscribe(config_.scan_topic, 400, &CalibrationNode::onScan, this,
+                                          ros::TransportHints().tcpNoDelay());
+      break;
+    case EgoMotionSource::kOdometry:
+      ego_health_.topic = handle_.resolveName(config_.ego_motion_topic);
+      ego_subscriber_ =
+          handle_.subscribe(config_.ego_motion_topic, 400, &CalibrationNode::onOdometry, this,
+                            ros::TransportHints().tcpNoDelay());
+      break;
+    case EgoMotionSource::kPose:
+      ego_health_.topic = handle_.resolveName(config_.ego_motion_topic);
+      ego_subscriber_ = handle_.subscribe(config_.ego_motion_topic, 400, &CalibrationNode::onPose,
+                                          this, ros::TransportHints().tcpNoDelay());
+      break;
+  }
+
+  odom_publisher_ = private_handle_.advertise<nav_msgs::Odometry>("odom", 50);
+  nominal_path_publisher_ = private_handle_.advertise<nav_msgs::Path>("path/nominal", 1, true);
+  corrected_path_publisher_ = private_handle_.advertise<nav_msgs::Path>("path/corrected", 1, true);
+  scan_path_publisher_ = private_handle_.advertise<nav_msgs::Path>("path/scan_matched", 1, true);
+  pairs_publisher_ = private_handle_.advertise<odometry_calibration::CalibrationPair>("pairs", 100);
+  report_publisher_ =
+      private_handle_.advertise<odometry_calibration::CalibrationReport>("report", 1, true);
+  diagnostics_publisher_ = handle_.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 10);
+  publishExtrinsic();
+
+  // Fits can take seconds: services run on their own thread so the inputs keep flowing.
+  ros::NodeHandle service_handle(private_handle_);
+  service_handle.setCallbackQueue(&service_queue_);
+  calibrate_service_ =
+      service_handle.advertiseService("calibrate", &CalibrationNode::onCalibrate, this);
+  save_service_ = service_handle.advertiseService("save", &CalibrationNode::onSave, this);
+  reset_service_ = service_handle.advertiseService("reset", &CalibrationNode::onReset, this);
+  timer_ = service_handle.createWallTimer(ros::WallDuration(options_.diagnostics_period_s),
+                                          &CalibrationNode::onTimer, this);
+  service_spinner_ = std::make_unique<ros::AsyncSpinner>(1, &service_queue_);
+  service_spinner_->start();
+  ROS_INFO(
+      "collecting pairs: JointState on %s, ego-motion on %s, keyframes every %.2f s, "
+      "time offset %.3f s; output in %s",
+      joint_health_.topic.c_str(), ego_health_.topic.c_str(), config_.collector.keyframe_interval_s,
+      config_.collector.time_offset_s, options_.output_directory.c_str());
+}
+
+CalibrationNode::~CalibrationNode()
+{
+  if (service_spinner_)
+    service_spinner_->stop();
+}
+
+std::string CalibrationNode::sensorFrame() const
+{
+  if (!scan_frame_.empty())
+    return scan_frame_;
+  return options_.sensor_frame.empty() ? std::string("laser") : options_.sensor_frame;
+}
+
+// --- Inputs -------------------------------------------------------------------------------
+
+void CalibrationNode::warnInput(const std::string& problem, const std::string& text)
+{
+  // Each problem at once, then at most every 5 s (the counts go on in /diagnostics).
+  const std::string& key = problem;
+  const ros::WallTime now = ros::WallTime::now();
+  auto [entry, is_new] = input_warnings_.emplace(key, now);
+  if (is_new || (now - entry->second).toSec() > 5.0) {
+    entry->second = now;
+    ROS_WARN("%s", text.c_str());
+  }
+}
+
+void CalibrationNode::onJointState(const sensor_msgs::JointState::ConstPtr& message)
+{
+  std::lock_guard<std::mutex> lock(state_mutex_);
+  ++joint_health_.messages;
+  joint_health_.last_message = ros::WallTime::now();
+  Eigen::VectorXd raw;
+  try {
+    raw = applySigns(config_, ros_conversions::rawJointPositions(*message, channels_));
+  } catch (const std::invalid_argument& error) {
+    ++bad_joint_states_;
+    last_problem_ = "JointState skipped: " + std::string(error.what());
+    warnInput(error.what(), "JointState on " + joint_health_.topic + " skipped (" +
+                                std::to_string(bad_joint_states_) + " so far): " + error.what());
+    return;
+  }
+  const double stamp_s = message->header.stamp.toSec();
+  try {
+    handleEvents(collector_->addEncoders(stamp_s, raw), stamp_s);
+  } catch (const std::invalid_argument& error) {
+    ++bad_joint_states_;
+    last_problem_ = "JointState rejected: " + std::string(error.what());
+    warnInput(error.what(), "JointState on " + joint_health_.topic + " rejected: " + error.what());
+    return;
+  }
+  integrateOdometry(stamp_s, raw);
+}
+
+void CalibrationNode::onScan(const sensor_msgs::LaserScan::ConstPtr& message)
+{
+  std::lock_guard<std::mutex> lock(state_mutex_);
+  ++ego_health_.messages;
+  ego_health_.last_message = ros::WallTime::now();
+  if (!message->header.frame_id.empty() && message->header.frame_id != scan_frame_) {
+    if (!scan_frame_.empty()) {
+      ROS_WARN("the scans' frame changed from '%s' to '%s'", scan_frame_.c_str(),
+               message->header.frame_id.c_str());
+    }
+    scan_frame_ = message->header.frame_id;
+    publishExtrinsic();
+  }
+  const double stamp_s = message->header.stamp.toSec();
+  try {
+    const Scan scan = ros_conversions::fromLaserScanMsg(*message);
+    const std::size_t usable = scanToPoints(scan).size();
+    if (static_cast<int>(usable) < config_.collector.plicp.min_points) {
+      throw std::invalid_argument(
+          "only " + std::to_string(usable) + " of " + std::to_string(scan.ranges_m.size()) +
+          " ranges are usable (the rest NaN, inf or outside [range_min, range_max]); matching "
+          "needs scan_matching.min_points = " +
+          std::to_string(config_.collector.plicp.min_points));
+    }
+    handleEvents(collector_->addScan(stamp_s, scan), stamp_s);
+  } catch (const std::invalid_argument& error) {
+    ++bad_scans_;
+    last_problem_ = "LaserScan skipped: " + std::string(error.what());
+    warnInput(error.what(), "LaserScan on " + ego_health_.topic + " skipped (" +
+                                std::to_string(bad_scans_) + " so far): " + error.what());
+  }
+}
+
+void CalibrationNode::onOdometry(const nav_msgs::Odometry::ConstPtr& message)
+{
+  onSensorPose(message->header.stamp.toSec(), message->pose.pose, message->child_frame_id);
+}
+
+void CalibrationNode::onPose(const geometry_msgs::PoseStamped::ConstPtr& message)
+{
+  onSensorPose(message->header.stamp.toSec(), message->pose, "");
+}
+
+void CalibrationNode::onSensorPose(double stamp_s, const geometry_msgs::Pose& pose,
+                                   const std::string& frame)
+{
+  std::lock_guard<std::mutex> lock(state_mutex_);
+  ++ego_health_.messages;
+  ego_health_.last_message = ros::WallTime::now();
+  if (!frame.empty() && frame != scan_frame_) {
+    scan_frame_ = frame;
+    publishExtrinsic();
+  }
+  const double sigma_m = config_.ego_motion_sigma_m, sigma_rad = config_.ego_motion_sigma_rad;
+  const Eigen::Matrix3d covariance =
+      Eigen::Vector3d(sigma_m * sigma_m, sigma_m * sigma_m, sigma_rad * sigma_rad).asDiagonal();
+  try {
+    handleEvents(collector_->addSensorPose(stamp_s, ros_conversions::fromPoseMsg(pose), covariance),
+                 stamp_s);
+  } catch (const std::invalid_argument& error) {
+    ++bad_scans_;
+    last_problem_ = "sensor pose skipped: " + std::string(error.what());
+    warnInput(error.what(), "pose on " + ego_health_.topic + " skipped: " + error.what());
+  }
+}
+
+void CalibrationNode::handleEvents(const std::vector<CollectorEvent>& events, double stamp_s)
+{
+  for (const CollectorEvent& event : events) {
+    switch (event.type) {
+      case CollectorEvent::Type::kPair:
+        pairs_.push_back(event.pair);
+        try {
+          appender_->append(event.pair);
+        } catch (const std::exception& error) {
+          ROS_ERROR_THROTTLE(10.0, "cannot append to the pairs file: %s (pairs stay in memory)",
+                             error.what());
+        }
+        pairs_publisher_.publish(
+            ros_conversions::toPairMsg(event.pair, jointLayout(config_), sensorFrame()));
+        addScanMatchedPose(event.pair);
+        break;
+      case CollectorEvent::Type::kRestarted:
+        ROS_WARN(
+            "time went backwards at %.3f s (%s): keyframe pairing and odometry restarted, "
+            "the %zu pairs collected are kept",
+            stamp_s, event.reason.c_str(), pairs_.size());
+        last_problem_ = "time went backwards: " + event.reason;
+        restartOdometry();
+        break;
+      case CollectorEvent::Type::kRejected:
+        // Each reason once as a warning; the counts are on /diagnostics.
+        if (rejection_reasons_seen_.insert(event.reason).second) {
+          ROS_WARN(
+              "keyframe interval rejected (first time for this reason; counted on "
+              "/diagnostics): %s",
+              event.reason.c_str());
+        }
+        break;
+      default:
+        break;
+    }
+  }
+}
+
+// --- Odometry and paths ---------------------------------------------------------------------
+
+void CalibrationNode::integrateOdometry(double encoder_stamp_s, const Eigen::VectorXd& raw)
+{
+  if (!(encoder_stamp_s > last_encoder_stamp_s_)) {
+    if (encoder_stamp_s < last_encoder_stamp_s_)
+      restartOdometry();  // the collector has reported (and restarted) already
+    else
+      return;  // a repeated stamp adds nothing
+  }
+  last_encoder_stamp_s_ = encoder_stamp_s;
+  EncoderSample sample{encoder_stamp_s, odometry_decoder_.decode(raw)};
+  // Published in the laser's clock: encoder time t_e shows the robot at laser time t_e - tau.
+  const double stamp_s = encoder_stamp_s - config_.collector.time_offset_s;
+  sample.stamp_s = stamp_s;
+  try {
+    if (nominal_odometry_)
+      nominal_odometry_->add(sample);
+    if (!corrected_odometry_)
+      return;
+    corrected_odometry_->add(sample);
+  } catch (const std::exception& error) {
+    ROS_WARN_THROTTLE(10.0, "odometry prediction failed: %s", error.what());
+    return;
+  }
+  const OdometryIntegrator& odometry = *corrected_odometry_;
+  const std::string child = odometry.tracksBase() ? options_.base_frame : sensorFrame();
+  const Pose2 pose = odometry.pose();
+  nav_msgs::Odometry msg;
+  msg.header.stamp = ros::Time(std::max(0.0, stamp_s));
+  msg.header.frame_id = options_.odom_frame;
+  msg.child_frame_id = child;
+  msg.pose.pose = ros_conversions::toPoseMsg(pose);
+  const Eigen::Matrix3d covariance = odometry.covariance();
+  const int index[3] = {0, 1, 5};  // x, y, yaw in ROS's 6x6 (x y z roll pitch yaw)
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c)
+      msg.pose.covariance[6 * index[r] + index[c]] = covariance(r, c);
+  for (int i : {2, 3, 4})
+    msg.pose.covariance[7 * i] = 1e6;  // z, roll, pitch: not estimated
+  msg.twist.twist.linear.x = odometry.velocity()(0);
+  msg.twist.twist.linear.y = odometry.velocity()(1);
+  msg.twist.twist.angular.z = odometry.velocity()(2);
+  odom_publisher_.publish(msg);
+  if (options_.publish_odom_tf) {
+    geometry_msgs::TransformStamped transform;
+    transform.header = msg.header;
+    transform.child_frame_id = child;
+    transform.transform = ros_conversions::toTransformMsg(pose);
+    tf_broadcaster_.sendTransform(transform);
+  }
+  recent_sensor_poses_.emplace_back(stamp_s, odometry.sensorPose());
+  if (recent_sensor_poses_.front().first < stamp_s - kRecentPoseHistoryS) {
+    recent_sensor_poses_.erase(recent_sensor_poses_.begin(),
+                               recent_sensor_poses_.begin() + recent_sensor_poses_.size() / 2);
+  }
+  if (stamp_s - last_path_stamp_s_ >= options_.path_spacing_s) {
+    last_path_stamp_s_ = stamp_s;
+    appendToPath(&corrected_path_, poseStamped(pose, stamp_s, options_.odom_frame),
+                 options_.path_max_poses);
+    if (nominal_odometry_) {
+      appendToPath(&nominal_path_,
+                   poseStamped(nominal_odometry_->pose(), stamp_s, options_.odom_frame),
+                   options_.path_max_poses);
+    }
+  }
+}
+
+void CalibrationNode::restartOdometry()
+{
+  odometry_decoder_.reset();
+  last_encoder_stamp_s_ = -1e300;
+  last_path_stamp_s_ = -1e300;
+  if (nominal_odometry_)
+    nominal_odometry_->reset();
+  if (corrected_odometry_)
+    corrected_odometry_->reset();
+  nominal_path_.poses.clear();
+  corrected_path_.poses.clear();
+  scan_matched_path_.poses.clear();
+  scan_matched_sensor_poses_.clear();
+  recent_sensor_poses_.clear();
+  scan_matched_end_s_.reset();
+}
+
+void CalibrationNode::addScanMatchedPose(const MotionPair& pair)
+{
+  // The chain of matched displacements; after a rejected interval it restarts from the
+  // corrected odometry's sensor pose at the pair's start.
+  Pose2 start;
+  if (scan_matched_end_s_ && std::abs(*scan_matched_end_s_ - pair.start_stamp_s) < 1e-9 &&
+      !scan_matched_sensor_poses_.empty()) {
+    start = scan_matched_sensor_poses_.back().second;
+  } else {
+    const auto after = std::lower_bound(
+        recent_sensor_poses_.begin(), recent_sensor_poses_.end(), pair.start_stamp_s,
+        [](const std::pair<double, Pose2>& entry, double stamp) { return entry.first < stamp; });
+    if (after != recent_sensor_poses_.end())
+      start = after->second;
+    else if (!recent_sensor_poses_.empty())
+      start = recent_sensor_poses_.back().second;
+    scan_matched_sensor_poses_.emplace_back(pair.start_stamp_s, start);
+  }
+  scan_matched_sensor_poses_.emplace_back(pair.end_stamp_s, start * pair.sensor_motion);
+  scan_matched_end_s_ = pair.end_stamp_s;
+  if (static_cast<int>(scan_matched_sensor_poses_.size()) > options_.path_max_poses) {
+    scan_matched_sensor_poses_.erase(scan_matched_sensor_poses_.begin());
+  }
+}
+
+void CalibrationNode::publishPaths()
+{
+  const ros::Time now = ros::Time::now();
+  for (nav_msgs::Path* path : {&nominal_path_, &corrected_path_, &scan_matched_path_})
+    path->header.stamp = now;
+  // The scan-matched sensor poses drawn as base_link poses through the current extrinsic (or
+  // the configured one), so the three paths overlay.
+  const Pose2 T_sensor_base =
+      (T_base_sensor_ ? *T_base_sensor_ : config_.models.diff_drive.initial_T_base_sensor)
+          .inverse();
+  scan_matched_path_.poses.clear();
+  for (const auto& [stamp_s, T_odom_sensor] : scan_matched_sensor_poses_) {
+    scan_matched_path_.poses.push_back(
+        poseStamped(T_odom_sensor * T_sensor_base, stamp_s, options_.odom_frame));
+  }
+  if (nominal_odometry_)
+    nominal_path_publisher_.publish(nominal_path_);
+  corrected_path_publisher_.publish(corrected_path_);
+  scan_path_publisher_.publish(scan_matched_path_);
+}
+
+void CalibrationNode::publishExtrinsic()
+{
+  if (!options_.publish_extrinsic_tf || !T_base_sensor_)
+    return;
+  geometry_msgs::TransformStamped transform;
+  transform.header.stamp = ros::Time::now();
+  transform.header.frame_id = options_.base_frame;
+  transform.child_frame_id = sensorFrame();
+  transform.transform = ros_conversions::toTransformMsg(*T_base_sensor_);
+  static_broadcaster_.sendTransform(transform);
+}
+
+// --- Health -------------------------------------------------------------------------------
+
+void CalibrationNode::onTimer(const ros::WallTimerEvent& event)
+{
+  std::lock_guard<std::mutex> lock(state_mutex_);
+  const double period_s = event.last_real.isZero() ? options_.diagnostics_period_s
+                                                   : (event.current_real - event.last_real).toSec();
+  warnSilentTopics();
+  publishDiagnostics(period_s);
+  publishPaths();
+}
+
+void CalibrationNode::warnSilentTopics()
+{
+  const ros::WallTime now = ros::WallTime::now();
+  for (TopicHealth* health : {&joint_health_, &ego_health_}) {
+    const ros::WallTime since = health->messages == 0 ? started_ : health->last_message;
+    const double silent_s = (now - since).toSec();
+    if (silent_s > options_.silent_topic_timeout_s &&
+        (now - health->last_warning).toSec() > options_.silent_topic_timeout_s) {
+      health->last_warning = now;
+      if (health->messages == 0) {
+        ROS_WARN("no message on '%s' after %.0f s: is the topic name right? (rostopic info %s)",
+                 health->topic.c_str(), silent_s, health->topic.c_str());
+      } else {
+        ROS_WARN("'%s' has been silent for %.0f s", health->topic.c_str(), silent_s);
+      }
+    }
+  }
+}
+
+void CalibrationNode::publishDiagnostics(double period_s)
+{
+  diagnostic_msgs::DiagnosticArray array;
+  array.header.stamp = ros::Time::now();
+  diagnostic_msgs::DiagnosticStatus status;
+  status.name = ros::this_node::getName() + ": calibration";
+  status.hardware_id = sensorFrame();
+  auto add = [&status](const std::string& key, const std::string& value) {
+    diagnostic_msgs::KeyValue entry;
+    entry.key = key;
+    entry.value = value;
+    status.values.push_back(entry);
+  };
+  const ros::WallTime now = ros::WallTime::now();
+  std::vector<std::string> problems;
+  for (TopicHealth* health : {&joint_health_, &ego_health_}) {
+    const double rate = (health->messages - health->messages_at_last_tick) / period_s;
+    health->messages_at_last_tick = health->messages;
+    add(health->topic + " rate [Hz]", std::to_string(rate));
+    const ros::WallTime since = health->messages == 0 ? started_ : health->last_message;
+    if ((now - since).toSec() > options_.silent_topic_timeout_s)
+      problems.push_back("no input on " + health->topic);
+  }
+  const CollectorStatistics& s = collector_->statistics();
+  const double icp_success =
+      s.consecutive_matches > 0
+          ? 1.0 - static_cast<double>(s.consecutive_failures) / s.consecutive_matches
+          : std::nan("");
+  std::size_t rejected = 0;
+  for (const auto& [reason, count] : s.rejected)
+    rejected += count;
+  add("scan matching success ratio", std::to_string(icp_success));
+  add("pairs collected", std::to_string(pairs_.size()));
+  add("pairs resumed from file", std::to_string(pairs_resumed_));
+  add("keyframe intervals rejected", std::to_string(rejected));
+  for (const auto& [reason, count] : s.rejected)
+    add("rejected: " + reason, std::to_string(count));
+  add("JointStates skipped", std::to_string(bad_joint_states_));
+  add("scans skipped", std::to_string(bad_scans_));
+  add("restarts (time went backwards)", std::to_string(s.restarts));
+  add("model", active_model_ ? active_model_->name() + " (" + active_model_origin_ + ")"
+                             : std::string("none"));
+  add("time offset [s]", std::to_string(config_.collector.time_offset_s));
+  if (!last_problem_.empty())
+    add("last problem", last_problem_);
+  if (!problems.empty()) {
+    status.level = diagnostic_msgs::DiagnosticStatus::WARN;
+    status.message = problems.front();
+  } else if (s.consecutive_matches > 10 && icp_success < 0.9) {
+    status.level = diagnostic_msgs::DiagnosticStatus::WARN;
+    status.message = "scan matching fails often";
+  } else {
+    status.level = diagnostic_msgs::DiagnosticStatus::OK;
+    status.message = std::to_string(pairs_.size()) + " pairs";
+  }
+  array.status.push_back(status);
+  diagnostics_publisher_.publish(array);
+}
+
+// --- Services -------------------------------------------------------------------------------
+
+bool CalibrationNode::onCalibrate(Calibrate::Request& request, Calibrate::Response& response)
+{
+  response.success = false;
+  CalibrationConfig config;
+  std::vector<MotionPair> pairs;
+  double time_offset_s = 0.0;
+  {
+    std::lock_guard<std::mutex> lock(state_mutex_);
+    config = config_;
+    pairs = pairs_;
+    time_offset_s = config_.collector.time_offset_s;
+  }
+  try {
+    if (!request.options.empty())
+      config.models =
+          overrideModelOptions(config_text_, request.options, options_.config_path).models;
+  } catch (const std::exception& error) {
+    response.message = std::string("bad options: ") + error.what();
+    return true;
+  }
+  const std::string name = request.model.empty() ? config.model : request.model;
+  const std::vector<std::string> known = knownModelNames();
+  if (std::find(known.begin(), known.end(), name) == known.end()) {
+    response.message = "unknown model '" + name + "' (known:";
+    for (const std::string& k : known)
+      response.message += " " + k;
+    response.message += ")";
+    return true;
+  }
+  if (static_cast<int>(pairs.size()) < options_.min_pairs) {
+    response.message = "only " + std::to_string(pairs.size()) + " pairs collected, " +
+                       std::to_string(options_.min_pairs) +
+                       " needed (~min_pairs): drive more, straight and turning both ways";
+    return true;
+  }
+  std::shared_ptr<MotionModel> model;
+  ModelReport report;
+  try {
+    model = makeModel(name, config.models);
+    report = model->fit(pairs);
+  } catch (const std::exception& error) {
+    response.message = name + " fit failed: " + error.what();
+    return true;
+  }
+  response.report = ros_conversions::toReportMsg(report, pairs.size(), time_offset_s);
+  report_publisher_.publish(response.report);
+  const std::string summary = formatModelReport(report);
+  if (!report.converged) {
+    response.message =
+        name + " fit did not converge (" + report.termination + "); the active model is unchanged";
+    ROS_WARN("%s\n%s", response.message.c_str(), summary.c_str());
+    return true;
+  }
+  const std::string result_yaml = calibrationResultYaml(
+      report, *model, "live node " + ros::this_node::getName(), time_offset_s);
+  try {
+    // Every fit is kept (last_fit.yaml); ~save makes it the calibration loaded on start.
+    writeFileAtomically(options_.output_directory + "/last_fit.yaml", result_yaml);
+  } catch (const std::exception& error) {
+    ROS_ERROR("cannot write last_fit.yaml: %s", error.what());
+  }
+  {
+    std::lock_guard<std::mutex> lock(state_mutex_);
+    if (report.has_extrinsic)
+      T_base_sensor_ = report.T_base_sensor;
+    fitted_model_ = model;
+    fitted_result_yaml_ = result_yaml;
+    activateModel(model, "fit of " + std::to_string(pairs.size()) + " pairs");
+    publishExtrinsic();
+  }
+  response.success = true;
+  response.message = name + " fitted to " + std::to_string(report.pairs_used) + " pairs (" +
+                     std::to_string(report.outliers) + " rejected); residual RMS " +
+                     std::to_string(report.before.translation_m) + " -> " +
+                     std::to_string(report.after.translation_m) +
+                     " m. Now driving ~odom; call ~save to keep it.";
+  for (const std::string& warning : report.warnings)
+    response.message += " WARNING: " + warning;
+  ROS_INFO("%s\n%s", response.message.c_str(), summary.c_str());
+  return true;
+}
+
+void CalibrationNode::activateModel(std::shared_ptr<const MotionModel> model,
+                                    const std::string& origin)
+{
+  // The new odometry continues from the current pose (no jump in ~odom).
+  const std::optional<Pose2> T_base_sensor = T_base_sensor_;
+  const Pose2 current = corrected_odometry_ ? corrected_odometry_->pose() : Pose2();
+  const bool was_base = corrected_odometry_ && corrected_odometry_->tracksBase();
+  corrected_odometry_ = std::make_unique<OdometryIntegrator>(model, T_base_sensor,
+                                                             config_.collector.keyframe_interval_s);
+  if (corrected_odometry_ && was_base == corrected_odometry_->tracksBase())
+    corrected_odometry_->restartAt(current);
+  active_model_ = std::move(model);
+  active_model_origin_ = origin;
+}
+
+bool CalibrationNode::onSave(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& response)
+{
+  std::lock_guard<std::mutex> lock(state_mutex_);
+  if (!fitted_model_) {
+    response.success = false;
+    response.message = "nothing to save: no successful ~calibrate since the node started";
+    return true;
+  }
+  const std::string result_path = options_.output_directory + "/result.yaml";
+  try {
+    writeFileAtomically(result_path, fitted_result_yaml_);
+    response.message = "saved " + result_path;
+    if (T_base_sensor_) {
+      const std::string urdf_path = options_.output_directory + "/laser_joint.urdf";
+      writeFileAtomically(urdf_path,
+                          laserJointUrdf(*T_base_sensor_, options_.base_frame, sensorFrame()));
+      response.message += " and " + urdf_path;
+    }
+    response.success = true;
+  } catch (const std::exception& error) {
+    response.success = false;
+    response.message = std::string("cannot save: ") + error.what();
+  }
+  ROS_INFO("%s", response.message.c_str());
+  return true;
+}
+
+bool CalibrationNode::onReset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& response)
+{
+  std::lock_guard<std::mutex> lock(state_mutex_);
+  const std::size_t dropped = pairs_.size();
+  collector_->reset();
+  appender_.reset();
+  const std::string pairs_path = options_.output_directory + "/pairs.csv";
+  std::string archived;
+  if (fs::exists(pairs_path))
+    archived = archivePairsFile("~reset");
+  appender_ = std::make_unique<PairsCsvAppender>(pairs_path, jointLayout(config_));
+  pairs_.clear();
+  pairs_resumed_ = 0;
+  restartOdometry();
+  response.success = true;
+  response.message = "collection restarted: " + std::to_string(dropped) + " pairs set aside" +
+                     (archived.empty() ? std::string() : " in " + archived) +
+                     "; the active model is kept";
+  ROS_INFO("%s", response.message.c_str());
+  return true;
+}
+
+std::string CalibrationNode::archivePairsFile(const std::string& why)
+{
+  const std::string pairs_path = options_.output_directory + "/pairs.csv";
+  std::string archived = options_.output_directory + "/pairs-" + wallClockTag() + ".csv";
+  for (int i = 1; fs::exists(archived); ++i)
+    archived =
+        options_.output_directory + "/pairs-" + wallClockTag() + "-" + std::to_string(i) + ".csv";
+  fs::rename(pairs_path, archived);
+  ROS_WARN("moved %s to %s (%s)", pairs_path.c_str(), archived.c_str(), why.c_str());
+  return archived;
+}
+
+}  // namespace odometry_calibration

@@ -1,0 +1,74 @@
+// rostest (test/node_restart.test): the node is killed with SIGKILL in the middle of a replay
+// and respawned by roslaunch. Every pair it had published before is still in the pairs file,
+// the new process resumes them, and ~calibrate fits all of them.
+#include <signal.h>
+
+#include <filesystem>
+#include <set>
+
+#include <gtest/gtest.h>
+#include <ros/ros.h>
+
+#include "node_test_support.h"
+#include "odometry_calibration/Calibrate.h"
+#include "odometry_calibration/CalibrationPair.h"
+#include "odometry_calibration/io/pairs_csv.h"
+
+namespace odometry_calibration {
+namespace {
+
+using test::waitFor;
+const std::string kNode = "/odometry_calibration";
+
+TEST(NodeRestart, KilledMidRunLosesNoPair)
+{
+  ros::NodeHandle handle, private_handle("~");
+  std::string output_directory;
+  ASSERT_TRUE(private_handle.getParam("output_directory", output_directory));
+  std::vector<std::pair<double, double>> published;  // (start, end) of every pair seen
+  auto on_pair = [&](const odometry_calibration::CalibrationPair::ConstPtr& m) {
+    published.emplace_back(m->start.toSec(), m->end.toSec());
+  };
+  ros::Subscriber subscriber =
+      handle.subscribe<odometry_calibration::CalibrationPair>(kNode + "/pairs", 1000, on_pair);
+
+  ASSERT_TRUE(waitFor([&] { return published.size() >= 40; }, 120));
+  const int pid = test::nodePid(kNode);
+  ASSERT_GT(pid, 0);
+  ASSERT_EQ(kill(pid, SIGKILL), 0);
+  const std::size_t before_kill = published.size();
+  // roslaunch respawns it; it resumes the file and goes on collecting.
+  ASSERT_TRUE(waitFor([&] { return test::nodePid(kNode) > 0 && test::nodePid(kNode) != pid; }, 30));
+  ASSERT_TRUE(waitFor([&] { return !test::nodeRunning("/player"); }, 180));
+  waitFor([] { return false; }, 2.0);
+  ASSERT_GT(published.size(), before_kill + 20) << "the respawned node collected nothing";
+
+  const PairsFile file = readPairsCsv(output_directory + "/pairs.csv");
+  std::set<std::pair<double, double>> in_file;
+  for (const MotionPair& pair : file.pairs)
+    in_file.emplace(pair.start_stamp_s, pair.end_stamp_s);
+  EXPECT_EQ(in_file.size(), file.pairs.size()) << "a pair was written twice";
+  for (const auto& interval : published)
+    EXPECT_EQ(in_file.count(interval), 1u) << "pair " << interval.first << " lost";
+  // A pair written just before the kill may not have reached this subscriber.
+  EXPECT_LE(file.pairs.size(), published.size() + 1);
+
+  odometry_calibration::Calibrate fit;
+  fit.request.model = "diff_drive";
+  ASSERT_TRUE(ros::service::call(kNode + "/calibrate", fit));
+  EXPECT_TRUE(fit.response.success) << fit.response.message;
+  // The respawned process holds the resumed pairs and its own.
+  EXPECT_EQ(fit.response.report.pairs_collected, file.pairs.size());
+  std::filesystem::remove_all(output_directory);
+}
+
+}  // namespace
+}  // namespace odometry_calibration
+
+int main(int argc, char** argv)
+{
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "node_restart_test");
+  ros::NodeHandle handle;
+  return RUN_ALL_TESTS();
+}
