@@ -19,6 +19,17 @@ std::vector<EncoderChannelOptions> wheels()
           {"right_wheel", EncoderKind::kIncremental, 4294967296.0, 0.0}};
 }
 
+Scan toScan(const sim::ScanSample& s)
+{
+  Scan scan;
+  scan.angle_min_rad = s.angle_min_rad;
+  scan.angle_increment_rad = s.angle_increment_rad;
+  scan.range_min_m = s.range_min_m;
+  scan.range_max_m = s.range_max_m;
+  scan.ranges_m.assign(s.ranges.begin(), s.ranges.end());
+  return scan;
+}
+
 /// Feeds a simulated run to a collector in time order, as the node and the bag tool do.
 struct Feeder : sim::SimulationSink
 {
@@ -34,15 +45,8 @@ struct Feeder : sim::SimulationSink
   }
   void onScan(const sim::ScanSample& s) override
   {
-    if (use_tracker)
-      return;
-    Scan scan;
-    scan.angle_min_rad = s.angle_min_rad;
-    scan.angle_increment_rad = s.angle_increment_rad;
-    scan.range_min_m = s.range_min_m;
-    scan.range_max_m = s.range_max_m;
-    scan.ranges_m.assign(s.ranges.begin(), s.ranges.end());
-    take(collector->addScan(s.stamp_s, scan));
+    if (!use_tracker)
+      take(collector->addScan(s.stamp_s, toScan(s)));
   }
   void onTruth(const sim::TruthSample& s) override
   {
@@ -230,12 +234,7 @@ struct TwinFeeder : sim::SimulationSink
   }
   void onScan(const sim::ScanSample& s) override
   {
-    Scan scan;
-    scan.angle_min_rad = s.angle_min_rad;
-    scan.angle_increment_rad = s.angle_increment_rad;
-    scan.range_min_m = s.range_min_m;
-    scan.range_max_m = s.range_max_m;
-    scan.ranges_m.assign(s.ranges.begin(), s.ranges.end());
+    Scan scan = toScan(s);
     if (++scans % 13 == 0)
       scan.ranges_m.assign(scan.ranges_m.size(), 0.0);  // nothing usable: matches fail
     compare(background->addScan(s.stamp_s, scan), inline_matching->addScan(s.stamp_s, scan));

@@ -6,18 +6,10 @@
 
 #include <Eigen/Dense>
 
+#include "odometry_calibration/eval/median.h"
+
 namespace odometry_calibration {
 namespace {
-
-double median(std::vector<double> values)
-{
-  if (values.empty()) {
-    return 0.0;
-  }
-  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
-  std::nth_element(values.begin(), middle, values.end());
-  return *middle;
-}
 
 /// Appends the monomials of exactly `degree` with variable indices >= `first`.
 void appendMonomials(const Eigen::MatrixXd& inputs, int degree, Eigen::Index first,

@@ -10,6 +10,8 @@
 #include <Eigen/Cholesky>
 #include <Eigen/QR>
 
+#include "odometry_calibration/eval/median.h"
+
 namespace odometry_calibration {
 
 void validate(const LinearModelOptions& o)
@@ -33,15 +35,6 @@ LinearModel::LinearModel(LinearModelOptions options) : options_(std::move(option
 }
 
 namespace {
-
-double median(std::vector<double> values)
-{
-  if (values.empty())
-    return 0.0;
-  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
-  std::nth_element(values.begin(), middle, values.end());
-  return *middle;
-}
 
 /// Robust regression of one output (eq. 9 for one row of W): IRLS with Huber weights on
 /// residuals scaled by sigma_j and by a robust (MAD) scale, pairs beyond the outlier threshold

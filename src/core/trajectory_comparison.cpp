@@ -73,13 +73,4 @@ std::vector<double> rotationErrors(const std::vector<Pose2>& errors)
   return angles;
 }
 
-double median(std::vector<double> values)
-{
-  if (values.empty())
-    return 0.0;
-  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
-  std::nth_element(values.begin(), middle, values.end());
-  return *middle;
-}
-
 }  // namespace odometry_calibration

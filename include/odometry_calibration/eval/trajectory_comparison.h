@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "odometry_calibration/data/motion_pair.h"
+#include "odometry_calibration/eval/median.h"
 #include "odometry_calibration/geometry/se2.h"
 #include "odometry_calibration/models/model.h"
 
@@ -46,8 +47,5 @@ std::vector<double> translationErrors(const std::vector<Pose2>& errors);
 
 /// |rotation| of each error [rad].
 std::vector<double> rotationErrors(const std::vector<Pose2>& errors);
-
-/// Median of the values (the upper one of an even count; 0 for none).
-double median(std::vector<double> values);
 
 }  // namespace odometry_calibration
