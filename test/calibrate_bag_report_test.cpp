@@ -115,6 +115,14 @@ TEST_F(CalibrateBagReport, WritesTheMarkdownReportWithPlots)
     EXPECT_EQ(count(report, std::string(section) + "\n"), 1u) << section;
   }
   EXPECT_EQ(report.find("Some plots are missing"), std::string::npos);
+  // Table rows keep their columns: the solver's message ("|cost_change|/cost") is escaped.
+  const std::size_t fit_row = report.find("\n| fit | ");
+  ASSERT_NE(fit_row, std::string::npos);
+  const std::string fit = report.substr(fit_row + 1, report.find('\n', fit_row + 1) - fit_row - 1);
+  std::size_t separators = 0;
+  for (std::size_t i = 0; i < fit.size(); ++i)
+    separators += fit[i] == '|' && (i == 0 || fit[i - 1] != '\\');
+  EXPECT_EQ(separators, 3u) << fit;
   // The error table: calibration beats the nominal model by far (the robot is deformed).
   auto median_after = [&](const std::string& row) {
     const std::size_t at = report.find(row);

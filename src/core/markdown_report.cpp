@@ -20,6 +20,18 @@ std::string format(const char* pattern, double value)
   return text;
 }
 
+/// Text for a table cell: '|' escaped (solver messages contain it).
+std::string cell(const std::string& text)
+{
+  std::string escaped;
+  for (const char c : text) {
+    if (c == '|')
+      escaped += '\\';
+    escaped += c;
+  }
+  return escaped;
+}
+
 double rms(const std::vector<double>& values)
 {
   double sum = 0.0;
@@ -42,15 +54,15 @@ void summary(std::ostringstream& out, const MarkdownReportInput& input)
   const ModelReport& r = input.report;
   out << "| | |\n|---|---|\n| bags |";
   for (std::size_t i = 0; i < input.bags.size(); ++i)
-    out << (i ? ", " : " ") << "`" << input.bags[i] << "`";
+    out << (i ? ", " : " ") << "`" << cell(input.bags[i]) << "`";
   out << " |\n| data | " << format("%.1f", input.data_span_s) << " s, read and paired in "
       << format("%.2f", input.run_time_s) << " s ("
       << format("%.0f", input.run_time_s > 0 ? input.data_span_s / input.run_time_s : 0.0)
       << "x real time) |\n"
       << "| model | `" << r.model << "` |\n"
       << "| fit | " << (r.converged ? "converged" : "**NOT converged**") << " after "
-      << r.iterations << " iterations, " << format("%.3f", r.fit_time_s) << " s (" << r.termination
-      << ") |\n"
+      << r.iterations << " iterations, " << format("%.3f", r.fit_time_s) << " s ("
+      << cell(r.termination) << ") |\n"
       << "| pairs | " << r.pairs_used << " used, " << r.outliers << " rejected or down-weighted |\n"
       << "| verdict | "
       << (r.warnings.empty()
