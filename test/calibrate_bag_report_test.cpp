@@ -66,11 +66,13 @@ protected:
   static void TearDownTestSuite() { fs::remove_all(directory_); }
 
   /// Runs calibrate_bag with the demo config (time offset estimated); returns its exit status.
+  /// A relative output_dir is taken from directory_.
   int run(const std::string& output_dir, const std::string& extra = "")
   {
-    const std::string command = kTool + " --config " + kConfig + "/diff_drive_demo.yaml " + bag_ +
-                                " --quiet --output-dir " + output_dir + " " + extra + " > " +
-                                directory_ + "/stdout.txt 2> " + directory_ + "/stderr.txt";
+    const std::string command = "cd " + directory_ + " && " + kTool + " --config " + kConfig +
+                                "/diff_drive_demo.yaml " + bag_ + " --quiet --output-dir " +
+                                output_dir + " " + extra + " > " + directory_ + "/stdout.txt 2> " +
+                                directory_ + "/stderr.txt";
     const int status = std::system(command.c_str());
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   }
@@ -82,9 +84,11 @@ std::string CalibrateBagReport::directory_, CalibrateBagReport::bag_;
 
 TEST_F(CalibrateBagReport, WritesTheMarkdownReportWithPlots)
 {
-  const std::string out = directory_ + "/with_plots";
-  ASSERT_EQ(run(out), 0) << output("stdout") << output("stderr");
-  EXPECT_NE(output("stdout").find("report: " + out + "/report.md"), std::string::npos);
+  // A relative output folder, as scripts/demo gives.
+  ASSERT_EQ(run("results/with_plots"), 0) << output("stdout") << output("stderr");
+  EXPECT_NE(output("stdout").find("report: results/with_plots/report.md"), std::string::npos);
+  EXPECT_EQ(output("stderr"), "");
+  const std::string out = directory_ + "/results/with_plots";
   const std::string report = readFile(out + "/report.md");
   ASSERT_FALSE(report.empty());
 

@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <thread>
@@ -42,14 +43,19 @@ std::string runGnuplot(const std::vector<std::string>& scripts, const std::strin
   std::string command = options.program;
   for (const std::string& script : scripts)
     command += " " + script;
-  const std::string log_path = directory + "/.gnuplot_stderr";
+  std::error_code error_code;
+  if (!std::filesystem::is_directory(directory, error_code))
+    return "the plot folder '" + directory + "' does not exist";
+  // Absolute: the child opens its files after changing into the folder.
+  const std::string log_path =
+      std::filesystem::absolute(directory, error_code).string() + "/.gnuplot_stderr";
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addchdir_np(&actions, directory.c_str());
   posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
   posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
   posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, log_path.c_str(),
                                    O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_addchdir_np(&actions, directory.c_str());
   std::vector<char*> argv = {const_cast<char*>(options.program.c_str())};
   for (const std::string& script : scripts)
     argv.push_back(const_cast<char*>(script.c_str()));
