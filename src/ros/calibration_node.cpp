@@ -452,6 +452,11 @@ void CalibrationNode::integrateOdometry(double encoder_stamp_s, const Eigen::Vec
     last_path_stamp_s_ = stamp_s;
     appendToPath(&corrected_path_, poseStamped(pose, stamp_s, options_.odom_frame),
                  options_.path_max_poses);
+    path_samples_.push_back(sample);
+    if (static_cast<int>(path_samples_.size()) > options_.path_max_poses) {
+      path_samples_.pop_front();
+      path_samples_start_ = ros_conversions::fromPoseMsg(corrected_path_.poses.front().pose);
+    }
     if (nominal_odometry_) {
       appendToPath(&nominal_path_,
                    poseStamped(nominal_odometry_->pose(), stamp_s, options_.odom_frame),
@@ -471,6 +476,8 @@ void CalibrationNode::restartOdometry()
     corrected_odometry_->reset();
   nominal_path_.poses.clear();
   corrected_path_.poses.clear();
+  path_samples_.clear();
+  path_samples_start_ = Pose2();
   scan_matched_path_.poses.clear();
   scan_matched_sensor_poses_.clear();
   recent_sensor_poses_.clear();
@@ -688,14 +695,47 @@ bool CalibrationNode::onCalibrate(Calibrate::Request& request, Calibrate::Respon
   } catch (const std::exception& error) {
     ROS_ERROR("cannot write last_fit.yaml: %s", error.what());
   }
+  // The corrected odometry is integrated again over the whole run with the new model, so that
+  // ~odom and its path show the calibrated trajectory (one jump at the fit; see README).
+  std::vector<EncoderSample> samples;
+  Pose2 path_start;
+  std::optional<Pose2> T_base_sensor;
   {
     std::lock_guard<std::mutex> lock(state_mutex_);
-    if (report.has_extrinsic)
-      T_base_sensor_ = report.T_base_sensor;
+    samples.assign(path_samples_.begin(), path_samples_.end());
+    path_start = path_samples_start_;
+    T_base_sensor =
+        report.has_extrinsic ? std::optional<Pose2>(report.T_base_sensor) : T_base_sensor_;
+  }
+  auto replay = std::make_unique<OdometryIntegrator>(model, T_base_sensor,
+                                                     config.collector.keyframe_interval_s);
+  replay->restartAt(path_start);
+  std::vector<geometry_msgs::PoseStamped> path;
+  auto add = [&](const EncoderSample& sample, bool to_path) {
+    if (replay->add(sample) && to_path)
+      path.push_back(poseStamped(replay->pose(), sample.stamp_s, options_.odom_frame));
+  };
+  try {
+    for (const EncoderSample& sample : samples)
+      add(sample, true);
+    std::lock_guard<std::mutex> lock(state_mutex_);
+    // What arrived while integrating, then the newest sample.
+    for (const EncoderSample& sample : path_samples_)
+      add(sample, true);
+    if (corrected_odometry_ && corrected_odometry_->lastSample())
+      add(*corrected_odometry_->lastSample(), false);
+    T_base_sensor_ = T_base_sensor;
     fitted_model_ = model;
     fitted_result_yaml_ = result_yaml;
-    activateModel(model, "fit of " + std::to_string(pairs.size()) + " pairs");
+    corrected_odometry_ = std::move(replay);
+    corrected_path_.poses = std::move(path);
+    active_model_ = model;
+    active_model_origin_ = "fit of " + std::to_string(pairs.size()) + " pairs";
     publishExtrinsic();
+  } catch (const std::exception& error) {
+    response.message = name + " fitted, but its odometry failed: " + error.what() +
+                       "; the active model is unchanged";
+    return true;
   }
   response.success = true;
   response.message = name + " fitted to " + std::to_string(report.pairs_used) + " pairs (" +
@@ -707,21 +747,6 @@ bool CalibrationNode::onCalibrate(Calibrate::Request& request, Calibrate::Respon
     response.message += " WARNING: " + warning;
   ROS_INFO("%s\n%s", response.message.c_str(), summary.c_str());
   return true;
-}
-
-void CalibrationNode::activateModel(std::shared_ptr<const MotionModel> model,
-                                    const std::string& origin)
-{
-  // The new odometry continues from the current pose (no jump in ~odom).
-  const std::optional<Pose2> T_base_sensor = T_base_sensor_;
-  const Pose2 current = corrected_odometry_ ? corrected_odometry_->pose() : Pose2();
-  const bool was_base = corrected_odometry_ && corrected_odometry_->tracksBase();
-  corrected_odometry_ = std::make_unique<OdometryIntegrator>(model, T_base_sensor,
-                                                             config_.collector.keyframe_interval_s);
-  if (corrected_odometry_ && was_base == corrected_odometry_->tracksBase())
-    corrected_odometry_->restartAt(current);
-  active_model_ = std::move(model);
-  active_model_origin_ = origin;
 }
 
 bool CalibrationNode::onSave(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& response)
