@@ -1,5 +1,6 @@
 #include "odometry_calibration/pipeline/calibration_config.h"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <set>
@@ -32,11 +33,11 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
   std::string where = source;
   try {
     const YAML::Node root = YAML::Load(text);
-    checkYamlKeys(
-        root,
-        {"joints", "joint_state_topic", "ego_motion", "keyframes", "scan_matching", "model",
-         "compare_models", "prior_model", "diff_drive", "linear", "gp", "output_directory"},
-        source);
+    checkYamlKeys(root,
+                  {"joints", "joint_state_topic", "ego_motion", "keyframes", "scan_matching",
+                   "model", "compare_models", "prior_model", "diff_drive", "linear", "gp",
+                   "tricycle", "output_directory"},
+                  source);
     where = source + ": joints";
     if (!root["joints"] || !root["joints"].IsSequence() || root["joints"].size() == 0) {
       throw std::runtime_error("a list of joints is required");
@@ -70,6 +71,9 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
     readYaml(root, "joint_state_topic", &c.joint_state_topic);
     readYaml(root, "model", &c.model);
     readYaml(root, "compare_models", &c.compare_models);
+    // The matcher's guesses come from the fitted model's own start values when it has some.
+    if (c.model == "tricycle")
+      c.prior_model = "tricycle";
     readYaml(root, "prior_model", &c.prior_model);
     readYaml(root, "output_directory", &c.output_directory);
 
@@ -155,7 +159,9 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
     if (pose.size() != 3)
       throw std::runtime_error("sensor_pose needs [x_m, y_m, theta_rad]");
     d.initial_T_base_sensor = Pose2(pose[0], pose[1], pose[2]);
-    if (c.model == "diff_drive" || c.prior_model == "diff_drive") {
+    if (c.model == "diff_drive" || c.prior_model == "diff_drive" ||
+        std::find(c.compare_models.begin(), c.compare_models.end(), "diff_drive") !=
+            c.compare_models.end()) {
       d.layout.left_index = jointIndex(c, left, where + ".left_joint");
       d.layout.right_index = jointIndex(c, right, where + ".right_joint");
       if (c.joints[d.layout.left_index].units_per_turn !=
@@ -164,6 +170,52 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
       }
       d.layout.ticks_per_turn = c.joints[d.layout.left_index].units_per_turn;
       validate(d);
+    }
+
+    auto uses = [&c](const std::string& model) {
+      if (c.model == model || c.prior_model == model)
+        return true;
+      for (const std::string& name : c.compare_models)
+        if (name == model)
+          return true;
+      return false;
+    };
+    where = source + ": tricycle";
+    const YAML::Node tri = root["tricycle"];
+    checkYamlKeys(tri,
+                  {"steering_joint", "traction_joint", "steering_scale",
+                   "traction_scale_m_per_turn", "axis_length_m", "steering_offset_rad",
+                   "sensor_pose", "huber_threshold", "translation_sigma_m", "rotation_sigma_rad"},
+                  where);
+    TricycleModelOptions& t = c.models.tricycle;
+    std::string steering = c.joints[0].name;
+    std::string traction = c.joints.size() > 1 ? c.joints[1].name : "";
+    readYaml(tri, "steering_joint", &steering);
+    readYaml(tri, "traction_joint", &traction);
+    readYaml(tri, "steering_scale", &t.initial.steering_scale);
+    readYaml(tri, "traction_scale_m_per_turn", &t.initial.traction_scale_m_per_turn);
+    readYaml(tri, "axis_length_m", &t.initial.axis_length_m);
+    readYaml(tri, "steering_offset_rad", &t.initial.steering_offset_rad);
+    readYaml(tri, "huber_threshold", &t.calibration.huber_threshold);
+    readYaml(tri, "translation_sigma_m", &t.calibration.translation_sigma_m);
+    readYaml(tri, "rotation_sigma_rad", &t.calibration.rotation_sigma_rad);
+    std::vector<double> tricycle_pose = {0.0, 0.0, 0.0};
+    readYaml(tri, "sensor_pose", &tricycle_pose);
+    if (tricycle_pose.size() != 3)
+      throw std::runtime_error("sensor_pose needs [x_m, y_m, theta_rad]");
+    t.initial.T_base_sensor = Pose2(tricycle_pose[0], tricycle_pose[1], tricycle_pose[2]);
+    if (uses("tricycle")) {
+      t.layout.steering_index = jointIndex(c, steering, where + ".steering_joint");
+      t.layout.traction_index = jointIndex(c, traction, where + ".traction_joint");
+      if (c.joints[t.layout.steering_index].kind != EncoderKind::kAbsolute ||
+          c.joints[t.layout.traction_index].kind != EncoderKind::kIncremental) {
+        throw std::runtime_error(
+            "the steering joint must be kind: absolute and the traction joint incremental");
+      }
+      t.layout.steering_ticks_per_turn = c.joints[t.layout.steering_index].units_per_turn;
+      t.layout.traction_ticks_per_turn = c.joints[t.layout.traction_index].units_per_turn;
+      validate(t.calibration);
+      validateStartValues(t.initial);
     }
 
     where = source + ": linear";
@@ -189,9 +241,9 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
     validate(c.models.gp);
 
     where = source;
-    if (c.prior_model != "none" && c.prior_model != "diff_drive") {
-      throw std::runtime_error("prior_model must be 'none' or 'diff_drive', got '" + c.prior_model +
-                               "'");
+    if (c.prior_model != "none" && c.prior_model != "diff_drive" && c.prior_model != "tricycle") {
+      throw std::runtime_error("prior_model must be 'none', 'diff_drive' or 'tricycle', got '" +
+                               c.prior_model + "'");
     }
     auto check_model = [](const std::string& name, const std::string& key) {
       std::string list;
@@ -258,8 +310,30 @@ JointLayout jointLayout(const CalibrationConfig& config)
   return layout;
 }
 
+std::shared_ptr<MotionModel> priorModel(const CalibrationConfig& config)
+{
+  if (config.prior_model == "none")
+    return nullptr;
+  return makeModel(config.prior_model, config.models);
+}
+
+std::optional<Pose2> priorSensorPose(const CalibrationConfig& config)
+{
+  if (config.prior_model == "diff_drive")
+    return config.models.diff_drive.initial_T_base_sensor;
+  if (config.prior_model == "tricycle")
+    return config.models.tricycle.initial.T_base_sensor;
+  return std::nullopt;
+}
+
 MotionPredictor priorPredictor(const CalibrationConfig& config)
 {
+  if (config.prior_model == "tricycle") {
+    const TricycleModelOptions options = config.models.tricycle;
+    return [options](const std::vector<EncoderSample>& samples) {
+      return predictTricycleSensorMotion(options.initial, options.layout, samples);
+    };
+  }
   if (config.prior_model != "diff_drive")
     return nullptr;
   const DiffDriveOptions options = config.models.diff_drive;

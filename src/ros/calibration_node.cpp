@@ -13,7 +13,6 @@
 #include "odometry_calibration/eval/model_report.h"
 #include "odometry_calibration/io/atomic_file.h"
 #include "odometry_calibration/io/calibration_result.h"
-#include "odometry_calibration/models/diff_drive_model.h"
 #include "odometry_calibration/models/model_factory.h"
 #include "odometry_calibration/ros/conversions.h"
 #include "odometry_calibration/ros/report_messages.h"
@@ -153,25 +152,21 @@ CalibrationNode::CalibrationNode(ros::NodeHandle handle, ros::NodeHandle private
   if (!pairs_.empty())
     ROS_INFO("resumed %zu pairs from %s", pairs_.size(), pairs_path.c_str());
 
-  if (config_.prior_model == "diff_drive") {
-    auto nominal = std::make_shared<DiffDriveModel>(config_.models.diff_drive);
-    nominal_odometry_ = std::make_unique<OdometryIntegrator>(
-        nominal, config_.models.diff_drive.initial_T_base_sensor,
-        config_.collector.keyframe_interval_s);
+  // The nominal robot (the prior model at its start values) drives the nominal odometry, and
+  // the corrected one until a calibration is fitted or loaded.
+  if (std::shared_ptr<MotionModel> nominal = priorModel(config_)) {
+    nominal_odometry_ = std::make_unique<OdometryIntegrator>(nominal, priorSensorPose(config_),
+                                                             config_.collector.keyframe_interval_s);
     if (!active_model_) {
       active_model_ = nominal;
-      active_model_origin_ = "nominal diff_drive (configuration's start values)";
+      active_model_origin_ = "nominal " + nominal->name() + " (configuration's start values)";
       T_base_sensor_.reset();
     }
   }
   if (active_model_) {
+    const bool nominal = !T_base_sensor_ && active_model_origin_.rfind("nominal", 0) == 0;
     corrected_odometry_ = std::make_unique<OdometryIntegrator>(
-        active_model_,
-        T_base_sensor_
-            ? T_base_sensor_
-            : (active_model_->name() == "diff_drive"
-                   ? std::optional<Pose2>(config_.models.diff_drive.initial_T_base_sensor)
-                   : std::nullopt),
+        active_model_, nominal ? priorSensorPose(config_) : T_base_sensor_,
         config_.collector.keyframe_interval_s);
   } else {
     ROS_WARN(
@@ -517,8 +512,7 @@ void CalibrationNode::publishPaths()
   // The scan-matched sensor poses drawn as base_link poses through the current extrinsic (or
   // the configured one), so the three paths overlay.
   const Pose2 T_sensor_base =
-      (T_base_sensor_ ? *T_base_sensor_ : config_.models.diff_drive.initial_T_base_sensor)
-          .inverse();
+      (T_base_sensor_ ? *T_base_sensor_ : priorSensorPose(config_).value_or(Pose2())).inverse();
   scan_matched_path_.poses.clear();
   for (const auto& [stamp_s, T_odom_sensor] : scan_matched_sensor_poses_) {
     scan_matched_path_.poses.push_back(
