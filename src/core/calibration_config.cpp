@@ -102,12 +102,14 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
     where = source + ": keyframes";
     const YAML::Node keyframes = root["keyframes"];
     checkYamlKeys(keyframes,
-                  {"interval_s", "time_offset_s", "max_encoder_gap_s", "check_consistency",
-                   "consistency_translation_m", "consistency_rotation_rad", "estimate_time_offset",
-                   "time_offset_search_s"},
+                  {"interval_s", "min_translation_m", "min_rotation_rad", "time_offset_s",
+                   "max_encoder_gap_s", "check_consistency", "consistency_translation_m",
+                   "consistency_rotation_rad", "estimate_time_offset", "time_offset_search_s"},
                   where);
     CollectorOptions& k = c.collector;
     readYaml(keyframes, "interval_s", &k.keyframe_interval_s);
+    readYaml(keyframes, "min_translation_m", &k.min_translation_m);
+    readYaml(keyframes, "min_rotation_rad", &k.min_rotation_rad);
     readYaml(keyframes, "time_offset_s", &k.time_offset_s);
     readYaml(keyframes, "max_encoder_gap_s", &k.max_encoder_gap_s);
     readYaml(keyframes, "check_consistency", &k.check_consistency);

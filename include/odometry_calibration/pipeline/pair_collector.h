@@ -29,6 +29,12 @@ struct CollectorOptions
   /// Keyframe spacing T [s]. Real logs' stamps jitter by tens of ms: keep T >= 0.3 s so the
   /// jitter stays a small part of each interval (shorter pairs bias the wheel radius low).
   double keyframe_interval_s = 0.5;
+  /// Optional minimum motion of a pair, as the prior model predicts it from the encoders: a
+  /// keyframe interval where the robot moved less than both thresholds is extended (up to four
+  /// intervals, then dropped as "too little motion"), so that standing still makes no pairs.
+  /// 0 = off. Needs a predictor. [m], [rad]
+  double min_translation_m = 0.0;
+  double min_rotation_rad = 0.0;
   /// Encoder values are taken at scan time + time_offset_s [s] (clock offset between streams).
   double time_offset_s = 0.0;
   /// A pair is dropped when the encoder stream has a gap longer than this inside it [s].
@@ -128,6 +134,9 @@ private:
   std::optional<std::vector<EncoderSample>> encoderWindow(double start_s, double end_s,
                                                           std::string* reason) const;
   Pose2 predict(const std::vector<EncoderSample>& window) const;
+  /// Whether the predicted motion over `window` is below the minimum motion (always false when
+  /// the minimum is off or there is no predictor).
+  bool tooLittleMotion(const std::vector<EncoderSample>& window) const;
 
   CollectorOptions options_;
   MotionPredictor predictor_;
