@@ -9,6 +9,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "odometry_calibration/io/text_file.h"
 #include "odometry_calibration/io/yaml_reading.h"
 
 #include "odometry_calibration/models/gp_options.h"
@@ -23,6 +24,16 @@ int jointIndex(const CalibrationConfig& config, const std::string& name, const s
       return static_cast<int>(j);
   }
   throw std::runtime_error(key + ": no joint named '" + name + "' among 'joints'");
+}
+
+/// A model section's `sensor_pose: [x_m, y_m, theta_rad]` (the origin when absent).
+Pose2 readSensorPose(const YAML::Node& section)
+{
+  std::vector<double> pose = {0.0, 0.0, 0.0};
+  readYaml(section, "sensor_pose", &pose);
+  if (pose.size() != 3)
+    throw std::runtime_error("sensor_pose needs [x_m, y_m, theta_rad]");
+  return Pose2(pose[0], pose[1], pose[2]);
 }
 
 }  // namespace
@@ -156,11 +167,7 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
     d.initial_left_radius_m = d.initial_right_radius_m = radius;
     readYaml(diff, "wheel_separation_m", &d.initial_separation_m);
     readYaml(diff, "huber_threshold", &d.huber_threshold);
-    std::vector<double> pose = {0.0, 0.0, 0.0};
-    readYaml(diff, "sensor_pose", &pose);
-    if (pose.size() != 3)
-      throw std::runtime_error("sensor_pose needs [x_m, y_m, theta_rad]");
-    d.initial_T_base_sensor = Pose2(pose[0], pose[1], pose[2]);
+    d.initial_T_base_sensor = readSensorPose(diff);
     if (c.model == "diff_drive" || c.prior_model == "diff_drive" ||
         std::find(c.compare_models.begin(), c.compare_models.end(), "diff_drive") !=
             c.compare_models.end()) {
@@ -201,11 +208,7 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
     readYaml(tri, "huber_threshold", &t.calibration.huber_threshold);
     readYaml(tri, "translation_sigma_m", &t.calibration.translation_sigma_m);
     readYaml(tri, "rotation_sigma_rad", &t.calibration.rotation_sigma_rad);
-    std::vector<double> tricycle_pose = {0.0, 0.0, 0.0};
-    readYaml(tri, "sensor_pose", &tricycle_pose);
-    if (tricycle_pose.size() != 3)
-      throw std::runtime_error("sensor_pose needs [x_m, y_m, theta_rad]");
-    t.initial.T_base_sensor = Pose2(tricycle_pose[0], tricycle_pose[1], tricycle_pose[2]);
+    t.initial.T_base_sensor = readSensorPose(tri);
     if (uses("tricycle")) {
       t.layout.steering_index = jointIndex(c, steering, where + ".steering_joint");
       t.layout.traction_index = jointIndex(c, traction, where + ".traction_joint");
@@ -272,12 +275,7 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
 
 CalibrationConfig loadCalibrationConfig(const std::string& path)
 {
-  std::ifstream file(path);
-  if (!file)
-    throw std::runtime_error("cannot open configuration '" + path + "'");
-  std::stringstream text;
-  text << file.rdbuf();
-  return parseCalibrationConfig(text.str(), path);
+  return parseCalibrationConfig(readTextFile(path, "the configuration"), path);
 }
 
 std::vector<EncoderChannelOptions> encoderChannels(const CalibrationConfig& config)

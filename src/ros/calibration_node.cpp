@@ -13,6 +13,7 @@
 #include "odometry_calibration/eval/model_report.h"
 #include "odometry_calibration/io/atomic_file.h"
 #include "odometry_calibration/io/calibration_result.h"
+#include "odometry_calibration/io/text_file.h"
 #include "odometry_calibration/models/model_factory.h"
 #include "odometry_calibration/ros/conversions.h"
 #include "odometry_calibration/ros/report_messages.h"
@@ -25,16 +26,6 @@ namespace fs = std::filesystem;
 /// Scan-matched and odometry paths keep this many seconds of corrected sensor poses to bridge
 /// rejected keyframe intervals.
 constexpr double kRecentPoseHistoryS = 60.0;
-
-std::string readText(const std::string& path)
-{
-  std::ifstream file(path);
-  if (!file)
-    throw std::runtime_error("cannot read the configuration '" + path + "'");
-  std::ostringstream text;
-  text << file.rdbuf();
-  return text.str();
-}
 
 std::string wallClockTag()
 {
@@ -103,7 +94,7 @@ CalibrationNode::CalibrationNode(ros::NodeHandle handle, ros::NodeHandle private
     : handle_(handle),
       private_handle_(private_handle),
       options_(readNodeOptions(private_handle)),
-      config_text_(readText(options_.config_path)),
+      config_text_(readTextFile(options_.config_path, "the configuration")),
       config_(parseCalibrationConfig(config_text_, options_.config_path)),
       channels_(encoderChannels(config_)),
       odometry_decoder_(channels_)
