@@ -57,6 +57,42 @@ TEST(ScanToPoints, AllInvalidGivesNoPointsAndNoException)
   EXPECT_TRUE(scanToPoints(fourRayScan({})).empty());
 }
 
+TEST(ScanToPoints, CompensatesTheMotionDuringTheSweep)
+{
+  // Ray 3 is measured 3 ms after the stamp; meanwhile the sensor turned by omega * 3 ms and
+  // moved along the arc exp(tau xi). The point must come out where the sensor at the stamp sees
+  // it: turned, then shifted by the chord of the arc.
+  Scan scan = fourRayScan({1.0, 2.0, 3.0, 4.0});
+  scan.time_increment_s = 0.001;
+  SensorVelocity velocity;
+  velocity.vx_mps = 2.0;
+  velocity.vy_mps = -0.5;
+  velocity.omega_radps = 4.0;
+  const ScanPoints points = scanToPoints(scan, velocity);
+  ASSERT_EQ(points.size(), 4u);
+  const double tau_s = 0.003;
+  const double theta = velocity.omega_radps * tau_s;
+  const double a = std::sin(theta) / theta;
+  const double b = (1.0 - std::cos(theta)) / theta;
+  const Eigen::Vector2d t(a * velocity.vx_mps * tau_s - b * velocity.vy_mps * tau_s,
+                          b * velocity.vx_mps * tau_s + a * velocity.vy_mps * tau_s);
+  const double angle = -M_PI / 4 + 3 * M_PI / 6;
+  const Eigen::Vector2d expected =
+      4.0 * Eigen::Vector2d(std::cos(angle + theta), std::sin(angle + theta)) + t;
+  EXPECT_NEAR((points.points_m[3] - expected).norm(), 0.0, 1e-12);
+  EXPECT_NEAR(points.ranges_m[3], expected.norm(), 1e-12);
+  EXPECT_NEAR(points.angles_rad[3], std::atan2(expected.y(), expected.x()), 1e-12);
+  EXPECT_NEAR((points.directions[3] - expected.normalized()).norm(), 0.0, 1e-12);
+  // Ray 0 is at the stamp: unchanged. Without a time increment nothing moves.
+  EXPECT_NEAR(
+      (points.points_m[0] - Eigen::Vector2d(std::cos(M_PI / 4), -std::sin(M_PI / 4))).norm(), 0.0,
+      1e-15);
+  scan.time_increment_s = 0.0;
+  EXPECT_NEAR(scanToPoints(scan, velocity).points_m[3].y(), 4.0 * std::sin(angle), 1e-15);
+  scan.time_increment_s = std::nan("");
+  EXPECT_THROW(scanToPoints(scan), std::invalid_argument);
+}
+
 TEST(ScanToPoints, NegativeIncrementStillGivesIncreasingAngles)
 {
   Scan scan = fourRayScan({1.0, 2.0, 3.0, 4.0});

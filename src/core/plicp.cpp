@@ -71,7 +71,8 @@ public:
       const Eigen::Vector2d& normal = reference_lines.normals[j];
       const Eigen::Vector2d offset = q - reference_lines.centroids_m[j];
       const double along_m = normal.x() * offset.y() - normal.y() * offset.x();  // tangent . offset
-      if (along_m < reference_lines.along_min_m[j] || along_m > reference_lines.along_max_m[j]) {
+      if (along_m < reference_lines.along_min_m[j] - options_.surface_extent_margin_m ||
+          along_m > reference_lines.along_max_m[j] + options_.surface_extent_margin_m) {
         continue;  // beyond the end of the observed surface
       }
       all_.push_back({static_cast<int>(i), j, normal.dot(offset)});
@@ -211,11 +212,12 @@ const char* toString(PlicpStatus status)
   return "unknown";
 }
 
-PreparedScan prepareScan(const Scan& scan, const LineFitOptions& options)
+PreparedScan prepareScan(const Scan& scan, const LineFitOptions& options,
+                         const SensorVelocity& velocity)
 {
   validate(options);
   PreparedScan prepared;
-  prepared.points = scanToPoints(scan);
+  prepared.points = scanToPoints(scan, velocity);
   prepared.lines = fitScanLines(prepared.points, options);
   return prepared;
 }
