@@ -45,6 +45,7 @@ public:
     all_.reserve(current.points.size());
     kept_.reserve(current.points.size());
     magnitudes_.reserve(current.points.size());
+    hints_.assign(current.points.size(), -1);
   }
 
   /// Matches every new point, transformed by T_ref_new, to the nearest reference point with a
@@ -52,7 +53,7 @@ public:
   void findCorrespondences(const Pose2& T_ref_new)
   {
     all_.clear();
-    const Eigen::Rotation2Dd R(T_ref_new.theta());
+    const Eigen::Matrix2d R = Eigen::Rotation2Dd(T_ref_new.theta()).toRotationMatrix();
     const Eigen::Vector2d t(T_ref_new.x(), T_ref_new.y());
     const ScanPoints& points = current_.points;
     const ScanLines& lines = current_.lines;
@@ -63,8 +64,10 @@ public:
       // (the same surface seen from the same side).
       const Eigen::Vector2d query_normal =
           lines.fitted[i] != 0 ? Eigen::Vector2d(R * lines.normals[i]) : Eigen::Vector2d::Zero();
+      // The previous iteration's match is near: it shortens the search.
       const int j = search_->nearest(q, query_normal, cos_max_normal_angle_,
-                                     options_.max_correspondence_distance_m, nullptr);
+                                     options_.max_correspondence_distance_m, nullptr, hints_[i]);
+      hints_[i] = j;
       if (j < 0) {
         continue;
       }
@@ -119,24 +122,34 @@ public:
   /// quantiles, whose changes can keep the iteration cycling through nearby poses forever.
   void freezeTrimThreshold() { frozen_threshold_m_ = last_threshold_m_; }
 
-  /// Closed-form step on kept_ (Censi ICRA 2008) under `constraint`.
-  std::optional<Pose2> step(const StepConstraint& constraint) const
+  /// Accumulates the closed-form system of kept_ (Censi ICRA 2008) and the RMS radius of its
+  /// new points (the lever arm of a rotation).
+  void buildSystem()
   {
-    PointToLineSystem system;
+    system_ = PointToLineSystem();
+    double radius2_sum_m2 = 0.0;
     for (const Correspondence& c : kept_) {
-      system.add(current_.points.points_m[c.current_index],
-                 reference_.lines.centroids_m[c.reference_index],
-                 reference_.lines.normals[c.reference_index]);
+      const Eigen::Vector2d& p = current_.points.points_m[c.current_index];
+      system_.add(p, reference_.lines.centroids_m[c.reference_index],
+                  reference_.lines.normals[c.reference_index]);
+      radius2_sum_m2 += p.squaredNorm();
     }
-    return system.solve(constraint);
+    lever_arm_m_ =
+        kept_.empty() ? 1.0 : std::sqrt(radius2_sum_m2 / static_cast<double>(kept_.size()));
   }
 
+  /// Closed-form step on the system of kept_ (buildSystem) under `constraint`.
+  std::optional<Pose2> step(const StepConstraint& constraint) const
+  {
+    return system_.solve(constraint);
+  }
+
+  /// Degeneracy of the system of kept_ (buildSystem) at T_ref_new: the information matrix of
+  /// pointToLineInformation(), taken from the system's normal equations.
   Degeneracy degeneracy(const Pose2& T_ref_new) const
   {
-    double lever_arm_m = 1.0;
-    const Eigen::Matrix3d information = pointToLineInformation(
-        reference_.points, reference_.lines, current_.points, kept_, T_ref_new, &lever_arm_m);
-    return analyzeDegeneracy(information, lever_arm_m, options_.min_information_ratio);
+    return analyzeDegeneracy(system_.information(T_ref_new.theta()), lever_arm_m_,
+                             options_.min_information_ratio);
   }
 
   /// Largest displacement of a new point [m] caused by a pose change of step_m [m] and
@@ -158,6 +171,9 @@ private:
   std::vector<Correspondence> all_;
   std::vector<Correspondence> kept_;
   std::vector<double> magnitudes_;
+  std::vector<int> hints_;  // per new point: its reference match of the last search, or -1
+  PointToLineSystem system_;
+  double lever_arm_m_ = 1.0;
   double rms_range_m_ = 0.0;
   double last_threshold_m_ = 0.0;
   double frozen_threshold_m_ = 0.0;  // > 0 once frozen
@@ -262,6 +278,7 @@ PlicpResult matchScans(const PreparedScan& reference, const PreparedScan& curren
                          " (min_correspondences " + std::to_string(options.min_correspondences) +
                          "): the scans do not overlap near the initial guess");
     }
+    matcher.buildSystem();
     const Degeneracy degeneracy = matcher.degeneracy(T_ref_new);
     if (degeneracy.direction == DegenerateDirection::kSeveral) {
       result.degeneracy = degeneracy;
@@ -331,6 +348,7 @@ PlicpResult matchScans(const PreparedScan& reference, const PreparedScan& curren
     return failure(result, PlicpStatus::kTooFewCorrespondences,
                    "only " + std::to_string(kept.size()) + " correspondences at the solution");
   }
+  matcher.buildSystem();
   result.degeneracy = matcher.degeneracy(T_ref_new);
   if (result.degeneracy.direction == DegenerateDirection::kTranslation &&
       last_degeneracy.direction == DegenerateDirection::kTranslation) {

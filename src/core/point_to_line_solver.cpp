@@ -96,11 +96,28 @@ void PointToLineSystem::add(const Eigen::Vector2d& point_new_m,
   // Residual m^T x - b with x = (tx, ty, cos, sin): n^T R p = cos (n.p) + sin (n x p).
   const Eigen::Vector2d& n = line_normal_ref;
   const Eigen::Vector2d& p = point_new_m;
-  const Eigen::Vector4d m(n.x(), n.y(), n.dot(p), n.y() * p.x() - n.x() * p.y());
+  const double m[4] = {n.x(), n.y(), n.dot(p), n.y() * p.x() - n.x() * p.y()};
   const double b = n.dot(line_point_ref_m);
-  normal_matrix_.selfadjointView<Eigen::Upper>().rankUpdate(m, weight);
-  normal_vector_ += (weight * b) * m;
+  // Upper triangle of A += w m m^T, written out (this runs for every correspondence).
+  for (int row = 0; row < 4; ++row) {
+    const double w_m_row = weight * m[row];
+    for (int column = row; column < 4; ++column) {
+      normal_matrix_(row, column) += w_m_row * m[column];
+    }
+    normal_vector_(row) += w_m_row * b;
+  }
   ++count_;
+}
+
+Eigen::Matrix3d PointToLineSystem::information(double theta_rad) const
+{
+  const Eigen::Matrix4d A = normal_matrix_.selfadjointView<Eigen::Upper>();
+  Eigen::Matrix<double, 3, 4> B = Eigen::Matrix<double, 3, 4>::Zero();
+  B(0, 0) = 1.0;
+  B(1, 1) = 1.0;
+  B(2, 2) = -std::sin(theta_rad);
+  B(2, 3) = std::cos(theta_rad);
+  return B * A * B.transpose();
 }
 
 std::optional<Pose2> PointToLineSystem::solve(const StepConstraint& constraint) const

@@ -119,7 +119,8 @@ ScanLines fitScanLines(const ScanPoints& points, const LineFitOptions& options)
     const double cyy = windowSum(sums.yy, first, last) - sy * my;
     // Eigen-decomposition of the 2x2 scatter matrix: principal axis angle and eigenvalues.
     const double half_trace = 0.5 * (cxx + cyy);
-    const double radius = std::hypot(0.5 * (cxx - cyy), cxy);
+    const double half_difference = 0.5 * (cxx - cyy);
+    const double radius = std::sqrt(half_difference * half_difference + cxy * cxy);
     result.across_m2 = std::max(0.0, half_trace - radius);
     result.along_m2 = half_trace + radius;
     // Normal = eigenvector of the smallest eigenvalue, from whichever row of (C - l I) is better
