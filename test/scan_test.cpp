@@ -225,6 +225,7 @@ TEST(NearestPointSearch, AngularAndKdTreeAgreeWithBruteForce)
   std::uniform_real_distribution<double> coordinate(-6.0, 6.0);
   std::uniform_real_distribution<double> angle(-M_PI, M_PI);
   const double min_cosine = std::cos(0.6);
+  std::uniform_int_distribution<std::size_t> hint_index(0, points.size() - 1);
   for (int query = 0; query < 2000; ++query) {
     const Eigen::Vector2d q(coordinate(rng), coordinate(rng));
     const double a = angle(rng);
@@ -246,6 +247,12 @@ TEST(NearestPointSearch, AngularAndKdTreeAgreeWithBruteForce)
         << "query " << q.transpose();
     EXPECT_EQ(kdtree->nearest(q, normal, min_cosine, max_distance_m, nullptr), expected)
         << "query " << q.transpose();
+    // A hint (any reference point: near, far, unusable or out of range) never changes the
+    // answer.
+    for (const int hint : {expected, static_cast<int>(hint_index(rng)), -1, 100000}) {
+      EXPECT_EQ(angular->nearest(q, normal, min_cosine, max_distance_m, nullptr, hint), expected)
+          << "query " << q.transpose() << ", hint " << hint;
+    }
   }
 }
 
