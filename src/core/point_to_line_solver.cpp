@@ -96,16 +96,32 @@ void PointToLineSystem::add(const Eigen::Vector2d& point_new_m,
   // Residual m^T x - b with x = (tx, ty, cos, sin): n^T R p = cos (n.p) + sin (n x p).
   const Eigen::Vector2d& n = line_normal_ref;
   const Eigen::Vector2d& p = point_new_m;
-  const double m[4] = {n.x(), n.y(), n.dot(p), n.y() * p.x() - n.x() * p.y()};
+  const double m0 = n.x();
+  const double m1 = n.y();
+  const double m2 = n.dot(p);
+  const double m3 = n.y() * p.x() - n.x() * p.y();
   const double b = n.dot(line_point_ref_m);
-  // Upper triangle of A += w m m^T, written out (this runs for every correspondence).
-  for (int row = 0; row < 4; ++row) {
-    const double w_m_row = weight * m[row];
-    for (int column = row; column < 4; ++column) {
-      normal_matrix_(row, column) += w_m_row * m[column];
-    }
-    normal_vector_(row) += w_m_row * b;
-  }
+  // Upper triangle of A += w m m^T and g += w b m, written out (this runs for every
+  // correspondence of every iteration).
+  double* a = normal_matrix_.data();  // column-major: (row, column) at row + 4 column
+  const double w0 = weight * m0;
+  const double w1 = weight * m1;
+  const double w2 = weight * m2;
+  const double w3 = weight * m3;
+  a[0] += w0 * m0;
+  a[4] += w0 * m1;
+  a[5] += w1 * m1;
+  a[8] += w0 * m2;
+  a[9] += w1 * m2;
+  a[10] += w2 * m2;
+  a[12] += w0 * m3;
+  a[13] += w1 * m3;
+  a[14] += w2 * m3;
+  a[15] += w3 * m3;
+  normal_vector_(0) += w0 * b;
+  normal_vector_(1) += w1 * b;
+  normal_vector_(2) += w2 * b;
+  normal_vector_(3) += w3 * b;
   ++count_;
 }
 

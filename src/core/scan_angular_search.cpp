@@ -35,7 +35,8 @@ public:
         // The bearing of the point itself (the walks' bounds rely on it).
         const Eigen::Vector2d d = p / p.norm();
         position_[i] = static_cast<int>(points_.size());
-        points_.push_back({p.x(), p.y(), d.x(), d.y(), n.x(), n.y(), lines.fitted[i] != 0});
+        points_.push_back(
+            {p.x(), p.y(), d.x(), d.y(), n.x(), n.y(), lines.fitted[i] != 0, p.norm()});
         angles_rad_.push_back(points.angles_rad[i]);
         indices_.push_back(static_cast<int>(i));
       }
@@ -44,6 +45,7 @@ public:
     // walks wrap around; below it a point more than 180 degrees away (unwrapped) is always more
     // than 90 degrees away for real, hence no nearer than |q|, and the walks can stop at the ends.
     wraps_ = !angles_rad_.empty() && angles_rad_.back() - angles_rad_.front() > 1.5 * M_PI;
+    buildJumpTables();
   }
 
   int nearest(const Eigen::Vector2d& query_m, const Eigen::Vector2d& query_normal,
@@ -61,7 +63,8 @@ public:
                   query_normal.y(),
                   min_cosine * query_normal.norm(),
                   max_distance_m * max_distance_m,
-                  -1};
+                  -1,
+                  max_distance_m};
     const int hint_position =
         hint >= 0 && hint < static_cast<int>(position_.size()) ? position_[hint] : -1;
     int start = -1;
@@ -88,11 +91,47 @@ private:
   /// A usable reference point, its unit bearing and its line's normal, packed for the walks.
   struct Point
   {
-    double x, y;    // [m]
-    double dx, dy;  // unit bearing
-    double nx, ny;  // unit normal
-    bool fitted;    // a segment's normal (not fitted) is too noisy to test: it passes every test
+    double x, y;     // [m]
+    double dx, dy;   // unit bearing
+    double nx, ny;   // unit normal
+    bool fitted;     // a segment's normal (not fitted) is too noisy to test: it passes every test
+    double range_m;  // |(x, y)|
   };
+
+  /// Jump tables (as in Censi's CSM): for each position, the next position up (down) whose
+  /// range is larger, and the next whose range is smaller; n (-1) when there is none. A point
+  /// whose range differs from |q| by more than the best distance found cannot beat it, nor can
+  /// any point up to the next one whose range is on the other side of it, so a walk skips them.
+  void buildJumpTables()
+  {
+    const int n = static_cast<int>(points_.size());
+    up_bigger_.assign(n, n);
+    up_smaller_.assign(n, n);
+    down_bigger_.assign(n, -1);
+    down_smaller_.assign(n, -1);
+    std::vector<int> stack;
+    stack.reserve(n);
+    // Monotonic stack: scanning from the far end towards k, the stack holds the positions that
+    // can still be "the next one with a larger (smaller) range" of a later k.
+    auto fill = [&](std::vector<int>& table, int begin, int end, int step, auto popped) {
+      stack.clear();
+      for (int k = begin; k != end; k += step) {
+        while (!stack.empty() && popped(stack.back(), k)) {
+          stack.pop_back();
+        }
+        if (!stack.empty()) {
+          table[k] = stack.back();
+        }
+        stack.push_back(k);
+      }
+    };
+    auto not_bigger = [&](int top, int k) { return points_[top].range_m <= points_[k].range_m; };
+    auto not_smaller = [&](int top, int k) { return points_[top].range_m >= points_[k].range_m; };
+    fill(up_bigger_, n - 1, -1, -1, not_bigger);
+    fill(up_smaller_, n - 1, -1, -1, not_smaller);
+    fill(down_bigger_, 0, n, +1, not_bigger);
+    fill(down_smaller_, 0, n, +1, not_smaller);
+  }
 
   struct Search
   {
@@ -102,6 +141,7 @@ private:
     double min_dot;            // a point's normal . query normal must reach this
     double best_distance2_m2;  // starts at the squared limit
     int best;
+    double best_distance_m;  // its square root
   };
 
   /// q x d_k: > 0 when the query lies clockwise of point k's bearing (within 180 degrees).
@@ -175,6 +215,7 @@ private:
     if (distance2_m2 < search.best_distance2_m2 &&
         (!p.fitted || p.nx * search.qnx + p.ny * search.qny >= search.min_dot)) {
       search.best_distance2_m2 = distance2_m2;
+      search.best_distance_m = std::sqrt(distance2_m2);
       search.best = k;
     }
   }
@@ -183,39 +224,61 @@ private:
   /// bound on their distance can still beat the best one found.
   void walk(Search& search, int from, int step) const
   {
+    if (!wraps_) {
+      walkWithJumps(search, from, step);
+      return;
+    }
     const int n = static_cast<int>(points_.size());
     const double first_rad = angles_rad_.front();
     const double bearing_rad =
-        wraps_ ? first_rad + wrapPositive(std::atan2(search.qy, search.qx) - first_rad) : 0.0;
+        first_rad + wrapPositive(std::atan2(search.qy, search.qx) - first_rad);
     for (int visited = 0; visited < n; ++visited) {
-      int k = from + step * visited;
-      if (wraps_) {
-        k = ((k % n) + n) % n;
-        // Each walk covers its own half circle; the other walk covers the rest.
-        const double separation_rad = wrapPositive(step * (angles_rad_[k] - bearing_rad));
-        if (separation_rad >= M_PI && visited > 0) {
-          return;
-        }
-      } else if (k < 0 || k >= n) {
-        return;
-      }
-      const Point& p = points_[k];
-      const double along = search.qx * p.dx + search.qy * p.dy;
-      // Distance from the query to the ray through point k, a lower bound for every point
-      // whose bearing differs more: |q| sin(d) below 90 degrees, |q| beyond.
-      const double bound_m =
-          along > 0.0 ? std::abs(search.qx * p.dy - search.qy * p.dx) : search.query_norm_m;
-      if (bound_m * bound_m >= search.best_distance2_m2) {
+      const int k = (((from + step * visited) % n) + n) % n;
+      // Each walk covers its own half circle; the other walk covers the rest.
+      const double separation_rad = wrapPositive(step * (angles_rad_[k] - bearing_rad));
+      if ((separation_rad >= M_PI && visited > 0) || angularBoundReached(search, k)) {
         return;
       }
       consider(search, k);
     }
   }
 
+  /// walk() without wrap-around, skipping runs of points whose range alone rules them out.
+  void walkWithJumps(Search& search, int k, int step) const
+  {
+    const int n = static_cast<int>(points_.size());
+    const std::vector<int>& bigger = step > 0 ? up_bigger_ : down_bigger_;
+    const std::vector<int>& smaller = step > 0 ? up_smaller_ : down_smaller_;
+    while (k >= 0 && k < n && !angularBoundReached(search, k)) {
+      consider(search, k);
+      const double range_m = points_[k].range_m;
+      if (range_m > search.query_norm_m + search.best_distance_m) {
+        k = smaller[k];  // everything up to there is even farther out
+      } else if (range_m < search.query_norm_m - search.best_distance_m) {
+        k = bigger[k];  // everything up to there is even farther in
+      } else {
+        k += step;
+      }
+    }
+  }
+
+  /// Whether no point from k on (away from the query's bearing) can beat the best distance:
+  /// the distance from the query to the ray through point k bounds the distance of every point
+  /// whose bearing differs more: |q| sin(d) below 90 degrees, |q| beyond.
+  bool angularBoundReached(const Search& search, int k) const
+  {
+    const Point& p = points_[k];
+    const double along = search.qx * p.dx + search.qy * p.dy;
+    const double bound_m =
+        along > 0.0 ? std::abs(search.qx * p.dy - search.qy * p.dx) : search.query_norm_m;
+    return bound_m * bound_m >= search.best_distance2_m2;
+  }
+
   std::vector<Point> points_;
   std::vector<double> angles_rad_;
   std::vector<int> indices_;   // reference index of each position
   std::vector<int> position_;  // position of each reference index, -1 when not usable
+  std::vector<int> up_bigger_, up_smaller_, down_bigger_, down_smaller_;  // jump tables
   bool wraps_ = false;
 };
 
