@@ -97,17 +97,25 @@ public:
     for (std::size_t k = 0; k < n; ++k) {
       magnitudes_[k] = std::abs(all_[k].residual_m);
     }
-    auto quantile = [&](double fraction) {
-      const auto rank = static_cast<std::size_t>(
+    auto rankOf = [n](double fraction) {
+      return static_cast<std::size_t>(
           std::clamp(std::ceil(fraction * static_cast<double>(n)) - 1.0, 0.0, n - 1.0));
-      std::nth_element(magnitudes_.begin(), magnitudes_.begin() + rank, magnitudes_.end());
-      return magnitudes_[rank];
     };
-    // Fixed percentile (the largest residual still kept), then the adaptive threshold.
-    const double fixed_m = quantile(options_.trim_keep_fraction);
+    // Fixed percentile (the largest residual still kept), then the adaptive threshold. The
+    // second selection only searches the side of the first one's rank that holds its rank.
+    const std::size_t fixed_rank = rankOf(options_.trim_keep_fraction);
+    const std::size_t adaptive_rank = rankOf(options_.adaptive_trim_quantile);
+    const auto begin = magnitudes_.begin();
+    std::nth_element(begin, begin + fixed_rank, magnitudes_.end());
+    if (adaptive_rank < fixed_rank) {
+      std::nth_element(begin, begin + adaptive_rank, begin + fixed_rank);
+    } else if (adaptive_rank > fixed_rank) {
+      std::nth_element(begin + fixed_rank + 1, begin + adaptive_rank, magnitudes_.end());
+    }
+    const double fixed_m = magnitudes_[fixed_rank];
     const double adaptive_m =
         std::max({options_.adaptive_trim_floor_m, pose_uncertainty_m,
-                  options_.adaptive_trim_multiplier * quantile(options_.adaptive_trim_quantile)});
+                  options_.adaptive_trim_multiplier * magnitudes_[adaptive_rank]});
     const double threshold_m =
         frozen_threshold_m_ > 0.0 ? frozen_threshold_m_ : std::min(fixed_m, adaptive_m);
     last_threshold_m_ = threshold_m;
