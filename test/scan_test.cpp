@@ -212,10 +212,15 @@ TEST(ScanLines, OptionsAreValidated)
   }
 }
 
-TEST(NearestPointSearch, AngularAndKdTreeAgreeWithBruteForce)
+class NearestPointSearchFieldOfView : public ::testing::TestWithParam<double>
+{
+};
+
+TEST_P(NearestPointSearchFieldOfView, AngularAndKdTreeAgreeWithBruteForce)
 {
   const synthetic::World world = synthetic::officeRoom();
   synthetic::LidarModel lidar;
+  lidar.field_of_view_rad = GetParam();  // 240 deg, or 360 deg (the walks wrap around)
   std::mt19937 rng(3);
   const ScanPoints points =
       scanToPoints(synthetic::simulateScan(world, Pose2(3, 3, 0.4), lidar, rng));
@@ -255,6 +260,9 @@ TEST(NearestPointSearch, AngularAndKdTreeAgreeWithBruteForce)
     }
   }
 }
+
+INSTANTIATE_TEST_SUITE_P(FieldsOfView, NearestPointSearchFieldOfView,
+                         ::testing::Values(240.0 * synthetic::kDegToRad, 2.0 * M_PI));
 
 }  // namespace
 }  // namespace odometry_calibration
