@@ -93,6 +93,29 @@ TEST(ScanToPoints, CompensatesTheMotionDuringTheSweep)
   EXPECT_THROW(scanToPoints(scan), std::invalid_argument);
 }
 
+TEST(ScanToPoints, CompensatedPointsStayOrderedByBearing)
+{
+  // Turning clockwise faster than the rays advance reverses their bearings: the points must
+  // come out sorted by bearing again, each with its own ray index and geometry.
+  Scan scan = fourRayScan({1.0, 2.0, 3.0, 4.0});
+  scan.time_increment_s = 1.0;
+  SensorVelocity velocity;
+  velocity.omega_radps = -1.0;  // -1 rad per ray against +pi/6 between rays
+  const ScanPoints points = scanToPoints(scan, velocity);
+  ASSERT_EQ(points.size(), 4u);
+  for (int k = 0; k < 4; ++k) {
+    const int ray = 3 - k;
+    EXPECT_EQ(points.ray_indices[k], ray);
+    EXPECT_NEAR(points.ranges_m[k], ray + 1.0, 1e-12);
+    const double bearing = -M_PI / 4 + ray * (M_PI / 6 - 1.0);
+    EXPECT_NEAR(points.angles_rad[k], bearing, 1e-12);
+    EXPECT_NEAR(points.points_m[k].x(), (ray + 1.0) * std::cos(bearing), 1e-12);
+    if (k > 0) {
+      EXPECT_LT(points.angles_rad[k - 1], points.angles_rad[k]);
+    }
+  }
+}
+
 TEST(ScanToPoints, NegativeIncrementStillGivesIncreasingAngles)
 {
   Scan scan = fourRayScan({1.0, 2.0, 3.0, 4.0});
