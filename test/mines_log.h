@@ -24,6 +24,9 @@ constexpr double kWheelSeparationM = 0.330;
 constexpr double kTicksPerRevolution = 2000.0;
 constexpr double kLaserAheadOfAxleM = 0.145;
 constexpr int kRayCount = kMinesRayCount;
+/// Time between rays [s]: the URG-04LX turns at 10 Hz with 1024 steps per revolution and
+/// measures its rays counter-clockwise, in the log's ray order (the sensor's data sheet).
+constexpr double kTimePerRayS = 0.1 / 1024.0;
 
 /// One line of the log.
 struct Record
@@ -48,6 +51,7 @@ inline std::vector<Record> loadLog(const std::string& path)
     return records;
   for (const MinesRecord& line : loadMinesLog(path)) {
     records.push_back({line.stamp_s, line.left_ticks, line.right_ticks, minesScan(line)});
+    records.back().scan.time_increment_s = kTimePerRayS;
   }
   return records;
 }
@@ -72,6 +76,24 @@ inline Pose2 wheelOdometry(const Record& from, const Record& to)
 inline Pose2 laserMotion(const Pose2& axle_motion)
 {
   return sensorMotionFromBodyMotion(Pose2(kLaserAheadOfAxleM, 0.0, 0.0), axle_motion);
+}
+
+/// The laser's velocity while it sweeps scan k, from the nominal odometry, for motion
+/// compensation: the mean over the two odometry intervals before line k, which the counters'
+/// lead of about one line (README) puts around scan k; zero for the first two lines.
+inline SensorVelocity laserVelocity(const std::vector<Record>& records, std::size_t k)
+{
+  SensorVelocity velocity;
+  if (k < 2 || k >= records.size()) {
+    return velocity;
+  }
+  const Pose2 before = laserMotion(wheelOdometry(records[k - 2], records[k - 1]));
+  const Pose2 after = laserMotion(wheelOdometry(records[k - 1], records[k]));
+  const double duration_s = records[k].stamp_s - records[k - 2].stamp_s;
+  velocity.vx_mps = (before.x() + after.x()) / duration_s;
+  velocity.vy_mps = (before.y() + after.y()) / duration_s;
+  velocity.omega_radps = (before.theta() + after.theta()) / duration_s;
+  return velocity;
 }
 
 }  // namespace mines

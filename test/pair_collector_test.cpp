@@ -279,6 +279,49 @@ TEST(PairCollector, ResultsDoNotDependOnThreadTiming)
   EXPECT_LT(stats.consecutive_matches, stats.scans - 1);
 }
 
+TEST(PairCollector, MinimumMotionExtendsIntervalsAndDropsStandingStill)
+{
+  CollectorOptions options;
+  options.min_translation_m = 0.05;
+  options.min_rotation_rad = 0.05;
+  // 1000 ticks per metre, straight ahead.
+  MotionPredictor predictor = [](const std::vector<EncoderSample>& samples) {
+    return Pose2((samples.back().values(0) - samples.front().values(0)) / 1000.0, 0.0, 0.0);
+  };
+  PairCollector collector(wheels(), options, predictor);
+  // Driving for 1 s, standing for 3 s, driving again until 5 s (10 ticks per 20 ms).
+  double ticks = 0.0;
+  std::vector<std::pair<double, double>> pairs;
+  std::vector<std::string> rejected;
+  auto take = [&](const std::vector<CollectorEvent>& events) {
+    for (const CollectorEvent& event : events) {
+      if (event.type == CollectorEvent::Type::kPair)
+        pairs.emplace_back(event.pair.start_stamp_s, event.pair.end_stamp_s);
+      if (event.type == CollectorEvent::Type::kRejected)
+        rejected.push_back(event.reason);
+    }
+  };
+  const Eigen::Matrix3d covariance = Eigen::Matrix3d::Identity() * 1e-4;
+  for (int k = 0; k <= 250; ++k) {
+    const double t = 0.02 * k;
+    if (k > 0 && (t <= 1.0 + 1e-9 || t > 4.0 + 1e-9))
+      ticks += 10.0;
+    take(collector.addEncoders(t, Eigen::Vector2d(ticks, ticks)));
+    if (k % 5 == 0)
+      take(collector.addSensorPose(t, Pose2(ticks / 1000.0, 0, 0), covariance));
+  }
+  take(collector.flush());
+  const std::vector<std::pair<double, double>> expected = {
+      {0.0, 0.5}, {0.5, 1.0}, {3.0, 4.1}, {4.1, 4.6}};  // 4.1: 5 cm since driving on
+  ASSERT_EQ(pairs.size(), expected.size());
+  for (std::size_t i = 0; i < expected.size(); ++i) {
+    EXPECT_NEAR(pairs[i].first, expected[i].first, 1e-9) << i;
+    EXPECT_NEAR(pairs[i].second, expected[i].second, 1e-9) << i;
+  }
+  ASSERT_EQ(rejected.size(), 1u);
+  EXPECT_NE(rejected[0].find("too little motion"), std::string::npos) << rejected[0];
+}
+
 TEST(PairCollector, InvalidOptionsAreNamed)
 {
   CollectorOptions options;

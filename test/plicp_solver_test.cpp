@@ -51,6 +51,30 @@ TEST(PointToLineSolver, RecoversTheExactMotionFromNoiseFreeData)
   }
 }
 
+TEST(PointToLineSolver, InformationIsTheSumOfTheResidualGradientsOuterProducts)
+{
+  // information(theta) must equal sum_i J_i J_i^T, J_i = (n_i, (R p_i) x n_i), computed here
+  // point by point.
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> coordinate(-6.0, 6.0);
+  std::uniform_real_distribution<double> angle(-M_PI, M_PI);
+  PointToLineSystem system;
+  Eigen::Matrix3d expected = Eigen::Matrix3d::Zero();
+  const double theta = 0.7;
+  for (int i = 0; i < 40; ++i) {
+    const Eigen::Vector2d p(coordinate(rng), coordinate(rng));
+    const Eigen::Vector2d c(coordinate(rng), coordinate(rng));
+    const double a = angle(rng);
+    const Eigen::Vector2d n(std::cos(a), std::sin(a));
+    system.add(p, c, n);
+    const Eigen::Vector2d Rp(std::cos(theta) * p.x() - std::sin(theta) * p.y(),
+                             std::sin(theta) * p.x() + std::cos(theta) * p.y());
+    const Eigen::Vector3d J(n.x(), n.y(), Rp.x() * n.y() - Rp.y() * n.x());
+    expected += J * J.transpose();
+  }
+  EXPECT_LT((system.information(theta) - expected).cwiseAbs().maxCoeff(), 1e-9);
+}
+
 TEST(PointToLineSolver, IsTheMinimumOfTheCostWithNoisyLines)
 {
   // With inconsistent lines the solution must beat every nearby pose.

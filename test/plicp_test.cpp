@@ -1,5 +1,6 @@
 // matchScans(): options, failure statuses, exact recovery, the degenerate corridor, covariance.
 #include <cmath>
+#include <cstdio>
 #include <functional>
 #include <random>
 
@@ -33,6 +34,7 @@ TEST(PlicpOptions, DefaultsAreValidAndBadValuesAreNamed)
       {"max_correspondence_distance_m",
        [](PlicpOptions& o) { o.max_correspondence_distance_m = 0; }},
       {"max_normal_angle_rad", [](PlicpOptions& o) { o.max_normal_angle_rad = 4.0; }},
+      {"surface_extent_margin_m", [](PlicpOptions& o) { o.surface_extent_margin_m = -0.1; }},
       {"trim_keep_fraction", [](PlicpOptions& o) { o.trim_keep_fraction = 1.5; }},
       {"adaptive_trim_quantile", [](PlicpOptions& o) { o.adaptive_trim_quantile = 0.0; }},
       {"adaptive_trim_multiplier", [](PlicpOptions& o) { o.adaptive_trim_multiplier = -1; }},
@@ -108,6 +110,70 @@ TEST(Plicp, RecoversTheMotionExactlyFromNoiseFreeScans)
     EXPECT_GT(result.inlier_fraction, 0.5);
     EXPECT_FALSE(result.degeneracy.degenerate());
   }
+}
+
+/// The sensor's pose tau_s after a pose, moving at constant `velocity` (SE(2) exponential).
+Pose2 poseAfter(const Pose2& start, const SensorVelocity& velocity, double tau_s)
+{
+  const double theta = velocity.omega_radps * tau_s;
+  const double a = std::abs(theta) > 1e-12 ? std::sin(theta) / theta : 1.0;
+  const double b = std::abs(theta) > 1e-12 ? (1.0 - std::cos(theta)) / theta : 0.0;
+  const double vx = velocity.vx_mps * tau_s;
+  const double vy = velocity.vy_mps * tau_s;
+  return start * Pose2(a * vx - b * vy, b * vx + a * vy, theta);
+}
+
+/// A noise-free scan whose ray i is measured from the pose reached i * time_increment_s after
+/// `stamp_pose`.
+Scan sweptScan(const synthetic::World& world, const Pose2& stamp_pose,
+               const SensorVelocity& velocity, double time_increment_s)
+{
+  const synthetic::LidarModel lidar;
+  Scan scan;
+  scan.angle_min_rad = -0.5 * lidar.field_of_view_rad;
+  scan.angle_increment_rad = lidar.field_of_view_rad / (lidar.ray_count - 1);
+  scan.range_min_m = lidar.range_min_m;
+  scan.range_max_m = lidar.range_max_m;
+  scan.time_increment_s = time_increment_s;
+  for (int i = 0; i < lidar.ray_count; ++i) {
+    const Pose2 pose = poseAfter(stamp_pose, velocity, i * time_increment_s);
+    const double angle = pose.theta() + scan.angle_min_rad + i * scan.angle_increment_rad;
+    scan.ranges_m.push_back(synthetic::castRay(world, Eigen::Vector2d(pose.x(), pose.y()),
+                                               Eigen::Vector2d(std::cos(angle), std::sin(angle))));
+  }
+  return scan;
+}
+
+TEST(Plicp, MotionDuringTheSweepIsCompensated)
+{
+  // 1.2 m/s and 1.5 rad/s while a 10 Hz lidar sweeps 682 rays in 67 ms: without compensation
+  // the scans are bent and the match is millimetres off (3 % of the motion); with it, exact.
+  const synthetic::World world = synthetic::officeRoom();
+  SensorVelocity velocity;
+  velocity.vx_mps = 1.2;
+  velocity.vy_mps = 0.1;
+  velocity.omega_radps = 1.5;
+  const double time_increment_s = 0.1 / 1024;
+  const Pose2 reference_pose(3.0, 2.5, 0.3);
+  const Pose2 current_pose = poseAfter(reference_pose, velocity, 0.1);
+  const Pose2 truth = reference_pose.inverse() * current_pose;
+  const Scan reference = sweptScan(world, reference_pose, velocity, time_increment_s);
+  const Scan current = sweptScan(world, current_pose, velocity, time_increment_s);
+  const PlicpOptions options;
+  auto error = [&](const PlicpResult& result) {
+    EXPECT_TRUE(result.valid()) << result.message;
+    return Eigen::Vector2d(result.T_ref_new.x() - truth.x(), result.T_ref_new.y() - truth.y())
+        .norm();
+  };
+  const double raw_m = error(matchScans(reference, current, truth, options));
+  const PlicpResult compensated =
+      matchScans(prepareScan(reference, options.line_fit, velocity),
+                 prepareScan(current, options.line_fit, velocity), truth, options);
+  std::printf("[ plicp    ] swept scans: error %.3f mm raw, %.4f mm compensated\n", 1e3 * raw_m,
+              1e3 * error(compensated));
+  EXPECT_LT(error(compensated), 1e-4);
+  EXPECT_NEAR(compensated.T_ref_new.theta(), truth.theta(), 1e-4);
+  EXPECT_GT(raw_m, 2e-3);
 }
 
 TEST(Plicp, AngularAndKdTreeSearchGiveTheSameMatch)

@@ -57,6 +57,65 @@ TEST(ScanToPoints, AllInvalidGivesNoPointsAndNoException)
   EXPECT_TRUE(scanToPoints(fourRayScan({})).empty());
 }
 
+TEST(ScanToPoints, CompensatesTheMotionDuringTheSweep)
+{
+  // Ray 3 is measured 3 ms after the stamp; meanwhile the sensor turned by omega * 3 ms and
+  // moved along the arc exp(tau xi). The point must come out where the sensor at the stamp sees
+  // it: turned, then shifted by the chord of the arc.
+  Scan scan = fourRayScan({1.0, 2.0, 3.0, 4.0});
+  scan.time_increment_s = 0.001;
+  SensorVelocity velocity;
+  velocity.vx_mps = 2.0;
+  velocity.vy_mps = -0.5;
+  velocity.omega_radps = 4.0;
+  const ScanPoints points = scanToPoints(scan, velocity);
+  ASSERT_EQ(points.size(), 4u);
+  const double tau_s = 0.003;
+  const double theta = velocity.omega_radps * tau_s;
+  const double a = std::sin(theta) / theta;
+  const double b = (1.0 - std::cos(theta)) / theta;
+  const Eigen::Vector2d t(a * velocity.vx_mps * tau_s - b * velocity.vy_mps * tau_s,
+                          b * velocity.vx_mps * tau_s + a * velocity.vy_mps * tau_s);
+  const double angle = -M_PI / 4 + 3 * M_PI / 6;
+  const Eigen::Vector2d expected =
+      4.0 * Eigen::Vector2d(std::cos(angle + theta), std::sin(angle + theta)) + t;
+  EXPECT_NEAR((points.points_m[3] - expected).norm(), 0.0, 1e-12);
+  EXPECT_NEAR(points.ranges_m[3], expected.norm(), 1e-12);
+  EXPECT_NEAR(points.angles_rad[3], std::atan2(expected.y(), expected.x()), 1e-12);
+  EXPECT_NEAR((points.directions[3] - expected.normalized()).norm(), 0.0, 1e-12);
+  // Ray 0 is at the stamp: unchanged. Without a time increment nothing moves.
+  EXPECT_NEAR(
+      (points.points_m[0] - Eigen::Vector2d(std::cos(M_PI / 4), -std::sin(M_PI / 4))).norm(), 0.0,
+      1e-15);
+  scan.time_increment_s = 0.0;
+  EXPECT_NEAR(scanToPoints(scan, velocity).points_m[3].y(), 4.0 * std::sin(angle), 1e-15);
+  scan.time_increment_s = std::nan("");
+  EXPECT_THROW(scanToPoints(scan), std::invalid_argument);
+}
+
+TEST(ScanToPoints, CompensatedPointsStayOrderedByBearing)
+{
+  // Turning clockwise faster than the rays advance reverses their bearings: the points must
+  // come out sorted by bearing again, each with its own ray index and geometry.
+  Scan scan = fourRayScan({1.0, 2.0, 3.0, 4.0});
+  scan.time_increment_s = 1.0;
+  SensorVelocity velocity;
+  velocity.omega_radps = -1.0;  // -1 rad per ray against +pi/6 between rays
+  const ScanPoints points = scanToPoints(scan, velocity);
+  ASSERT_EQ(points.size(), 4u);
+  for (int k = 0; k < 4; ++k) {
+    const int ray = 3 - k;
+    EXPECT_EQ(points.ray_indices[k], ray);
+    EXPECT_NEAR(points.ranges_m[k], ray + 1.0, 1e-12);
+    const double bearing = -M_PI / 4 + ray * (M_PI / 6 - 1.0);
+    EXPECT_NEAR(points.angles_rad[k], bearing, 1e-12);
+    EXPECT_NEAR(points.points_m[k].x(), (ray + 1.0) * std::cos(bearing), 1e-12);
+    if (k > 0) {
+      EXPECT_LT(points.angles_rad[k - 1], points.angles_rad[k]);
+    }
+  }
+}
+
 TEST(ScanToPoints, NegativeIncrementStillGivesIncreasingAngles)
 {
   Scan scan = fourRayScan({1.0, 2.0, 3.0, 4.0});
@@ -176,10 +235,15 @@ TEST(ScanLines, OptionsAreValidated)
   }
 }
 
-TEST(NearestPointSearch, AngularAndKdTreeAgreeWithBruteForce)
+class NearestPointSearchFieldOfView : public ::testing::TestWithParam<double>
+{
+};
+
+TEST_P(NearestPointSearchFieldOfView, AngularAndKdTreeAgreeWithBruteForce)
 {
   const synthetic::World world = synthetic::officeRoom();
   synthetic::LidarModel lidar;
+  lidar.field_of_view_rad = GetParam();  // 240 deg, or 360 deg (the walks wrap around)
   std::mt19937 rng(3);
   const ScanPoints points =
       scanToPoints(synthetic::simulateScan(world, Pose2(3, 3, 0.4), lidar, rng));
@@ -189,6 +253,7 @@ TEST(NearestPointSearch, AngularAndKdTreeAgreeWithBruteForce)
   std::uniform_real_distribution<double> coordinate(-6.0, 6.0);
   std::uniform_real_distribution<double> angle(-M_PI, M_PI);
   const double min_cosine = std::cos(0.6);
+  std::uniform_int_distribution<std::size_t> hint_index(0, points.size() - 1);
   for (int query = 0; query < 2000; ++query) {
     const Eigen::Vector2d q(coordinate(rng), coordinate(rng));
     const double a = angle(rng);
@@ -210,8 +275,17 @@ TEST(NearestPointSearch, AngularAndKdTreeAgreeWithBruteForce)
         << "query " << q.transpose();
     EXPECT_EQ(kdtree->nearest(q, normal, min_cosine, max_distance_m, nullptr), expected)
         << "query " << q.transpose();
+    // A hint (any reference point: near, far, unusable or out of range) never changes the
+    // answer.
+    for (const int hint : {expected, static_cast<int>(hint_index(rng)), -1, 100000}) {
+      EXPECT_EQ(angular->nearest(q, normal, min_cosine, max_distance_m, nullptr, hint), expected)
+          << "query " << q.transpose() << ", hint " << hint;
+    }
   }
 }
+
+INSTANTIATE_TEST_SUITE_P(FieldsOfView, NearestPointSearchFieldOfView,
+                         ::testing::Values(240.0 * synthetic::kDegToRad, 2.0 * M_PI));
 
 }  // namespace
 }  // namespace odometry_calibration

@@ -1,5 +1,6 @@
 #include "odometry_calibration/pipeline/calibration_config.h"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <set>
@@ -8,6 +9,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "odometry_calibration/io/text_file.h"
 #include "odometry_calibration/io/yaml_reading.h"
 
 #include "odometry_calibration/models/gp_options.h"
@@ -24,6 +26,16 @@ int jointIndex(const CalibrationConfig& config, const std::string& name, const s
   throw std::runtime_error(key + ": no joint named '" + name + "' among 'joints'");
 }
 
+/// A model section's `sensor_pose: [x_m, y_m, theta_rad]` (the origin when absent).
+Pose2 readSensorPose(const YAML::Node& section)
+{
+  std::vector<double> pose = {0.0, 0.0, 0.0};
+  readYaml(section, "sensor_pose", &pose);
+  if (pose.size() != 3)
+    throw std::runtime_error("sensor_pose needs [x_m, y_m, theta_rad]");
+  return Pose2(pose[0], pose[1], pose[2]);
+}
+
 }  // namespace
 
 CalibrationConfig parseCalibrationConfig(const std::string& text, const std::string& source)
@@ -32,11 +44,11 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
   std::string where = source;
   try {
     const YAML::Node root = YAML::Load(text);
-    checkYamlKeys(
-        root,
-        {"joints", "joint_state_topic", "ego_motion", "keyframes", "scan_matching", "model",
-         "compare_models", "prior_model", "diff_drive", "linear", "gp", "output_directory"},
-        source);
+    checkYamlKeys(root,
+                  {"joints", "joint_state_topic", "ego_motion", "keyframes", "scan_matching",
+                   "model", "compare_models", "prior_model", "diff_drive", "linear", "gp",
+                   "tricycle", "output_directory"},
+                  source);
     where = source + ": joints";
     if (!root["joints"] || !root["joints"].IsSequence() || root["joints"].size() == 0) {
       throw std::runtime_error("a list of joints is required");
@@ -70,6 +82,9 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
     readYaml(root, "joint_state_topic", &c.joint_state_topic);
     readYaml(root, "model", &c.model);
     readYaml(root, "compare_models", &c.compare_models);
+    // The matcher's guesses come from the fitted model's own start values when it has some.
+    if (c.model == "tricycle")
+      c.prior_model = "tricycle";
     readYaml(root, "prior_model", &c.prior_model);
     readYaml(root, "output_directory", &c.output_directory);
 
@@ -98,12 +113,14 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
     where = source + ": keyframes";
     const YAML::Node keyframes = root["keyframes"];
     checkYamlKeys(keyframes,
-                  {"interval_s", "time_offset_s", "max_encoder_gap_s", "check_consistency",
-                   "consistency_translation_m", "consistency_rotation_rad", "estimate_time_offset",
-                   "time_offset_search_s"},
+                  {"interval_s", "min_translation_m", "min_rotation_rad", "time_offset_s",
+                   "max_encoder_gap_s", "check_consistency", "consistency_translation_m",
+                   "consistency_rotation_rad", "estimate_time_offset", "time_offset_search_s"},
                   where);
     CollectorOptions& k = c.collector;
     readYaml(keyframes, "interval_s", &k.keyframe_interval_s);
+    readYaml(keyframes, "min_translation_m", &k.min_translation_m);
+    readYaml(keyframes, "min_rotation_rad", &k.min_rotation_rad);
     readYaml(keyframes, "time_offset_s", &k.time_offset_s);
     readYaml(keyframes, "max_encoder_gap_s", &k.max_encoder_gap_s);
     readYaml(keyframes, "check_consistency", &k.check_consistency);
@@ -150,12 +167,10 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
     d.initial_left_radius_m = d.initial_right_radius_m = radius;
     readYaml(diff, "wheel_separation_m", &d.initial_separation_m);
     readYaml(diff, "huber_threshold", &d.huber_threshold);
-    std::vector<double> pose = {0.0, 0.0, 0.0};
-    readYaml(diff, "sensor_pose", &pose);
-    if (pose.size() != 3)
-      throw std::runtime_error("sensor_pose needs [x_m, y_m, theta_rad]");
-    d.initial_T_base_sensor = Pose2(pose[0], pose[1], pose[2]);
-    if (c.model == "diff_drive" || c.prior_model == "diff_drive") {
+    d.initial_T_base_sensor = readSensorPose(diff);
+    if (c.model == "diff_drive" || c.prior_model == "diff_drive" ||
+        std::find(c.compare_models.begin(), c.compare_models.end(), "diff_drive") !=
+            c.compare_models.end()) {
       d.layout.left_index = jointIndex(c, left, where + ".left_joint");
       d.layout.right_index = jointIndex(c, right, where + ".right_joint");
       if (c.joints[d.layout.left_index].units_per_turn !=
@@ -164,6 +179,48 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
       }
       d.layout.ticks_per_turn = c.joints[d.layout.left_index].units_per_turn;
       validate(d);
+    }
+
+    auto uses = [&c](const std::string& model) {
+      if (c.model == model || c.prior_model == model)
+        return true;
+      for (const std::string& name : c.compare_models)
+        if (name == model)
+          return true;
+      return false;
+    };
+    where = source + ": tricycle";
+    const YAML::Node tri = root["tricycle"];
+    checkYamlKeys(tri,
+                  {"steering_joint", "traction_joint", "steering_scale",
+                   "traction_scale_m_per_turn", "axis_length_m", "steering_offset_rad",
+                   "sensor_pose", "huber_threshold", "translation_sigma_m", "rotation_sigma_rad"},
+                  where);
+    TricycleModelOptions& t = c.models.tricycle;
+    std::string steering = c.joints[0].name;
+    std::string traction = c.joints.size() > 1 ? c.joints[1].name : "";
+    readYaml(tri, "steering_joint", &steering);
+    readYaml(tri, "traction_joint", &traction);
+    readYaml(tri, "steering_scale", &t.initial.steering_scale);
+    readYaml(tri, "traction_scale_m_per_turn", &t.initial.traction_scale_m_per_turn);
+    readYaml(tri, "axis_length_m", &t.initial.axis_length_m);
+    readYaml(tri, "steering_offset_rad", &t.initial.steering_offset_rad);
+    readYaml(tri, "huber_threshold", &t.calibration.huber_threshold);
+    readYaml(tri, "translation_sigma_m", &t.calibration.translation_sigma_m);
+    readYaml(tri, "rotation_sigma_rad", &t.calibration.rotation_sigma_rad);
+    t.initial.T_base_sensor = readSensorPose(tri);
+    if (uses("tricycle")) {
+      t.layout.steering_index = jointIndex(c, steering, where + ".steering_joint");
+      t.layout.traction_index = jointIndex(c, traction, where + ".traction_joint");
+      if (c.joints[t.layout.steering_index].kind != EncoderKind::kAbsolute ||
+          c.joints[t.layout.traction_index].kind != EncoderKind::kIncremental) {
+        throw std::runtime_error(
+            "the steering joint must be kind: absolute and the traction joint incremental");
+      }
+      t.layout.steering_ticks_per_turn = c.joints[t.layout.steering_index].units_per_turn;
+      t.layout.traction_ticks_per_turn = c.joints[t.layout.traction_index].units_per_turn;
+      validate(t.calibration);
+      validateStartValues(t.initial);
     }
 
     where = source + ": linear";
@@ -189,9 +246,9 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
     validate(c.models.gp);
 
     where = source;
-    if (c.prior_model != "none" && c.prior_model != "diff_drive") {
-      throw std::runtime_error("prior_model must be 'none' or 'diff_drive', got '" + c.prior_model +
-                               "'");
+    if (c.prior_model != "none" && c.prior_model != "diff_drive" && c.prior_model != "tricycle") {
+      throw std::runtime_error("prior_model must be 'none', 'diff_drive' or 'tricycle', got '" +
+                               c.prior_model + "'");
     }
     auto check_model = [](const std::string& name, const std::string& key) {
       std::string list;
@@ -218,12 +275,7 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
 
 CalibrationConfig loadCalibrationConfig(const std::string& path)
 {
-  std::ifstream file(path);
-  if (!file)
-    throw std::runtime_error("cannot open configuration '" + path + "'");
-  std::stringstream text;
-  text << file.rdbuf();
-  return parseCalibrationConfig(text.str(), path);
+  return parseCalibrationConfig(readTextFile(path, "the configuration"), path);
 }
 
 std::vector<EncoderChannelOptions> encoderChannels(const CalibrationConfig& config)
@@ -258,8 +310,30 @@ JointLayout jointLayout(const CalibrationConfig& config)
   return layout;
 }
 
+std::shared_ptr<MotionModel> priorModel(const CalibrationConfig& config)
+{
+  if (config.prior_model == "none")
+    return nullptr;
+  return makeModel(config.prior_model, config.models);
+}
+
+std::optional<Pose2> priorSensorPose(const CalibrationConfig& config)
+{
+  if (config.prior_model == "diff_drive")
+    return config.models.diff_drive.initial_T_base_sensor;
+  if (config.prior_model == "tricycle")
+    return config.models.tricycle.initial.T_base_sensor;
+  return std::nullopt;
+}
+
 MotionPredictor priorPredictor(const CalibrationConfig& config)
 {
+  if (config.prior_model == "tricycle") {
+    const TricycleModelOptions options = config.models.tricycle;
+    return [options](const std::vector<EncoderSample>& samples) {
+      return predictTricycleSensorMotion(options.initial, options.layout, samples);
+    };
+  }
   if (config.prior_model != "diff_drive")
     return nullptr;
   const DiffDriveOptions options = config.models.diff_drive;

@@ -8,6 +8,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "odometry_calibration/eval/model_report.h"
+#include "odometry_calibration/io/text_file.h"
 #include "odometry_calibration/models/model_factory.h"
 
 namespace odometry_calibration {
@@ -53,12 +54,7 @@ CalibrationResult parseCalibrationResult(const std::string& text, const std::str
 
 CalibrationResult readCalibrationResult(const std::string& path)
 {
-  std::ifstream file(path);
-  if (!file)
-    throw std::runtime_error("cannot read '" + path + "'");
-  std::ostringstream text;
-  text << file.rdbuf();
-  return parseCalibrationResult(text.str(), path);
+  return parseCalibrationResult(readTextFile(path, "the calibration"), path);
 }
 
 std::string laserJointUrdf(const Pose2& T_base_laser, const std::string& base_frame,

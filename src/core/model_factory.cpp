@@ -10,7 +10,7 @@ namespace odometry_calibration {
 
 std::vector<std::string> knownModelNames()
 {
-  return {"linear", "diff_drive", "gp"};
+  return {"linear", "diff_drive", "gp", "tricycle"};
 }
 
 std::unique_ptr<MotionModel> makeModel(const std::string& name, const ModelFactoryOptions& options)
@@ -32,6 +32,17 @@ std::unique_ptr<MotionModel> makeModel(const std::string& name, const ModelFacto
   if (name == "gp") {
     return std::make_unique<GaussianProcessModel>(options.gp, options.joints);
   }
+  if (name == "tricycle") {
+    const int joints = static_cast<int>(options.joints.names.size());
+    const TricycleEncoderLayout& layout = options.tricycle.layout;
+    if (layout.steering_index >= joints || layout.traction_index >= joints) {
+      throw std::invalid_argument(
+          "tricycle: the steering and traction joints are not among the "
+          "pairs' " +
+          std::to_string(joints) + " joints");
+    }
+    return std::make_unique<TricycleModel>(options.tricycle);
+  }
   std::string known;
   for (const std::string& model : knownModelNames())
     known += " " + model;
@@ -52,6 +63,8 @@ std::unique_ptr<MotionModel> loadModel(const std::string& model_yaml)
     return std::make_unique<LinearModel>(LinearModel::fromYaml(model_yaml));
   if (name == "gp")
     return GaussianProcessModel::fromYaml(model_yaml);
+  if (name == "tricycle")
+    return std::make_unique<TricycleModel>(TricycleModel::fromYaml(model_yaml));
   throw std::runtime_error("model YAML: unknown or missing 'model' ('" + name + "')");
 }
 

@@ -17,6 +17,8 @@ void validate(const CollectorOptions& o)
   require(std::isfinite(o.time_offset_s) && std::abs(o.time_offset_s) < 5.0,
           "time_offset_s must be within +-5 s");
   require(o.max_encoder_gap_s > 0.0, "max_encoder_gap_s must be > 0 s");
+  require(o.min_translation_m >= 0.0 && o.min_rotation_rad >= 0.0,
+          "min_translation_m and min_rotation_rad must be >= 0");
   require(o.consistency_translation_m > 0.0 && o.consistency_rotation_rad > 0.0,
           "consistency thresholds must be > 0");
   require((o.covariance_floor.array() >= 0.0).all(), "covariance_floor must be >= 0");
@@ -181,6 +183,15 @@ Pose2 PairCollector::predict(const std::vector<EncoderSample>& window) const
   return predictor_ ? predictor_(window) : Pose2();
 }
 
+bool PairCollector::tooLittleMotion(const std::vector<EncoderSample>& window) const
+{
+  if (!predictor_ || (options_.min_translation_m <= 0.0 && options_.min_rotation_rad <= 0.0))
+    return false;
+  const Pose2 motion = predictor_(window);
+  return std::hypot(motion.x(), motion.y()) < options_.min_translation_m &&
+         std::abs(motion.theta()) < options_.min_rotation_rad;
+}
+
 std::vector<CollectorEvent> PairCollector::addScan(double stamp_s, const Scan& scan)
 {
   ++statistics_.scans;
@@ -230,6 +241,12 @@ CollectorEvent PairCollector::processScan(double stamp_s,
   const auto window = encoderWindow(keyframe_->stamp_s, stamp_s, &reason);
   if (!window)
     return start_keyframe(reject(reason));
+  if (tooLittleMotion(*window)) {
+    if (stamp_s - keyframe_->stamp_s < 4.0 * options_.keyframe_interval_s)
+      return {};  // wait for more motion
+    return start_keyframe(
+        reject("too little motion (keyframes.min_translation_m/min_rotation_rad)"));
+  }
   // Runs here while the background thread works through the consecutive matches.
   const PlicpResult match =
       timedMatch(*keyframe_->scan, *prepared, predict(*window), options_.plicp,
@@ -281,6 +298,12 @@ CollectorEvent PairCollector::processPose(double stamp_s, const Pose2& T_world_s
   const auto window = encoderWindow(keyframe_->stamp_s, stamp_s, &reason);
   if (!window)
     return start_keyframe(reject(reason));
+  if (tooLittleMotion(*window)) {
+    if (stamp_s - keyframe_->stamp_s < 4.0 * options_.keyframe_interval_s)
+      return {};
+    return start_keyframe(
+        reject("too little motion (keyframes.min_translation_m/min_rotation_rad)"));
+  }
   return start_keyframe(
       pairEvent(stamp_s, *window, between(keyframe_->T_world_sensor, T_world_sensor), covariance));
 }

@@ -45,6 +45,7 @@ public:
     all_.reserve(current.points.size());
     kept_.reserve(current.points.size());
     magnitudes_.reserve(current.points.size());
+    hints_.assign(current.points.size(), -1);
   }
 
   /// Matches every new point, transformed by T_ref_new, to the nearest reference point with a
@@ -52,7 +53,7 @@ public:
   void findCorrespondences(const Pose2& T_ref_new)
   {
     all_.clear();
-    const Eigen::Rotation2Dd R(T_ref_new.theta());
+    const Eigen::Matrix2d R = Eigen::Rotation2Dd(T_ref_new.theta()).toRotationMatrix();
     const Eigen::Vector2d t(T_ref_new.x(), T_ref_new.y());
     const ScanPoints& points = current_.points;
     const ScanLines& lines = current_.lines;
@@ -63,15 +64,18 @@ public:
       // (the same surface seen from the same side).
       const Eigen::Vector2d query_normal =
           lines.fitted[i] != 0 ? Eigen::Vector2d(R * lines.normals[i]) : Eigen::Vector2d::Zero();
+      // The previous iteration's match is near: it shortens the search.
       const int j = search_->nearest(q, query_normal, cos_max_normal_angle_,
-                                     options_.max_correspondence_distance_m, nullptr);
+                                     options_.max_correspondence_distance_m, nullptr, hints_[i]);
+      hints_[i] = j;
       if (j < 0) {
         continue;
       }
       const Eigen::Vector2d& normal = reference_lines.normals[j];
       const Eigen::Vector2d offset = q - reference_lines.centroids_m[j];
       const double along_m = normal.x() * offset.y() - normal.y() * offset.x();  // tangent . offset
-      if (along_m < reference_lines.along_min_m[j] || along_m > reference_lines.along_max_m[j]) {
+      if (along_m < reference_lines.along_min_m[j] - options_.surface_extent_margin_m ||
+          along_m > reference_lines.along_max_m[j] + options_.surface_extent_margin_m) {
         continue;  // beyond the end of the observed surface
       }
       all_.push_back({static_cast<int>(i), j, normal.dot(offset)});
@@ -93,17 +97,25 @@ public:
     for (std::size_t k = 0; k < n; ++k) {
       magnitudes_[k] = std::abs(all_[k].residual_m);
     }
-    auto quantile = [&](double fraction) {
-      const auto rank = static_cast<std::size_t>(
+    auto rankOf = [n](double fraction) {
+      return static_cast<std::size_t>(
           std::clamp(std::ceil(fraction * static_cast<double>(n)) - 1.0, 0.0, n - 1.0));
-      std::nth_element(magnitudes_.begin(), magnitudes_.begin() + rank, magnitudes_.end());
-      return magnitudes_[rank];
     };
-    // Fixed percentile (the largest residual still kept), then the adaptive threshold.
-    const double fixed_m = quantile(options_.trim_keep_fraction);
+    // Fixed percentile (the largest residual still kept), then the adaptive threshold. The
+    // second selection only searches the side of the first one's rank that holds its rank.
+    const std::size_t fixed_rank = rankOf(options_.trim_keep_fraction);
+    const std::size_t adaptive_rank = rankOf(options_.adaptive_trim_quantile);
+    const auto begin = magnitudes_.begin();
+    std::nth_element(begin, begin + fixed_rank, magnitudes_.end());
+    if (adaptive_rank < fixed_rank) {
+      std::nth_element(begin, begin + adaptive_rank, begin + fixed_rank);
+    } else if (adaptive_rank > fixed_rank) {
+      std::nth_element(begin + fixed_rank + 1, begin + adaptive_rank, magnitudes_.end());
+    }
+    const double fixed_m = magnitudes_[fixed_rank];
     const double adaptive_m =
         std::max({options_.adaptive_trim_floor_m, pose_uncertainty_m,
-                  options_.adaptive_trim_multiplier * quantile(options_.adaptive_trim_quantile)});
+                  options_.adaptive_trim_multiplier * magnitudes_[adaptive_rank]});
     const double threshold_m =
         frozen_threshold_m_ > 0.0 ? frozen_threshold_m_ : std::min(fixed_m, adaptive_m);
     last_threshold_m_ = threshold_m;
@@ -118,24 +130,34 @@ public:
   /// quantiles, whose changes can keep the iteration cycling through nearby poses forever.
   void freezeTrimThreshold() { frozen_threshold_m_ = last_threshold_m_; }
 
-  /// Closed-form step on kept_ (Censi ICRA 2008) under `constraint`.
-  std::optional<Pose2> step(const StepConstraint& constraint) const
+  /// Accumulates the closed-form system of kept_ (Censi ICRA 2008) and the RMS radius of its
+  /// new points (the lever arm of a rotation).
+  void buildSystem()
   {
-    PointToLineSystem system;
+    system_ = PointToLineSystem();
+    double radius2_sum_m2 = 0.0;
     for (const Correspondence& c : kept_) {
-      system.add(current_.points.points_m[c.current_index],
-                 reference_.lines.centroids_m[c.reference_index],
-                 reference_.lines.normals[c.reference_index]);
+      const Eigen::Vector2d& p = current_.points.points_m[c.current_index];
+      system_.add(p, reference_.lines.centroids_m[c.reference_index],
+                  reference_.lines.normals[c.reference_index]);
+      radius2_sum_m2 += p.squaredNorm();
     }
-    return system.solve(constraint);
+    lever_arm_m_ =
+        kept_.empty() ? 1.0 : std::sqrt(radius2_sum_m2 / static_cast<double>(kept_.size()));
   }
 
+  /// Closed-form step on the system of kept_ (buildSystem) under `constraint`.
+  std::optional<Pose2> step(const StepConstraint& constraint) const
+  {
+    return system_.solve(constraint);
+  }
+
+  /// Degeneracy of the system of kept_ (buildSystem) at T_ref_new: the information matrix of
+  /// pointToLineInformation(), taken from the system's normal equations.
   Degeneracy degeneracy(const Pose2& T_ref_new) const
   {
-    double lever_arm_m = 1.0;
-    const Eigen::Matrix3d information = pointToLineInformation(
-        reference_.points, reference_.lines, current_.points, kept_, T_ref_new, &lever_arm_m);
-    return analyzeDegeneracy(information, lever_arm_m, options_.min_information_ratio);
+    return analyzeDegeneracy(system_.information(T_ref_new.theta()), lever_arm_m_,
+                             options_.min_information_ratio);
   }
 
   /// Largest displacement of a new point [m] caused by a pose change of step_m [m] and
@@ -157,6 +179,9 @@ private:
   std::vector<Correspondence> all_;
   std::vector<Correspondence> kept_;
   std::vector<double> magnitudes_;
+  std::vector<int> hints_;  // per new point: its reference match of the last search, or -1
+  PointToLineSystem system_;
+  double lever_arm_m_ = 1.0;
   double rms_range_m_ = 0.0;
   double last_threshold_m_ = 0.0;
   double frozen_threshold_m_ = 0.0;  // > 0 once frozen
@@ -211,11 +236,12 @@ const char* toString(PlicpStatus status)
   return "unknown";
 }
 
-PreparedScan prepareScan(const Scan& scan, const LineFitOptions& options)
+PreparedScan prepareScan(const Scan& scan, const LineFitOptions& options,
+                         const SensorVelocity& velocity)
 {
   validate(options);
   PreparedScan prepared;
-  prepared.points = scanToPoints(scan);
+  prepared.points = scanToPoints(scan, velocity);
   prepared.lines = fitScanLines(prepared.points, options);
   return prepared;
 }
@@ -260,6 +286,7 @@ PlicpResult matchScans(const PreparedScan& reference, const PreparedScan& curren
                          " (min_correspondences " + std::to_string(options.min_correspondences) +
                          "): the scans do not overlap near the initial guess");
     }
+    matcher.buildSystem();
     const Degeneracy degeneracy = matcher.degeneracy(T_ref_new);
     if (degeneracy.direction == DegenerateDirection::kSeveral) {
       result.degeneracy = degeneracy;
@@ -329,6 +356,7 @@ PlicpResult matchScans(const PreparedScan& reference, const PreparedScan& curren
     return failure(result, PlicpStatus::kTooFewCorrespondences,
                    "only " + std::to_string(kept.size()) + " correspondences at the solution");
   }
+  matcher.buildSystem();
   result.degeneracy = matcher.degeneracy(T_ref_new);
   if (result.degeneracy.direction == DegenerateDirection::kTranslation &&
       last_degeneracy.direction == DegenerateDirection::kTranslation) {

@@ -24,6 +24,21 @@ Eigen::Vector3d residualJacobian(const Eigen::Vector2d& normal, const Eigen::Vec
   return Eigen::Vector3d(normal.x(), normal.y(), cross(Rp, normal));
 }
 
+/// Upper triangle of m += w v v^T, written out (Eigen's rankUpdate is not inlined here and this
+/// runs for every correspondence).
+void addOuterProduct(Eigen::Matrix3d& m, const Eigen::Vector3d& v, double w = 1.0)
+{
+  const double w0 = w * v(0);
+  const double w1 = w * v(1);
+  const double w2 = w * v(2);
+  m(0, 0) += w0 * v(0);
+  m(0, 1) += w0 * v(1);
+  m(0, 2) += w0 * v(2);
+  m(1, 1) += w1 * v(1);
+  m(1, 2) += w1 * v(2);
+  m(2, 2) += w2 * v(2);
+}
+
 std::string formatVector(const Eigen::Vector2d& v, const char* unit)
 {
   char buffer[96];
@@ -38,13 +53,13 @@ Eigen::Matrix3d pointToLineInformation(const ScanPoints& /*reference*/,
                                        const std::vector<Correspondence>& correspondences,
                                        const Pose2& T_ref_new, double* lever_arm_m)
 {
-  const Eigen::Rotation2Dd R(T_ref_new.theta());
+  const Eigen::Matrix2d R = Eigen::Rotation2Dd(T_ref_new.theta()).toRotationMatrix();
   Eigen::Matrix3d information = Eigen::Matrix3d::Zero();
   double radius2_sum_m2 = 0.0;
   for (const Correspondence& c : correspondences) {
     const Eigen::Vector2d Rp = R * current.points_m[c.current_index];
     const Eigen::Vector3d J = residualJacobian(reference_lines.normals[c.reference_index], Rp);
-    information.selfadjointView<Eigen::Upper>().rankUpdate(J);
+    addOuterProduct(information, J);
     radius2_sum_m2 += Rp.squaredNorm();
   }
   if (lever_arm_m != nullptr) {
@@ -120,7 +135,7 @@ Eigen::Matrix3d plicpCovariance(const ScanPoints& reference, const ScanLines& re
                                 const std::vector<Correspondence>& correspondences,
                                 const Pose2& T_ref_new, double range_sigma_m)
 {
-  const Eigen::Rotation2Dd R(T_ref_new.theta());
+  const Eigen::Matrix2d R = Eigen::Rotation2Dd(T_ref_new.theta()).toRotationMatrix();
   const Eigen::Vector2d t(T_ref_new.x(), T_ref_new.y());
   Eigen::Matrix3d information = Eigen::Matrix3d::Zero();  // d2J/dx2 / 2
   Eigen::Matrix3d spread = Eigen::Matrix3d::Zero();       // (d2J/dzdx)(d2J/dzdx)^T / 4
@@ -139,10 +154,10 @@ Eigen::Matrix3d plicpCovariance(const ScanPoints& reference, const ScanLines& re
     const Eigen::Vector2d& normal = reference_lines.normals[j];
     const Eigen::Vector2d Rp = R * current.points_m[c.current_index];
     const Eigen::Vector3d J = residualJacobian(normal, Rp);
-    information.selfadjointView<Eigen::Upper>().rankUpdate(J);
+    addOuterProduct(information, J);
     // The new point's own range moves its residual by n^T R u per metre.
     const double d_residual_d_range = normal.dot(R * current.directions[c.current_index]);
-    spread.selfadjointView<Eigen::Upper>().rankUpdate(J, d_residual_d_range * d_residual_d_range);
+    addOuterProduct(spread, J, d_residual_d_range * d_residual_d_range);
     const Eigen::Vector2d tangent(-normal.y(), normal.x());
     const double along_m = tangent.dot(Rp + t - reference_lines.centroids_m[j]);
     line_sum[j] += J;
@@ -175,7 +190,7 @@ Eigen::Matrix3d plicpCovariance(const ScanPoints& reference, const ScanLines& re
     }
   }
   for (std::size_t k = 0; k < reference_count; ++k) {
-    spread.selfadjointView<Eigen::Upper>().rankUpdate(reading_effect[k]);
+    addOuterProduct(spread, reading_effect[k]);
   }
 
   const Eigen::Matrix3d H = information.selfadjointView<Eigen::Upper>();

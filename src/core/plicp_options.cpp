@@ -26,6 +26,8 @@ void validate(const PlicpOptions& options)
           "max_correspondence_distance_m must be a positive number of metres");
   require(positive(options.max_normal_angle_rad) && options.max_normal_angle_rad <= M_PI,
           "max_normal_angle_rad must be in (0, pi] radians");
+  require(std::isfinite(options.surface_extent_margin_m) && options.surface_extent_margin_m >= 0.0,
+          "surface_extent_margin_m must be a number of metres >= 0");
   require(positive(options.trim_keep_fraction) && options.trim_keep_fraction <= 1.0,
           "trim_keep_fraction must be in (0, 1]");
   require(positive(options.adaptive_trim_quantile) && options.adaptive_trim_quantile <= 1.0,

@@ -96,11 +96,44 @@ void PointToLineSystem::add(const Eigen::Vector2d& point_new_m,
   // Residual m^T x - b with x = (tx, ty, cos, sin): n^T R p = cos (n.p) + sin (n x p).
   const Eigen::Vector2d& n = line_normal_ref;
   const Eigen::Vector2d& p = point_new_m;
-  const Eigen::Vector4d m(n.x(), n.y(), n.dot(p), n.y() * p.x() - n.x() * p.y());
+  const double m0 = n.x();
+  const double m1 = n.y();
+  const double m2 = n.dot(p);
+  const double m3 = n.y() * p.x() - n.x() * p.y();
   const double b = n.dot(line_point_ref_m);
-  normal_matrix_.selfadjointView<Eigen::Upper>().rankUpdate(m, weight);
-  normal_vector_ += (weight * b) * m;
+  // Upper triangle of A += w m m^T and g += w b m, written out (this runs for every
+  // correspondence of every iteration).
+  double* a = normal_matrix_.data();  // column-major: (row, column) at row + 4 column
+  const double w0 = weight * m0;
+  const double w1 = weight * m1;
+  const double w2 = weight * m2;
+  const double w3 = weight * m3;
+  a[0] += w0 * m0;
+  a[4] += w0 * m1;
+  a[5] += w1 * m1;
+  a[8] += w0 * m2;
+  a[9] += w1 * m2;
+  a[10] += w2 * m2;
+  a[12] += w0 * m3;
+  a[13] += w1 * m3;
+  a[14] += w2 * m3;
+  a[15] += w3 * m3;
+  normal_vector_(0) += w0 * b;
+  normal_vector_(1) += w1 * b;
+  normal_vector_(2) += w2 * b;
+  normal_vector_(3) += w3 * b;
   ++count_;
+}
+
+Eigen::Matrix3d PointToLineSystem::information(double theta_rad) const
+{
+  const Eigen::Matrix4d A = normal_matrix_.selfadjointView<Eigen::Upper>();
+  Eigen::Matrix<double, 3, 4> B = Eigen::Matrix<double, 3, 4>::Zero();
+  B(0, 0) = 1.0;
+  B(1, 1) = 1.0;
+  B(2, 2) = -std::sin(theta_rad);
+  B(2, 3) = std::cos(theta_rad);
+  return B * A * B.transpose();
 }
 
 std::optional<Pose2> PointToLineSystem::solve(const StepConstraint& constraint) const

@@ -1,9 +1,71 @@
 #include "odometry_calibration/scan/scan.h"
 
+#include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <stdexcept>
 
+#include "odometry_calibration/geometry/se2.h"
+
 namespace odometry_calibration {
+namespace {
+
+/// The sensor's pose after moving for tau_s seconds at constant `velocity`: the SE(2)
+/// exponential exp(tau * xi), theta = omega tau, t = V(theta) v tau with
+/// V = [sin(theta), -(1 - cos(theta)); 1 - cos(theta), sin(theta)] / theta.
+Pose2 poseAfter(const SensorVelocity& velocity, double tau_s)
+{
+  const double theta_rad = velocity.omega_radps * tau_s;
+  double a = 1.0;  // sin(theta) / theta
+  double b = 0.0;  // (1 - cos(theta)) / theta
+  if (std::abs(theta_rad) > 1e-9) {
+    a = std::sin(theta_rad) / theta_rad;
+    b = (1.0 - std::cos(theta_rad)) / theta_rad;
+  }
+  const double vx_m = velocity.vx_mps * tau_s;
+  const double vy_m = velocity.vy_mps * tau_s;
+  return Pose2(a * vx_m - b * vy_m, b * vx_m + a * vy_m, theta_rad);
+}
+
+/// Moves every point into the frame of the sensor at the stamp and reorders by bearing (the
+/// compensation can swap neighbours across a depth discontinuity).
+void compensateSweep(const Scan& scan, const SensorVelocity& velocity, ScanPoints& points)
+{
+  const std::size_t n = points.size();
+  for (std::size_t k = 0; k < n; ++k) {
+    const double tau_s = static_cast<double>(points.ray_indices[k]) * scan.time_increment_s;
+    const Pose2 T_stamp_ray = poseAfter(velocity, tau_s);
+    const Eigen::Vector2d& p = points.points_m[k];
+    const double c = std::cos(T_stamp_ray.theta());
+    const double s = std::sin(T_stamp_ray.theta());
+    const Eigen::Vector2d q(c * p.x() - s * p.y() + T_stamp_ray.x(),
+                            s * p.x() + c * p.y() + T_stamp_ray.y());
+    points.points_m[k] = q;
+    points.ranges_m[k] = q.norm();
+    points.directions[k] = q / points.ranges_m[k];
+    // The bearing moves by little: keep the ray angles' unwrapping (e.g. beyond pi).
+    points.angles_rad[k] += normalizeAngle(std::atan2(q.y(), q.x()) - points.angles_rad[k]);
+  }
+  if (std::is_sorted(points.angles_rad.begin(), points.angles_rad.end())) {
+    return;
+  }
+  std::vector<std::size_t> order(n);
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t i, std::size_t j) {
+    return points.angles_rad[i] < points.angles_rad[j];
+  });
+  ScanPoints sorted;
+  for (const std::size_t k : order) {
+    sorted.points_m.push_back(points.points_m[k]);
+    sorted.directions.push_back(points.directions[k]);
+    sorted.angles_rad.push_back(points.angles_rad[k]);
+    sorted.ranges_m.push_back(points.ranges_m[k]);
+    sorted.ray_indices.push_back(points.ray_indices[k]);
+  }
+  points = std::move(sorted);
+}
+
+}  // namespace
 
 void validate(const Scan& scan)
 {
@@ -20,6 +82,9 @@ void validate(const Scan& scan)
   if (std::isnan(scan.range_max_m) || !(scan.range_max_m > scan.range_min_m)) {
     throw std::invalid_argument("scan range_max_m must be larger than range_min_m");
   }
+  if (!std::isfinite(scan.time_increment_s)) {
+    throw std::invalid_argument("scan time_increment_s must be a finite number of seconds");
+  }
   if (!scan.valid.empty() && scan.valid.size() != scan.ranges_m.size()) {
     throw std::invalid_argument("scan valid mask has " + std::to_string(scan.valid.size()) +
                                 " entries for " + std::to_string(scan.ranges_m.size()) +
@@ -27,7 +92,7 @@ void validate(const Scan& scan)
   }
 }
 
-ScanPoints scanToPoints(const Scan& scan)
+ScanPoints scanToPoints(const Scan& scan, const SensorVelocity& velocity)
 {
   validate(scan);
   ScanPoints result;
@@ -59,6 +124,9 @@ ScanPoints scanToPoints(const Scan& scan)
     result.angles_rad.push_back(angle_rad);
     result.ranges_m.push_back(range_m);
     result.ray_indices.push_back(static_cast<int>(i));
+  }
+  if (!velocity.isZero() && scan.time_increment_s != 0.0) {
+    compensateSweep(scan, velocity, result);
   }
   return result;
 }

@@ -8,25 +8,36 @@ namespace {
 
 constexpr double kTwoPi = 2.0 * M_PI;
 
-/// Angle wrapped into [0, 2 pi) [rad].
+/// Angle wrapped into [0, 2 pi) [rad], for angles within a few turns.
 double wrapPositive(double angle_rad)
 {
-  angle_rad = std::fmod(angle_rad, kTwoPi);
-  return angle_rad < 0.0 ? angle_rad + kTwoPi : angle_rad;
+  while (angle_rad >= kTwoPi) {
+    angle_rad -= kTwoPi;
+  }
+  while (angle_rad < 0.0) {
+    angle_rad += kTwoPi;
+  }
+  return angle_rad;
 }
 
 class AngularSearch final : public NearestPointSearch
 {
 public:
-  AngularSearch(const ScanPoints& points, const ScanLines& lines)
+  AngularSearch(const ScanPoints& points, const ScanLines& lines) : position_(points.size(), -1)
   {
+    points_.reserve(lines.valid_count);
+    angles_rad_.reserve(lines.valid_count);
+    indices_.reserve(lines.valid_count);
     for (std::size_t i = 0; i < points.size(); ++i) {
       if (lines.valid[i] != 0) {
-        normals_.push_back(lines.normals[i]);
-        fitted_.push_back(lines.fitted[i]);
+        const Eigen::Vector2d& p = points.points_m[i];
+        const Eigen::Vector2d& n = lines.normals[i];
+        // The bearing of the point itself (the walks' bounds rely on it).
+        const Eigen::Vector2d d = p / p.norm();
+        position_[i] = static_cast<int>(points_.size());
+        points_.push_back(
+            {p.x(), p.y(), d.x(), d.y(), n.x(), n.y(), lines.fitted[i] != 0, p.norm()});
         angles_rad_.push_back(points.angles_rad[i]);
-        points_m_.push_back(points.points_m[i]);
-        directions_.push_back(points.directions[i]);
         indices_.push_back(static_cast<int>(i));
       }
     }
@@ -34,19 +45,150 @@ public:
     // walks wrap around; below it a point more than 180 degrees away (unwrapped) is always more
     // than 90 degrees away for real, hence no nearer than |q|, and the walks can stop at the ends.
     wraps_ = !angles_rad_.empty() && angles_rad_.back() - angles_rad_.front() > 1.5 * M_PI;
+    buildJumpTables();
   }
 
   int nearest(const Eigen::Vector2d& query_m, const Eigen::Vector2d& query_normal,
-              double min_cosine, double max_distance_m, double* distance_m) const override
+              double min_cosine, double max_distance_m, double* distance_m, int hint) const override
   {
-    const int n = static_cast<int>(angles_rad_.size());
+    const int n = static_cast<int>(points_.size());
     if (n == 0) {
       return -1;
     }
+    // With a zero query normal every point passes (0 >= 0).
+    Search search{query_m.x(),
+                  query_m.y(),
+                  query_m.norm(),
+                  query_normal.x(),
+                  query_normal.y(),
+                  min_cosine * query_normal.norm(),
+                  max_distance_m * max_distance_m,
+                  -1,
+                  max_distance_m};
+    const int hint_position =
+        hint >= 0 && hint < static_cast<int>(position_.size()) ? position_[hint] : -1;
+    int start = -1;
+    if (hint_position >= 0) {
+      // The hint is a candidate: the walks can stop as soon as nothing nearer is possible.
+      consider(search, hint_position);
+      start = startNear(search, hint_position);
+    }
+    if (start < 0) {
+      start = startFromBearing(search);
+    }
+    walk(search, start, +1);
+    walk(search, start - 1, -1);
+    if (search.best < 0) {
+      return -1;
+    }
+    if (distance_m != nullptr) {
+      *distance_m = std::sqrt(search.best_distance2_m2);
+    }
+    return indices_[search.best];
+  }
+
+private:
+  /// A usable reference point, its unit bearing and its line's normal, packed for the walks.
+  struct Point
+  {
+    double x, y;     // [m]
+    double dx, dy;   // unit bearing
+    double nx, ny;   // unit normal
+    bool fitted;     // a segment's normal (not fitted) is too noisy to test: it passes every test
+    double range_m;  // |(x, y)|
+  };
+
+  /// Jump tables (as in Censi's CSM): for each position, the next position up (down) whose
+  /// range is larger, and the next whose range is smaller; n (-1) when there is none. A point
+  /// whose range differs from |q| by more than the best distance found cannot beat it, nor can
+  /// any point up to the next one whose range is on the other side of it, so a walk skips them.
+  void buildJumpTables()
+  {
+    const int n = static_cast<int>(points_.size());
+    up_bigger_.assign(n, n);
+    up_smaller_.assign(n, n);
+    down_bigger_.assign(n, -1);
+    down_smaller_.assign(n, -1);
+    std::vector<int> stack;
+    stack.reserve(n);
+    // Monotonic stack: scanning from the far end towards k, the stack holds the positions that
+    // can still be "the next one with a larger (smaller) range" of a later k.
+    auto fill = [&](std::vector<int>& table, int begin, int end, int step, auto popped) {
+      stack.clear();
+      for (int k = begin; k != end; k += step) {
+        while (!stack.empty() && popped(stack.back(), k)) {
+          stack.pop_back();
+        }
+        if (!stack.empty()) {
+          table[k] = stack.back();
+        }
+        stack.push_back(k);
+      }
+    };
+    auto not_bigger = [&](int top, int k) { return points_[top].range_m <= points_[k].range_m; };
+    auto not_smaller = [&](int top, int k) { return points_[top].range_m >= points_[k].range_m; };
+    fill(up_bigger_, n - 1, -1, -1, not_bigger);
+    fill(up_smaller_, n - 1, -1, -1, not_smaller);
+    fill(down_bigger_, 0, n, +1, not_bigger);
+    fill(down_smaller_, 0, n, +1, not_smaller);
+  }
+
+  struct Search
+  {
+    double qx, qy;             // the query [m]
+    double query_norm_m;       // |q|
+    double qnx, qny;           // query normal; zero: no compatibility test
+    double min_dot;            // a point's normal . query normal must reach this
+    double best_distance2_m2;  // starts at the squared limit
+    int best;
+    double best_distance_m;  // its square root
+  };
+
+  /// q x d_k: > 0 when the query lies clockwise of point k's bearing (within 180 degrees).
+  double crossWithBearing(const Search& search, int k) const
+  {
+    return points_[k].dx * search.qy - points_[k].dy * search.qx;
+  }
+
+  /// The first position whose bearing is not below the query's (lower_bound of the bearing),
+  /// found by stepping from the hint with cross products (no trigonometry); -1 when the hint is
+  /// too far in angle for that, or the query lies beyond the last ray (the caller then uses
+  /// startFromBearing).
+  int startNear(const Search& search, int k) const
+  {
+    const int n = static_cast<int>(points_.size());
+    if (wraps_ || points_[k].dx * search.qx + points_[k].dy * search.qy <= 0.0) {
+      return -1;
+    }
+    if (crossWithBearing(search, k) > 0.0) {
+      // The query is counter-clockwise of k: move up while it stays so.
+      while (k + 1 < n && crossWithBearing(search, k + 1) > 0.0 &&
+             points_[k + 1].dx * search.qx + points_[k + 1].dy * search.qy > 0.0) {
+        ++k;
+      }
+      if (k + 1 >= n || crossWithBearing(search, k + 1) > 0.0) {
+        return -1;  // beyond the last ray, or too far round: let the bearing decide
+      }
+      return k + 1;
+    }
+    while (k > 0 && crossWithBearing(search, k - 1) <= 0.0 &&
+           points_[k - 1].dx * search.qx + points_[k - 1].dy * search.qy > 0.0) {
+      --k;
+    }
+    if (k > 0 && crossWithBearing(search, k - 1) <= 0.0) {
+      return -1;
+    }
+    return k;
+  }
+
+  /// The first position whose bearing is not below the query's, from its angle.
+  int startFromBearing(const Search& search) const
+  {
+    const int n = static_cast<int>(points_.size());
     const double first_rad = angles_rad_.front();
     // Bearing of the query, unwrapped into [first, first + 2 pi) like the sorted ray angles.
     const double bearing_rad =
-        first_rad + wrapPositive(std::atan2(query_m.y(), query_m.x()) - first_rad);
+        first_rad + wrapPositive(std::atan2(search.qy, search.qx) - first_rad);
     int start =
         static_cast<int>(std::lower_bound(angles_rad_.begin(), angles_rad_.end(), bearing_rad) -
                          angles_rad_.begin());
@@ -60,80 +202,83 @@ public:
         start = past_last_rad <= before_first_rad ? n - 1 : 0;
       }
     }
-
-    // With a zero query normal every point passes (0 >= 0).
-    Search search{query_m,
-                  query_m.norm(),
-                  query_normal,
-                  min_cosine * query_normal.norm(),
-                  max_distance_m * max_distance_m,
-                  -1};
-    walk(search, start, +1, bearing_rad);
-    walk(search, start - 1, -1, bearing_rad);
-    if (search.best < 0) {
-      return -1;
-    }
-    if (distance_m != nullptr) {
-      *distance_m = std::sqrt(search.best_distance2_m2);
-    }
-    return indices_[search.best];
+    return start;
   }
 
-private:
-  struct Search
+  /// Takes point k as the best one if it is nearer and compatible.
+  void consider(Search& search, int k) const
   {
-    Eigen::Vector2d query_m;
-    double query_norm_m;
-    Eigen::Vector2d query_normal;  // zero: no compatibility test
-    double min_dot;                // a point's normal . query_normal must reach this
-    double best_distance2_m2;      // starts at the squared limit
-    int best;
-  };
+    const Point& p = points_[k];
+    const double ex = p.x - search.qx;
+    const double ey = p.y - search.qy;
+    const double distance2_m2 = ex * ex + ey * ey;
+    if (distance2_m2 < search.best_distance2_m2 &&
+        (!p.fitted || p.nx * search.qnx + p.ny * search.qny >= search.min_dot)) {
+      search.best_distance2_m2 = distance2_m2;
+      search.best_distance_m = std::sqrt(distance2_m2);
+      search.best = k;
+    }
+  }
 
   /// Visits points from `from` in direction `step` (+1 up, -1 down) while the angular lower
   /// bound on their distance can still beat the best one found.
-  void walk(Search& search, int from, int step, double bearing_rad) const
+  void walk(Search& search, int from, int step) const
   {
-    const int n = static_cast<int>(angles_rad_.size());
+    if (!wraps_) {
+      walkWithJumps(search, from, step);
+      return;
+    }
+    const int n = static_cast<int>(points_.size());
+    const double first_rad = angles_rad_.front();
+    const double bearing_rad =
+        first_rad + wrapPositive(std::atan2(search.qy, search.qx) - first_rad);
     for (int visited = 0; visited < n; ++visited) {
-      int k = from + step * visited;
-      if (wraps_) {
-        k = ((k % n) + n) % n;
-        // Each walk covers its own half circle; the other walk covers the rest.
-        const double separation_rad = wrapPositive(step * (angles_rad_[k] - bearing_rad));
-        if (separation_rad >= M_PI && visited > 0) {
-          return;
-        }
-      } else if (k < 0 || k >= n) {
+      const int k = (((from + step * visited) % n) + n) % n;
+      // Each walk covers its own half circle; the other walk covers the rest.
+      const double separation_rad = wrapPositive(step * (angles_rad_[k] - bearing_rad));
+      if ((separation_rad >= M_PI && visited > 0) || angularBoundReached(search, k)) {
         return;
       }
-      const Eigen::Vector2d& direction = directions_[k];
-      const double along = search.query_m.dot(direction);
-      // Distance from the query to the ray through point k, a lower bound for every point
-      // whose bearing differs more: |q| sin(d) below 90 degrees, |q| beyond.
-      const double bound_m =
-          along > 0.0
-              ? std::abs(search.query_m.x() * direction.y() - search.query_m.y() * direction.x())
-              : search.query_norm_m;
-      if (bound_m * bound_m >= search.best_distance2_m2) {
-        return;
-      }
-      const double distance2_m2 = (points_m_[k] - search.query_m).squaredNorm();
-      if (distance2_m2 < search.best_distance2_m2 &&
-          (fitted_[k] == 0 || normals_[k].dot(search.query_normal) >= search.min_dot)) {
-        search.best_distance2_m2 = distance2_m2;
-        search.best = k;
+      consider(search, k);
+    }
+  }
+
+  /// walk() without wrap-around, skipping runs of points whose range alone rules them out.
+  void walkWithJumps(Search& search, int k, int step) const
+  {
+    const int n = static_cast<int>(points_.size());
+    const std::vector<int>& bigger = step > 0 ? up_bigger_ : down_bigger_;
+    const std::vector<int>& smaller = step > 0 ? up_smaller_ : down_smaller_;
+    while (k >= 0 && k < n && !angularBoundReached(search, k)) {
+      consider(search, k);
+      const double range_m = points_[k].range_m;
+      if (range_m > search.query_norm_m + search.best_distance_m) {
+        k = smaller[k];  // everything up to there is even farther out
+      } else if (range_m < search.query_norm_m - search.best_distance_m) {
+        k = bigger[k];  // everything up to there is even farther in
+      } else {
+        k += step;
       }
     }
   }
 
+  /// Whether no point from k on (away from the query's bearing) can beat the best distance:
+  /// the distance from the query to the ray through point k bounds the distance of every point
+  /// whose bearing differs more: |q| sin(d) below 90 degrees, |q| beyond.
+  bool angularBoundReached(const Search& search, int k) const
+  {
+    const Point& p = points_[k];
+    const double along = search.qx * p.dx + search.qy * p.dy;
+    const double bound_m =
+        along > 0.0 ? std::abs(search.qx * p.dy - search.qy * p.dx) : search.query_norm_m;
+    return bound_m * bound_m >= search.best_distance2_m2;
+  }
+
+  std::vector<Point> points_;
   std::vector<double> angles_rad_;
-  std::vector<Eigen::Vector2d, Eigen::aligned_allocator<Eigen::Vector2d>> points_m_;
-  std::vector<Eigen::Vector2d, Eigen::aligned_allocator<Eigen::Vector2d>> directions_;
-  std::vector<Eigen::Vector2d, Eigen::aligned_allocator<Eigen::Vector2d>> normals_;
-  // A segment's normal (not fitted) is too noisy to test against: it passes every test.
-  std::vector<std::uint8_t> fitted_;
-  std::vector<int> indices_;
+  std::vector<int> indices_;   // reference index of each position
+  std::vector<int> position_;  // position of each reference index, -1 when not usable
+  std::vector<int> up_bigger_, up_smaller_, down_bigger_, down_smaller_;  // jump tables
   bool wraps_ = false;
 };
 

@@ -34,7 +34,8 @@ public:
   }
 
   int nearest(const Eigen::Vector2d& query_m, const Eigen::Vector2d& query_normal,
-              double min_cosine, double max_distance_m, double* distance_m) const override
+              double min_cosine, double max_distance_m, double* distance_m,
+              int /*hint*/) const override
   {
     if (indices_.empty()) {
       return -1;

@@ -119,7 +119,8 @@ ScanLines fitScanLines(const ScanPoints& points, const LineFitOptions& options)
     const double cyy = windowSum(sums.yy, first, last) - sy * my;
     // Eigen-decomposition of the 2x2 scatter matrix: principal axis angle and eigenvalues.
     const double half_trace = 0.5 * (cxx + cyy);
-    const double radius = std::hypot(0.5 * (cxx - cyy), cxy);
+    const double half_difference = 0.5 * (cxx - cyy);
+    const double radius = std::sqrt(half_difference * half_difference + cxy * cxy);
     result.across_m2 = std::max(0.0, half_trace - radius);
     result.along_m2 = half_trace + radius;
     // Normal = eigenvector of the smallest eigenvalue, from whichever row of (C - l I) is better
@@ -134,6 +135,8 @@ ScanLines fitScanLines(const ScanPoints& points, const LineFitOptions& options)
     return result;
   };
 
+  const double radius2_m2 = options.radius_m * options.radius_m;
+  const double max_bend_sigmas2 = options.max_bend_sigmas * options.max_bend_sigmas;
   // Whether two fits of adjacent pieces differ in direction by more than max_bend_sigmas
   // standard deviations of that difference (pieces of fewer than 3 points never do).
   auto bent = [&](const WindowFit& first, const WindowFit& second) {
@@ -146,11 +149,10 @@ ScanLines fitScanLines(const ScanPoints& points, const LineFitOptions& options)
     // inflated by the bend and would hide it.
     // Floor: 0.1 mm, below any lidar's resolution (keeps noise-free data well-posed).
     const double noise_m2 = std::max(std::min(first.meanSquare(), second.meanSquare()), 1e-8);
-    const double sigma_rad = std::sqrt(noise_m2 / first.along_m2 + noise_m2 / second.along_m2);
-    return bend_rad > options.max_bend_sigmas * sigma_rad;
+    const double variance_rad2 = noise_m2 / first.along_m2 + noise_m2 / second.along_m2;
+    return bend_rad * bend_rad > max_bend_sigmas2 * variance_rad2;
   };
 
-  const double radius2_m2 = options.radius_m * options.radius_m;
   const double max_rms2_m2 = options.max_rms_m * options.max_rms_m;
   int a = 0;
   int b = 0;
@@ -184,13 +186,11 @@ ScanLines fitScanLines(const ScanPoints& points, const LineFitOptions& options)
         continue;
       }
       chosen = fit(first, last);
-    } else if (bent(fit(a, j), fit(j, b))) {
+    } else if (const WindowFit left = fit(a, j), right = fit(j, b); bent(left, right)) {
       // Bend test: the halves on either side of the point must agree in direction within their
       // noise. A corner (or a curve) near the point makes them differ; then the straighter
       // half, which does not reach across the corner, is the point's surface, provided it
       // passes the same test itself (on a curve it does not: the point gets no line).
-      const WindowFit left = fit(a, j);
-      const WindowFit right = fit(j, b);
       chosen = left.meanSquare() <= right.meanSquare() ? left : right;
       const int middle = (chosen.first + chosen.last) / 2;
       if (chosen.count < options.min_points_one_sided ||

@@ -13,7 +13,7 @@
 #include "odometry_calibration/eval/model_report.h"
 #include "odometry_calibration/io/atomic_file.h"
 #include "odometry_calibration/io/calibration_result.h"
-#include "odometry_calibration/models/diff_drive_model.h"
+#include "odometry_calibration/io/text_file.h"
 #include "odometry_calibration/models/model_factory.h"
 #include "odometry_calibration/ros/conversions.h"
 #include "odometry_calibration/ros/report_messages.h"
@@ -26,16 +26,6 @@ namespace fs = std::filesystem;
 /// Scan-matched and odometry paths keep this many seconds of corrected sensor poses to bridge
 /// rejected keyframe intervals.
 constexpr double kRecentPoseHistoryS = 60.0;
-
-std::string readText(const std::string& path)
-{
-  std::ifstream file(path);
-  if (!file)
-    throw std::runtime_error("cannot read the configuration '" + path + "'");
-  std::ostringstream text;
-  text << file.rdbuf();
-  return text.str();
-}
 
 std::string wallClockTag()
 {
@@ -104,7 +94,7 @@ CalibrationNode::CalibrationNode(ros::NodeHandle handle, ros::NodeHandle private
     : handle_(handle),
       private_handle_(private_handle),
       options_(readNodeOptions(private_handle)),
-      config_text_(readText(options_.config_path)),
+      config_text_(readTextFile(options_.config_path, "the configuration")),
       config_(parseCalibrationConfig(config_text_, options_.config_path)),
       channels_(encoderChannels(config_)),
       odometry_decoder_(channels_)
@@ -153,25 +143,21 @@ CalibrationNode::CalibrationNode(ros::NodeHandle handle, ros::NodeHandle private
   if (!pairs_.empty())
     ROS_INFO("resumed %zu pairs from %s", pairs_.size(), pairs_path.c_str());
 
-  if (config_.prior_model == "diff_drive") {
-    auto nominal = std::make_shared<DiffDriveModel>(config_.models.diff_drive);
-    nominal_odometry_ = std::make_unique<OdometryIntegrator>(
-        nominal, config_.models.diff_drive.initial_T_base_sensor,
-        config_.collector.keyframe_interval_s);
+  // The nominal robot (the prior model at its start values) drives the nominal odometry, and
+  // the corrected one until a calibration is fitted or loaded.
+  if (std::shared_ptr<MotionModel> nominal = priorModel(config_)) {
+    nominal_odometry_ = std::make_unique<OdometryIntegrator>(nominal, priorSensorPose(config_),
+                                                             config_.collector.keyframe_interval_s);
     if (!active_model_) {
       active_model_ = nominal;
-      active_model_origin_ = "nominal diff_drive (configuration's start values)";
+      active_model_origin_ = "nominal " + nominal->name() + " (configuration's start values)";
       T_base_sensor_.reset();
     }
   }
   if (active_model_) {
+    const bool nominal = !T_base_sensor_ && active_model_origin_.rfind("nominal", 0) == 0;
     corrected_odometry_ = std::make_unique<OdometryIntegrator>(
-        active_model_,
-        T_base_sensor_
-            ? T_base_sensor_
-            : (active_model_->name() == "diff_drive"
-                   ? std::optional<Pose2>(config_.models.diff_drive.initial_T_base_sensor)
-                   : std::nullopt),
+        active_model_, nominal ? priorSensorPose(config_) : T_base_sensor_,
         config_.collector.keyframe_interval_s);
   } else {
     ROS_WARN(
@@ -452,6 +438,11 @@ void CalibrationNode::integrateOdometry(double encoder_stamp_s, const Eigen::Vec
     last_path_stamp_s_ = stamp_s;
     appendToPath(&corrected_path_, poseStamped(pose, stamp_s, options_.odom_frame),
                  options_.path_max_poses);
+    path_samples_.push_back(sample);
+    if (static_cast<int>(path_samples_.size()) > options_.path_max_poses) {
+      path_samples_.pop_front();
+      path_samples_start_ = ros_conversions::fromPoseMsg(corrected_path_.poses.front().pose);
+    }
     if (nominal_odometry_) {
       appendToPath(&nominal_path_,
                    poseStamped(nominal_odometry_->pose(), stamp_s, options_.odom_frame),
@@ -471,6 +462,8 @@ void CalibrationNode::restartOdometry()
     corrected_odometry_->reset();
   nominal_path_.poses.clear();
   corrected_path_.poses.clear();
+  path_samples_.clear();
+  path_samples_start_ = Pose2();
   scan_matched_path_.poses.clear();
   scan_matched_sensor_poses_.clear();
   recent_sensor_poses_.clear();
@@ -510,8 +503,7 @@ void CalibrationNode::publishPaths()
   // The scan-matched sensor poses drawn as base_link poses through the current extrinsic (or
   // the configured one), so the three paths overlay.
   const Pose2 T_sensor_base =
-      (T_base_sensor_ ? *T_base_sensor_ : config_.models.diff_drive.initial_T_base_sensor)
-          .inverse();
+      (T_base_sensor_ ? *T_base_sensor_ : priorSensorPose(config_).value_or(Pose2())).inverse();
   scan_matched_path_.poses.clear();
   for (const auto& [stamp_s, T_odom_sensor] : scan_matched_sensor_poses_) {
     scan_matched_path_.poses.push_back(
@@ -688,14 +680,47 @@ bool CalibrationNode::onCalibrate(Calibrate::Request& request, Calibrate::Respon
   } catch (const std::exception& error) {
     ROS_ERROR("cannot write last_fit.yaml: %s", error.what());
   }
+  // The corrected odometry is integrated again over the whole run with the new model, so that
+  // ~odom and its path show the calibrated trajectory (one jump at the fit; see README).
+  std::vector<EncoderSample> samples;
+  Pose2 path_start;
+  std::optional<Pose2> T_base_sensor;
   {
     std::lock_guard<std::mutex> lock(state_mutex_);
-    if (report.has_extrinsic)
-      T_base_sensor_ = report.T_base_sensor;
+    samples.assign(path_samples_.begin(), path_samples_.end());
+    path_start = path_samples_start_;
+    T_base_sensor =
+        report.has_extrinsic ? std::optional<Pose2>(report.T_base_sensor) : T_base_sensor_;
+  }
+  auto replay = std::make_unique<OdometryIntegrator>(model, T_base_sensor,
+                                                     config.collector.keyframe_interval_s);
+  replay->restartAt(path_start);
+  std::vector<geometry_msgs::PoseStamped> path;
+  auto add = [&](const EncoderSample& sample, bool to_path) {
+    if (replay->add(sample) && to_path)
+      path.push_back(poseStamped(replay->pose(), sample.stamp_s, options_.odom_frame));
+  };
+  try {
+    for (const EncoderSample& sample : samples)
+      add(sample, true);
+    std::lock_guard<std::mutex> lock(state_mutex_);
+    // What arrived while integrating, then the newest sample.
+    for (const EncoderSample& sample : path_samples_)
+      add(sample, true);
+    if (corrected_odometry_ && corrected_odometry_->lastSample())
+      add(*corrected_odometry_->lastSample(), false);
+    T_base_sensor_ = T_base_sensor;
     fitted_model_ = model;
     fitted_result_yaml_ = result_yaml;
-    activateModel(model, "fit of " + std::to_string(pairs.size()) + " pairs");
+    corrected_odometry_ = std::move(replay);
+    corrected_path_.poses = std::move(path);
+    active_model_ = model;
+    active_model_origin_ = "fit of " + std::to_string(pairs.size()) + " pairs";
     publishExtrinsic();
+  } catch (const std::exception& error) {
+    response.message = name + " fitted, but its odometry failed: " + error.what() +
+                       "; the active model is unchanged";
+    return true;
   }
   response.success = true;
   response.message = name + " fitted to " + std::to_string(report.pairs_used) + " pairs (" +
@@ -707,21 +732,6 @@ bool CalibrationNode::onCalibrate(Calibrate::Request& request, Calibrate::Respon
     response.message += " WARNING: " + warning;
   ROS_INFO("%s\n%s", response.message.c_str(), summary.c_str());
   return true;
-}
-
-void CalibrationNode::activateModel(std::shared_ptr<const MotionModel> model,
-                                    const std::string& origin)
-{
-  // The new odometry continues from the current pose (no jump in ~odom).
-  const std::optional<Pose2> T_base_sensor = T_base_sensor_;
-  const Pose2 current = corrected_odometry_ ? corrected_odometry_->pose() : Pose2();
-  const bool was_base = corrected_odometry_ && corrected_odometry_->tracksBase();
-  corrected_odometry_ = std::make_unique<OdometryIntegrator>(model, T_base_sensor,
-                                                             config_.collector.keyframe_interval_s);
-  if (corrected_odometry_ && was_base == corrected_odometry_->tracksBase())
-    corrected_odometry_->restartAt(current);
-  active_model_ = std::move(model);
-  active_model_origin_ = origin;
 }
 
 bool CalibrationNode::onSave(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& response)

@@ -222,15 +222,14 @@ int main(int argc, char** argv)
     // The evidence: the calibrated model against the scan matches, and the nominal robot (the
     // prior's start values, no time offset) when there is one.
     ResultFiles files;
-    std::unique_ptr<DiffDriveModel> nominal;
+    const std::shared_ptr<MotionModel> nominal = priorModel(config);
     std::vector<MotionPair> nominal_pairs;
-    if (config.prior_model == "diff_drive") {
-      nominal = std::make_unique<DiffDriveModel>(config.models.diff_drive);
+    if (nominal) {
       nominal_pairs = run.encoder_history.empty()
                           ? run.pairs
                           : rewindowPairs(run.pairs, run.encoder_history, 0.0);
       files.markdown.nominal_description =
-          "the diff_drive start values of the configuration at time offset 0";
+          "the " + config.prior_model + " start values of the configuration at time offset 0";
     }
     files.markdown.trajectories = compareTrajectories(pairs, *model, nominal_pairs, nominal.get());
     if (nominal && !run.encoder_history.empty()) {

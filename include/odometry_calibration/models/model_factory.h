@@ -9,6 +9,7 @@
 #include "odometry_calibration/models/gp_options.h"
 #include "odometry_calibration/models/linear_model.h"
 #include "odometry_calibration/models/model.h"
+#include "odometry_calibration/models/tricycle_model.h"
 
 namespace odometry_calibration {
 
@@ -20,6 +21,7 @@ struct ModelFactoryOptions
   LinearModelOptions linear;
   DiffDriveOptions diff_drive;
   GpOptions gp;
+  TricycleModelOptions tricycle;
 };
 
 /// Names makeModel knows.

@@ -3,6 +3,8 @@
 // that name the key.
 #pragma once
 
+#include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -54,8 +56,8 @@ struct CalibrationConfig
   std::string model = "diff_drive";         ///< model fitted by default
   std::vector<std::string> compare_models;  ///< further models fitted for the comparison table
   ModelFactoryOptions models;               ///< per-model options (joints filled in)
-  /// Model used for the matcher's initial guess ("none", or a parametric model with its start
-  /// values, e.g. "diff_drive").
+  /// Model used for the matcher's initial guess and the node's nominal odometry ("none", or a
+  /// parametric model with its start values: "diff_drive", "tricycle").
   std::string prior_model = "diff_drive";
   std::string output_directory = "odometry_calibration_results";
 };
@@ -79,6 +81,13 @@ Eigen::VectorXd applySigns(const CalibrationConfig& config, const Eigen::VectorX
 
 /// The joints as the models see them.
 JointLayout jointLayout(const CalibrationConfig& config);
+
+/// The prior model (diff_drive or tricycle at the configuration's start values, unfitted: it
+/// predicts the nominal robot), or nullptr for "none".
+std::shared_ptr<MotionModel> priorModel(const CalibrationConfig& config);
+
+/// The prior model's sensor pose in base_link (the configuration's start value), if any.
+std::optional<Pose2> priorSensorPose(const CalibrationConfig& config);
 
 /// The matcher's initial guess from the prior model's start values (nullptr for "none").
 MotionPredictor priorPredictor(const CalibrationConfig& config);

@@ -54,6 +54,8 @@ public:
   /// Velocity of the tracked frame in its own axes over the last update (vx [m/s], vy [m/s],
   /// omega [rad/s]); zero before two samples.
   const Eigen::Vector3d& velocity() const { return velocity_; }
+  /// The last sample added (null before the first).
+  const EncoderSample* lastSample() const { return window_.empty() ? nullptr : &window_.back(); }
   /// Time of the last sample [s]; NaN before the first.
   double stamp() const;
 

@@ -36,6 +36,12 @@ struct CollectorOptions
   /// Keyframe spacing T [s]. Real logs' stamps jitter by tens of ms: keep T >= 0.3 s so the
   /// jitter stays a small part of each interval (shorter pairs bias the wheel radius low).
   double keyframe_interval_s = 0.5;
+  /// Optional minimum motion of a pair, as the prior model predicts it from the encoders: a
+  /// keyframe interval where the robot moved less than both thresholds is extended (up to four
+  /// intervals, then dropped as "too little motion"), so that standing still makes no pairs.
+  /// 0 = off. Needs a predictor. [m], [rad]
+  double min_translation_m = 0.0;
+  double min_rotation_rad = 0.0;
   /// Encoder values are taken at scan time + time_offset_s [s] (clock offset between streams).
   double time_offset_s = 0.0;
   /// A pair is dropped when the encoder stream has a gap longer than this inside it [s].
@@ -147,6 +153,9 @@ private:
   Pose2 predict(const std::vector<EncoderSample>& window) const;
   /// Waits for the submitted consecutive matches and folds them into the chain, in order.
   void foldConsecutiveMatches() const;
+  /// Whether the predicted motion over `window` is below the minimum motion (always false when
+  /// the minimum is off or there is no predictor).
+  bool tooLittleMotion(const std::vector<EncoderSample>& window) const;
 
   CollectorOptions options_;
   MotionPredictor predictor_;

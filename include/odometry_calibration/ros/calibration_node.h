@@ -4,6 +4,7 @@
 // and diagnostics out. A thin layer: every computation is the core's.
 #pragma once
 
+#include <deque>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -86,8 +87,6 @@ private:
   void warnSilentTopics();
   /// Moves the pairs file aside (pairs-<time>.csv); returns the new name.
   std::string archivePairsFile(const std::string& why);
-  /// Installs a model for the corrected odometry, continuing from the current pose.
-  void activateModel(std::shared_ptr<const MotionModel> model, const std::string& origin);
   std::string sensorFrame() const;
 
   ros::NodeHandle handle_, private_handle_;
@@ -114,6 +113,10 @@ private:
   nav_msgs::Path nominal_path_, corrected_path_, scan_matched_path_;
   std::vector<std::pair<double, Pose2>> scan_matched_sensor_poses_;
   double last_path_stamp_s_ = -1e300;
+  /// Encoder samples at the corrected path's poses, to redraw it after a fit, and the path's
+  /// pose at the first of them.
+  std::deque<EncoderSample> path_samples_;
+  Pose2 path_samples_start_;
   /// Recent corrected sensor poses (laser clock), to place the scan-matched path after a gap.
   std::vector<std::pair<double, Pose2>> recent_sensor_poses_;
   std::optional<double> scan_matched_end_s_;

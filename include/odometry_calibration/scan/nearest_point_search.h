@@ -33,9 +33,12 @@ public:
   /// `max_distance_m` [m], or -1 when there is none. When `query_normal` is non-zero, points
   /// whose normal n satisfies n . query_normal < min_cosine are skipped (a different surface:
   /// the nearest point of the right surface may lie a little farther). `distance_m` receives the
-  /// distance when not null.
+  /// distance when not null. `hint` (a reference index, or -1) is a point likely to be near the
+  /// answer, e.g. the previous ICP iteration's: it speeds the search up, never changes the answer
+  /// (ties aside).
   virtual int nearest(const Eigen::Vector2d& query_m, const Eigen::Vector2d& query_normal,
-                      double min_cosine, double max_distance_m, double* distance_m) const = 0;
+                      double min_cosine, double max_distance_m, double* distance_m,
+                      int hint = -1) const = 0;
 };
 
 /// Angular-order search over the points with lines.valid[i] != 0, using lines.normals for the

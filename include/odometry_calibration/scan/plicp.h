@@ -34,9 +34,11 @@ struct PreparedScan
   ScanLines lines;
 };
 
-/// Converts the usable readings (scanToPoints) and fits their lines (fitScanLines). Throws
-/// std::invalid_argument for an unusable scan geometry or invalid line-fit options.
-PreparedScan prepareScan(const Scan& scan, const LineFitOptions& options);
+/// Converts the usable readings (scanToPoints, compensating the motion during the sweep when
+/// `velocity` is given and the scan has a time_increment_s) and fits their lines (fitScanLines).
+/// Throws std::invalid_argument for an unusable scan geometry or invalid line-fit options.
+PreparedScan prepareScan(const Scan& scan, const LineFitOptions& options,
+                         const SensorVelocity& velocity = {});
 
 /// Outcome of a match.
 enum class PlicpStatus

@@ -24,6 +24,14 @@ struct PlicpOptions
   /// ... and only when the two local lines differ by less than this angle [rad] (surfaces seen
   /// from the same side; larger than the initial guess' heading error).
   double max_normal_angle_rad = 0.6;
+  /// ... and only when the foot of the new point on the reference line lies within the extent
+  /// of the points the line was fitted to, widened by this margin [m] (a point beyond the end of
+  /// a surface belongs to something the reference scan did not see). Without a margin, small
+  /// objects (legs, posts, door frames: a few centimetres of surface) constrain the match only
+  /// once the pose is within their extent, so in a feature-poor corridor the match stays near
+  /// its initial guess (the Mines log from a zero guess: -5.0 % of the distance without a margin,
+  /// -2.4 % with 0.1 m, against -2.2 % from the odometry guess).
+  double surface_extent_margin_m = 0.1;
   /// Fixed trimming: keep at most this fraction of the correspondences, the ones with the
   /// smallest point-to-line residuals [-], in (0, 1] (CSM outliers_maxPerc).
   double trim_keep_fraction = 0.95;

@@ -51,13 +51,20 @@ public:
   /// Number of correspondences added.
   int count() const { return count_; }
 
+  /// Gauss-Newton information matrix sum_i J_i J_i^T of the accumulated residuals in
+  /// (t_x [m], t_y [m], theta [rad]) at rotation theta_rad, as pointToLineInformation()
+  /// (plicp_covariance.h) computes it, in O(1): the residual's gradient is J = B m with m the
+  /// row of the normal equations and B = [1 0 0 0; 0 1 0 0; 0 0 -sin(theta) cos(theta)], so the
+  /// information is B A B^T.
+  Eigen::Matrix3d information(double theta_rad) const;
+
   /// The minimiser T_ref_new of the accumulated cost under `constraint` (Censi ICRA 2008,
   /// closed form above), or nullopt when the correspondences do not determine it (fewer than
   /// two independent line directions for the free translation, or no information on rotation).
   std::optional<Pose2> solve(const StepConstraint& constraint = {}) const;
 
 private:
-  Eigen::Matrix4d normal_matrix_ = Eigen::Matrix4d::Zero();  // A
+  Eigen::Matrix4d normal_matrix_ = Eigen::Matrix4d::Zero();  // A (upper triangle)
   Eigen::Vector4d normal_vector_ = Eigen::Vector4d::Zero();  // g
   int count_ = 0;
 };

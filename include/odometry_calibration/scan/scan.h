@@ -4,6 +4,12 @@
 // angle_min_rad + i * angle_increment_rad in the sensor frame (x forward, y left, counter-clockwise
 // positive, REP 103) and measured ranges_m[i]. Readings that are NaN, infinite, zero, outside
 // [range_min_m, range_max_m] or marked invalid are dropped when the scan turns into points.
+//
+// A spinning lidar measures its rays one after the other (ray i at i * time_increment_s after
+// the stamp, as in sensor_msgs/LaserScan); when the sensor moves during the sweep, each point is
+// seen from a different pose. Given the sensor's velocity, scanToPoints() moves every point into
+// the frame of the sensor at the stamp (constant velocity over the sweep, the SE(2) exponential
+// exp(tau * xi)), so that the scan is the picture of one pose.
 #pragma once
 
 #include <cstdint>
@@ -26,22 +32,40 @@ struct Scan
   /// Optional per-ray validity (1 = usable); empty means "all rays usable". When not empty it
   /// must have one entry per ray (e.g. to mask the sensor's housing).
   std::vector<std::uint8_t> valid;
+  /// Time between consecutive rays [s] (sensor_msgs/LaserScan time_increment): ray i is measured
+  /// i * time_increment_s after the stamp. 0 means all rays at the stamp (no motion compensation).
+  double time_increment_s = 0.0;
+};
+
+/// Velocity of the sensor during a scan's sweep, in the sensor's frame at the stamp, assumed
+/// constant over the sweep [m/s, m/s, rad/s]. E.g. odometry's motion over the last interval
+/// divided by its duration.
+struct SensorVelocity
+{
+  double vx_mps = 0.0;
+  double vy_mps = 0.0;
+  double omega_radps = 0.0;
+
+  bool isZero() const { return vx_mps == 0.0 && vy_mps == 0.0 && omega_radps == 0.0; }
 };
 
 /// Throws std::invalid_argument naming the offending field when the scan's geometry is unusable
 /// (angle_increment_rad zero or not finite, range limits not 0 <= min < max, a validity mask of
-/// the wrong length). Readings themselves are never rejected: bad ones are dropped by
-/// scanToPoints().
+/// the wrong length, time_increment_s not finite). Readings themselves are never rejected: bad ones
+/// are dropped by scanToPoints().
 void validate(const Scan& scan);
 
 /// The usable readings of a scan as points in the sensor frame, ordered by increasing ray angle
-/// (reverse ray order when angle_increment_rad < 0). All vectors have the same length.
+/// (reverse ray order when angle_increment_rad < 0). All vectors have the same length. With
+/// motion compensation, everything is as seen from the sensor's pose at the stamp: the points,
+/// their bearings (angles_rad, directions; ordered by bearing) and their distances (ranges_m).
 struct ScanPoints
 {
   /// Points (x, y) in the sensor frame [m].
   std::vector<Eigen::Vector2d, Eigen::aligned_allocator<Eigen::Vector2d>> points_m;
   /// Unit ray directions (cos, sin) of each point's ray: the direction along which its range
-  /// noise acts (Censi ICRA 2007, the readings z are the ranges).
+  /// noise acts (Censi ICRA 2007, the readings z are the ranges). With motion compensation, the
+  /// bearing of the compensated point (the ray turned by the sweep's few milliradians at most).
   std::vector<Eigen::Vector2d, Eigen::aligned_allocator<Eigen::Vector2d>> directions;
   std::vector<double> angles_rad;  ///< ray angle of each point [rad]
   std::vector<double> ranges_m;    ///< range of each point [m]
@@ -54,6 +78,9 @@ struct ScanPoints
 /// Converts the usable readings of `scan` to points: drops NaN, +-inf, zero, below range_min_m,
 /// above range_max_m and masked-out readings. Throws std::invalid_argument (via validate) only
 /// for an unusable scan geometry; a scan with no usable reading gives an empty ScanPoints.
-ScanPoints scanToPoints(const Scan& scan);
+/// When `velocity` is not zero and scan.time_increment_s is not 0, compensates the motion during
+/// the sweep: the point p of ray i becomes exp(tau_i xi) p, tau_i = i * time_increment_s,
+/// xi = velocity (the sensor's pose at tau_i in its pose at the stamp).
+ScanPoints scanToPoints(const Scan& scan, const SensorVelocity& velocity = {});
 
 }  // namespace odometry_calibration
