@@ -5,14 +5,10 @@
 #include <memory>
 #include <stdexcept>
 
-#include <geometry_msgs/PoseStamped.h>
-#include <nav_msgs/Odometry.h>
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
-#include <sensor_msgs/JointState.h>
-#include <sensor_msgs/LaserScan.h>
 
-#include "odometry_calibration/ros/conversions.h"
+#include "odometry_calibration/ros/bag_message_reader.h"
 
 namespace odometry_calibration {
 namespace {
@@ -95,61 +91,45 @@ BagRunResult runBags(const std::vector<std::string>& bag_paths, const Calibratio
     }
   };
 
+  // Reading and converting run ahead on their own thread; this one feeds the collector.
+  BagMessageReader reader(view, config);
   std::size_t messages = 0;
-  Clock::duration pairing{}, conversion{};
-  for (const rosbag::MessageInstance& message : view) {
-    ++messages;
-    if (message.getTopic() == config.joint_state_topic) {
-      const auto joints = message.instantiate<sensor_msgs::JointState>();
-      if (!joints)
-        continue;
-      ++result.joint_state_messages;
-      try {
-        const auto converting = Clock::now();
-        const Eigen::VectorXd raw =
-            applySigns(config, ros_conversions::rawJointPositions(*joints, channels));
-        const double stamp_s = joints->header.stamp.toSec();
-        if (result.encoder_history.empty() || stamp_s > result.encoder_history.back().stamp_s) {
-          result.encoder_history.push_back({stamp_s, history_decoder.decode(raw)});
-        }
-        const auto start = Clock::now();
-        conversion += start - converting;
-        take(collector.addEncoders(joints->header.stamp.toSec(), raw),
-             joints->header.stamp.toSec());
-        pairing += Clock::now() - start;
-      } catch (const std::invalid_argument& error) {
-        if (result.bad_joint_states++ == 0)
-          result.first_bad_joint_state = error.what();
-      }
-    } else if (config.ego_motion == EgoMotionSource::kScan) {
-      const auto scan = message.instantiate<sensor_msgs::LaserScan>();
-      if (!scan)
-        continue;
-      ++result.ego_motion_messages;
-      const auto converting = Clock::now();
-      const Scan converted = ros_conversions::fromLaserScanMsg(*scan);
+  Clock::duration pairing{};
+  for (std::vector<BagInput> batch = reader.next(); !batch.empty(); batch = reader.next()) {
+    for (BagInput& input : batch) {
+      ++messages;
       const auto start = Clock::now();
-      conversion += start - converting;
-      take(collector.addScan(scan->header.stamp.toSec(), converted), scan->header.stamp.toSec());
-      pairing += Clock::now() - start;
-    } else {
-      double stamp_s = 0.0;
-      Pose2 pose;
-      if (const auto odometry = message.instantiate<nav_msgs::Odometry>()) {
-        stamp_s = odometry->header.stamp.toSec();
-        pose = ros_conversions::fromPoseMsg(odometry->pose.pose);
-      } else if (const auto stamped = message.instantiate<geometry_msgs::PoseStamped>()) {
-        stamp_s = stamped->header.stamp.toSec();
-        pose = ros_conversions::fromPoseMsg(stamped->pose);
-      } else {
-        continue;
+      switch (input.kind) {
+        case BagInput::Kind::kBadJoints:
+          ++result.joint_state_messages;
+          if (result.bad_joint_states++ == 0)
+            result.first_bad_joint_state = input.problem;
+          break;
+        case BagInput::Kind::kJoints:
+          ++result.joint_state_messages;
+          try {
+            if (result.encoder_history.empty() ||
+                input.stamp_s > result.encoder_history.back().stamp_s) {
+              result.encoder_history.push_back({input.stamp_s, history_decoder.decode(input.raw)});
+            }
+            take(collector.addEncoders(input.stamp_s, input.raw), input.stamp_s);
+          } catch (const std::invalid_argument& error) {
+            if (result.bad_joint_states++ == 0)
+              result.first_bad_joint_state = error.what();
+          }
+          break;
+        case BagInput::Kind::kScan:
+          ++result.ego_motion_messages;
+          take(collector.addScan(input.stamp_s, input.scan), input.stamp_s);
+          break;
+        case BagInput::Kind::kPose:
+          ++result.ego_motion_messages;
+          take(collector.addSensorPose(input.stamp_s, input.pose, pose_covariance), input.stamp_s);
+          break;
       }
-      ++result.ego_motion_messages;
-      take(collector.addSensorPose(stamp_s, pose, pose_covariance), stamp_s);
-    }
-    if (progress && messages % 500 == 0) {
-      progress({(message.getTime() - begin).toSec() / std::max(1e-9, result.bag_span_s), messages,
-                seconds(Clock::now() - run_start)});
+      pairing += Clock::now() - start;
+      if (progress && messages % 500 == 0)
+        progress({input.fraction, messages, seconds(Clock::now() - run_start)});
     }
   }
   take(collector.flush(), end.toSec());
@@ -170,8 +150,8 @@ BagRunResult runBags(const std::vector<std::string>& bag_paths, const Calibratio
     result.encoder_history.clear();
   result.wall_time_s = seconds(Clock::now() - run_start);
   result.pairing_time_s = seconds(pairing);
-  result.conversion_time_s = seconds(conversion);
-  result.read_time_s = result.wall_time_s - result.pairing_time_s - result.conversion_time_s;
+  result.conversion_time_s = reader.conversionTime();
+  result.read_time_s = reader.readTime();
   return result;
 }
 

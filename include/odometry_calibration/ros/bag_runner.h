@@ -34,8 +34,8 @@ struct BagRunResult
   std::vector<std::string> restarts;  ///< time going backwards, in words
   double bag_span_s = 0.0;            ///< time covered by the bags [s]
   double wall_time_s = 0.0;           ///< total wall time [s]
-  double read_time_s = 0.0;           ///< reading and deserialising messages [s]
-  double conversion_time_s = 0.0;     ///< messages to the core's types (scans, joints) [s]
+  double read_time_s = 0.0;           ///< reading and deserialising messages (reading thread) [s]
+  double conversion_time_s = 0.0;     ///< messages to the core's types (reading thread) [s]
   double pairing_time_s = 0.0;        ///< scan preparation, matching, pairing [s]
 };
 

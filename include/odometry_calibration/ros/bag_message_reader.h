@@ -1,0 +1,77 @@
+// Reads a bag view's messages on a thread of its own, ahead of the pairing: deserialised and
+// converted into the core's types (joint readings, scans, sensor poses) in batches through a
+// bounded queue, in the view's order. The pairing thread then only pairs, and the reading fills
+// the moments the pairing threads wait for each other.
+#pragma once
+
+#include <condition_variable>
+#include <deque>
+#include <exception>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <rosbag/view.h>
+#include <Eigen/Core>
+
+#include "odometry_calibration/geometry/se2.h"
+#include "odometry_calibration/pipeline/calibration_config.h"
+#include "odometry_calibration/scan/scan.h"
+
+namespace odometry_calibration {
+
+/// One message, converted.
+struct BagInput
+{
+  enum class Kind
+  {
+    kJoints,     ///< `raw`: the configured joints' positions, signs applied
+    kBadJoints,  ///< a JointState that could not be used (`problem` says why)
+    kScan,       ///< `scan`
+    kPose,       ///< `pose`: the sensor's pose from an odometry or pose message
+  };
+  Kind kind = Kind::kJoints;
+  double stamp_s = 0.0;   ///< header stamp [s]
+  double fraction = 0.0;  ///< position in the view's time span [0, 1]
+  Eigen::VectorXd raw;
+  Scan scan;
+  Pose2 pose;
+  std::string problem;
+};
+
+/// The reading thread. Not copyable; stops and joins when destroyed.
+class BagMessageReader
+{
+public:
+  /// Starts reading `view` (which must outlive the reader) for the topics of `config`.
+  BagMessageReader(rosbag::View& view, const CalibrationConfig& config);
+  ~BagMessageReader();
+  BagMessageReader(const BagMessageReader&) = delete;
+  BagMessageReader& operator=(const BagMessageReader&) = delete;
+
+  /// The next batch of inputs in order (empty at the end). Rethrows what reading threw (e.g.
+  /// a LaserScan with an unusable geometry, a bag read error).
+  std::vector<BagInput> next();
+
+  /// Time the reading thread spent reading and deserialising, and converting [s] (final once
+  /// next() returned an empty batch).
+  double readTime() const { return read_time_s_; }
+  double conversionTime() const { return conversion_time_s_; }
+
+private:
+  void read(rosbag::View& view, const CalibrationConfig& config);
+  void push(std::vector<BagInput> batch);
+
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  std::deque<std::vector<BagInput>> batches_;
+  bool finished_ = false;
+  bool stopping_ = false;
+  std::exception_ptr error_;
+  double read_time_s_ = 0.0;
+  double conversion_time_s_ = 0.0;
+  std::thread thread_;
+};
+
+}  // namespace odometry_calibration

@@ -1,0 +1,144 @@
+#include "odometry_calibration/ros/bag_message_reader.h"
+
+#include <chrono>
+#include <utility>
+
+#include <geometry_msgs/PoseStamped.h>
+#include <nav_msgs/Odometry.h>
+#include <sensor_msgs/JointState.h>
+#include <sensor_msgs/LaserScan.h>
+
+#include "odometry_calibration/ros/conversions.h"
+
+namespace odometry_calibration {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+constexpr std::size_t kBatchSize = 64;   // messages per hand-over
+constexpr std::size_t kMaxBatches = 16;  // read ahead at most this many batches
+
+double seconds(Clock::duration duration)
+{
+  return std::chrono::duration<double>(duration).count();
+}
+
+}  // namespace
+
+BagMessageReader::BagMessageReader(rosbag::View& view, const CalibrationConfig& config)
+{
+  thread_ = std::thread([this, &view, config] {
+    try {
+      read(view, config);
+    } catch (...) {
+      std::lock_guard<std::mutex> lock(mutex_);
+      error_ = std::current_exception();
+    }
+    std::lock_guard<std::mutex> lock(mutex_);
+    finished_ = true;
+    changed_.notify_all();
+  });
+}
+
+BagMessageReader::~BagMessageReader()
+{
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stopping_ = true;
+  }
+  changed_.notify_all();
+  thread_.join();
+}
+
+void BagMessageReader::push(std::vector<BagInput> batch)
+{
+  std::unique_lock<std::mutex> lock(mutex_);
+  changed_.wait(lock, [this] { return stopping_ || batches_.size() < kMaxBatches; });
+  batches_.push_back(std::move(batch));
+  changed_.notify_all();
+}
+
+std::vector<BagInput> BagMessageReader::next()
+{
+  std::unique_lock<std::mutex> lock(mutex_);
+  changed_.wait(lock, [this] { return finished_ || !batches_.empty(); });
+  if (batches_.empty()) {
+    if (error_)
+      std::rethrow_exception(error_);
+    return {};
+  }
+  std::vector<BagInput> batch = std::move(batches_.front());
+  batches_.pop_front();
+  changed_.notify_all();
+  return batch;
+}
+
+void BagMessageReader::read(rosbag::View& view, const CalibrationConfig& config)
+{
+  const std::vector<EncoderChannelOptions> channels = encoderChannels(config);
+  const double begin_s = view.getBeginTime().toSec();
+  const double span_s = std::max(1e-9, (view.getEndTime() - view.getBeginTime()).toSec());
+  Clock::duration reading{}, converting{};
+  std::vector<BagInput> batch;
+  auto start = Clock::now();
+  for (const rosbag::MessageInstance& message : view) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (stopping_)
+        return;
+    }
+    BagInput input;
+    input.fraction = (message.getTime().toSec() - begin_s) / span_s;
+    if (message.getTopic() == config.joint_state_topic) {
+      const auto joints = message.instantiate<sensor_msgs::JointState>();
+      if (!joints)
+        continue;
+      const auto converted = Clock::now();
+      reading += converted - start;
+      input.stamp_s = joints->header.stamp.toSec();
+      try {
+        input.raw = applySigns(config, ros_conversions::rawJointPositions(*joints, channels));
+      } catch (const std::invalid_argument& error) {
+        input.kind = BagInput::Kind::kBadJoints;
+        input.problem = error.what();
+      }
+      start = Clock::now();
+      converting += start - converted;
+    } else if (config.ego_motion == EgoMotionSource::kScan) {
+      const auto scan = message.instantiate<sensor_msgs::LaserScan>();
+      if (!scan)
+        continue;
+      const auto converted = Clock::now();
+      reading += converted - start;
+      input.kind = BagInput::Kind::kScan;
+      input.stamp_s = scan->header.stamp.toSec();
+      input.scan = ros_conversions::fromLaserScanMsg(*scan);
+      start = Clock::now();
+      converting += start - converted;
+    } else {
+      input.kind = BagInput::Kind::kPose;
+      if (const auto odometry = message.instantiate<nav_msgs::Odometry>()) {
+        input.stamp_s = odometry->header.stamp.toSec();
+        input.pose = ros_conversions::fromPoseMsg(odometry->pose.pose);
+      } else if (const auto stamped = message.instantiate<geometry_msgs::PoseStamped>()) {
+        input.stamp_s = stamped->header.stamp.toSec();
+        input.pose = ros_conversions::fromPoseMsg(stamped->pose);
+      } else {
+        continue;
+      }
+    }
+    batch.push_back(std::move(input));
+    if (batch.size() == kBatchSize) {
+      reading += Clock::now() - start;
+      push(std::move(batch));
+      batch.clear();
+      start = Clock::now();
+    }
+  }
+  reading += Clock::now() - start;
+  if (!batch.empty())
+    push(std::move(batch));
+  read_time_s_ = seconds(reading);
+  conversion_time_s_ = seconds(converting);
+}
+
+}  // namespace odometry_calibration
