@@ -26,7 +26,7 @@ constexpr double kLaserAheadOfAxleM = 0.145;
 constexpr int kRayCount = kMinesRayCount;
 /// Time between rays [s]: the URG-04LX turns at 10 Hz with 1024 steps per revolution and
 /// measures its rays counter-clockwise, in the log's ray order (the sensor's data sheet).
-constexpr double kTimePerRayS = 0.1 / 1024.0;
+constexpr double kTimePerRayS = kMinesTimePerRayS;
 
 /// One line of the log.
 struct Record

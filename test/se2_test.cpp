@@ -67,6 +67,23 @@ TEST(Se2, AnglesWrapIntoMinusPiPi)
   EXPECT_NEAR(normalizeAngle(-3.5), -3.5 + 2.0 * M_PI, 1e-12);
 }
 
+TEST(Se2, PlainDoubleWrapAgreesWithTheTrigonometricOne)
+{
+  // The double overload (no trigonometry) against the template every scalar type uses.
+  for (double angle = -40.0; angle <= 40.0; angle += 0.0137) {
+    const double fast = normalizeAngle(angle);
+    const double trig = normalizeAngle<double>(angle);
+    EXPECT_GT(fast, -M_PI);
+    EXPECT_LE(fast, M_PI);
+    EXPECT_NEAR(std::remainder(fast - trig, 2.0 * M_PI), 0.0, 1e-12) << angle;
+  }
+  EXPECT_DOUBLE_EQ(normalizeAngle(0.25), 0.25);  // in range: untouched
+  EXPECT_NEAR(normalizeAngle(3.0 * M_PI), M_PI, 1e-12);
+  EXPECT_NEAR(normalizeAngle(-3.0 * M_PI), M_PI, 1e-12);
+  EXPECT_TRUE(std::isnan(normalizeAngle(std::nan(""))));
+  EXPECT_TRUE(std::isnan(normalizeAngle(INFINITY)));
+}
+
 TEST(Se2, SensorMotionIsTheConjugatedBodyMotion)
 {
   // A body turning on the spot by 90 degrees: a sensor 1 m ahead moves on a circle,

@@ -140,7 +140,8 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
     const YAML::Node matching = root["scan_matching"];
     checkYamlKeys(matching,
                   {"max_correspondence_distance_m", "max_iterations", "range_sigma_m",
-                   "max_correction_translation_m", "max_correction_rotation_rad", "min_points"},
+                   "max_correction_translation_m", "max_correction_rotation_rad", "min_points",
+                   "compensate_sweep"},
                   where);
     PlicpOptions& p = k.plicp;
     readYaml(matching, "max_correspondence_distance_m", &p.max_correspondence_distance_m);
@@ -149,6 +150,7 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
     readYaml(matching, "max_correction_translation_m", &p.max_correction_translation_m);
     readYaml(matching, "max_correction_rotation_rad", &p.max_correction_rotation_rad);
     readYaml(matching, "min_points", &p.min_points);
+    readYaml(matching, "compensate_sweep", &k.compensate_sweep);
     validate(k);
 
     where = source + ": diff_drive";

@@ -14,7 +14,7 @@ LazyPreparedScan::LazyPreparedScan(Scan scan, const LineFitOptions& options)
 const PreparedScan& LazyPreparedScan::get() const
 {
   std::call_once(once_, [this] {
-    prepared_ = prepareScan(scan_, options_);
+    prepared_ = prepareScan(scan_, options_, velocity_);
     scan_ = Scan();
   });
   return prepared_;

@@ -1,5 +1,7 @@
 #include "odometry_calibration/pipeline/pair_collector.h"
 
+#include "odometry_calibration/pipeline/odometry_integrator.h"
+
 #include <cmath>
 #include <stdexcept>
 #include <thread>
@@ -200,14 +202,24 @@ std::vector<CollectorEvent> PairCollector::addScan(double stamp_s, const Scan& s
   last_scan_stamp_s_ = stamp_s;
   last_input_stamp_s_ = std::max(last_input_stamp_s_, stamp_s);
   // Prepared later, by the first match that needs it (possibly on the matching thread).
-  pending_.push_back({stamp_s, std::make_shared<const LazyPreparedScan>(scan, options_.lines),
-                      Pose2(), Eigen::Matrix3d::Zero()});
+  pending_.push_back({stamp_s, std::make_shared<LazyPreparedScan>(scan, options_.lines), Pose2(),
+                      Eigen::Matrix3d::Zero()});
   return processReadyScans(false);
 }
 
 CollectorEvent PairCollector::processScan(double stamp_s,
-                                          std::shared_ptr<const LazyPreparedScan> prepared)
+                                          std::shared_ptr<LazyPreparedScan> prepared)
 {
+  // The sweep's motion: the prior model's prediction since the previous scan, as a constant
+  // velocity (SE(2) logarithm over the interval), set before anything prepares the scan.
+  if (options_.compensate_sweep && predictor_ && previous_scan_ && prepared->hasRayTimes() &&
+      stamp_s > previous_scan_stamp_s_) {
+    std::string reason;
+    if (const auto window = encoderWindow(previous_scan_stamp_s_, stamp_s, &reason)) {
+      const Eigen::Vector3d xi = se2Log(predict(*window)) / (stamp_s - previous_scan_stamp_s_);
+      prepared->setSweepVelocity({xi(0), xi(1), xi(2)});
+    }
+  }
   // Consecutive-scan chain: the reference for the keyframe match's consistency. The match is
   // submitted now, with the guess from the encoders as they are now, and folded in before the
   // next keyframe decision; while its predecessors are unfolded, whether the chain is still

@@ -1,5 +1,6 @@
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "odometry_calibration/scan/nearest_point_search.h"
 
@@ -18,6 +19,27 @@ double wrapPositive(double angle_rad)
     angle_rad += kTwoPi;
   }
   return angle_rad;
+}
+
+/// atan2 to within about 1e-5 rad (a degree-11 odd polynomial for atan on [0, 1], then the
+/// octant): only to guess where a search starts; the exact start comes from cross products.
+double approximateAtan2(double y, double x)
+{
+  const double ax = std::abs(x), ay = std::abs(y);
+  const double big = std::max(ax, ay);
+  if (big == 0.0)
+    return 0.0;
+  const double t = std::min(ax, ay) / big;
+  const double t2 = t * t;
+  double a =
+      t * (0.99997726 +
+           t2 * (-0.33262347 +
+                 t2 * (0.19354346 + t2 * (-0.11643287 + t2 * (0.05265332 - 0.01172120 * t2)))));
+  if (ay > ax)
+    a = 0.5 * M_PI - a;
+  if (x < 0.0)
+    a = M_PI - a;
+  return y < 0.0 ? -a : a;
 }
 
 class AngularSearch final : public NearestPointSearch
@@ -142,7 +164,20 @@ private:
     double best_distance2_m2;  // starts at the squared limit
     int best;
     double best_distance_m;  // its square root
+    // The query's bearing unwrapped into [first, first + 2 pi) like the sorted ray angles,
+    // computed once when needed (NaN until then).
+    double bearing_rad = std::numeric_limits<double>::quiet_NaN();
   };
+
+  /// The query's exact bearing (one atan2 per query at most).
+  double bearingOf(Search& search) const
+  {
+    if (std::isnan(search.bearing_rad)) {
+      const double first_rad = angles_rad_.front();
+      search.bearing_rad = first_rad + wrapPositive(std::atan2(search.qy, search.qx) - first_rad);
+    }
+    return search.bearing_rad;
+  }
 
   /// q x d_k: > 0 when the query lies clockwise of point k's bearing (within 180 degrees).
   double crossWithBearing(const Search& search, int k) const
@@ -181,14 +216,24 @@ private:
     return k;
   }
 
-  /// The first position whose bearing is not below the query's, from its angle.
-  int startFromBearing(const Search& search) const
+  /// The first position whose bearing is not below the query's, from its angle: guessed from
+  /// an approximate bearing and made exact with cross products (startNear), or, where that
+  /// cannot decide (wrap-around scans, beyond the field of view), from the exact bearing.
+  int startFromBearing(Search& search) const
   {
     const int n = static_cast<int>(points_.size());
     const double first_rad = angles_rad_.front();
-    // Bearing of the query, unwrapped into [first, first + 2 pi) like the sorted ray angles.
-    const double bearing_rad =
-        first_rad + wrapPositive(std::atan2(search.qy, search.qx) - first_rad);
+    if (!wraps_) {
+      const double guess_rad =
+          first_rad + wrapPositive(approximateAtan2(search.qy, search.qx) - first_rad);
+      const int guess =
+          static_cast<int>(std::lower_bound(angles_rad_.begin(), angles_rad_.end(), guess_rad) -
+                           angles_rad_.begin());
+      const int start = startNear(search, std::min(guess, n - 1));
+      if (start >= 0)
+        return start;
+    }
+    const double bearing_rad = bearingOf(search);
     int start =
         static_cast<int>(std::lower_bound(angles_rad_.begin(), angles_rad_.end(), bearing_rad) -
                          angles_rad_.begin());
@@ -229,9 +274,7 @@ private:
       return;
     }
     const int n = static_cast<int>(points_.size());
-    const double first_rad = angles_rad_.front();
-    const double bearing_rad =
-        first_rad + wrapPositive(std::atan2(search.qy, search.qx) - first_rad);
+    const double bearing_rad = bearingOf(search);
     for (int visited = 0; visited < n; ++visited) {
       const int k = (((from + step * visited) % n) + n) % n;
       // Each walk covers its own half circle; the other walk covers the rest.

@@ -81,6 +81,7 @@ Scan fromLaserScanMsg(const sensor_msgs::LaserScan& message)
   scan.range_min_m = message.range_min;
   scan.range_max_m = message.range_max;
   scan.ranges_m.assign(message.ranges.begin(), message.ranges.end());
+  scan.time_increment_s = message.time_increment;
   validate(scan);
   return scan;
 }

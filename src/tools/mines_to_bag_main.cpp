@@ -43,6 +43,7 @@ int main(int argc, char** argv)
       scan.angle_max =
           static_cast<float>(core.angle_min_rad + core.angle_increment_rad * (kMinesRayCount - 1));
       scan.scan_time = 0.1f;
+      scan.time_increment = static_cast<float>(kMinesTimePerRayS);  // for sweep compensation
       scan.range_min = static_cast<float>(core.range_min_m);
       scan.range_max = static_cast<float>(core.range_max_m);
       scan.ranges.assign(core.ranges_m.begin(), core.ranges_m.end());

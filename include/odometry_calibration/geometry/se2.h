@@ -29,6 +29,20 @@ T normalizeAngle(const T& angle_rad)
   return atan2(sin(angle_rad), cos(angle_rad));
 }
 
+/// The same for plain doubles without trigonometry (poses are composed millions of times per
+/// bag): angles already in (-pi, pi] are returned as they are, others reduced by remainder().
+inline double normalizeAngle(double angle_rad)
+{
+  if (angle_rad > -M_PI && angle_rad <= M_PI)
+    return angle_rad;
+  if (!std::isfinite(angle_rad))
+    return std::nan("");
+  double wrapped = std::remainder(angle_rad, 2.0 * M_PI);  // in [-pi, pi]
+  if (wrapped <= -M_PI)
+    wrapped += 2.0 * M_PI;
+  return wrapped;
+}
+
 /// A rigid motion in the plane: translation (x, y) [m] and rotation theta [rad].
 template <typename T>
 class Pose2T

@@ -22,6 +22,8 @@ struct MinesRecord
 
 /// The laser's geometry: 682 rays, ray i at -120 deg + i * 240/681 deg, URG-04LX limits.
 constexpr int kMinesRayCount = 682;
+/// Time between the log's rays: the URG-04LX sweeps its 1024 steps per turn in 0.1 s [s].
+constexpr double kMinesTimePerRayS = 0.1 / 1024.0;
 constexpr double kMinesRangeMinM = 0.02;
 constexpr double kMinesRangeMaxM = 5.6;
 

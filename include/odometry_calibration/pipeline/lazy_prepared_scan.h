@@ -20,6 +20,14 @@ public:
   LazyPreparedScan(const LazyPreparedScan&) = delete;
   LazyPreparedScan& operator=(const LazyPreparedScan&) = delete;
 
+  /// Whether the scan has per-ray times (time_increment_s), so that its sweep can be
+  /// compensated with setSweepVelocity.
+  bool hasRayTimes() const { return scan_.time_increment_s != 0.0; }
+
+  /// The sensor's velocity during the sweep, used by the preparation (motion compensation,
+  /// scan.h). Call before the first get().
+  void setSweepVelocity(const SensorVelocity& velocity) { velocity_ = velocity; }
+
   /// The prepared scan (prepared by the first caller; the others wait for it).
   const PreparedScan& get() const;
 
@@ -27,6 +35,7 @@ private:
   mutable std::once_flag once_;
   mutable Scan scan_;  ///< released once prepared
   LineFitOptions options_;
+  SensorVelocity velocity_;
   mutable PreparedScan prepared_;
 };
 

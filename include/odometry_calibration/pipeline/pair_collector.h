@@ -42,6 +42,9 @@ struct CollectorOptions
   /// 0 = off. Needs a predictor. [m], [rad]
   double min_translation_m = 0.0;
   double min_rotation_rad = 0.0;
+  /// Compensate the motion during each scan's sweep (scans with a time_increment_s), with the
+  /// sensor velocity the prior model predicts over the interval since the previous scan.
+  bool compensate_sweep = true;
   /// Encoder values are taken at scan time + time_offset_s [s] (clock offset between streams).
   double time_offset_s = 0.0;
   /// A pair is dropped when the encoder stream has a gap longer than this inside it [s].
@@ -138,7 +141,7 @@ public:
   const CollectorOptions& options() const { return options_; }
 
 private:
-  CollectorEvent processScan(double stamp_s, std::shared_ptr<const LazyPreparedScan> prepared);
+  CollectorEvent processScan(double stamp_s, std::shared_ptr<LazyPreparedScan> prepared);
   CollectorEvent processPose(double stamp_s, const Pose2& T_world_sensor,
                              const Eigen::Matrix3d& covariance);
   std::vector<CollectorEvent> processReadyScans(bool all);
@@ -185,7 +188,7 @@ private:
   struct PendingInput
   {
     double stamp_s;
-    std::shared_ptr<const LazyPreparedScan> scan;  ///< null for a sensor pose
+    std::shared_ptr<LazyPreparedScan> scan;  ///< null for a sensor pose
     Pose2 T_world_sensor;
     Eigen::Matrix3d covariance;
   };
