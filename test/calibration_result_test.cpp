@@ -109,6 +109,16 @@ TEST(ConfigOverride, ReplacesModelSectionsKeyByKeyAndRefusesOthers)
                std::runtime_error);
   EXPECT_DOUBLE_EQ(overrideModelOptions(config, "", "t").models.diff_drive.initial_left_radius_m,
                    0.077);
+  // Asking for another model resolves its joints: the wheels cannot be a tricycle's.
+  EXPECT_EQ(configForModel(config, "gp", "", "t").model, "gp");
+  try {
+    configForModel(config, "tricycle", "", "test.yaml");
+    FAIL() << "two wheels accepted as a tricycle";
+  } catch (const std::runtime_error& error) {
+    EXPECT_NE(std::string(error.what()).find("steering joint must be kind: absolute"),
+              std::string::npos)
+        << error.what();
+  }
 }
 
 }  // namespace

@@ -77,7 +77,8 @@ TEST_F(NodeBadInput, EachProblemIsNamedAndTheNodeSurvives)
       << log_->all();
 
   // NaN positions.
-  EXPECT_TRUE(expectLog([&] { joints_.publish(joints(100.0, std::nan(""), 0)); }, "is not a finite number"))
+  EXPECT_TRUE(
+      expectLog([&] { joints_.publish(joints(100.0, std::nan(""), 0)); }, "is not a finite number"))
       << log_->all();
 
   // A scan of NaN ranges.
@@ -111,7 +112,8 @@ TEST_F(NodeBadInput, EachProblemIsNamedAndTheNodeSurvives)
       "time went backwards"))
       << log_->all();
 
-  // Services: too few pairs, unknown model, bad options, nothing to save.
+  // Services: too few pairs, unknown model, bad options, a model the joints cannot serve,
+  // nothing to save.
   odometry_calibration::Calibrate fit;
   fit.request.model = "diff_drive";
   ASSERT_TRUE(ros::service::call(kNode + "/calibrate", fit));
@@ -127,7 +129,17 @@ TEST_F(NodeBadInput, EachProblemIsNamedAndTheNodeSurvives)
   fit.request.options = "{joints: []}";
   ASSERT_TRUE(ros::service::call(kNode + "/calibrate", fit));
   EXPECT_FALSE(fit.response.success);
-  EXPECT_NE(fit.response.message.find("bad options"), std::string::npos) << fit.response.message;
+  EXPECT_NE(fit.response.message.find("'joints' cannot be changed per call"), std::string::npos)
+      << fit.response.message;
+  // A model the configuration's joints cannot serve: said before any fit.
+  fit.request.model = "tricycle";
+  fit.request.options = "";
+  ASSERT_TRUE(ros::service::call(kNode + "/calibrate", fit));
+  EXPECT_FALSE(fit.response.success);
+  EXPECT_NE(fit.response.message.find("cannot fit tricycle"), std::string::npos)
+      << fit.response.message;
+  EXPECT_NE(fit.response.message.find("steering joint must be kind: absolute"), std::string::npos)
+      << fit.response.message;
   std_srvs::Trigger save;
   ASSERT_TRUE(ros::service::call(kNode + "/save", save));
   EXPECT_FALSE(save.response.success);

@@ -22,10 +22,9 @@ void mergeInto(YAML::Node into, const YAML::Node& from)
   }
 }
 
-}  // namespace
-
-CalibrationConfig overrideModelOptions(const std::string& config_text,
-                                       const std::string& override_yaml, const std::string& source)
+/// The configuration's and the options' YAML (an empty options text is an empty mapping).
+std::pair<YAML::Node, YAML::Node> loadBoth(const std::string& config_text,
+                                           const std::string& override_yaml)
 {
   YAML::Node root, overrides;
   try {
@@ -35,23 +34,46 @@ CalibrationConfig overrideModelOptions(const std::string& config_text,
     throw std::runtime_error("options are not YAML: " + std::string(error.what()));
   }
   if (overrides.IsNull())
-    return parseCalibrationConfig(config_text, source);
+    overrides = YAML::Node(YAML::NodeType::Map);
   if (!overrides.IsMap())
     throw std::runtime_error("options must be a YAML mapping, e.g. {gp: {kernel: linear}}");
-  static const std::set<std::string> allowed = {"diff_drive", "linear", "gp", "model",
-                                                "prior_model"};
+  return {root, overrides};
+}
+
+/// `root` with the allowed sections of `overrides` merged in, parsed and validated.
+CalibrationConfig merged(YAML::Node root, const YAML::Node& overrides, const std::string& source)
+{
+  static const std::set<std::string> allowed = {"diff_drive", "linear", "gp",
+                                                "tricycle",   "model",  "prior_model"};
   for (const auto& entry : overrides) {
     const std::string key = entry.first.as<std::string>();
     if (allowed.count(key) == 0) {
       throw std::runtime_error("options: '" + key +
-                               "' cannot be changed per call (allowed: diff_drive, linear, gp, "
-                               "model, prior_model)");
+                               "' cannot be changed per call (allowed: diff_drive, tricycle, "
+                               "linear, gp, model, prior_model)");
     }
   }
   mergeInto(root, overrides);
-  std::ostringstream merged;
-  merged << root;
-  return parseCalibrationConfig(merged.str(), source + " + options");
+  std::ostringstream text;
+  text << root;
+  return parseCalibrationConfig(text.str(), overrides.size() > 0 ? source + " + options" : source);
+}
+
+}  // namespace
+
+CalibrationConfig overrideModelOptions(const std::string& config_text,
+                                       const std::string& override_yaml, const std::string& source)
+{
+  auto [root, overrides] = loadBoth(config_text, override_yaml);
+  return merged(root, overrides, source);
+}
+
+CalibrationConfig configForModel(const std::string& config_text, const std::string& model,
+                                 const std::string& override_yaml, const std::string& source)
+{
+  auto [root, overrides] = loadBoth(config_text, override_yaml);
+  overrides["model"] = model;
+  return merged(root, overrides, source);
 }
 
 }  // namespace odometry_calibration

@@ -631,14 +631,6 @@ bool CalibrationNode::onCalibrate(Calibrate::Request& request, Calibrate::Respon
     pairs = pairs_;
     time_offset_s = config_.collector.time_offset_s;
   }
-  try {
-    if (!request.options.empty())
-      config.models =
-          overrideModelOptions(config_text_, request.options, options_.config_path).models;
-  } catch (const std::exception& error) {
-    response.message = std::string("bad options: ") + error.what();
-    return true;
-  }
   const std::string name = request.model.empty() ? config.model : request.model;
   const std::vector<std::string> known = knownModelNames();
   if (std::find(known.begin(), known.end(), name) == known.end()) {
@@ -646,6 +638,15 @@ bool CalibrationNode::onCalibrate(Calibrate::Request& request, Calibrate::Respon
     for (const std::string& k : known)
       response.message += " " + k;
     response.message += ")";
+    return true;
+  }
+  try {
+    // The model sections as this model needs them (its joints resolved and checked).
+    config.models =
+        configForModel(config_text_, name, request.options, options_.config_path).models;
+  } catch (const std::exception& error) {
+    response.message =
+        "cannot fit " + name + " with this configuration and options: " + std::string(error.what());
     return true;
   }
   if (static_cast<int>(pairs.size()) < options_.min_pairs) {

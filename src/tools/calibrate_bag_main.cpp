@@ -21,6 +21,7 @@
 #include "odometry_calibration/eval/model_report.h"
 #include "odometry_calibration/eval/trajectory_comparison.h"
 #include "odometry_calibration/io/result_files.h"
+#include "odometry_calibration/io/text_file.h"
 #include "odometry_calibration/models/diff_drive_model.h"
 #include "odometry_calibration/models/model_factory.h"
 #include "odometry_calibration/pipeline/time_offset.h"
@@ -40,7 +41,8 @@ const char* kUsage =
     "\n"
     "options:\n"
     "  --output-dir DIR     where to write (default: the config's output_directory)\n"
-    "  --model NAME         fit this model instead of the config's (linear, diff_drive, gp)\n"
+    "  --model NAME         fit this model instead of the config's (diff_drive, tricycle,\n"
+    "                       linear, gp)\n"
     "  --test BAG           score the models on this bag too (repeatable); prints the paper's\n"
     "                       comparison table for the model and the config's compare_models\n"
     "  --start S, --end S   use only [S, E] seconds after the first message\n"
@@ -155,9 +157,11 @@ int main(int argc, char** argv)
     return 2;
   }
   try {
-    CalibrationConfig config = loadCalibrationConfig(config_path);
-    if (!model_name.empty())
-      config.model = model_name;
+    // With --model, the configuration as that model needs it (its joints resolved, checked).
+    CalibrationConfig config = model_name.empty()
+                                   ? loadCalibrationConfig(config_path)
+                                   : configForModel(readTextFile(config_path, "the configuration"),
+                                                    model_name, "", config_path);
     config.collector.background_matching = !single_thread;
     if (output_dir.empty())
       output_dir = config.output_directory;

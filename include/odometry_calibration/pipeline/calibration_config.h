@@ -66,12 +66,19 @@ struct CalibrationConfig
 CalibrationConfig loadCalibrationConfig(const std::string& path);
 CalibrationConfig parseCalibrationConfig(const std::string& text, const std::string& source);
 
-/// `config_text` with the model sections (diff_drive, linear, gp, prior_model, model) replaced
+/// `config_text` with the model sections (diff_drive, tricycle, linear, gp, prior_model, model)
+/// replaced
 /// key by key by those of `override_yaml` (a YAML mapping, e.g. "{gp: {kernel: linear}}"), then
 /// parsed and validated. Throws std::runtime_error naming a key that may not be overridden or
 /// an invalid value.
 CalibrationConfig overrideModelOptions(const std::string& config_text,
                                        const std::string& override_yaml, const std::string& source);
+
+/// The configuration as it must be to fit `model` (its joints resolved and checked, e.g. a
+/// tricycle's steering joint absolute), with `override_yaml` applied as above. Throws
+/// std::runtime_error when the configuration cannot serve that model, saying why.
+CalibrationConfig configForModel(const std::string& config_text, const std::string& model,
+                                 const std::string& override_yaml, const std::string& source);
 
 /// The encoder channels of the joints (scale-free: in the message's units).
 std::vector<EncoderChannelOptions> encoderChannels(const CalibrationConfig& config);
