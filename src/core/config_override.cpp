@@ -56,7 +56,7 @@ CalibrationConfig merged(YAML::Node root, const YAML::Node& overrides, const std
   mergeInto(root, overrides);
   std::ostringstream text;
   text << root;
-  return parseCalibrationConfig(text.str(), overrides.size() > 0 ? source + " + options" : source);
+  return parseCalibrationConfig(text.str(), source);
 }
 
 }  // namespace
@@ -65,15 +65,17 @@ CalibrationConfig overrideModelOptions(const std::string& config_text,
                                        const std::string& override_yaml, const std::string& source)
 {
   auto [root, overrides] = loadBoth(config_text, override_yaml);
-  return merged(root, overrides, source);
+  return merged(root, overrides, overrides.size() > 0 ? source + " + options" : source);
 }
 
 CalibrationConfig configForModel(const std::string& config_text, const std::string& model,
                                  const std::string& override_yaml, const std::string& source)
 {
   auto [root, overrides] = loadBoth(config_text, override_yaml);
+  const std::string where =
+      source + " (model " + model + (overrides.size() > 0 ? ", with options)" : ")");
   overrides["model"] = model;
-  return merged(root, overrides, source);
+  return merged(root, overrides, where);
 }
 
 }  // namespace odometry_calibration
