@@ -131,6 +131,13 @@ TEST(OdometryIntegrator, PropagatesTheCovarianceThroughEachSegment)
   EXPECT_NEAR(covariance(2, 2), 2 * var_theta, 1e-12);
   EXPECT_NEAR(covariance(1, 2), var_theta, 1e-12);
   EXPECT_NEAR(covariance(0, 1), 0.0, 1e-12);
+
+  // A floor adds to each window: as if the model reported it.
+  OdometryIntegrator floored(std::make_shared<StepModel>(Eigen::Matrix3d::Zero()), Pose2(), 0.5);
+  floored.setWindowCovarianceFloor(Eigen::Vector3d(var_x, var_y, var_theta).asDiagonal());
+  for (int i = 0; i <= 2; ++i)
+    floored.add({static_cast<double>(i), Eigen::VectorXd::Constant(1, i)});
+  EXPECT_LT((floored.covariance() - covariance).cwiseAbs().maxCoeff(), 1e-15);
 }
 
 TEST(OdometryIntegrator, ComposedCovarianceMatchesFiniteDifferences)

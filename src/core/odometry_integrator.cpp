@@ -76,8 +76,9 @@ bool OdometryIntegrator::add(const EncoderSample& sample)
   const Pose2 previous = pose();
   const double dt = sample.stamp_s - window_.back().stamp_s;
   T_odom_sensor_ = T_odom_sensor_anchor_ * prediction.mean;
+  window_covariance_ = prediction.covariance + covariance_floor_;
   covariance_sensor_ = composeCovariance(T_odom_sensor_anchor_, covariance_anchor_, prediction.mean,
-                                         prediction.covariance);
+                                         window_covariance_);
   velocity_ = se2Log(between(previous, pose())) / dt;
   if (sample.stamp_s - window.front().stamp_s >= segment_s_) {
     T_odom_sensor_anchor_ = T_odom_sensor_;

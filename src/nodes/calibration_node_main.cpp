@@ -1,4 +1,6 @@
 // odometry_calibration_node: the live calibration node (see README, "The live node").
+#include <iostream>
+
 #include <glog/logging.h>
 #include <ros/ros.h>
 
@@ -9,11 +11,14 @@ int main(int argc, char** argv)
   google::InitGoogleLogging(argv[0]);
   FLAGS_minloglevel = google::GLOG_FATAL;  // Ceres' own progress lines
   ros::init(argc, argv, "odometry_calibration");
+  // The handles outlive a failed start, so that the reason still reaches the log.
+  ros::NodeHandle handle, private_handle("~");
   try {
-    odometry_calibration::CalibrationNode node{ros::NodeHandle(), ros::NodeHandle("~")};
+    odometry_calibration::CalibrationNode node(handle, private_handle);
     ros::spin();
   } catch (const std::exception& error) {
     ROS_FATAL("cannot start: %s", error.what());
+    std::cerr << "odometry_calibration_node: cannot start: " << error.what() << std::endl;
     return 1;
   }
   return 0;

@@ -27,6 +27,10 @@ namespace fs = std::filesystem;
 /// rejected keyframe intervals.
 constexpr double kRecentPoseHistoryS = 60.0;
 
+/// Assumed per-keyframe-interval covariance of the uncalibrated (nominal) odometry: 1 cm, 1 cm,
+/// 0.01 rad [m^2, m^2, rad^2].
+const Eigen::Matrix3d kNominalWindowCovariance = Eigen::Vector3d(1e-4, 1e-4, 1e-4).asDiagonal();
+
 std::string wallClockTag()
 {
   const std::time_t now = std::time(nullptr);
@@ -159,6 +163,10 @@ CalibrationNode::CalibrationNode(ros::NodeHandle handle, ros::NodeHandle private
     corrected_odometry_ = std::make_unique<OdometryIntegrator>(
         active_model_, nominal ? priorSensorPose(config_) : T_base_sensor_,
         config_.collector.keyframe_interval_s);
+    // The nominal robot reports no uncertainty of its own: assume 1 cm and 0.01 rad per
+    // keyframe interval until a fit replaces it with the residual spread.
+    if (nominal)
+      corrected_odometry_->setWindowCovarianceFloor(kNominalWindowCovariance);
   } else {
     ROS_WARN(
         "no odometry until the first ~calibrate: prior_model is 'none' and there is no "
@@ -221,8 +229,14 @@ CalibrationNode::CalibrationNode(ros::NodeHandle handle, ros::NodeHandle private
 
 CalibrationNode::~CalibrationNode()
 {
+  // Stop what runs on the service queue before its members go.
+  timer_.stop();
   if (service_spinner_)
     service_spinner_->stop();
+  calibrate_service_.shutdown();
+  save_service_.shutdown();
+  reset_service_.shutdown();
+  timer_ = ros::WallTimer();
 }
 
 std::string CalibrationNode::sensorFrame() const
@@ -421,6 +435,14 @@ void CalibrationNode::integrateOdometry(double encoder_stamp_s, const Eigen::Vec
   msg.twist.twist.linear.x = odometry.velocity()(0);
   msg.twist.twist.linear.y = odometry.velocity()(1);
   msg.twist.twist.angular.z = odometry.velocity()(2);
+  // The velocity's spread: the odometry's growth over one keyframe interval, per second.
+  const double interval_s = config_.collector.keyframe_interval_s;
+  const Eigen::Matrix3d per_interval = odometry.windowCovariance() / (interval_s * interval_s);
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c)
+      msg.twist.covariance[6 * index[r] + index[c]] = per_interval(r, c);
+  for (int i : {2, 3, 4})
+    msg.twist.covariance[7 * i] = 1e6;
   odom_publisher_.publish(msg);
   if (options_.publish_odom_tf) {
     geometry_msgs::TransformStamped transform;
@@ -695,6 +717,7 @@ bool CalibrationNode::onCalibrate(Calibrate::Request& request, Calibrate::Respon
   }
   auto replay = std::make_unique<OdometryIntegrator>(model, T_base_sensor,
                                                      config.collector.keyframe_interval_s);
+  replay->setWindowCovarianceFloor(config.collector.covariance_floor.asDiagonal());
   replay->restartAt(path_start);
   std::vector<geometry_msgs::PoseStamped> path;
   auto add = [&](const EncoderSample& sample, bool to_path) {
@@ -725,13 +748,17 @@ bool CalibrationNode::onCalibrate(Calibrate::Request& request, Calibrate::Respon
   }
   response.success = true;
   response.message = name + " fitted to " + std::to_string(report.pairs_used) + " pairs (" +
-                     std::to_string(report.outliers) + " rejected); residual RMS " +
-                     std::to_string(report.before.translation_m) + " -> " +
+                     std::to_string(report.outliers) + " rejected); residual RMS per pair " +
+                     (report.before.count > 0 ? std::to_string(report.before.translation_m) + " -> "
+                                              : std::string()) +
                      std::to_string(report.after.translation_m) +
                      " m. Now driving ~odom; call ~save to keep it.";
   for (const std::string& warning : report.warnings)
     response.message += " WARNING: " + warning;
-  ROS_INFO("%s\n%s", response.message.c_str(), summary.c_str());
+  if (report.warnings.empty())
+    ROS_INFO("%s\n%s", response.message.c_str(), summary.c_str());
+  else
+    ROS_WARN("%s\n%s", response.message.c_str(), summary.c_str());
   return true;
 }
 
@@ -743,12 +770,14 @@ bool CalibrationNode::onSave(std_srvs::Trigger::Request&, std_srvs::Trigger::Res
     response.message = "nothing to save: no successful ~calibrate since the node started";
     return true;
   }
-  const std::string result_path = options_.output_directory + "/result.yaml";
+  const std::string result_path =
+      fs::absolute(options_.output_directory + "/result.yaml").lexically_normal().string();
   try {
     writeFileAtomically(result_path, fitted_result_yaml_);
     response.message = "saved " + result_path;
     if (T_base_sensor_) {
-      const std::string urdf_path = options_.output_directory + "/laser_joint.urdf";
+      const std::string urdf_path =
+          fs::absolute(options_.output_directory + "/laser_joint.urdf").lexically_normal().string();
       writeFileAtomically(urdf_path,
                           laserJointUrdf(*T_base_sensor_, options_.base_frame, sensorFrame()));
       response.message += " and " + urdf_path;
@@ -770,8 +799,10 @@ bool CalibrationNode::onReset(std_srvs::Trigger::Request&, std_srvs::Trigger::Re
   appender_.reset();
   const std::string pairs_path = options_.output_directory + "/pairs.csv";
   std::string archived;
-  if (fs::exists(pairs_path))
+  if (fs::exists(pairs_path) && dropped > 0)
     archived = archivePairsFile("~reset");
+  else
+    fs::remove(pairs_path);  // only a header: nothing to keep
   appender_ = std::make_unique<PairsCsvAppender>(pairs_path, jointLayout(config_));
   pairs_.clear();
   pairs_resumed_ = 0;

@@ -37,6 +37,10 @@ public:
   /// false). Throws what the model's predict throws (the state is then unchanged).
   bool add(const EncoderSample& sample);
 
+  /// Added to every window's predicted covariance: the uncertainty a model does not report
+  /// itself (e.g. the nominal robot before any fit, whose prediction covariance is zero).
+  void setWindowCovarianceFloor(const Eigen::Matrix3d& floor) { covariance_floor_ = floor; }
+
   /// Back to the origin with no history.
   void reset();
 
@@ -56,6 +60,9 @@ public:
   const Eigen::Vector3d& velocity() const { return velocity_; }
   /// The last sample added (null before the first).
   const EncoderSample* lastSample() const { return window_.empty() ? nullptr : &window_.back(); }
+  /// Covariance of the last window's predicted motion (floor included), in the sensor's frame
+  /// [m^2, rad^2]: how uncertain one keyframe interval's motion is.
+  const Eigen::Matrix3d& windowCovariance() const { return window_covariance_; }
   /// Time of the last sample [s]; NaN before the first.
   double stamp() const;
 
@@ -63,6 +70,8 @@ private:
   std::shared_ptr<const MotionModel> model_;
   std::optional<Pose2> T_base_sensor_;
   double segment_s_;
+  Eigen::Matrix3d covariance_floor_ = Eigen::Matrix3d::Zero();
+  Eigen::Matrix3d window_covariance_ = Eigen::Matrix3d::Zero();
   Pose2 T_odom_sensor_anchor_;
   Eigen::Matrix3d covariance_anchor_ = Eigen::Matrix3d::Zero();
   std::vector<EncoderSample> window_;  ///< samples since the anchor, the anchor's first

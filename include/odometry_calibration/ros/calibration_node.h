@@ -89,6 +89,8 @@ private:
   std::string archivePairsFile(const std::string& why);
   std::string sensorFrame() const;
 
+  /// Declared first, destroyed last: the services and the timer are registered on it.
+  ros::CallbackQueue service_queue_;
   ros::NodeHandle handle_, private_handle_;
   NodeOptions options_;
   std::string config_text_;
@@ -144,7 +146,6 @@ private:
   tf2_ros::TransformBroadcaster tf_broadcaster_;
   tf2_ros::StaticTransformBroadcaster static_broadcaster_;
   ros::WallTimer timer_;
-  ros::CallbackQueue service_queue_;
   std::unique_ptr<ros::AsyncSpinner> service_spinner_;
   ros::ServiceServer calibrate_service_, save_service_, reset_service_;
 };
