@@ -9,8 +9,8 @@
 #include <thread>
 #include <vector>
 
-#include <ros/ros.h>
 #include <ros/network.h>
+#include <ros/ros.h>
 #include <rosgraph_msgs/Log.h>
 #include <xmlrpcpp/XmlRpc.h>
 

@@ -2,19 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <ctime>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <geometry_msgs/TransformStamped.h>
 
-#include "odometry_calibration/eval/model_report.h"
-#include "odometry_calibration/io/atomic_file.h"
 #include "odometry_calibration/io/calibration_result.h"
 #include "odometry_calibration/io/text_file.h"
-#include "odometry_calibration/models/model_factory.h"
 #include "odometry_calibration/ros/conversions.h"
 #include "odometry_calibration/ros/report_messages.h"
 
@@ -31,23 +25,6 @@ constexpr double kRecentPoseHistoryS = 60.0;
 /// 0.01 rad [m^2, m^2, rad^2].
 const Eigen::Matrix3d kNominalWindowCovariance = Eigen::Vector3d(1e-4, 1e-4, 1e-4).asDiagonal();
 
-std::string wallClockTag()
-{
-  const std::time_t now = std::time(nullptr);
-  char tag[32];
-  std::strftime(tag, sizeof(tag), "%Y%m%d-%H%M%S", std::localtime(&now));
-  return tag;
-}
-
-geometry_msgs::PoseStamped poseStamped(const Pose2& pose, double stamp_s, const std::string& frame)
-{
-  geometry_msgs::PoseStamped msg;
-  msg.header.stamp = ros::Time(std::max(0.0, stamp_s));
-  msg.header.frame_id = frame;
-  msg.pose = ros_conversions::toPoseMsg(pose);
-  return msg;
-}
-
 void appendToPath(nav_msgs::Path* path, const geometry_msgs::PoseStamped& pose, int max_poses)
 {
   path->poses.push_back(pose);
@@ -56,43 +33,6 @@ void appendToPath(nav_msgs::Path* path, const geometry_msgs::PoseStamped& pose, 
 }
 
 }  // namespace
-
-NodeOptions readNodeOptions(const ros::NodeHandle& p)
-{
-  NodeOptions o;
-  p.param("config", o.config_path, o.config_path);
-  p.param("output_directory", o.output_directory, o.output_directory);
-  p.param("odom_frame", o.odom_frame, o.odom_frame);
-  p.param("base_frame", o.base_frame, o.base_frame);
-  p.param("sensor_frame", o.sensor_frame, o.sensor_frame);
-  p.param("publish_odom_tf", o.publish_odom_tf, o.publish_odom_tf);
-  p.param("publish_extrinsic_tf", o.publish_extrinsic_tf, o.publish_extrinsic_tf);
-  p.param("load_saved_calibration", o.load_saved_calibration, o.load_saved_calibration);
-  p.param("resume_pairs", o.resume_pairs, o.resume_pairs);
-  p.param("silent_topic_timeout_s", o.silent_topic_timeout_s, o.silent_topic_timeout_s);
-  p.param("min_pairs", o.min_pairs, o.min_pairs);
-  p.param("path_spacing_s", o.path_spacing_s, o.path_spacing_s);
-  p.param("path_max_poses", o.path_max_poses, o.path_max_poses);
-  p.param("diagnostics_period_s", o.diagnostics_period_s, o.diagnostics_period_s);
-  if (o.config_path.empty()) {
-    throw std::invalid_argument(
-        "~config is required: the calibration YAML (e.g. $(find odometry_calibration)/config/"
-        "diff_drive.yaml)");
-  }
-  if (o.odom_frame.empty() || o.base_frame.empty())
-    throw std::invalid_argument("~odom_frame and ~base_frame must not be empty");
-  if (!(o.silent_topic_timeout_s > 0.0))
-    throw std::invalid_argument("~silent_topic_timeout_s must be > 0 s");
-  if (o.min_pairs < 1)
-    throw std::invalid_argument("~min_pairs must be >= 1");
-  if (!(o.path_spacing_s >= 0.0))
-    throw std::invalid_argument("~path_spacing_s must be >= 0 s");
-  if (o.path_max_poses < 2)
-    throw std::invalid_argument("~path_max_poses must be >= 2");
-  if (!(o.diagnostics_period_s > 0.0))
-    throw std::invalid_argument("~diagnostics_period_s must be > 0 s");
-  return o;
-}
 
 CalibrationNode::CalibrationNode(ros::NodeHandle handle, ros::NodeHandle private_handle)
     : handle_(handle),
@@ -458,7 +398,8 @@ void CalibrationNode::integrateOdometry(double encoder_stamp_s, const Eigen::Vec
   }
   if (stamp_s - last_path_stamp_s_ >= options_.path_spacing_s) {
     last_path_stamp_s_ = stamp_s;
-    appendToPath(&corrected_path_, poseStamped(pose, stamp_s, options_.odom_frame),
+    appendToPath(&corrected_path_,
+                 ros_conversions::toPoseStampedMsg(pose, stamp_s, options_.odom_frame),
                  options_.path_max_poses);
     path_samples_.push_back(sample);
     if (static_cast<int>(path_samples_.size()) > options_.path_max_poses) {
@@ -467,7 +408,8 @@ void CalibrationNode::integrateOdometry(double encoder_stamp_s, const Eigen::Vec
     }
     if (nominal_odometry_) {
       appendToPath(&nominal_path_,
-                   poseStamped(nominal_odometry_->pose(), stamp_s, options_.odom_frame),
+                   ros_conversions::toPoseStampedMsg(nominal_odometry_->pose(), stamp_s,
+                                                     options_.odom_frame),
                    options_.path_max_poses);
     }
   }
@@ -528,8 +470,8 @@ void CalibrationNode::publishPaths()
       (T_base_sensor_ ? *T_base_sensor_ : priorSensorPose(config_).value_or(Pose2())).inverse();
   scan_matched_path_.poses.clear();
   for (const auto& [stamp_s, T_odom_sensor] : scan_matched_sensor_poses_) {
-    scan_matched_path_.poses.push_back(
-        poseStamped(T_odom_sensor * T_sensor_base, stamp_s, options_.odom_frame));
+    scan_matched_path_.poses.push_back(ros_conversions::toPoseStampedMsg(
+        T_odom_sensor * T_sensor_base, stamp_s, options_.odom_frame));
   }
   if (nominal_odometry_)
     nominal_path_publisher_.publish(nominal_path_);
@@ -547,284 +489,6 @@ void CalibrationNode::publishExtrinsic()
   transform.child_frame_id = sensorFrame();
   transform.transform = ros_conversions::toTransformMsg(*T_base_sensor_);
   static_broadcaster_.sendTransform(transform);
-}
-
-// --- Health -------------------------------------------------------------------------------
-
-void CalibrationNode::onTimer(const ros::WallTimerEvent& event)
-{
-  std::lock_guard<std::mutex> lock(state_mutex_);
-  const double period_s = event.last_real.isZero() ? options_.diagnostics_period_s
-                                                   : (event.current_real - event.last_real).toSec();
-  warnSilentTopics();
-  publishDiagnostics(period_s);
-  publishPaths();
-}
-
-void CalibrationNode::warnSilentTopics()
-{
-  const ros::WallTime now = ros::WallTime::now();
-  for (TopicHealth* health : {&joint_health_, &ego_health_}) {
-    const ros::WallTime since = health->messages == 0 ? started_ : health->last_message;
-    const double silent_s = (now - since).toSec();
-    if (silent_s > options_.silent_topic_timeout_s &&
-        (now - health->last_warning).toSec() > options_.silent_topic_timeout_s) {
-      health->last_warning = now;
-      if (health->messages == 0) {
-        ROS_WARN("no message on '%s' after %.0f s: is the topic name right? (rostopic info %s)",
-                 health->topic.c_str(), silent_s, health->topic.c_str());
-      } else {
-        ROS_WARN("'%s' has been silent for %.0f s", health->topic.c_str(), silent_s);
-      }
-    }
-  }
-}
-
-void CalibrationNode::publishDiagnostics(double period_s)
-{
-  diagnostic_msgs::DiagnosticArray array;
-  array.header.stamp = ros::Time::now();
-  diagnostic_msgs::DiagnosticStatus status;
-  status.name = ros::this_node::getName() + ": calibration";
-  status.hardware_id = sensorFrame();
-  auto add = [&status](const std::string& key, const std::string& value) {
-    diagnostic_msgs::KeyValue entry;
-    entry.key = key;
-    entry.value = value;
-    status.values.push_back(entry);
-  };
-  const ros::WallTime now = ros::WallTime::now();
-  std::vector<std::string> problems;
-  for (TopicHealth* health : {&joint_health_, &ego_health_}) {
-    const double rate = (health->messages - health->messages_at_last_tick) / period_s;
-    health->messages_at_last_tick = health->messages;
-    add(health->topic + " rate [Hz]", std::to_string(rate));
-    const ros::WallTime since = health->messages == 0 ? started_ : health->last_message;
-    if ((now - since).toSec() > options_.silent_topic_timeout_s)
-      problems.push_back("no input on " + health->topic);
-  }
-  const CollectorStatistics& s = collector_->statistics();
-  const double icp_success =
-      s.consecutive_matches > 0
-          ? 1.0 - static_cast<double>(s.consecutive_failures) / s.consecutive_matches
-          : std::nan("");
-  std::size_t rejected = 0;
-  for (const auto& [reason, count] : s.rejected)
-    rejected += count;
-  add("scan matching success ratio", std::to_string(icp_success));
-  add("pairs collected", std::to_string(pairs_.size()));
-  add("pairs resumed from file", std::to_string(pairs_resumed_));
-  add("keyframe intervals rejected", std::to_string(rejected));
-  for (const auto& [reason, count] : s.rejected)
-    add("rejected: " + reason, std::to_string(count));
-  add("JointStates skipped", std::to_string(bad_joint_states_));
-  add("scans skipped", std::to_string(bad_scans_));
-  add("restarts (time went backwards)", std::to_string(s.restarts));
-  add("model", active_model_ ? active_model_->name() + " (" + active_model_origin_ + ")"
-                             : std::string("none"));
-  add("time offset [s]", std::to_string(config_.collector.time_offset_s));
-  if (!last_problem_.empty())
-    add("last problem", last_problem_);
-  if (!problems.empty()) {
-    status.level = diagnostic_msgs::DiagnosticStatus::WARN;
-    status.message = problems.front();
-  } else if (s.consecutive_matches > 10 && icp_success < 0.9) {
-    status.level = diagnostic_msgs::DiagnosticStatus::WARN;
-    status.message = "scan matching fails often";
-  } else {
-    status.level = diagnostic_msgs::DiagnosticStatus::OK;
-    status.message = std::to_string(pairs_.size()) + " pairs";
-  }
-  array.status.push_back(status);
-  diagnostics_publisher_.publish(array);
-}
-
-// --- Services -------------------------------------------------------------------------------
-
-bool CalibrationNode::onCalibrate(Calibrate::Request& request, Calibrate::Response& response)
-{
-  response.success = false;
-  CalibrationConfig config;
-  std::vector<MotionPair> pairs;
-  double time_offset_s = 0.0;
-  {
-    std::lock_guard<std::mutex> lock(state_mutex_);
-    config = config_;
-    pairs = pairs_;
-    time_offset_s = config_.collector.time_offset_s;
-  }
-  const std::string name = request.model.empty() ? config.model : request.model;
-  const std::vector<std::string> known = knownModelNames();
-  if (std::find(known.begin(), known.end(), name) == known.end()) {
-    response.message = "unknown model '" + name + "' (known:";
-    for (const std::string& k : known)
-      response.message += " " + k;
-    response.message += ")";
-    return true;
-  }
-  try {
-    // The model sections as this model needs them (its joints resolved and checked).
-    config.models =
-        configForModel(config_text_, name, request.options, options_.config_path).models;
-  } catch (const std::exception& error) {
-    response.message =
-        "cannot fit " + name + " with this configuration and options: " + std::string(error.what());
-    return true;
-  }
-  if (static_cast<int>(pairs.size()) < options_.min_pairs) {
-    response.message = "only " + std::to_string(pairs.size()) + " pairs collected, " +
-                       std::to_string(options_.min_pairs) +
-                       " needed (~min_pairs): drive more, straight and turning both ways";
-    return true;
-  }
-  std::shared_ptr<MotionModel> model;
-  ModelReport report;
-  try {
-    model = makeModel(name, config.models);
-    report = model->fit(pairs);
-  } catch (const std::exception& error) {
-    response.message = name + " fit failed: " + error.what();
-    return true;
-  }
-  response.report = ros_conversions::toReportMsg(report, pairs.size(), time_offset_s);
-  report_publisher_.publish(response.report);
-  const std::string summary = formatModelReport(report);
-  if (!report.converged) {
-    response.message =
-        name + " fit did not converge (" + report.termination + "); the active model is unchanged";
-    ROS_WARN("%s\n%s", response.message.c_str(), summary.c_str());
-    return true;
-  }
-  const std::string result_yaml = calibrationResultYaml(
-      report, *model, "live node " + ros::this_node::getName(), time_offset_s);
-  try {
-    // Every fit is kept (last_fit.yaml); ~save makes it the calibration loaded on start.
-    writeFileAtomically(options_.output_directory + "/last_fit.yaml", result_yaml);
-  } catch (const std::exception& error) {
-    ROS_ERROR("cannot write last_fit.yaml: %s", error.what());
-  }
-  // The corrected odometry is integrated again over the whole run with the new model, so that
-  // ~odom and its path show the calibrated trajectory (one jump at the fit; see README).
-  std::vector<EncoderSample> samples;
-  Pose2 path_start;
-  std::optional<Pose2> T_base_sensor;
-  {
-    std::lock_guard<std::mutex> lock(state_mutex_);
-    samples.assign(path_samples_.begin(), path_samples_.end());
-    path_start = path_samples_start_;
-    T_base_sensor =
-        report.has_extrinsic ? std::optional<Pose2>(report.T_base_sensor) : T_base_sensor_;
-  }
-  auto replay = std::make_unique<OdometryIntegrator>(model, T_base_sensor,
-                                                     config.collector.keyframe_interval_s);
-  replay->setWindowCovarianceFloor(config.collector.covariance_floor.asDiagonal());
-  replay->restartAt(path_start);
-  std::vector<geometry_msgs::PoseStamped> path;
-  auto add = [&](const EncoderSample& sample, bool to_path) {
-    if (replay->add(sample) && to_path)
-      path.push_back(poseStamped(replay->pose(), sample.stamp_s, options_.odom_frame));
-  };
-  try {
-    for (const EncoderSample& sample : samples)
-      add(sample, true);
-    std::lock_guard<std::mutex> lock(state_mutex_);
-    // What arrived while integrating, then the newest sample.
-    for (const EncoderSample& sample : path_samples_)
-      add(sample, true);
-    if (corrected_odometry_ && corrected_odometry_->lastSample())
-      add(*corrected_odometry_->lastSample(), false);
-    T_base_sensor_ = T_base_sensor;
-    fitted_model_ = model;
-    fitted_result_yaml_ = result_yaml;
-    corrected_odometry_ = std::move(replay);
-    corrected_path_.poses = std::move(path);
-    active_model_ = model;
-    active_model_origin_ = "fit of " + std::to_string(pairs.size()) + " pairs";
-    publishExtrinsic();
-  } catch (const std::exception& error) {
-    response.message = name + " fitted, but its odometry failed: " + error.what() +
-                       "; the active model is unchanged";
-    return true;
-  }
-  response.success = true;
-  response.message = name + " fitted to " + std::to_string(report.pairs_used) + " pairs (" +
-                     std::to_string(report.outliers) + " rejected); residual RMS per pair " +
-                     (report.before.count > 0 ? std::to_string(report.before.translation_m) + " -> "
-                                              : std::string()) +
-                     std::to_string(report.after.translation_m) +
-                     " m. Now driving ~odom; call ~save to keep it.";
-  for (const std::string& warning : report.warnings)
-    response.message += " WARNING: " + warning;
-  if (report.warnings.empty())
-    ROS_INFO("%s\n%s", response.message.c_str(), summary.c_str());
-  else
-    ROS_WARN("%s\n%s", response.message.c_str(), summary.c_str());
-  return true;
-}
-
-bool CalibrationNode::onSave(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& response)
-{
-  std::lock_guard<std::mutex> lock(state_mutex_);
-  if (!fitted_model_) {
-    response.success = false;
-    response.message = "nothing to save: no successful ~calibrate since the node started";
-    return true;
-  }
-  const std::string result_path =
-      fs::absolute(options_.output_directory + "/result.yaml").lexically_normal().string();
-  try {
-    writeFileAtomically(result_path, fitted_result_yaml_);
-    response.message = "saved " + result_path;
-    if (T_base_sensor_) {
-      const std::string urdf_path =
-          fs::absolute(options_.output_directory + "/laser_joint.urdf").lexically_normal().string();
-      writeFileAtomically(urdf_path,
-                          laserJointUrdf(*T_base_sensor_, options_.base_frame, sensorFrame()));
-      response.message += " and " + urdf_path;
-    }
-    response.success = true;
-  } catch (const std::exception& error) {
-    response.success = false;
-    response.message = std::string("cannot save: ") + error.what();
-  }
-  ROS_INFO("%s", response.message.c_str());
-  return true;
-}
-
-bool CalibrationNode::onReset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& response)
-{
-  std::lock_guard<std::mutex> lock(state_mutex_);
-  const std::size_t dropped = pairs_.size();
-  collector_->reset();
-  appender_.reset();
-  const std::string pairs_path = options_.output_directory + "/pairs.csv";
-  std::string archived;
-  if (fs::exists(pairs_path) && dropped > 0)
-    archived = archivePairsFile("~reset");
-  else
-    fs::remove(pairs_path);  // only a header: nothing to keep
-  appender_ = std::make_unique<PairsCsvAppender>(pairs_path, jointLayout(config_));
-  pairs_.clear();
-  pairs_resumed_ = 0;
-  restartOdometry();
-  response.success = true;
-  response.message = "collection restarted: " + std::to_string(dropped) + " pairs set aside" +
-                     (archived.empty() ? std::string() : " in " + archived) +
-                     "; the active model is kept";
-  ROS_INFO("%s", response.message.c_str());
-  return true;
-}
-
-std::string CalibrationNode::archivePairsFile(const std::string& why)
-{
-  const std::string pairs_path = options_.output_directory + "/pairs.csv";
-  std::string archived = options_.output_directory + "/pairs-" + wallClockTag() + ".csv";
-  for (int i = 1; fs::exists(archived); ++i)
-    archived =
-        options_.output_directory + "/pairs-" + wallClockTag() + "-" + std::to_string(i) + ".csv";
-  fs::rename(pairs_path, archived);
-  ROS_WARN("moved %s to %s (%s)", pairs_path.c_str(), archived.c_str(), why.c_str());
-  return archived;
 }
 
 }  // namespace odometry_calibration

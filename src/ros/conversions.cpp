@@ -1,5 +1,6 @@
 #include "odometry_calibration/ros/conversions.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -93,6 +94,16 @@ Pose2 fromPoseMsg(const geometry_msgs::Pose& pose)
   transform.translation.y = pose.position.y;
   transform.rotation = pose.orientation;
   return fromTransformMsg(transform);
+}
+
+geometry_msgs::PoseStamped toPoseStampedMsg(const Pose2& pose, double stamp_s,
+                                            const std::string& frame)
+{
+  geometry_msgs::PoseStamped msg;
+  msg.header.stamp = ros::Time(std::max(0.0, stamp_s));
+  msg.header.frame_id = frame;
+  msg.pose = toPoseMsg(pose);
+  return msg;
 }
 
 }  // namespace ros_conversions

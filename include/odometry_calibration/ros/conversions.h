@@ -6,6 +6,7 @@
 #include <vector>
 
 #include <geometry_msgs/Pose.h>
+#include <geometry_msgs/PoseStamped.h>
 #include <geometry_msgs/Transform.h>
 #include <sensor_msgs/JointState.h>
 #include <sensor_msgs/LaserScan.h>
@@ -27,6 +28,10 @@ geometry_msgs::Transform toTransformMsg(const Pose2& pose);
 
 /// 3D pose of a planar pose (z = 0, rotation about z).
 geometry_msgs::Pose toPoseMsg(const Pose2& pose);
+
+/// A stamped planar pose (negative stamps clamped to 0) in `frame`.
+geometry_msgs::PoseStamped toPoseStampedMsg(const Pose2& pose, double stamp_s,
+                                            const std::string& frame);
 
 /// Raw readings of the configured joints, in the channels' order, from a JointState's
 /// `position` array. Throws std::invalid_argument naming the problem: a name and position
