@@ -49,6 +49,13 @@ TEST(ScanToPoints, DropsNanInfZeroOutOfRangeAndMaskedReadings)
   ASSERT_EQ(points.size(), 1u);  // only 2.5 m on ray 6 survives
   EXPECT_EQ(points.ray_indices[0], 6);
   EXPECT_DOUBLE_EQ(points.ranges_m[0], 2.5);
+  // The count without conversion agrees, ray by ray.
+  EXPECT_EQ(countUsableReadings(scan), 1u);
+  for (std::size_t i = 0; i < scan.ranges_m.size(); ++i)
+    EXPECT_EQ(isUsableReading(scan, i), i == 6) << i;
+  scan.valid.clear();
+  EXPECT_EQ(countUsableReadings(scan), scanToPoints(scan).size());
+  EXPECT_EQ(countUsableReadings(scan), 2u);  // 2.5 m and 3.5 m
 }
 
 TEST(ScanToPoints, AllInvalidGivesNoPointsAndNoException)

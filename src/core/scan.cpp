@@ -92,6 +92,24 @@ void validate(const Scan& scan)
   }
 }
 
+bool isUsableReading(const Scan& scan, std::size_t i)
+{
+  const double range_m = scan.ranges_m[i];
+  // NaN fails every comparison, +inf fails the upper limit; zero is "no return" on many
+  // drivers even when range_min_m is 0.
+  const bool in_limits = range_m >= scan.range_min_m && range_m <= scan.range_max_m;
+  return in_limits && std::isfinite(range_m) && range_m != 0.0 &&
+         (scan.valid.empty() || scan.valid[i] != 0);
+}
+
+std::size_t countUsableReadings(const Scan& scan)
+{
+  std::size_t count = 0;
+  for (std::size_t i = 0; i < scan.ranges_m.size(); ++i)
+    count += isUsableReading(scan, i) ? 1 : 0;
+  return count;
+}
+
 ScanPoints scanToPoints(const Scan& scan, const SensorVelocity& velocity)
 {
   validate(scan);
@@ -107,16 +125,10 @@ ScanPoints scanToPoints(const Scan& scan, const SensorVelocity& velocity)
   const bool reversed = scan.angle_increment_rad < 0.0;
   for (std::size_t k = 0; k < ray_count; ++k) {
     const std::size_t i = reversed ? ray_count - 1 - k : k;
+    if (!isUsableReading(scan, i)) {
+      continue;
+    }
     const double range_m = scan.ranges_m[i];
-    // NaN fails every comparison, +inf fails the upper limit; zero is "no return" on many
-    // drivers even when range_min_m is 0.
-    const bool in_limits = range_m >= scan.range_min_m && range_m <= scan.range_max_m;
-    if (!in_limits || !std::isfinite(range_m) || range_m == 0.0) {
-      continue;
-    }
-    if (!scan.valid.empty() && scan.valid[i] == 0) {
-      continue;
-    }
     const double angle_rad = scan.angle_min_rad + static_cast<double>(i) * scan.angle_increment_rad;
     const Eigen::Vector2d direction(std::cos(angle_rad), std::sin(angle_rad));
     result.points_m.push_back(range_m * direction);

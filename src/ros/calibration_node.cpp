@@ -243,7 +243,7 @@ void CalibrationNode::onScan(const sensor_msgs::LaserScan::ConstPtr& message)
   const double stamp_s = message->header.stamp.toSec();
   try {
     const Scan scan = ros_conversions::fromLaserScanMsg(*message);
-    const std::size_t usable = scanToPoints(scan).size();
+    const std::size_t usable = countUsableReadings(scan);
     if (static_cast<int>(usable) < config_.collector.plicp.min_points) {
       throw std::invalid_argument(
           "only " + std::to_string(usable) + " of " + std::to_string(scan.ranges_m.size()) +

@@ -75,6 +75,13 @@ struct ScanPoints
   bool empty() const { return points_m.empty(); }
 };
 
+/// Whether reading i is usable: finite, non-zero, within [range_min_m, range_max_m] and not
+/// masked out by `valid`. Expects a validated scan and i < ranges_m.size().
+bool isUsableReading(const Scan& scan, std::size_t i);
+
+/// How many readings are usable (what scanToPoints would keep), without converting them.
+std::size_t countUsableReadings(const Scan& scan);
+
 /// Converts the usable readings of `scan` to points: drops NaN, +-inf, zero, below range_min_m,
 /// above range_max_m and masked-out readings. Throws std::invalid_argument (via validate) only
 /// for an unusable scan geometry; a scan with no usable reading gives an empty ScanPoints.
