@@ -11,9 +11,9 @@
 #include <string>
 #include <vector>
 
-#include "../test/mines_log.h"
-#include "../test/synthetic_scans.h"
 #include "odometry_calibration/scan/plicp.h"
+#include "support/mines_log.h"
+#include "support/synthetic_scans.h"
 
 namespace {
 

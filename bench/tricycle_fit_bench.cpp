@@ -5,8 +5,8 @@
 #include <fstream>
 #include <string>
 
-#include "odometry_calibration/data/tricycle_log.h"
-#include "odometry_calibration/io/tricycle_dataset.h"
+#include "odometry_calibration/datasets/tricycle_dataset.h"
+#include "odometry_calibration/datasets/tricycle_log.h"
 #include "odometry_calibration/models/tricycle_calibration.h"
 
 namespace {

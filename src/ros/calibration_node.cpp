@@ -7,8 +7,8 @@
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <geometry_msgs/TransformStamped.h>
 
-#include "odometry_calibration/io/calibration_result.h"
-#include "odometry_calibration/io/text_file.h"
+#include "odometry_calibration/calibration/calibration_result.h"
+#include "odometry_calibration/common/text_file.h"
 #include "odometry_calibration/ros/conversions.h"
 #include "odometry_calibration/ros/report_messages.h"
 

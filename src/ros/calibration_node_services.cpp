@@ -3,9 +3,9 @@
 #include <ctime>
 #include <filesystem>
 
+#include "odometry_calibration/calibration/calibration_result.h"
+#include "odometry_calibration/common/atomic_file.h"
 #include "odometry_calibration/eval/model_report.h"
-#include "odometry_calibration/io/atomic_file.h"
-#include "odometry_calibration/io/calibration_result.h"
 #include "odometry_calibration/models/model_factory.h"
 #include "odometry_calibration/ros/calibration_node.h"
 #include "odometry_calibration/ros/conversions.h"

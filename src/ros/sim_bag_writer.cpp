@@ -11,7 +11,7 @@
 #include <sensor_msgs/LaserScan.h>
 #include <tf2_msgs/TFMessage.h>
 
-#include "odometry_calibration/io/atomic_file.h"
+#include "odometry_calibration/common/atomic_file.h"
 #include "odometry_calibration/ros/conversions.h"
 #include "odometry_calibration/sim/world.h"
 

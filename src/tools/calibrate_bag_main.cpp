@@ -16,15 +16,15 @@
 
 #include <glog/logging.h>
 
-#include "odometry_calibration/cli/arguments.h"
+#include "odometry_calibration/calibration/time_offset.h"
+#include "odometry_calibration/common/arguments.h"
+#include "odometry_calibration/common/text_file.h"
 #include "odometry_calibration/eval/model_comparison.h"
 #include "odometry_calibration/eval/model_report.h"
 #include "odometry_calibration/eval/trajectory_comparison.h"
-#include "odometry_calibration/io/result_files.h"
-#include "odometry_calibration/io/text_file.h"
 #include "odometry_calibration/models/diff_drive_model.h"
 #include "odometry_calibration/models/model_factory.h"
-#include "odometry_calibration/pipeline/time_offset.h"
+#include "odometry_calibration/report/result_files.h"
 #include "odometry_calibration/ros/bag_runner.h"
 
 namespace {

@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "odometry_calibration/cli/arguments.h"
+#include "odometry_calibration/common/arguments.h"
+#include "odometry_calibration/data/pairs_csv.h"
 #include "odometry_calibration/eval/model_comparison.h"
-#include "odometry_calibration/io/pairs_csv.h"
 #include "odometry_calibration/models/model_factory.h"
 
 namespace {

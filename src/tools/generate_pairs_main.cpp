@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "odometry_calibration/cli/arguments.h"
-#include "odometry_calibration/io/pairs_csv.h"
+#include "odometry_calibration/common/arguments.h"
+#include "odometry_calibration/data/pairs_csv.h"
 #include "odometry_calibration/sim/pair_generator.h"
 #include "odometry_calibration/sim/scenario.h"
 

@@ -8,7 +8,7 @@
 #include <sensor_msgs/JointState.h>
 #include <sensor_msgs/LaserScan.h>
 
-#include "odometry_calibration/io/mines_log.h"
+#include "odometry_calibration/datasets/mines_log.h"
 
 int main(int argc, char** argv)
 {

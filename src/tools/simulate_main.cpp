@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "odometry_calibration/io/atomic_file.h"
+#include "odometry_calibration/common/atomic_file.h"
 #include "odometry_calibration/ros/sim_bag_writer.h"
 #include "odometry_calibration/sim/scenario.h"
 #include "odometry_calibration/sim/tricycle_log_sink.h"

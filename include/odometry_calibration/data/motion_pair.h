@@ -3,7 +3,6 @@
 // (delta_jk, s_jk) with covariance Sigma_jk).
 #pragma once
 
-#include <cstddef>
 #include <vector>
 
 #include <Eigen/Core>
@@ -34,18 +33,5 @@ struct MotionPair
   /// Covariance of sensor_motion (x, y, theta) [m^2, rad^2].
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Identity();
 };
-
-/// Index of a keyframe interval [first, last] into a sample sequence.
-struct KeyframeWindow
-{
-  std::size_t first = 0;
-  std::size_t last = 0;
-};
-
-/// Picks keyframes from increasing sample times: the first sample, then each first sample at
-/// least `interval_s` [s] after the previous keyframe. Returns the windows between consecutive
-/// keyframes. Throws std::invalid_argument if interval_s <= 0 or times decrease.
-std::vector<KeyframeWindow> selectKeyframeWindows(const std::vector<double>& stamps_s,
-                                                  double interval_s);
 
 }  // namespace odometry_calibration

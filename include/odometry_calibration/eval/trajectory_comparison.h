@@ -7,8 +7,8 @@
 #include <cstddef>
 #include <vector>
 
+#include "odometry_calibration/common/median.h"
 #include "odometry_calibration/data/motion_pair.h"
-#include "odometry_calibration/eval/median.h"
 #include "odometry_calibration/geometry/se2.h"
 #include "odometry_calibration/models/model.h"
 

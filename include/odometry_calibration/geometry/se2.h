@@ -150,4 +150,14 @@ Eigen::Matrix<T, 3, 1> boxMinus(const Pose2T<T>& predicted, const Pose2T<T>& mea
   return (measured.inverse() * predicted).vector();
 }
 
+/// The SE(2) logarithm: the constant body velocity (vx, vy, omega) times duration that moves
+/// through `step` along a circular arc: t = V(θ) v with V = [sinθ/θ, -(1-cosθ)/θ; (1-cosθ)/θ,
+/// sinθ/θ].
+Eigen::Vector3d se2Log(const Pose2& step);
+
+/// First-order covariance of a ⊕ d for independent a and d (Jacobians J_a = [I, R_a [-d_y, d_x]^T;
+/// 0 1], J_d = diag(R_a, 1)).
+Eigen::Matrix3d composeCovariance(const Pose2& a, const Eigen::Matrix3d& covariance_a,
+                                  const Pose2& d, const Eigen::Matrix3d& covariance_d);
+
 }  // namespace odometry_calibration

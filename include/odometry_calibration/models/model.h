@@ -8,8 +8,8 @@
 
 #include <Eigen/Core>
 
-#include "odometry_calibration/data/encoder.h"
 #include "odometry_calibration/data/motion_pair.h"
+#include "odometry_calibration/data/pair_features.h"
 #include "odometry_calibration/geometry/se2.h"
 
 namespace YAML {
@@ -62,18 +62,6 @@ struct ModelReport
   Pose2 T_base_sensor;                ///< the sensor's pose in base_link
   std::vector<std::string> warnings;  ///< observability and model-adequacy warnings
 };
-
-/// The joints a model sees, in the order of EncoderSample::values.
-struct JointLayout
-{
-  std::vector<std::string> names;
-  std::vector<EncoderKind> kinds;
-};
-
-/// Input features of model-free models for the samples of one pair (paper Sec. III): the
-/// increment (last - first) of each incremental joint and the time-weighted mean of each
-/// absolute joint. Throws std::invalid_argument for fewer than two samples or a size mismatch.
-Eigen::VectorXd pairFeatures(const std::vector<EncoderSample>& samples, const JointLayout& joints);
 
 /// A calibration model.
 class MotionModel

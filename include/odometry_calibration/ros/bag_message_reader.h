@@ -15,8 +15,8 @@
 #include <rosbag/view.h>
 #include <Eigen/Core>
 
+#include "odometry_calibration/calibration/calibration_config.h"
 #include "odometry_calibration/geometry/se2.h"
-#include "odometry_calibration/pipeline/calibration_config.h"
 #include "odometry_calibration/scan/scan.h"
 
 namespace odometry_calibration {

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "odometry_calibration/pipeline/calibration_config.h"
-#include "odometry_calibration/pipeline/pair_collector.h"
+#include "odometry_calibration/calibration/calibration_config.h"
+#include "odometry_calibration/pairing/pair_collector.h"
 
 namespace odometry_calibration {
 

@@ -25,10 +25,10 @@
 #include <tf2_ros/transform_broadcaster.h>
 
 #include "odometry_calibration/Calibrate.h"
-#include "odometry_calibration/io/pairs_csv.h"
-#include "odometry_calibration/pipeline/calibration_config.h"
-#include "odometry_calibration/pipeline/odometry_integrator.h"
-#include "odometry_calibration/pipeline/pair_collector.h"
+#include "odometry_calibration/calibration/calibration_config.h"
+#include "odometry_calibration/calibration/odometry_integrator.h"
+#include "odometry_calibration/data/pairs_csv.h"
+#include "odometry_calibration/pairing/pair_collector.h"
 
 namespace odometry_calibration {
 

@@ -1,0 +1,102 @@
+// The one configuration of a calibration run, shared by the live node and the bag tool:
+// read from YAML (config/*.yaml document every key), validated in one place with messages
+// that name the key.
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "odometry_calibration/data/encoder.h"
+#include "odometry_calibration/models/model.h"
+#include "odometry_calibration/models/model_factory.h"
+#include "odometry_calibration/pairing/pair_collector.h"
+
+namespace odometry_calibration {
+
+/// One joint of the JointState stream.
+struct JointConfig
+{
+  std::string name;                              ///< joint name in sensor_msgs/JointState
+  EncoderKind kind = EncoderKind::kIncremental;  ///< incremental (wheel) or absolute (steering)
+  /// Units of `position` per joint turn: 2000 for a 2000-tick wheel encoder reported in ticks,
+  /// 6.283185 (2 pi) for positions in radians.
+  double units_per_turn = 2.0 * M_PI;
+  /// Incremental: the raw counter wraps after 2^counter_bits units (0 = never wraps).
+  int counter_bits = 0;
+  /// -1 when the joint counts backwards while the robot drives forward.
+  double sign = 1.0;
+};
+
+/// Where the sensor's ego-motion comes from.
+enum class EgoMotionSource
+{
+  kScan,      ///< sensor_msgs/LaserScan matched with PLICP
+  kOdometry,  ///< nav_msgs/Odometry of the sensor (visual odometry, another matcher)
+  kPose,      ///< geometry_msgs/PoseStamped of the sensor (external tracker)
+};
+
+/// Everything a calibration run needs.
+struct CalibrationConfig
+{
+  std::vector<JointConfig> joints;
+  std::string joint_state_topic = "/joint_states";
+  EgoMotionSource ego_motion = EgoMotionSource::kScan;
+  std::string scan_topic = "/scan";
+  std::string ego_motion_topic;         ///< odometry / pose source topic
+  double ego_motion_sigma_m = 0.005;    ///< pose source: sigma of a displacement's x, y [m]
+  double ego_motion_sigma_rad = 0.002;  ///< pose source: sigma of its heading [rad]
+  CollectorOptions collector;           ///< keyframes, time offset, PLICP
+  /// Estimate the encoder-laser time offset (bag tool) by searching this range [s]; the
+  /// configured time_offset_s is then only the matcher's starting point.
+  bool estimate_time_offset = false;
+  double time_offset_search_min_s = -0.4;
+  double time_offset_search_max_s = 0.4;
+  std::string model = "diff_drive";         ///< model fitted by default
+  std::vector<std::string> compare_models;  ///< further models fitted for the comparison table
+  ModelFactoryOptions models;               ///< per-model options (joints filled in)
+  /// Model used for the matcher's initial guess and the node's nominal odometry ("none", or a
+  /// parametric model with its start values: "diff_drive", "tricycle").
+  std::string prior_model = "diff_drive";
+  std::string output_directory = "odometry_calibration_results";
+};
+
+/// Reads and validates a configuration. Throws std::runtime_error naming the file and the key.
+CalibrationConfig loadCalibrationConfig(const std::string& path);
+CalibrationConfig parseCalibrationConfig(const std::string& text, const std::string& source);
+
+/// `config_text` with the model sections (diff_drive, tricycle, linear, gp, prior_model, model)
+/// replaced
+/// key by key by those of `override_yaml` (a YAML mapping, e.g. "{gp: {kernel: linear}}"), then
+/// parsed and validated. Throws std::runtime_error naming a key that may not be overridden or
+/// an invalid value.
+CalibrationConfig overrideModelOptions(const std::string& config_text,
+                                       const std::string& override_yaml, const std::string& source);
+
+/// The configuration as it must be to fit `model` (its joints resolved and checked, e.g. a
+/// tricycle's steering joint absolute), with `override_yaml` applied as above. Throws
+/// std::runtime_error when the configuration cannot serve that model, saying why.
+CalibrationConfig configForModel(const std::string& config_text, const std::string& model,
+                                 const std::string& override_yaml, const std::string& source);
+
+/// The encoder channels of the joints (scale-free: in the message's units).
+std::vector<EncoderChannelOptions> encoderChannels(const CalibrationConfig& config);
+
+/// Raw message positions in the joints' order, signs applied.
+Eigen::VectorXd applySigns(const CalibrationConfig& config, const Eigen::VectorXd& positions);
+
+/// The joints as the models see them.
+JointLayout jointLayout(const CalibrationConfig& config);
+
+/// The prior model (diff_drive or tricycle at the configuration's start values, unfitted: it
+/// predicts the nominal robot), or nullptr for "none".
+std::shared_ptr<MotionModel> priorModel(const CalibrationConfig& config);
+
+/// The prior model's sensor pose in base_link (the configuration's start value), if any.
+std::optional<Pose2> priorSensorPose(const CalibrationConfig& config);
+
+/// The matcher's initial guess from the prior model's start values (nullptr for "none").
+MotionPredictor priorPredictor(const CalibrationConfig& config);
+
+}  // namespace odometry_calibration

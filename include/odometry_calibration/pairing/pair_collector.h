@@ -1,0 +1,198 @@
+// Turns live streams into calibration pairs (DESIGN.md, data flow): encoder readings into an
+// EncoderTrack; scans (or sensor poses from another ego-motion source) into keyframes every
+// T seconds; each new keyframe matched against the previous one with PLICP, the encoder-
+// predicted motion as initial guess; the result checked against the composition of the
+// consecutive-scan matches over the same interval, so that matches that fail silently (fast
+// motion, few features) are rejected without trusting any model being fitted.
+//
+// The live node and the offline bag tool feed the same collector in timestamp order, so they
+// produce the same pairs.
+//
+// Speed: the consecutive-scan matches run on a background thread (match_queue.h) while the
+// caller goes on with the next messages; they are folded into the chain, in order and with the
+// rules of a one-threaded run, before the next keyframe decision (and before statistics() or
+// reset() answer). Every match's inputs are fixed when it is submitted, so the events, pairs
+// and statistics are the same as if each match ran at once, whatever the threads' timing.
+#pragma once
+
+#include <deque>
+#include <functional>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "odometry_calibration/data/encoder_track.h"
+#include "odometry_calibration/data/motion_pair.h"
+#include "odometry_calibration/pairing/match_queue.h"
+#include "odometry_calibration/scan/plicp.h"
+
+namespace odometry_calibration {
+
+/// Options of the keyframe pairing. Times in seconds, lengths in metres, angles in radians.
+struct CollectorOptions
+{
+  /// Keyframe spacing T [s]. Real logs' stamps jitter by tens of ms: keep T >= 0.3 s so the
+  /// jitter stays a small part of each interval (shorter pairs bias the wheel radius low).
+  double keyframe_interval_s = 0.5;
+  /// Optional minimum motion of a pair, as the prior model predicts it from the encoders: a
+  /// keyframe interval where the robot moved less than both thresholds is extended (up to four
+  /// intervals, then dropped as "too little motion"), so that standing still makes no pairs.
+  /// 0 = off. Needs a predictor. [m], [rad]
+  double min_translation_m = 0.0;
+  double min_rotation_rad = 0.0;
+  /// Compensate the motion during each scan's sweep (scans with a time_increment_s), with the
+  /// sensor velocity the prior model predicts over the interval since the previous scan.
+  bool compensate_sweep = true;
+  /// Encoder values are taken at scan time + time_offset_s [s] (clock offset between streams).
+  double time_offset_s = 0.0;
+  /// A pair is dropped when the encoder stream has a gap longer than this inside it [s].
+  double max_encoder_gap_s = 0.25;
+  /// Match consecutive scans too and reject a keyframe match that disagrees with their
+  /// composition by more than the two thresholds below.
+  bool check_consistency = true;
+  double consistency_translation_m = 0.03;
+  double consistency_rotation_rad = 0.02;
+  /// Added to every pair's covariance diagonal: unmodelled errors (stamp jitter, the sweep)
+  /// that the matcher's own covariance does not see [m^2, m^2, rad^2].
+  Eigen::Vector3d covariance_floor{1e-6, 1e-6, 1e-6};
+  /// Run the consecutive-scan matches on a background thread (on machines with more than one
+  /// core). The events, pairs and statistics are the same either way; off, every match runs
+  /// in the calling thread.
+  bool background_matching = true;
+  PlicpOptions plicp;    ///< the scan matcher
+  LineFitOptions lines;  ///< the reference surfaces
+};
+
+/// Throws std::invalid_argument naming the first invalid option.
+void validate(const CollectorOptions& options);
+
+/// Predicts the sensor's motion over encoder samples (e.g. the nominal model); used as the
+/// scan matcher's initial guess. Without one, the guess is no motion.
+using MotionPredictor = std::function<Pose2(const std::vector<EncoderSample>&)>;
+
+/// What happened to one input.
+struct CollectorEvent
+{
+  enum class Type
+  {
+    kNothing,    ///< stored (e.g. a scan between keyframes)
+    kKeyframe,   ///< first keyframe, or a new one after a rejected pair
+    kPair,       ///< a pair was produced (`pair`)
+    kRejected,   ///< a keyframe interval gave no pair (`reason`)
+    kRestarted,  ///< time went backwards: keyframes reset, collected pairs kept
+  };
+  Type type = Type::kNothing;
+  std::string reason;
+  MotionPair pair;
+};
+
+/// Counters for diagnostics and reports.
+struct CollectorStatistics
+{
+  std::size_t encoder_messages = 0;
+  std::size_t scans = 0;
+  std::size_t keyframes = 0;
+  std::size_t pairs = 0;
+  std::size_t consecutive_matches = 0;
+  std::size_t consecutive_failures = 0;
+  std::size_t restarts = 0;
+  std::size_t unverified_pairs = 0;  ///< pairs kept without the consistency check (it failed)
+  std::map<std::string, std::size_t> rejected;  ///< reason -> count
+  double preparation_time_s = 0.0;              ///< thread time preparing scans (points, lines) [s]
+  double matching_time_s = 0.0;                 ///< thread time matching scans, both kinds [s]
+};
+
+/// The pairing state machine.
+class PairCollector
+{
+public:
+  PairCollector(std::vector<EncoderChannelOptions> channels, CollectorOptions options,
+                MotionPredictor predictor = nullptr);
+  ~PairCollector();
+  PairCollector(const PairCollector&) = delete;
+  PairCollector& operator=(const PairCollector&) = delete;
+
+  /// A raw encoder reading (one value per channel). Throws std::invalid_argument for bad
+  /// readings (the caller reports them); a time going backwards restarts the pairing. Scans
+  /// waiting for encoder data up to their time are processed now (hence the events).
+  std::vector<CollectorEvent> addEncoders(double stamp_s, const Eigen::VectorXd& raw);
+
+  /// A laser scan stamped with the laser clock. It waits until the encoder stream has reached
+  /// its time (+ time_offset_s), or until max_encoder_gap_s later input shows it never will:
+  /// messages of the two streams with equal stamps may come in either order.
+  std::vector<CollectorEvent> addScan(double stamp_s, const Scan& scan);
+
+  /// Processes every waiting scan now (end of a bag).
+  std::vector<CollectorEvent> flush();
+
+  /// A sensor pose from another ego-motion source (tracker, visual odometry), in place of
+  /// scans: the pair's displacement is the relative pose, with `covariance`. Waits for the
+  /// encoders like addScan.
+  std::vector<CollectorEvent> addSensorPose(double stamp_s, const Pose2& T_world_sensor,
+                                            const Eigen::Matrix3d& covariance);
+
+  /// Forgets keyframes and encoder history (pairs already produced are the caller's).
+  void reset();
+
+  /// The counters, with every consecutive match submitted so far counted.
+  const CollectorStatistics& statistics() const;
+  const CollectorOptions& options() const { return options_; }
+
+private:
+  CollectorEvent processScan(double stamp_s, std::shared_ptr<LazyPreparedScan> prepared);
+  CollectorEvent processPose(double stamp_s, const Pose2& T_world_sensor,
+                             const Eigen::Matrix3d& covariance);
+  std::vector<CollectorEvent> processReadyScans(bool all);
+  /// A pair from the current keyframe to `end_stamp_s` (covariance floor added, counted).
+  CollectorEvent pairEvent(double end_stamp_s, std::vector<EncoderSample> window,
+                           const Pose2& sensor_motion, const Eigen::Matrix3d& covariance);
+  CollectorEvent reject(const std::string& reason);
+  CollectorEvent restart(const std::string& what);
+  /// Encoder window of [start_s, end_s] (laser clock), or a reason why there is none.
+  std::optional<std::vector<EncoderSample>> encoderWindow(double start_s, double end_s,
+                                                          std::string* reason) const;
+  Pose2 predict(const std::vector<EncoderSample>& window) const;
+  /// Waits for the submitted consecutive matches and folds them into the chain, in order.
+  void foldConsecutiveMatches() const;
+  /// Whether the predicted motion over `window` is below the minimum motion (always false when
+  /// the minimum is off or there is no predictor).
+  bool tooLittleMotion(const std::vector<EncoderSample>& window) const;
+
+  CollectorOptions options_;
+  MotionPredictor predictor_;
+  EncoderTrack track_;
+  // Mutable: the consecutive matches run in the background and are folded in lazily, also
+  // from statistics(); the folded state is what a one-threaded run would have had.
+  mutable CollectorStatistics statistics_;
+
+  struct Keyframe
+  {
+    double stamp_s = 0.0;
+    std::shared_ptr<const LazyPreparedScan> scan;  ///< laser source
+    Pose2 T_world_sensor;                          ///< pose source
+  };
+  std::optional<Keyframe> keyframe_;
+  std::shared_ptr<const LazyPreparedScan> previous_scan_;
+  double previous_scan_stamp_s_ = 0.0;
+  mutable Pose2 chain_;  ///< composed consecutive matches since the keyframe
+  mutable bool chain_valid_ = false;
+  /// Consecutive matches submitted but not yet folded into the chain, oldest first.
+  mutable std::deque<std::shared_ptr<MatchJob>> consecutive_;
+  PlicpOptions consecutive_options_;     ///< options_.plicp without the unused covariance
+  std::unique_ptr<MatchQueue> matches_;  ///< last member: its worker stops first
+  double last_input_stamp_s_ = -1e300;   ///< newest stamp of any stream
+  double last_scan_stamp_s_ = -1e300;    ///< newest scan / sensor pose stamp
+  /// A scan or a sensor pose waiting for the encoder stream to reach its time.
+  struct PendingInput
+  {
+    double stamp_s;
+    std::shared_ptr<LazyPreparedScan> scan;  ///< null for a sensor pose
+    Pose2 T_world_sensor;
+    Eigen::Matrix3d covariance;
+  };
+  std::deque<PendingInput> pending_;
+};
+
+}  // namespace odometry_calibration

@@ -1,0 +1,39 @@
+// The files of a bag calibration, written together at the end of a successful run: the pairs,
+// the result YAML, the text report, the plot folder and the Markdown report. Each file is
+// replaced atomically and the plot folder in one rename, so an interrupted or failed run never
+// leaves a half-written file; a plot that cannot be drawn never fails the run.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "odometry_calibration/data/pairs_csv.h"
+#include "odometry_calibration/report/markdown_report.h"
+#include "odometry_calibration/report/report_plots.h"
+
+namespace odometry_calibration {
+
+/// File and folder names inside the output directory.
+extern const char* const kPairsFileName;       ///< "pairs.csv"
+extern const char* const kResultFileName;      ///< "result.yaml"
+extern const char* const kTextReportFileName;  ///< "report.txt"
+extern const char* const kReportFileName;      ///< "report.md"
+extern const char* const kPlotFolderName;      ///< "plots"
+
+/// What to write.
+struct ResultFiles
+{
+  PairsFile pairs;
+  std::string result_yaml;
+  std::string text_report;
+  ReportPlotInput plots;         ///< data of the report's plots
+  MarkdownReportInput markdown;  ///< the report (plots, plot_folder and files are filled in)
+  GnuplotOptions gnuplot;        ///< the plotting program
+};
+
+/// Creates `output_dir` if needed and writes everything into it. Returns what happened to the
+/// plots (their problem is empty when all were drawn). Throws std::runtime_error naming the
+/// path when a file cannot be written (nothing is left half-written).
+ReportPlots writeResultFiles(const std::string& output_dir, ResultFiles files);
+
+}  // namespace odometry_calibration

@@ -1,0 +1,350 @@
+#include "odometry_calibration/calibration/calibration_config.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+#include <yaml-cpp/yaml.h>
+
+#include "odometry_calibration/common/text_file.h"
+#include "odometry_calibration/common/yaml_reading.h"
+
+#include "odometry_calibration/models/gp_options.h"
+
+namespace odometry_calibration {
+namespace {
+
+int jointIndex(const CalibrationConfig& config, const std::string& name, const std::string& key)
+{
+  for (std::size_t j = 0; j < config.joints.size(); ++j) {
+    if (config.joints[j].name == name)
+      return static_cast<int>(j);
+  }
+  throw std::runtime_error(key + ": no joint named '" + name + "' among 'joints'");
+}
+
+/// A model section's `sensor_pose: [x_m, y_m, theta_rad]` (the origin when absent).
+Pose2 readSensorPose(const YAML::Node& section)
+{
+  std::vector<double> pose = {0.0, 0.0, 0.0};
+  readYaml(section, "sensor_pose", &pose);
+  if (pose.size() != 3)
+    throw std::runtime_error("sensor_pose needs [x_m, y_m, theta_rad]");
+  return Pose2(pose[0], pose[1], pose[2]);
+}
+
+}  // namespace
+
+CalibrationConfig parseCalibrationConfig(const std::string& text, const std::string& source)
+{
+  CalibrationConfig c;
+  std::string where = source;
+  try {
+    const YAML::Node root = YAML::Load(text);
+    checkYamlKeys(root,
+                  {"joints", "joint_state_topic", "ego_motion", "keyframes", "scan_matching",
+                   "model", "compare_models", "prior_model", "diff_drive", "linear", "gp",
+                   "tricycle", "output_directory"},
+                  source);
+    where = source + ": joints";
+    if (!root["joints"] || !root["joints"].IsSequence() || root["joints"].size() == 0) {
+      throw std::runtime_error("a list of joints is required");
+    }
+    for (const YAML::Node& node : root["joints"]) {
+      where = source + ": joints[" + std::to_string(c.joints.size()) + "]";
+      checkYamlKeys(node, {"name", "kind", "units_per_turn", "counter_bits", "sign"}, where);
+      JointConfig joint;
+      readYaml(node, "name", &joint.name);
+      std::string kind = "incremental";
+      readYaml(node, "kind", &kind);
+      if (kind != "incremental" && kind != "absolute") {
+        throw std::runtime_error("kind must be 'incremental' or 'absolute', got '" + kind + "'");
+      }
+      joint.kind = kind == "incremental" ? EncoderKind::kIncremental : EncoderKind::kAbsolute;
+      readYaml(node, "units_per_turn", &joint.units_per_turn);
+      readYaml(node, "counter_bits", &joint.counter_bits);
+      readYaml(node, "sign", &joint.sign);
+      if (joint.name.empty())
+        throw std::runtime_error("name is required");
+      if (!(joint.units_per_turn > 0.0))
+        throw std::runtime_error("units_per_turn must be > 0");
+      if (joint.counter_bits < 0 || joint.counter_bits > 52) {
+        throw std::runtime_error("counter_bits must be in [0, 52]");
+      }
+      if (joint.sign != 1.0 && joint.sign != -1.0)
+        throw std::runtime_error("sign must be 1 or -1");
+      c.joints.push_back(joint);
+    }
+    where = source;
+    readYaml(root, "joint_state_topic", &c.joint_state_topic);
+    readYaml(root, "model", &c.model);
+    readYaml(root, "compare_models", &c.compare_models);
+    // The matcher's guesses come from the fitted model's own start values when it has some.
+    if (c.model == "tricycle")
+      c.prior_model = "tricycle";
+    readYaml(root, "prior_model", &c.prior_model);
+    readYaml(root, "output_directory", &c.output_directory);
+
+    where = source + ": ego_motion";
+    const YAML::Node ego = root["ego_motion"];
+    checkYamlKeys(ego, {"source", "scan_topic", "topic", "sigma_m", "sigma_rad"}, where);
+    std::string kind = "scan";
+    readYaml(ego, "source", &kind);
+    if (kind == "scan") {
+      c.ego_motion = EgoMotionSource::kScan;
+    } else if (kind == "odometry") {
+      c.ego_motion = EgoMotionSource::kOdometry;
+    } else if (kind == "pose") {
+      c.ego_motion = EgoMotionSource::kPose;
+    } else {
+      throw std::runtime_error("source must be scan, odometry or pose, got '" + kind + "'");
+    }
+    readYaml(ego, "scan_topic", &c.scan_topic);
+    readYaml(ego, "topic", &c.ego_motion_topic);
+    readYaml(ego, "sigma_m", &c.ego_motion_sigma_m);
+    readYaml(ego, "sigma_rad", &c.ego_motion_sigma_rad);
+    if (c.ego_motion != EgoMotionSource::kScan && c.ego_motion_topic.empty()) {
+      throw std::runtime_error("source '" + kind + "' needs 'topic'");
+    }
+
+    where = source + ": keyframes";
+    const YAML::Node keyframes = root["keyframes"];
+    checkYamlKeys(keyframes,
+                  {"interval_s", "min_translation_m", "min_rotation_rad", "time_offset_s",
+                   "max_encoder_gap_s", "check_consistency", "consistency_translation_m",
+                   "consistency_rotation_rad", "estimate_time_offset", "time_offset_search_s"},
+                  where);
+    CollectorOptions& k = c.collector;
+    readYaml(keyframes, "interval_s", &k.keyframe_interval_s);
+    readYaml(keyframes, "min_translation_m", &k.min_translation_m);
+    readYaml(keyframes, "min_rotation_rad", &k.min_rotation_rad);
+    readYaml(keyframes, "time_offset_s", &k.time_offset_s);
+    readYaml(keyframes, "max_encoder_gap_s", &k.max_encoder_gap_s);
+    readYaml(keyframes, "check_consistency", &k.check_consistency);
+    readYaml(keyframes, "consistency_translation_m", &k.consistency_translation_m);
+    readYaml(keyframes, "consistency_rotation_rad", &k.consistency_rotation_rad);
+    readYaml(keyframes, "estimate_time_offset", &c.estimate_time_offset);
+    if (keyframes && keyframes["time_offset_search_s"]) {
+      const auto range = keyframes["time_offset_search_s"].as<std::vector<double>>();
+      if (range.size() != 2 || !(range[1] > range[0])) {
+        throw std::runtime_error("time_offset_search_s needs [min, max] with min < max");
+      }
+      c.time_offset_search_min_s = range[0];
+      c.time_offset_search_max_s = range[1];
+    }
+
+    where = source + ": scan_matching";
+    const YAML::Node matching = root["scan_matching"];
+    checkYamlKeys(matching,
+                  {"max_correspondence_distance_m", "max_iterations", "range_sigma_m",
+                   "max_correction_translation_m", "max_correction_rotation_rad", "min_points",
+                   "compensate_sweep"},
+                  where);
+    PlicpOptions& p = k.plicp;
+    readYaml(matching, "max_correspondence_distance_m", &p.max_correspondence_distance_m);
+    readYaml(matching, "max_iterations", &p.max_iterations);
+    readYaml(matching, "range_sigma_m", &p.range_sigma_m);
+    readYaml(matching, "max_correction_translation_m", &p.max_correction_translation_m);
+    readYaml(matching, "max_correction_rotation_rad", &p.max_correction_rotation_rad);
+    readYaml(matching, "min_points", &p.min_points);
+    readYaml(matching, "compensate_sweep", &k.compensate_sweep);
+    validate(k);
+
+    where = source + ": diff_drive";
+    const YAML::Node diff = root["diff_drive"];
+    checkYamlKeys(diff,
+                  {"left_joint", "right_joint", "wheel_radius_m", "wheel_separation_m",
+                   "sensor_pose", "huber_threshold"},
+                  where);
+    DiffDriveOptions& d = c.models.diff_drive;
+    std::string left = c.joints[0].name;
+    std::string right = c.joints.size() > 1 ? c.joints[1].name : "";
+    readYaml(diff, "left_joint", &left);
+    readYaml(diff, "right_joint", &right);
+    double radius = 0.05;
+    readYaml(diff, "wheel_radius_m", &radius);
+    d.initial_left_radius_m = d.initial_right_radius_m = radius;
+    readYaml(diff, "wheel_separation_m", &d.initial_separation_m);
+    readYaml(diff, "huber_threshold", &d.huber_threshold);
+    d.initial_T_base_sensor = readSensorPose(diff);
+    if (c.model == "diff_drive" || c.prior_model == "diff_drive" ||
+        std::find(c.compare_models.begin(), c.compare_models.end(), "diff_drive") !=
+            c.compare_models.end()) {
+      d.layout.left_index = jointIndex(c, left, where + ".left_joint");
+      d.layout.right_index = jointIndex(c, right, where + ".right_joint");
+      if (c.joints[d.layout.left_index].units_per_turn !=
+          c.joints[d.layout.right_index].units_per_turn) {
+        throw std::runtime_error("the two wheels need the same units_per_turn");
+      }
+      d.layout.ticks_per_turn = c.joints[d.layout.left_index].units_per_turn;
+      validate(d);
+    }
+
+    auto uses = [&c](const std::string& model) {
+      if (c.model == model || c.prior_model == model)
+        return true;
+      for (const std::string& name : c.compare_models)
+        if (name == model)
+          return true;
+      return false;
+    };
+    where = source + ": tricycle";
+    const YAML::Node tri = root["tricycle"];
+    checkYamlKeys(tri,
+                  {"steering_joint", "traction_joint", "steering_scale",
+                   "traction_scale_m_per_turn", "axis_length_m", "steering_offset_rad",
+                   "sensor_pose", "huber_threshold", "translation_sigma_m", "rotation_sigma_rad"},
+                  where);
+    TricycleModelOptions& t = c.models.tricycle;
+    std::string steering = c.joints[0].name;
+    std::string traction = c.joints.size() > 1 ? c.joints[1].name : "";
+    readYaml(tri, "steering_joint", &steering);
+    readYaml(tri, "traction_joint", &traction);
+    readYaml(tri, "steering_scale", &t.initial.steering_scale);
+    readYaml(tri, "traction_scale_m_per_turn", &t.initial.traction_scale_m_per_turn);
+    readYaml(tri, "axis_length_m", &t.initial.axis_length_m);
+    readYaml(tri, "steering_offset_rad", &t.initial.steering_offset_rad);
+    readYaml(tri, "huber_threshold", &t.calibration.huber_threshold);
+    readYaml(tri, "translation_sigma_m", &t.calibration.translation_sigma_m);
+    readYaml(tri, "rotation_sigma_rad", &t.calibration.rotation_sigma_rad);
+    t.initial.T_base_sensor = readSensorPose(tri);
+    if (uses("tricycle")) {
+      t.layout.steering_index = jointIndex(c, steering, where + ".steering_joint");
+      t.layout.traction_index = jointIndex(c, traction, where + ".traction_joint");
+      if (c.joints[t.layout.steering_index].kind != EncoderKind::kAbsolute ||
+          c.joints[t.layout.traction_index].kind != EncoderKind::kIncremental) {
+        throw std::runtime_error(
+            "the steering joint must be kind: absolute and the traction joint incremental");
+      }
+      t.layout.steering_ticks_per_turn = c.joints[t.layout.steering_index].units_per_turn;
+      t.layout.traction_ticks_per_turn = c.joints[t.layout.traction_index].units_per_turn;
+      validate(t.calibration);
+      validateStartValues(t.initial);
+    }
+
+    where = source + ": linear";
+    const YAML::Node linear = root["linear"];
+    checkYamlKeys(linear, {"huber_threshold", "outlier_threshold"}, where);
+    readYaml(linear, "huber_threshold", &c.models.linear.huber_threshold);
+    readYaml(linear, "outlier_threshold", &c.models.linear.outlier_threshold);
+    c.models.joints = jointLayout(c);
+
+    where = source + ": gp";
+    const YAML::Node gp = root["gp"];
+    checkYamlKeys(
+        gp, {"kernel", "mean", "starts", "max_exact_pairs", "inducing_points", "outlier_threshold"},
+        where);
+    if (gp && gp["kernel"])
+      c.models.gp.kernel = parseGpKernelType(gp["kernel"].as<std::string>());
+    if (gp && gp["mean"])
+      c.models.gp.mean = parseGpMeanFunction(gp["mean"].as<std::string>());
+    readYaml(gp, "starts", &c.models.gp.starts);
+    readYaml(gp, "max_exact_pairs", &c.models.gp.max_exact_pairs);
+    readYaml(gp, "inducing_points", &c.models.gp.inducing_points);
+    readYaml(gp, "outlier_threshold", &c.models.gp.outlier_threshold);
+    validate(c.models.gp);
+
+    where = source;
+    if (c.prior_model != "none" && c.prior_model != "diff_drive" && c.prior_model != "tricycle") {
+      throw std::runtime_error("prior_model must be 'none', 'diff_drive' or 'tricycle', got '" +
+                               c.prior_model + "'");
+    }
+    auto check_model = [](const std::string& name, const std::string& key) {
+      std::string list;
+      for (const std::string& known : knownModelNames()) {
+        if (known == name)
+          return;
+        list += " " + known;
+      }
+      throw std::runtime_error(key + ": unknown model '" + name + "' (known:" + list + ")");
+    };
+    check_model(c.model, "model");
+    for (const std::string& name : c.compare_models)
+      check_model(name, "compare_models");
+  } catch (const YAML::Exception& error) {
+    throw std::runtime_error(where + ": " + error.what());
+  } catch (const std::runtime_error& error) {
+    const std::string message = error.what();
+    throw std::runtime_error(message.rfind(source, 0) == 0 ? message : where + ": " + message);
+  } catch (const std::invalid_argument& error) {
+    throw std::runtime_error(where + ": " + error.what());
+  }
+  return c;
+}
+
+CalibrationConfig loadCalibrationConfig(const std::string& path)
+{
+  return parseCalibrationConfig(readTextFile(path, "the configuration"), path);
+}
+
+std::vector<EncoderChannelOptions> encoderChannels(const CalibrationConfig& config)
+{
+  std::vector<EncoderChannelOptions> channels;
+  for (const JointConfig& joint : config.joints) {
+    const bool incremental = joint.kind == EncoderKind::kIncremental;
+    channels.push_back(
+        {joint.name, joint.kind,
+         incremental && joint.counter_bits > 0 ? std::ldexp(1.0, joint.counter_bits) : 0.0,
+         incremental ? 0.0 : joint.units_per_turn});
+  }
+  return channels;
+}
+
+Eigen::VectorXd applySigns(const CalibrationConfig& config, const Eigen::VectorXd& positions)
+{
+  Eigen::VectorXd signed_positions = positions;
+  for (std::size_t j = 0; j < config.joints.size(); ++j) {
+    signed_positions(static_cast<Eigen::Index>(j)) *= config.joints[j].sign;
+  }
+  return signed_positions;
+}
+
+JointLayout jointLayout(const CalibrationConfig& config)
+{
+  JointLayout layout;
+  for (const JointConfig& joint : config.joints) {
+    layout.names.push_back(joint.name);
+    layout.kinds.push_back(joint.kind);
+  }
+  return layout;
+}
+
+std::shared_ptr<MotionModel> priorModel(const CalibrationConfig& config)
+{
+  if (config.prior_model == "none")
+    return nullptr;
+  return makeModel(config.prior_model, config.models);
+}
+
+std::optional<Pose2> priorSensorPose(const CalibrationConfig& config)
+{
+  if (config.prior_model == "diff_drive")
+    return config.models.diff_drive.initial_T_base_sensor;
+  if (config.prior_model == "tricycle")
+    return config.models.tricycle.initial.T_base_sensor;
+  return std::nullopt;
+}
+
+MotionPredictor priorPredictor(const CalibrationConfig& config)
+{
+  if (config.prior_model == "tricycle") {
+    const TricycleModelOptions options = config.models.tricycle;
+    return [options](const std::vector<EncoderSample>& samples) {
+      return predictTricycleSensorMotion(options.initial, options.layout, samples);
+    };
+  }
+  if (config.prior_model != "diff_drive")
+    return nullptr;
+  const DiffDriveOptions options = config.models.diff_drive;
+  return [options](const std::vector<EncoderSample>& samples) {
+    const double intrinsic[3] = {options.initial_left_radius_m, options.initial_right_radius_m,
+                                 options.initial_separation_m};
+    return sensorMotionFromBodyMotion(options.initial_T_base_sensor,
+                                      integrateDiffDriveMotion(intrinsic, options.layout, samples));
+  };
+}
+
+}  // namespace odometry_calibration

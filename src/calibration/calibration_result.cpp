@@ -1,0 +1,77 @@
+#include "odometry_calibration/calibration/calibration_result.h"
+
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include <yaml-cpp/yaml.h>
+
+#include "odometry_calibration/common/text_file.h"
+#include "odometry_calibration/eval/model_report.h"
+#include "odometry_calibration/models/model_factory.h"
+
+namespace odometry_calibration {
+
+std::string calibrationResultYaml(const ModelReport& report, const MotionModel& model,
+                                  const std::string& source, double time_offset_s)
+{
+  char offset[64];
+  std::snprintf(offset, sizeof(offset), "time_offset_s: %.9g\n", time_offset_s);
+  return modelResultYaml(report, model.toYaml(), source) + offset;
+}
+
+CalibrationResult parseCalibrationResult(const std::string& text, const std::string& source)
+{
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::Exception& error) {
+    throw std::runtime_error(source + ": not YAML: " + error.what());
+  }
+  if (!root.IsMap() || !root["model"] || !root["model"].IsMap()) {
+    throw std::runtime_error(source + ": no 'model' section (not an odometry_calibration result)");
+  }
+  CalibrationResult result;
+  std::ostringstream model_yaml;
+  model_yaml << root["model"];
+  try {
+    result.model = loadModel(model_yaml.str());
+    if (const YAML::Node pose = root["T_base_sensor"]) {
+      result.T_base_sensor =
+          Pose2(pose["x_m"].as<double>(), pose["y_m"].as<double>(), pose["theta_rad"].as<double>());
+      result.has_extrinsic = true;
+    }
+    if (const YAML::Node offset = root["time_offset_s"])
+      result.time_offset_s = offset.as<double>();
+  } catch (const YAML::Exception& error) {
+    throw std::runtime_error(source + ": " + error.what());
+  } catch (const std::exception& error) {
+    throw std::runtime_error(source + ": " + error.what());
+  }
+  return result;
+}
+
+CalibrationResult readCalibrationResult(const std::string& path)
+{
+  return parseCalibrationResult(readTextFile(path, "the calibration"), path);
+}
+
+std::string laserJointUrdf(const Pose2& T_base_laser, const std::string& base_frame,
+                           const std::string& laser_frame)
+{
+  char text[1024];
+  std::snprintf(text, sizeof(text),
+                "<!-- odometry_calibration: the laser's pose on the robot, estimated from planar "
+                "motion.\n     z, roll and pitch are not observable that way: set z by hand. -->\n"
+                "<joint name=\"%s_joint\" type=\"fixed\">\n"
+                "  <parent link=\"%s\"/>\n"
+                "  <child link=\"%s\"/>\n"
+                "  <origin xyz=\"%.6f %.6f 0\" rpy=\"0 0 %.6f\"/>\n"
+                "</joint>\n",
+                laser_frame.c_str(), base_frame.c_str(), laser_frame.c_str(), T_base_laser.x(),
+                T_base_laser.y(), T_base_laser.theta());
+  return text;
+}
+
+}  // namespace odometry_calibration

@@ -1,0 +1,80 @@
+#include "odometry_calibration/data/encoder_track.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace odometry_calibration {
+
+EncoderTrack::EncoderTrack(std::vector<EncoderChannelOptions> channels, double history_s)
+    : decoder_(std::move(channels)), history_s_(history_s)
+{
+  if (!(history_s_ > 0.0)) {
+    throw std::invalid_argument("encoder track history must be > 0 s");
+  }
+}
+
+EncoderTrack::AddResult EncoderTrack::add(double stamp_s, const Eigen::VectorXd& raw)
+{
+  AddResult result = AddResult::kAdded;
+  if (!samples_.empty() && stamp_s <= lastStamp()) {
+    if (stamp_s == lastStamp())
+      return AddResult::kDuplicate;
+    clear();
+    result = AddResult::kRestarted;
+  }
+  // decode() validates and throws before changing its state.
+  samples_.push_back({stamp_s, decoder_.decode(raw)});
+  while (samples_.size() > 2 && samples_.front().stamp_s < stamp_s - history_s_) {
+    samples_.pop_front();
+  }
+  return result;
+}
+
+void EncoderTrack::clear()
+{
+  samples_.clear();
+  decoder_.reset();
+}
+
+bool EncoderTrack::covers(double stamp_s, double max_gap_s) const
+{
+  if (samples_.empty() || stamp_s < firstStamp() || stamp_s > lastStamp())
+    return false;
+  const auto after =
+      std::lower_bound(samples_.begin(), samples_.end(), stamp_s,
+                       [](const EncoderSample& sample, double t) { return sample.stamp_s < t; });
+  if (after->stamp_s == stamp_s)
+    return true;
+  return after->stamp_s - std::prev(after)->stamp_s <= max_gap_s;
+}
+
+EncoderSample EncoderTrack::at(double stamp_s) const
+{
+  if (samples_.empty() || stamp_s < firstStamp() || stamp_s > lastStamp()) {
+    throw std::out_of_range("no encoder data at the requested time");
+  }
+  return interpolateEncoderSample(samples_, stamp_s);
+}
+
+std::vector<EncoderSample> EncoderTrack::between(double start_s, double end_s) const
+{
+  if (samples_.empty() || start_s < firstStamp() || end_s > lastStamp()) {
+    throw std::out_of_range("no encoder data over the requested interval");
+  }
+  if (!(end_s > start_s))
+    return {at(start_s), at(end_s)};
+  return cutEncoderWindow(samples_, start_s, end_s);
+}
+
+double EncoderTrack::largestGap(double start_s, double end_s) const
+{
+  double largest = 0.0;
+  for (std::size_t k = 1; k < samples_.size(); ++k) {
+    if (samples_[k].stamp_s < start_s || samples_[k - 1].stamp_s > end_s)
+      continue;
+    largest = std::max(largest, samples_[k].stamp_s - samples_[k - 1].stamp_s);
+  }
+  return largest;
+}
+
+}  // namespace odometry_calibration

@@ -1,0 +1,235 @@
+#include "odometry_calibration/data/pairs_csv.h"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <iterator>
+#include <sstream>
+
+#include "odometry_calibration/common/atomic_file.h"
+
+namespace odometry_calibration {
+namespace {
+
+const char* kMagic = "# odometry_calibration pairs v1";
+const char* kColumns =
+    "start_stamp_s,end_stamp_s,x_m,y_m,theta_rad,cov_xx,cov_xy,cov_xtheta,cov_yy,cov_ytheta,"
+    "cov_thetatheta,samples";
+
+std::string number(double value)
+{
+  char buffer[40];
+  std::snprintf(buffer, sizeof(buffer), "%.17g", value);
+  return buffer;
+}
+
+bool parseNumber(const std::string& text, double* value)
+{
+  char* end = nullptr;
+  errno = 0;
+  *value = std::strtod(text.c_str(), &end);
+  return !text.empty() && errno == 0 && end == text.c_str() + text.size() && std::isfinite(*value);
+}
+
+std::vector<std::string> split(const std::string& text, char separator)
+{
+  std::vector<std::string> parts;
+  std::string part;
+  std::istringstream stream(text);
+  while (std::getline(stream, part, separator))
+    parts.push_back(part);
+  if (!text.empty() && text.back() == separator)
+    parts.emplace_back();
+  return parts;
+}
+
+}  // namespace
+
+std::string pairsCsvHeader(const JointLayout& joints)
+{
+  std::string header = std::string(kMagic) + "\n# joints:";
+  for (std::size_t j = 0; j < joints.names.size(); ++j) {
+    header += " " + joints.names[j] + ":" +
+              (joints.kinds[j] == EncoderKind::kIncremental ? "incremental" : "absolute");
+  }
+  return header + "\n" + kColumns + "\n";
+}
+
+std::string pairsCsvRow(const MotionPair& pair)
+{
+  std::string row = number(pair.start_stamp_s) + "," + number(pair.end_stamp_s) + "," +
+                    number(pair.sensor_motion.x()) + "," + number(pair.sensor_motion.y()) + "," +
+                    number(pair.sensor_motion.theta());
+  const Eigen::Matrix3d& c = pair.covariance;
+  for (const double value : {c(0, 0), c(0, 1), c(0, 2), c(1, 1), c(1, 2), c(2, 2)}) {
+    row += "," + number(value);
+  }
+  row += ",";
+  for (std::size_t k = 0; k < pair.encoder_samples.size(); ++k) {
+    const EncoderSample& sample = pair.encoder_samples[k];
+    row += (k > 0 ? ";" : "") + number(sample.stamp_s);
+    for (Eigen::Index j = 0; j < sample.values.size(); ++j)
+      row += " " + number(sample.values(j));
+  }
+  return row + "\n";
+}
+
+PairsFile parsePairsCsv(std::istream& input, const std::string& source)
+{
+  PairsFile file;
+  bool has_joints = false;
+  std::string line;
+  std::size_t number_of_line = 0;
+  auto fail = [&](const std::string& what) {
+    throw std::runtime_error(source + ":" + std::to_string(number_of_line) + ": " + what);
+  };
+  while (std::getline(input, line)) {
+    ++number_of_line;
+    if (!line.empty() && line.back() == '\r')
+      line.pop_back();
+    if (line.empty())
+      continue;
+    if (line[0] == '#') {
+      if (line.rfind("# joints:", 0) == 0) {
+        std::istringstream joints(line.substr(9));
+        std::string entry;
+        while (joints >> entry) {
+          const std::size_t colon = entry.rfind(':');
+          const std::string kind = colon == std::string::npos ? "" : entry.substr(colon + 1);
+          if (kind != "incremental" && kind != "absolute") {
+            fail("joints: expected <name>:incremental or <name>:absolute, got '" + entry + "'");
+          }
+          file.joints.names.push_back(entry.substr(0, colon));
+          file.joints.kinds.push_back(kind == "incremental" ? EncoderKind::kIncremental
+                                                            : EncoderKind::kAbsolute);
+        }
+        has_joints = true;
+      }
+      continue;
+    }
+    if (line == kColumns)
+      continue;
+    if (!has_joints)
+      fail("a '# joints: ...' line must come before the rows");
+    const auto fields = split(line, ',');
+    if (fields.size() != 12) {
+      fail("expected 12 comma-separated fields, found " + std::to_string(fields.size()));
+    }
+    double values[11];
+    for (int i = 0; i < 11; ++i) {
+      if (!parseNumber(fields[static_cast<std::size_t>(i)], &values[i])) {
+        fail("field " + std::to_string(i + 1) + ": expected a finite number, got '" +
+             fields[static_cast<std::size_t>(i)] + "'");
+      }
+    }
+    MotionPair pair;
+    pair.start_stamp_s = values[0];
+    pair.end_stamp_s = values[1];
+    pair.sensor_motion = Pose2(values[2], values[3], values[4]);
+    pair.covariance << values[5], values[6], values[7], values[6], values[8], values[9], values[7],
+        values[9], values[10];
+    for (const std::string& text : split(fields[11], ';')) {
+      std::istringstream stream(text);
+      std::vector<double> numbers;
+      std::string token;
+      while (stream >> token) {
+        double value = 0.0;
+        if (!parseNumber(token, &value))
+          fail("samples: '" + token + "' is not a number");
+        numbers.push_back(value);
+      }
+      if (numbers.size() != file.joints.names.size() + 1) {
+        fail("samples: each sample needs a stamp and " + std::to_string(file.joints.names.size()) +
+             " joint values, got '" + text + "'");
+      }
+      pair.encoder_samples.push_back(
+          {numbers[0],
+           Eigen::Map<const Eigen::VectorXd>(numbers.data() + 1,
+                                             static_cast<Eigen::Index>(file.joints.names.size()))});
+    }
+    if (pair.encoder_samples.size() < 2)
+      fail("a pair needs at least two encoder samples");
+    file.pairs.push_back(std::move(pair));
+  }
+  if (!has_joints) {
+    throw std::runtime_error(source + (number_of_line == 0
+                                           ? ": the file is empty"
+                                           : ": not a pairs file: the '# joints: ...' line is "
+                                             "missing"));
+  }
+  return file;
+}
+
+PairsFile readPairsCsv(const std::string& path)
+{
+  std::ifstream input(path);
+  if (!input)
+    throw std::runtime_error("cannot open pairs file '" + path + "'");
+  return parsePairsCsv(input, path);
+}
+
+void writePairsCsv(const std::string& path, const PairsFile& file)
+{
+  std::string text = pairsCsvHeader(file.joints);
+  for (const MotionPair& pair : file.pairs)
+    text += pairsCsvRow(pair);
+  writeFileAtomically(path, text);
+}
+
+PairsCsvAppender::PairsCsvAppender(const std::string& path, const JointLayout& joints) : path_(path)
+{
+  std::ifstream existing(path, std::ios::binary);
+  if (existing) {
+    std::string content((std::istreambuf_iterator<char>(existing)), {});
+    existing.close();
+    if (!content.empty() && content.back() != '\n') {
+      // A row cut off by a crash: drop it, keep everything before.
+      content.erase(
+          content.find_last_of('\n') == std::string::npos ? 0 : content.find_last_of('\n') + 1);
+      dropped_partial_line_ = true;
+      writeFileAtomically(path, content);
+    }
+    if (!content.empty()) {
+      std::istringstream stream(content);
+      PairsFile file = parsePairsCsv(stream, path);
+      if (file.joints.names != joints.names || file.joints.kinds != joints.kinds) {
+        throw std::runtime_error("pairs file '" + path +
+                                 "' was collected with other joints; use another file");
+      }
+      existing_ = std::move(file.pairs);
+    }
+  }
+  fd_ = ::open(path.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
+  if (fd_ < 0) {
+    throw std::runtime_error("cannot write pairs file '" + path + "': " + std::strerror(errno));
+  }
+  if (existing_.empty() && ::lseek(fd_, 0, SEEK_END) == 0) {
+    const std::string header = pairsCsvHeader(joints);
+    if (::write(fd_, header.data(), header.size()) != static_cast<ssize_t>(header.size())) {
+      throw std::runtime_error("cannot write pairs file '" + path + "'");
+    }
+  }
+}
+
+void PairsCsvAppender::append(const MotionPair& pair)
+{
+  const std::string row = pairsCsvRow(pair);
+  if (::write(fd_, row.data(), row.size()) != static_cast<ssize_t>(row.size()) ||
+      ::fdatasync(fd_) != 0) {
+    throw std::runtime_error("cannot append to pairs file '" + path_ +
+                             "': " + std::strerror(errno));
+  }
+}
+
+PairsCsvAppender::~PairsCsvAppender()
+{
+  if (fd_ >= 0)
+    ::close(fd_);
+}
+
+}  // namespace odometry_calibration

@@ -1,0 +1,94 @@
+#include "odometry_calibration/datasets/tricycle_log.h"
+
+#include <stdexcept>
+
+#include "odometry_calibration/data/encoder.h"
+#include "odometry_calibration/data/keyframes.h"
+
+namespace odometry_calibration {
+
+TricycleEncoderLayout tricycleLayoutFromHeader(const TricycleDatasetHeader& header)
+{
+  if (header.joint_max_values.size() != 2) {
+    throw std::invalid_argument(
+        "header line '#joints_max_enc_values: <steering> <traction>' with two values is missing");
+  }
+  TricycleEncoderLayout layout;
+  layout.steering_index = 0;
+  layout.traction_index = 1;
+  if (header.joint_names.size() == 2 &&
+      header.joint_names[0].find("traction") != std::string::npos) {
+    std::swap(layout.steering_index, layout.traction_index);
+  }
+  layout.steering_ticks_per_turn = header.joint_max_values[layout.steering_index];
+  layout.traction_ticks_per_turn = header.joint_max_values[layout.traction_index];
+  if (!(layout.steering_ticks_per_turn > 0.0) || !(layout.traction_ticks_per_turn > 0.0)) {
+    throw std::invalid_argument("header '#joints_max_enc_values' must be positive tick counts");
+  }
+  return layout;
+}
+
+TricycleParameters tricycleNominalFromHeader(const TricycleDatasetHeader& header)
+{
+  if (header.parameter_values.size() != 4) {
+    throw std::invalid_argument(
+        "header line '#parameter_values: <Ksteer> <Ktraction> <axis_length> <steer_offset>' "
+        "with four values is missing");
+  }
+  TricycleParameters nominal = TricycleParameters::fromVectors(
+      Eigen::Vector4d(header.parameter_values.data()), Eigen::Vector3d::Zero());
+  if (!header.has_sensor_pose) {
+    throw std::invalid_argument(
+        "header lines '#laser wrt base_link' / translation / rotation are missing");
+  }
+  nominal.T_base_sensor = header.T_base_sensor;
+  return nominal;
+}
+
+std::vector<EncoderSample> decodeTricycleEncoders(const TricycleDataset& dataset,
+                                                  const TricycleEncoderLayout& layout)
+{
+  std::vector<EncoderChannelOptions> channels(2);
+  channels[layout.steering_index] = {"steering", EncoderKind::kAbsolute, 0.0,
+                                     layout.steering_ticks_per_turn};
+  channels[layout.traction_index] = {"traction", EncoderKind::kIncremental, 4294967296.0, 0.0};
+  EncoderDecoder decoder(channels);
+  std::vector<EncoderSample> samples;
+  samples.reserve(dataset.rows.size());
+  for (const TricycleDatasetRow& row : dataset.rows) {
+    Eigen::VectorXd raw(2);
+    raw(layout.steering_index) = row.steering_ticks;
+    raw(layout.traction_index) = row.traction_ticks;
+    samples.push_back({row.stamp_s, decoder.decode(raw)});
+  }
+  return samples;
+}
+
+std::vector<MotionPair> tricyclePairs(const TricycleDataset& dataset,
+                                      const std::vector<EncoderSample>& samples, double interval_s,
+                                      const Eigen::Matrix3d& covariance)
+{
+  if (samples.size() != dataset.rows.size()) {
+    throw std::invalid_argument("tricyclePairs: one decoded sample per dataset row expected");
+  }
+  std::vector<double> stamps_s;
+  stamps_s.reserve(samples.size());
+  for (const EncoderSample& sample : samples) {
+    stamps_s.push_back(sample.stamp_s);
+  }
+  std::vector<MotionPair> pairs;
+  for (const KeyframeWindow& window : selectKeyframeWindows(stamps_s, interval_s)) {
+    MotionPair pair;
+    pair.start_stamp_s = stamps_s[window.first];
+    pair.end_stamp_s = stamps_s[window.last];
+    pair.encoder_samples.assign(samples.begin() + static_cast<std::ptrdiff_t>(window.first),
+                                samples.begin() + static_cast<std::ptrdiff_t>(window.last) + 1);
+    pair.sensor_motion = between(dataset.rows[window.first].T_world_sensor,
+                                 dataset.rows[window.last].T_world_sensor);
+    pair.covariance = covariance;
+    pairs.push_back(std::move(pair));
+  }
+  return pairs;
+}
+
+}  // namespace odometry_calibration

@@ -1,0 +1,306 @@
+#include "odometry_calibration/models/linear_model.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include <yaml-cpp/yaml.h>
+#include <Eigen/Cholesky>
+#include <Eigen/QR>
+
+#include "odometry_calibration/common/median.h"
+
+namespace odometry_calibration {
+
+void validate(const LinearModelOptions& o)
+{
+  if (o.joints.kinds.empty() || o.joints.kinds.size() != o.joints.names.size()) {
+    throw std::invalid_argument("linear model: 'joints' needs one kind per joint name");
+  }
+  if (!(o.huber_threshold > 0.0) || !(o.outlier_threshold > o.huber_threshold)) {
+    throw std::invalid_argument(
+        "linear model: need huber_threshold > 0 and outlier_threshold > huber_threshold");
+  }
+  if (o.max_iterations < 1) {
+    throw std::invalid_argument("linear model option 'max_iterations' must be >= 1");
+  }
+}
+
+LinearModel::LinearModel(LinearModelOptions options) : options_(std::move(options))
+{
+  validate(options_);
+  weights_ = Eigen::MatrixXd::Zero(3, static_cast<Eigen::Index>(options_.joints.kinds.size()));
+}
+
+namespace {
+
+/// Robust regression of one output (eq. 9 for one row of W): IRLS with Huber weights on
+/// residuals scaled by sigma_j and by a robust (MAD) scale, pairs beyond the outlier threshold
+/// dropped. Returns the row, the final scale, and marks outliers.
+Eigen::VectorXd robustRow(const Eigen::MatrixXd& X, const Eigen::VectorXd& y,
+                          const Eigen::VectorXd& sigma, const LinearModelOptions& options,
+                          std::vector<bool>* outlier, double* scale, int* iterations)
+{
+  const Eigen::Index n = X.rows();
+  Eigen::VectorXd weight = sigma.cwiseInverse().cwiseAbs2();
+  Eigen::VectorXd row = Eigen::VectorXd::Zero(X.cols());
+  *scale = 1.0;
+  for (int iteration = 0; iteration < options.max_iterations; ++iteration) {
+    *iterations = std::max(*iterations, iteration + 1);
+    const Eigen::MatrixXd XtW = X.transpose() * weight.asDiagonal();
+    const Eigen::VectorXd next = (XtW * X).ldlt().solve(XtW * y);
+    const Eigen::VectorXd scaled = (y - X * next).cwiseQuotient(sigma);
+    std::vector<double> magnitudes(scaled.data(), scaled.data() + n);
+    for (double& m : magnitudes)
+      m = std::abs(m);
+    *scale = std::max(1.4826 * median(magnitudes), 1e-12);
+    for (Eigen::Index j = 0; j < n; ++j) {
+      const double u = std::abs(scaled(j)) / *scale;
+      (*outlier)[static_cast<std::size_t>(j)] = u > options.outlier_threshold;
+      const double huber = u <= options.huber_threshold ? 1.0 : options.huber_threshold / u;
+      weight(j) = (*outlier)[static_cast<std::size_t>(j)] ? 0.0 : huber / (sigma(j) * sigma(j));
+    }
+    const bool settled = (next - row).norm() <= 1e-12 * std::max(1.0, next.norm());
+    row = next;
+    if (settled)
+      break;
+  }
+  return row;
+}
+
+std::string format(double value)
+{
+  std::ostringstream stream;
+  stream.precision(3);
+  stream << value;
+  return stream.str();
+}
+
+}  // namespace
+
+ModelReport LinearModel::fit(const std::vector<MotionPair>& pairs)
+{
+  const auto m = static_cast<Eigen::Index>(options_.joints.kinds.size());
+  if (static_cast<Eigen::Index>(pairs.size()) < 3 * m) {
+    throw std::invalid_argument("linear model needs at least " + std::to_string(3 * m) +
+                                " pairs for " + std::to_string(m) + " joints, got " +
+                                std::to_string(pairs.size()));
+  }
+  const auto start = std::chrono::steady_clock::now();
+  const auto n = static_cast<Eigen::Index>(pairs.size());
+  Eigen::MatrixXd X(n, m);
+  Eigen::MatrixXd Y(n, 3);
+  Eigen::MatrixXd sigma(n, 3);
+  for (Eigen::Index j = 0; j < n; ++j) {
+    const MotionPair& pair = pairs[static_cast<std::size_t>(j)];
+    X.row(j) = pairFeatures(pair.encoder_samples, options_.joints).transpose();
+    Y.row(j) = pair.sensor_motion.vector().transpose();
+    sigma.row(j) = pair.covariance.diagonal().cwiseSqrt().transpose();
+    if (!(sigma.row(j).minCoeff() > 0.0)) {
+      throw std::invalid_argument("pair " + std::to_string(j) +
+                                  " has a covariance without positive variances");
+    }
+  }
+  if (Eigen::ColPivHouseholderQR<Eigen::MatrixXd>(X).rank() < m) {
+    throw std::invalid_argument(
+        "linear model: the encoder increments do not vary independently (a joint never moved "
+        "or two joints always moved together); drive with every joint moving in both "
+        "directions");
+  }
+
+  ModelReport report;
+  report.model = name();
+  report.pairs_used = pairs.size();
+  std::vector<bool> outlier_any(pairs.size(), false);
+  weight_covariance_.assign(3, Eigen::MatrixXd::Zero(m, m));
+  for (int axis = 0; axis < 3; ++axis) {
+    std::vector<bool> outlier(pairs.size(), false);
+    double scale = 1.0;
+    weights_.row(axis) =
+        robustRow(X, Y.col(axis), sigma.col(axis), options_, &outlier, &scale, &report.iterations)
+            .transpose();
+    Eigen::VectorXd w(n);
+    double sum2 = 0.0;
+    std::size_t count = 0;
+    for (Eigen::Index j = 0; j < n; ++j) {
+      const bool is_outlier = outlier[static_cast<std::size_t>(j)];
+      w(j) = is_outlier ? 0.0 : 1.0 / (sigma(j, axis) * sigma(j, axis));
+      if (is_outlier) {
+        outlier_any[static_cast<std::size_t>(j)] = true;
+      } else {
+        const double r = Y(j, axis) - X.row(j).dot(weights_.row(axis));
+        sum2 += r * r;
+        ++count;
+      }
+    }
+    residual_variance_(axis) = count > 0 ? sum2 / static_cast<double>(count) : 0.0;
+    // Uncertainty of the row: scale^2 (X^T Sigma^-1 X)^-1 over the inliers.
+    weight_covariance_[static_cast<std::size_t>(axis)] =
+        scale * scale *
+        (X.transpose() * w.asDiagonal() * X).ldlt().solve(Eigen::MatrixXd::Identity(m, m));
+  }
+  report.outliers =
+      static_cast<std::size_t>(std::count(outlier_any.begin(), outlier_any.end(), true));
+  report.residual_rms_xytheta = residual_variance_.cwiseSqrt();
+
+  // Residuals of all pairs, and the structure check on the inliers: residual RMS per axis
+  // against the pairs' own noise, and small against large motions.
+  Eigen::Vector3d noise2 = Eigen::Vector3d::Zero(), small2 = noise2, large2 = noise2;
+  std::vector<double> motion_size;
+  for (Eigen::Index j = 0; j < n; ++j) {
+    motion_size.push_back(std::hypot(Y(j, 0), Y(j, 1)) + std::abs(Y(j, 2)));
+  }
+  const double size_median = median(motion_size);
+  std::size_t inliers = 0, small = 0, large = 0;
+  double sum_t = 0.0, sum_r = 0.0;
+  for (Eigen::Index j = 0; j < n; ++j) {
+    const Eigen::Vector3d r = Y.row(j).transpose() - weights_ * X.row(j).transpose();
+    sum_t += r.head<2>().squaredNorm();
+    sum_r += r(2) * r(2);
+    if (outlier_any[static_cast<std::size_t>(j)])
+      continue;
+    ++inliers;
+    noise2 += sigma.row(j).transpose().cwiseAbs2();
+    if (motion_size[static_cast<std::size_t>(j)] <= size_median) {
+      small2 += r.cwiseAbs2();
+      ++small;
+    } else {
+      large2 += r.cwiseAbs2();
+      ++large;
+    }
+  }
+  report.after = {std::sqrt(sum_t / n), std::sqrt(sum_r / n), static_cast<std::size_t>(n)};
+  const char* axes[] = {"x", "y", "theta"};
+  for (int axis = 0; axis < 3 && inliers > 0; ++axis) {
+    const double noise = std::sqrt(noise2(axis) / static_cast<double>(inliers));
+    const double ratio = report.residual_rms_xytheta(axis) / noise;
+    if (ratio > options_.structure_warning_ratio) {
+      const double growth = small > 0 && large > 0 && small2(axis) > 0.0
+                                ? std::sqrt((large2(axis) / large) / (small2(axis) / small))
+                                : 1.0;
+      report.warnings.push_back(
+          std::string("linear model residual on ") + axes[axis] + " is " + format(ratio) +
+          "x the pairs' own noise" +
+          (growth > 1.5 ? " and grows with the motion per pair (" + format(growth) +
+                              "x larger on the larger half)"
+                        : "") +
+          ": the sensor motion is not linear in the encoder increments at this keyframe "
+          "interval; use a shorter keyframe interval or the GP model");
+    }
+  }
+  if (report.outliers > 0) {
+    report.termination = std::to_string(report.outliers) + " pairs rejected beyond " +
+                         format(options_.outlier_threshold) + " robust sigma";
+  } else {
+    report.termination = "robust least squares converged";
+  }
+  report.fit_time_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  for (int axis = 0; axis < 3; ++axis) {
+    for (Eigen::Index c = 0; c < m; ++c) {
+      report.parameters.push_back(
+          {std::string("W_") + axes[axis] + "_" +
+               options_.joints.names[static_cast<std::size_t>(c)],
+           "", 0.0, weights_(axis, c),
+           std::sqrt(weight_covariance_[static_cast<std::size_t>(axis)](c, c))});
+    }
+  }
+  return report;
+}
+
+MotionPrediction LinearModel::predict(const std::vector<EncoderSample>& samples) const
+{
+  const Eigen::VectorXd features = pairFeatures(samples, options_.joints);
+  const Eigen::Vector3d mean = weights_ * features;
+  MotionPrediction prediction;
+  prediction.mean = Pose2(mean(0), mean(1), mean(2));
+  for (int axis = 0; axis < 3; ++axis) {
+    const double parameter_variance =
+        weight_covariance_.empty()
+            ? 0.0
+            : features.dot(weight_covariance_[static_cast<std::size_t>(axis)] * features);
+    prediction.covariance(axis, axis) = residual_variance_(axis) + parameter_variance;
+  }
+  return prediction;
+}
+
+std::string LinearModel::toYaml() const
+{
+  YAML::Emitter out;
+  out.SetDoublePrecision(17);
+  out << YAML::BeginMap;
+  out << YAML::Key << "model" << YAML::Value << name();
+  out << YAML::Key << "joints" << YAML::Value << YAML::BeginSeq;
+  for (std::size_t j = 0; j < options_.joints.names.size(); ++j) {
+    out << YAML::Flow << YAML::BeginSeq << options_.joints.names[j]
+        << (options_.joints.kinds[j] == EncoderKind::kIncremental ? "incremental" : "absolute")
+        << YAML::EndSeq;
+  }
+  out << YAML::EndSeq;
+  out << YAML::Key << "weights" << YAML::Value << YAML::BeginSeq;
+  for (int axis = 0; axis < 3; ++axis) {
+    out << YAML::Flow << YAML::BeginSeq;
+    for (Eigen::Index c = 0; c < weights_.cols(); ++c)
+      out << weights_(axis, c);
+    out << YAML::EndSeq;
+  }
+  out << YAML::EndSeq;
+  out << YAML::Key << "residual_variance" << YAML::Value << YAML::Flow << YAML::BeginSeq
+      << residual_variance_(0) << residual_variance_(1) << residual_variance_(2) << YAML::EndSeq;
+  out << YAML::Key << "weight_covariance" << YAML::Value << YAML::BeginSeq;
+  for (const Eigen::MatrixXd& covariance : weight_covariance_) {
+    out << YAML::Flow << YAML::BeginSeq;
+    for (Eigen::Index i = 0; i < covariance.size(); ++i)
+      out << covariance(i);
+    out << YAML::EndSeq;
+  }
+  out << YAML::EndSeq;
+  out << YAML::EndMap;
+  return std::string(out.c_str()) + "\n";
+}
+
+LinearModel LinearModel::fromYaml(const std::string& text)
+{
+  try {
+    const YAML::Node node = YAML::Load(text);
+    if (node["model"].as<std::string>() != "linear") {
+      throw std::runtime_error("not a linear model");
+    }
+    LinearModelOptions options;
+    for (const YAML::Node& joint : node["joints"]) {
+      options.joints.names.push_back(joint[0].as<std::string>());
+      options.joints.kinds.push_back(joint[1].as<std::string>() == "absolute"
+                                         ? EncoderKind::kAbsolute
+                                         : EncoderKind::kIncremental);
+    }
+    LinearModel model(options);
+    const auto m = static_cast<Eigen::Index>(options.joints.names.size());
+    const auto variance = node["residual_variance"].as<std::vector<double>>();
+    if (node["weights"].size() != 3 || variance.size() != 3) {
+      throw std::runtime_error("weights need 3 rows and residual_variance 3 values");
+    }
+    for (int axis = 0; axis < 3; ++axis) {
+      const auto row = node["weights"][axis].as<std::vector<double>>();
+      if (static_cast<Eigen::Index>(row.size()) != m) {
+        throw std::runtime_error("a weights row needs one value per joint");
+      }
+      model.weights_.row(axis) = Eigen::Map<const Eigen::VectorXd>(row.data(), m).transpose();
+      model.residual_variance_(axis) = variance[static_cast<std::size_t>(axis)];
+    }
+    model.weight_covariance_.clear();
+    for (const YAML::Node& entry : node["weight_covariance"]) {
+      const auto values = entry.as<std::vector<double>>();
+      if (static_cast<Eigen::Index>(values.size()) != m * m) {
+        throw std::runtime_error("weight_covariance entries need m x m values");
+      }
+      model.weight_covariance_.push_back(Eigen::Map<const Eigen::MatrixXd>(values.data(), m, m));
+    }
+    return model;
+  } catch (const YAML::Exception& error) {
+    throw std::runtime_error(std::string("linear model YAML: ") + error.what());
+  }
+}
+
+}  // namespace odometry_calibration

@@ -1,0 +1,102 @@
+#include "odometry_calibration/pairing/match_queue.h"
+
+#include <chrono>
+#include <utility>
+
+namespace odometry_calibration {
+
+PlicpResult timedMatch(const LazyPreparedScan& reference, const LazyPreparedScan& current,
+                       const Pose2& T_ref_new_guess, const PlicpOptions& options,
+                       double* preparation_time_s, double* matching_time_s)
+{
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  const PreparedScan& prepared_reference = reference.get();
+  const PreparedScan& prepared_current = current.get();
+  const auto prepared = Clock::now();
+  PlicpResult result = matchScans(prepared_reference, prepared_current, T_ref_new_guess, options);
+  *preparation_time_s += std::chrono::duration<double>(prepared - start).count();
+  *matching_time_s += std::chrono::duration<double>(Clock::now() - prepared).count();
+  return result;
+}
+
+MatchQueue::MatchQueue(bool background_thread)
+{
+  if (background_thread)
+    worker_ = std::thread([this] { serve(); });
+}
+
+MatchQueue::~MatchQueue()
+{
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stopping_ = true;
+    queue_.clear();
+  }
+  queued_.notify_all();
+  if (worker_.joinable())
+    worker_.join();
+}
+
+std::shared_ptr<MatchJob> MatchQueue::submit(std::shared_ptr<const LazyPreparedScan> reference,
+                                             std::shared_ptr<const LazyPreparedScan> current,
+                                             const Pose2& T_ref_new_guess,
+                                             const PlicpOptions& options)
+{
+  auto job = std::make_shared<MatchJob>();
+  job->reference = std::move(reference);
+  job->current = std::move(current);
+  job->T_ref_new_guess = T_ref_new_guess;
+  job->options = options;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    queue_.push_back(job);
+  }
+  queued_.notify_one();
+  return job;
+}
+
+void MatchQueue::runFront(std::unique_lock<std::mutex>& lock)
+{
+  const std::shared_ptr<MatchJob> job = std::move(queue_.front());
+  queue_.pop_front();
+  lock.unlock();
+  try {
+    job->result = timedMatch(*job->reference, *job->current, job->T_ref_new_guess, job->options,
+                             &job->preparation_time_s, &job->matching_time_s);
+  } catch (...) {
+    job->error = std::current_exception();
+  }
+  job->reference.reset();  // the scans are not needed any more
+  job->current.reset();
+  lock.lock();
+  job->done = true;
+  done_.notify_all();
+}
+
+void MatchQueue::serve()
+{
+  std::unique_lock<std::mutex> lock(mutex_);
+  while (true) {
+    queued_.wait(lock, [this] { return stopping_ || !queue_.empty(); });
+    if (stopping_)
+      return;
+    runFront(lock);
+  }
+}
+
+PlicpResult MatchQueue::wait(const std::shared_ptr<MatchJob>& job)
+{
+  std::unique_lock<std::mutex> lock(mutex_);
+  while (!job->done) {
+    if (!queue_.empty())
+      runFront(lock);  // help: queued jobs are all needed sooner or later
+    else
+      done_.wait(lock);
+  }
+  if (job->error)
+    std::rethrow_exception(job->error);
+  return job->result;
+}
+
+}  // namespace odometry_calibration

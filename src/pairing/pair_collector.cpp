@@ -1,0 +1,323 @@
+#include "odometry_calibration/pairing/pair_collector.h"
+
+#include "odometry_calibration/geometry/se2.h"
+
+#include <cmath>
+#include <stdexcept>
+#include <thread>
+
+namespace odometry_calibration {
+
+void validate(const CollectorOptions& o)
+{
+  auto require = [](bool ok, const char* message) {
+    if (!ok)
+      throw std::invalid_argument(message);
+  };
+  require(o.keyframe_interval_s > 0.0 && std::isfinite(o.keyframe_interval_s),
+          "keyframe_interval_s must be > 0 s");
+  require(std::isfinite(o.time_offset_s) && std::abs(o.time_offset_s) < 5.0,
+          "time_offset_s must be within +-5 s");
+  require(o.max_encoder_gap_s > 0.0, "max_encoder_gap_s must be > 0 s");
+  require(o.min_translation_m >= 0.0 && o.min_rotation_rad >= 0.0,
+          "min_translation_m and min_rotation_rad must be >= 0");
+  require(o.consistency_translation_m > 0.0 && o.consistency_rotation_rad > 0.0,
+          "consistency thresholds must be > 0");
+  require((o.covariance_floor.array() >= 0.0).all(), "covariance_floor must be >= 0");
+  validate(o.plicp);
+}
+
+PairCollector::PairCollector(std::vector<EncoderChannelOptions> channels, CollectorOptions options,
+                             MotionPredictor predictor)
+    : options_(std::move(options)),
+      predictor_(std::move(predictor)),
+      track_(std::move(channels), std::max(30.0, 4.0 * options_.keyframe_interval_s))
+{
+  validate(options_);
+  // The chain uses only the consecutive matches' poses and statuses; the covariance (which
+  // does not change either) would cost time for nothing.
+  consecutive_options_ = options_.plicp;
+  consecutive_options_.compute_covariance = false;
+  if (options_.check_consistency)
+    matches_ = std::make_unique<MatchQueue>(options_.background_matching &&
+                                            std::thread::hardware_concurrency() > 1);
+}
+
+PairCollector::~PairCollector() = default;
+
+const CollectorStatistics& PairCollector::statistics() const
+{
+  foldConsecutiveMatches();
+  return statistics_;
+}
+
+void PairCollector::foldConsecutiveMatches() const
+{
+  while (!consecutive_.empty()) {
+    const PlicpResult step = matches_->wait(consecutive_.front());
+    statistics_.preparation_time_s += consecutive_.front()->preparation_time_s;
+    statistics_.matching_time_s += consecutive_.front()->matching_time_s;
+    consecutive_.pop_front();
+    // A one-threaded run matches only while the chain is valid: later matches after a failure
+    // were submitted speculatively and are dropped uncounted.
+    if (!chain_valid_)
+      continue;
+    ++statistics_.consecutive_matches;
+    if (step.valid()) {
+      chain_ = chain_ * step.T_ref_new;
+    } else {
+      ++statistics_.consecutive_failures;
+      chain_valid_ = false;
+    }
+  }
+}
+
+void PairCollector::reset()
+{
+  foldConsecutiveMatches();
+  pending_.clear();
+  track_.clear();
+  keyframe_.reset();
+  previous_scan_.reset();
+  chain_valid_ = false;
+  last_input_stamp_s_ = -1e300;
+  last_scan_stamp_s_ = -1e300;
+}
+
+CollectorEvent PairCollector::restart(const std::string& what)
+{
+  reset();
+  ++statistics_.restarts;
+  CollectorEvent event;
+  event.type = CollectorEvent::Type::kRestarted;
+  event.reason = what +
+                 " went backwards in time (a looping bag or a clock reset): keyframes "
+                 "and encoder history restarted, collected pairs kept";
+  return event;
+}
+
+CollectorEvent PairCollector::pairEvent(double end_stamp_s, std::vector<EncoderSample> window,
+                                        const Pose2& sensor_motion,
+                                        const Eigen::Matrix3d& covariance)
+{
+  CollectorEvent event;
+  event.type = CollectorEvent::Type::kPair;
+  event.pair.start_stamp_s = keyframe_->stamp_s;
+  event.pair.end_stamp_s = end_stamp_s;
+  event.pair.encoder_samples = std::move(window);
+  event.pair.sensor_motion = sensor_motion;
+  event.pair.covariance = covariance;
+  event.pair.covariance.diagonal() += options_.covariance_floor;
+  ++statistics_.pairs;
+  return event;
+}
+
+CollectorEvent PairCollector::reject(const std::string& reason)
+{
+  ++statistics_.rejected[reason];
+  CollectorEvent event;
+  event.type = CollectorEvent::Type::kRejected;
+  event.reason = reason;
+  return event;
+}
+
+std::vector<CollectorEvent> PairCollector::addEncoders(double stamp_s, const Eigen::VectorXd& raw)
+{
+  ++statistics_.encoder_messages;
+  last_input_stamp_s_ = std::max(last_input_stamp_s_, stamp_s);
+  if (track_.add(stamp_s, raw) == EncoderTrack::AddResult::kRestarted) {
+    // The encoder history is gone: so is the keyframe it would have been paired with.
+    const CollectorEvent event = restart("the encoder stream");
+    track_.add(stamp_s, raw);
+    return {event};
+  }
+  return processReadyScans(false);
+}
+
+std::vector<CollectorEvent> PairCollector::flush()
+{
+  std::vector<CollectorEvent> events = processReadyScans(true);
+  foldConsecutiveMatches();
+  return events;
+}
+
+std::vector<CollectorEvent> PairCollector::processReadyScans(bool all)
+{
+  std::vector<CollectorEvent> events;
+  while (!pending_.empty()) {
+    const double needed = pending_.front().stamp_s + options_.time_offset_s;
+    const bool encoders_there = !track_.empty() && track_.lastStamp() >= needed;
+    // Input this much later shows the encoders will not come (a gap, a dead stream).
+    const bool given_up = last_input_stamp_s_ > needed + options_.max_encoder_gap_s &&
+                          (track_.empty() || track_.lastStamp() < needed);
+    if (!all && !encoders_there && !given_up)
+      break;
+    const PendingInput input = pending_.front();
+    pending_.pop_front();
+    CollectorEvent event = input.scan
+                               ? processScan(input.stamp_s, input.scan)
+                               : processPose(input.stamp_s, input.T_world_sensor, input.covariance);
+    if (event.type != CollectorEvent::Type::kNothing)
+      events.push_back(std::move(event));
+  }
+  return events;
+}
+
+std::optional<std::vector<EncoderSample>> PairCollector::encoderWindow(double start_s, double end_s,
+                                                                       std::string* reason) const
+{
+  const double from = start_s + options_.time_offset_s;
+  const double to = end_s + options_.time_offset_s;
+  if (!track_.covers(from, options_.max_encoder_gap_s) ||
+      !track_.covers(to, options_.max_encoder_gap_s)) {
+    *reason = "no encoder data around the keyframes";
+    return std::nullopt;
+  }
+  if (track_.largestGap(from, to) > options_.max_encoder_gap_s) {
+    *reason = "gap in the encoder stream";
+    return std::nullopt;
+  }
+  return track_.between(from, to);
+}
+
+Pose2 PairCollector::predict(const std::vector<EncoderSample>& window) const
+{
+  return predictor_ ? predictor_(window) : Pose2();
+}
+
+bool PairCollector::tooLittleMotion(const std::vector<EncoderSample>& window) const
+{
+  if (!predictor_ || (options_.min_translation_m <= 0.0 && options_.min_rotation_rad <= 0.0))
+    return false;
+  const Pose2 motion = predictor_(window);
+  return std::hypot(motion.x(), motion.y()) < options_.min_translation_m &&
+         std::abs(motion.theta()) < options_.min_rotation_rad;
+}
+
+std::vector<CollectorEvent> PairCollector::addScan(double stamp_s, const Scan& scan)
+{
+  ++statistics_.scans;
+  if (stamp_s < last_scan_stamp_s_)
+    return {restart("the scan stream")};
+  last_scan_stamp_s_ = stamp_s;
+  last_input_stamp_s_ = std::max(last_input_stamp_s_, stamp_s);
+  // Prepared later, by the first match that needs it (possibly on the matching thread).
+  pending_.push_back({stamp_s, std::make_shared<LazyPreparedScan>(scan, options_.lines), Pose2(),
+                      Eigen::Matrix3d::Zero()});
+  return processReadyScans(false);
+}
+
+CollectorEvent PairCollector::processScan(double stamp_s,
+                                          std::shared_ptr<LazyPreparedScan> prepared)
+{
+  // The sweep's motion: the prior model's prediction since the previous scan, as a constant
+  // velocity (SE(2) logarithm over the interval), set before anything prepares the scan.
+  if (options_.compensate_sweep && predictor_ && previous_scan_ && prepared->hasRayTimes() &&
+      stamp_s > previous_scan_stamp_s_) {
+    std::string reason;
+    if (const auto window = encoderWindow(previous_scan_stamp_s_, stamp_s, &reason)) {
+      const Eigen::Vector3d xi = se2Log(predict(*window)) / (stamp_s - previous_scan_stamp_s_);
+      prepared->setSweepVelocity({xi(0), xi(1), xi(2)});
+    }
+  }
+  // Consecutive-scan chain: the reference for the keyframe match's consistency. The match is
+  // submitted now, with the guess from the encoders as they are now, and folded in before the
+  // next keyframe decision; while its predecessors are unfolded, whether the chain is still
+  // valid is not known yet, so it is submitted and the fold applies the rule.
+  if (options_.check_consistency && previous_scan_ && (chain_valid_ || !consecutive_.empty())) {
+    std::string reason;
+    const auto window = encoderWindow(previous_scan_stamp_s_, stamp_s, &reason);
+    const Pose2 guess = window ? predict(*window) : Pose2();
+    consecutive_.push_back(matches_->submit(previous_scan_, prepared, guess, consecutive_options_));
+  }
+  previous_scan_ = prepared;
+  previous_scan_stamp_s_ = stamp_s;
+
+  auto start_keyframe = [&](CollectorEvent event) {
+    foldConsecutiveMatches();  // the matches up to this scan belong to the ending chain
+    keyframe_ = Keyframe{stamp_s, prepared, Pose2()};
+    chain_ = Pose2();
+    chain_valid_ = true;
+    ++statistics_.keyframes;
+    return event;
+  };
+  if (!keyframe_) {
+    CollectorEvent event;
+    event.type = CollectorEvent::Type::kKeyframe;
+    return start_keyframe(event);
+  }
+  if (stamp_s - keyframe_->stamp_s < options_.keyframe_interval_s)
+    return {};
+
+  std::string reason;
+  const auto window = encoderWindow(keyframe_->stamp_s, stamp_s, &reason);
+  if (!window)
+    return start_keyframe(reject(reason));
+  if (tooLittleMotion(*window)) {
+    if (stamp_s - keyframe_->stamp_s < 4.0 * options_.keyframe_interval_s)
+      return {};  // wait for more motion
+    return start_keyframe(
+        reject("too little motion (keyframes.min_translation_m/min_rotation_rad)"));
+  }
+  // Runs here while the background thread works through the consecutive matches.
+  const PlicpResult match =
+      timedMatch(*keyframe_->scan, *prepared, predict(*window), options_.plicp,
+                 &statistics_.preparation_time_s, &statistics_.matching_time_s);
+  foldConsecutiveMatches();
+  if (!match.valid()) {
+    return start_keyframe(reject(std::string("scan match ") + toString(match.status)));
+  }
+  if (options_.check_consistency && !chain_valid_) {
+    ++statistics_.unverified_pairs;  // a consecutive match failed: nothing to compare with
+  } else if (options_.check_consistency) {
+    const Pose2 difference = between(chain_, match.T_ref_new);
+    if (std::hypot(difference.x(), difference.y()) > options_.consistency_translation_m ||
+        std::abs(difference.theta()) > options_.consistency_rotation_rad) {
+      return start_keyframe(reject("keyframe match disagrees with consecutive matches"));
+    }
+  }
+  return start_keyframe(pairEvent(stamp_s, *window, match.T_ref_new, match.covariance));
+}
+
+std::vector<CollectorEvent> PairCollector::addSensorPose(double stamp_s,
+                                                         const Pose2& T_world_sensor,
+                                                         const Eigen::Matrix3d& covariance)
+{
+  if (stamp_s < last_scan_stamp_s_)
+    return {restart("the sensor pose stream")};
+  last_scan_stamp_s_ = stamp_s;
+  last_input_stamp_s_ = std::max(last_input_stamp_s_, stamp_s);
+  pending_.push_back({stamp_s, nullptr, T_world_sensor, covariance});
+  return processReadyScans(false);
+}
+
+CollectorEvent PairCollector::processPose(double stamp_s, const Pose2& T_world_sensor,
+                                          const Eigen::Matrix3d& covariance)
+{
+  auto start_keyframe = [&](CollectorEvent event) {
+    keyframe_ = Keyframe{stamp_s, nullptr, T_world_sensor};
+    ++statistics_.keyframes;
+    return event;
+  };
+  if (!keyframe_) {
+    CollectorEvent event;
+    event.type = CollectorEvent::Type::kKeyframe;
+    return start_keyframe(event);
+  }
+  if (stamp_s - keyframe_->stamp_s < options_.keyframe_interval_s)
+    return {};
+  std::string reason;
+  const auto window = encoderWindow(keyframe_->stamp_s, stamp_s, &reason);
+  if (!window)
+    return start_keyframe(reject(reason));
+  if (tooLittleMotion(*window)) {
+    if (stamp_s - keyframe_->stamp_s < 4.0 * options_.keyframe_interval_s)
+      return {};
+    return start_keyframe(
+        reject("too little motion (keyframes.min_translation_m/min_rotation_rad)"));
+  }
+  return start_keyframe(
+      pairEvent(stamp_s, *window, between(keyframe_->T_world_sensor, T_world_sensor), covariance));
+}
+
+}  // namespace odometry_calibration

@@ -1,0 +1,72 @@
+#include "odometry_calibration/report/tricycle_result_yaml.h"
+
+#include <cmath>
+
+#include <yaml-cpp/yaml.h>
+
+namespace odometry_calibration {
+namespace {
+
+void emitRms(YAML::Emitter& out, const char* key, const ResidualRms& rms)
+{
+  out << YAML::Key << key << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "translation_m" << YAML::Value << rms.translation_m;
+  out << YAML::Key << "rotation_rad" << YAML::Value << rms.rotation_rad;
+  out << YAML::Key << "pairs" << YAML::Value << rms.count;
+  out << YAML::EndMap;
+}
+
+}  // namespace
+
+std::string tricycleResultToYaml(const TricycleCalibrationResult& result,
+                                 const TricycleEvaluation& evaluation, const std::string& source)
+{
+  YAML::Emitter out;
+  out.SetDoublePrecision(10);
+  out << YAML::BeginMap;
+  out << YAML::Key << "model" << YAML::Value << "tricycle";
+  out << YAML::Key << "source" << YAML::Value << source;
+  out << YAML::Key << "parameters" << YAML::Value << YAML::BeginMap;
+  for (const ParameterEstimate& estimate : result.estimates) {
+    out << YAML::Key << estimate.name << YAML::Value << YAML::BeginMap;
+    out << YAML::Key << "value" << YAML::Value << estimate.value;
+    // YAML has .nan; an unavailable sigma is written as such rather than as a made-up number.
+    out << YAML::Key << "sigma" << YAML::Value << estimate.sigma;
+    out << YAML::Key << "initial" << YAML::Value << estimate.initial;
+    out << YAML::Key << "unit" << YAML::Value << estimate.unit;
+    out << YAML::EndMap;
+  }
+  out << YAML::EndMap;
+  const Pose2& T = result.calibrated.T_base_sensor;
+  out << YAML::Key << "T_base_sensor" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "x_m" << YAML::Value << T.x();
+  out << YAML::Key << "y_m" << YAML::Value << T.y();
+  out << YAML::Key << "theta_rad" << YAML::Value << T.theta();
+  out << YAML::EndMap;
+  out << YAML::Key << "fit" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "converged" << YAML::Value << result.converged;
+  out << YAML::Key << "iterations" << YAML::Value << result.iterations;
+  out << YAML::Key << "termination" << YAML::Value << result.termination;
+  out << YAML::Key << "pairs" << YAML::Value << result.pair_count;
+  out << YAML::Key << "outliers" << YAML::Value << result.outlier_count;
+  out << YAML::Key << "chi2_per_dof" << YAML::Value << result.chi2_per_dof;
+  emitRms(out, "residual_rms_before", result.before);
+  emitRms(out, "residual_rms_after", result.after);
+  emitRms(out, "residual_rms_after_inliers", result.after_inliers);
+  out << YAML::EndMap;
+  out << YAML::Key << "evaluation" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "ate_initial_m" << YAML::Value << evaluation.ate_initial_m;
+  out << YAML::Key << "ate_calibrated_m" << YAML::Value << evaluation.ate_calibrated_m;
+  out << YAML::Key << "rpe_initial_m" << YAML::Value << evaluation.rpe_initial_m;
+  out << YAML::Key << "rpe_calibrated_m" << YAML::Value << evaluation.rpe_calibrated_m;
+  out << YAML::EndMap;
+  out << YAML::Key << "warnings" << YAML::Value << YAML::BeginSeq;
+  for (const std::string& warning : result.warnings) {
+    out << warning;
+  }
+  out << YAML::EndSeq;
+  out << YAML::EndMap;
+  return "# odometry_calibration result (tricycle model)\n" + std::string(out.c_str()) + "\n";
+}
+
+}  // namespace odometry_calibration

@@ -1,0 +1,91 @@
+#include "odometry_calibration/sim/pair_generator.h"
+
+#include <cmath>
+#include <random>
+#include <stdexcept>
+
+#include "odometry_calibration/data/encoder.h"
+#include "odometry_calibration/data/keyframes.h"
+#include "odometry_calibration/sim/simulator.h"
+
+namespace odometry_calibration {
+namespace sim {
+namespace {
+
+/// Keeps the joint states and the truth of each encoder instant.
+struct Collector : SimulationSink
+{
+  std::vector<JointStateSample> joints;
+  std::vector<Pose2> T_world_base;
+  void onJointState(const JointStateSample& s) override { joints.push_back(s); }
+  void onScan(const ScanSample&) override {}
+  void onTruth(const TruthSample& s) override { T_world_base.push_back(s.T_world_base); }
+};
+
+}  // namespace
+
+GeneratedPairs generatePairs(const PairGeneratorOptions& options)
+{
+  if (!(options.interval_s > 0.0) || options.translation_noise_m < 0.0 ||
+      options.rotation_noise_rad < 0.0) {
+    throw std::invalid_argument("pair generator: interval_s must be > 0 and noise >= 0");
+  }
+  Scenario scenario;
+  scenario.seed = options.seed;
+  scenario.duration_s = options.duration_s;
+  scenario.robot = options.robot;
+  scenario.motion = options.motion;
+  scenario.encoders.rate_hz = options.encoder_rate_hz;
+  scenario.laser.T_base_laser = options.T_base_sensor;
+  scenario.laser.rays = 2;  // scans are not used here: keep them cheap
+  scenario.laser.rate_hz = 1.0 / options.duration_s;
+  const World field = parseWorldYaml(
+      "polygons:\n  - [[-200, -200], [200, -200], [200, 200], [-200, 200]]\n", "open field");
+  const auto robot = makeRobot(options.robot);
+  Collector collector;
+  simulate(scenario, field, *robot, collector);
+
+  GeneratedPairs generated;
+  std::vector<EncoderChannelOptions> channels;
+  for (const JointEncoderSpec& spec : robot->joints()) {
+    generated.joints.names.push_back(spec.name);
+    generated.joints.kinds.push_back(spec.kind);
+    channels.push_back({spec.name, spec.kind,
+                        spec.kind == EncoderKind::kIncremental ? 4294967296.0 : 0.0,
+                        spec.kind == EncoderKind::kAbsolute ? spec.ticks_per_rev : 0.0});
+  }
+  EncoderDecoder decoder(channels);
+  std::vector<EncoderSample> samples;
+  std::vector<double> stamps;
+  for (const JointStateSample& joint : collector.joints) {
+    samples.push_back({joint.stamp_s, decoder.decode(Eigen::Map<const Eigen::VectorXd>(
+                                          joint.positions.data(),
+                                          static_cast<Eigen::Index>(joint.positions.size())))});
+    stamps.push_back(joint.stamp_s);
+  }
+  std::mt19937_64 rng(options.seed ^ 0xfa1c0ULL);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  covariance.diagonal() << std::pow(options.translation_noise_m, 2),
+      std::pow(options.translation_noise_m, 2), std::pow(options.rotation_noise_rad, 2);
+  for (const KeyframeWindow& window : selectKeyframeWindows(stamps, options.interval_s)) {
+    MotionPair pair;
+    pair.start_stamp_s = stamps[window.first];
+    pair.end_stamp_s = stamps[window.last];
+    pair.encoder_samples.assign(samples.begin() + static_cast<std::ptrdiff_t>(window.first),
+                                samples.begin() + static_cast<std::ptrdiff_t>(window.last) + 1);
+    const Pose2 truth = between(collector.T_world_base[window.first] * options.T_base_sensor,
+                                collector.T_world_base[window.last] * options.T_base_sensor);
+    const double nx = options.translation_noise_m * normal(rng);
+    const double ny = options.translation_noise_m * normal(rng);
+    const double nt = options.rotation_noise_rad * normal(rng);
+    pair.sensor_motion = Pose2(truth.x() + nx, truth.y() + ny, normalizeAngle(truth.theta() + nt));
+    pair.covariance = covariance;
+    generated.true_motions.push_back(truth);
+    generated.pairs.push_back(std::move(pair));
+  }
+  return generated;
+}
+
+}  // namespace sim
+}  // namespace odometry_calibration

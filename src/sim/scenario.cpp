@@ -1,0 +1,259 @@
+#include "odometry_calibration/sim/scenario.h"
+
+#include <cmath>
+#include <set>
+#include <stdexcept>
+
+#include <yaml-cpp/yaml.h>
+
+#include "odometry_calibration/common/yaml_reading.h"
+
+namespace odometry_calibration {
+namespace sim {
+namespace {
+
+Pose2 readPose(const YAML::Node& node, const std::string& where, const Pose2& fallback)
+{
+  if (!node)
+    return fallback;
+  checkYamlKeys(node, {"x", "y", "theta"}, where);
+  double x = fallback.x(), y = fallback.y(), theta = fallback.theta();
+  readYaml(node, "x", &x);
+  readYaml(node, "y", &y);
+  readYaml(node, "theta", &theta);
+  return Pose2(x, y, theta);
+}
+
+std::string directoryOf(const std::string& path)
+{
+  const std::size_t slash = path.find_last_of('/');
+  return slash == std::string::npos ? "." : path.substr(0, slash);
+}
+
+}  // namespace
+
+void validate(const Scenario& s)
+{
+  auto require = [](bool ok, const std::string& message) {
+    if (!ok)
+      throw std::invalid_argument(message);
+  };
+  require(s.duration_s > 0.0 && std::isfinite(s.duration_s), "duration_s must be > 0");
+  require(s.start_time_s >= 1.0 && s.start_time_s < 4e9, "start_time_s must be in [1, 4e9) s");
+  require(s.laser.rays >= 2, "laser.rays must be >= 2");
+  require(s.laser.fov_rad > 0.0 && s.laser.fov_rad <= 2.0 * M_PI,
+          "laser.fov_rad must be in (0, 2 pi]");
+  require(s.laser.rate_hz > 0.0, "laser.rate_hz must be > 0");
+  require(s.laser.range_noise_m >= 0.0, "laser.range_noise_m must be >= 0");
+  require(s.laser.min_range_m >= 0.0 && s.laser.max_range_m > s.laser.min_range_m,
+          "laser ranges: need 0 <= min_range_m < max_range_m");
+  require(s.laser.dropout_probability >= 0.0 && s.laser.dropout_probability < 1.0,
+          "laser.dropout_probability must be in [0, 1)");
+  require(!s.laser.frame_id.empty() && !s.laser.topic.empty(), "laser frame_id/topic are empty");
+  require(s.encoders.rate_hz > 0.0, "encoders.rate_hz must be > 0");
+  require(s.encoders.counter_bits >= 0 && s.encoders.counter_bits <= 52,
+          "encoders.counter_bits must be in [0, 52]");
+  require(std::abs(s.encoders.time_offset_s) < 10.0, "encoders.time_offset_s must be within 10 s");
+  require(s.encoders.initial_ticks >= 0.0, "encoders.initial_ticks must be >= 0");
+  require(s.tracker.translation_noise_m >= 0.0 && s.tracker.rotation_noise_rad >= 0.0,
+          "tracker noise must be >= 0");
+  validate(s.motion);
+}
+
+Scenario loadScenarioYaml(const std::string& path, const std::string& worlds_directory)
+{
+  Scenario s;
+  std::string where = path;
+  try {
+    const YAML::Node root = YAML::LoadFile(path);
+    checkYamlKeys(
+        root,
+        {"name", "seed", "duration_s", "start_time_s", "world", "start_pose", "robot", "laser",
+         "encoders", "motion", "tracker", "ground_truth_topic", "ground_truth_frame"},
+        path);
+    readYaml(root, "name", &s.name);
+    readYaml(root, "seed", &s.seed);
+    readYaml(root, "duration_s", &s.duration_s);
+    readYaml(root, "start_time_s", &s.start_time_s);
+    readYaml(root, "ground_truth_topic", &s.ground_truth_topic);
+    readYaml(root, "ground_truth_frame", &s.ground_truth_frame);
+    std::string world = "office";
+    readYaml(root, "world", &world);
+    if (world.size() > 5 && world.substr(world.size() - 5) == ".yaml") {
+      s.world_path = world[0] == '/' ? world : directoryOf(path) + "/" + world;
+    } else {
+      s.world_path = worlds_directory + "/" + world + ".yaml";
+    }
+    s.start_pose = readPose(root["start_pose"], path + ": start_pose", Pose2());
+
+    where = path + ": robot";
+    const YAML::Node robot = root["robot"];
+    if (robot) {
+      if (!robot.IsMap())
+        throw std::runtime_error("expected a map");
+      for (const auto& entry : robot) {
+        const std::string key = entry.first.as<std::string>();
+        if (key == "type") {
+          s.robot.type = entry.second.as<std::string>();
+        } else {
+          s.robot.parameters[key] = entry.second.as<double>();
+        }
+      }
+    }
+
+    where = path + ": laser";
+    const YAML::Node laser = root["laser"];
+    checkYamlKeys(laser,
+                  {"pose", "rays", "fov_rad", "rate_hz", "range_noise_m", "min_range_m",
+                   "max_range_m", "dropout_probability", "frame_id", "topic"},
+                  where);
+    if (laser) {
+      s.laser.T_base_laser = readPose(laser["pose"], where + ".pose", s.laser.T_base_laser);
+    }
+    readYaml(laser, "rays", &s.laser.rays);
+    readYaml(laser, "fov_rad", &s.laser.fov_rad);
+    readYaml(laser, "rate_hz", &s.laser.rate_hz);
+    readYaml(laser, "range_noise_m", &s.laser.range_noise_m);
+    readYaml(laser, "min_range_m", &s.laser.min_range_m);
+    readYaml(laser, "max_range_m", &s.laser.max_range_m);
+    readYaml(laser, "dropout_probability", &s.laser.dropout_probability);
+    readYaml(laser, "frame_id", &s.laser.frame_id);
+    readYaml(laser, "topic", &s.laser.topic);
+
+    where = path + ": encoders";
+    const YAML::Node encoders = root["encoders"];
+    checkYamlKeys(encoders,
+                  {"rate_hz", "topic", "joint_names", "units", "counter_bits", "initial_ticks",
+                   "time_offset_s"},
+                  where);
+    readYaml(encoders, "rate_hz", &s.encoders.rate_hz);
+    readYaml(encoders, "topic", &s.encoders.topic);
+    readYaml(encoders, "joint_names", &s.encoders.joint_names);
+    std::string units = "ticks";
+    readYaml(encoders, "units", &units);
+    if (units != "ticks" && units != "radians") {
+      throw std::runtime_error("units must be 'ticks' or 'radians', got '" + units + "'");
+    }
+    s.encoders.output_ticks = units == "ticks";
+    readYaml(encoders, "counter_bits", &s.encoders.counter_bits);
+    readYaml(encoders, "initial_ticks", &s.encoders.initial_ticks);
+    readYaml(encoders, "time_offset_s", &s.encoders.time_offset_s);
+
+    where = path + ": tracker";
+    const YAML::Node tracker = root["tracker"];
+    checkYamlKeys(tracker,
+                  {"enabled", "translation_noise_m", "rotation_noise_rad", "topic", "frame_id"},
+                  where);
+    readYaml(tracker, "enabled", &s.tracker.enabled);
+    readYaml(tracker, "translation_noise_m", &s.tracker.translation_noise_m);
+    readYaml(tracker, "rotation_noise_rad", &s.tracker.rotation_noise_rad);
+    readYaml(tracker, "topic", &s.tracker.topic);
+    readYaml(tracker, "frame_id", &s.tracker.frame_id);
+
+    where = path + ": motion";
+    const YAML::Node motion = root["motion"];
+    checkYamlKeys(motion,
+                  {"type", "max_speed_mps", "max_turn_rate_radps", "min_segment_s", "max_segment_s",
+                   "clearance_m", "lookahead_s", "max_acceleration_mps2",
+                   "max_angular_acceleration_radps2", "script"},
+                  where);
+    readYaml(motion, "type", &s.motion.type);
+    readYaml(motion, "max_speed_mps", &s.motion.max_speed_mps);
+    readYaml(motion, "max_turn_rate_radps", &s.motion.max_turn_rate_radps);
+    readYaml(motion, "min_segment_s", &s.motion.min_segment_s);
+    readYaml(motion, "max_segment_s", &s.motion.max_segment_s);
+    readYaml(motion, "clearance_m", &s.motion.clearance_m);
+    readYaml(motion, "lookahead_s", &s.motion.lookahead_s);
+    readYaml(motion, "max_acceleration_mps2", &s.motion.max_acceleration_mps2);
+    readYaml(motion, "max_angular_acceleration_radps2", &s.motion.max_angular_acceleration_radps2);
+    if (motion && motion["script"]) {
+      std::size_t index = 0;
+      for (const YAML::Node& step : motion["script"]) {
+        where = path + ": motion.script[" + std::to_string(index++) + "]";
+        checkYamlKeys(step, {"duration_s", "vx_mps", "vy_mps", "omega_radps"}, where);
+        ScriptedMotion scripted;
+        readYaml(step, "duration_s", &scripted.duration_s);
+        readYaml(step, "vx_mps", &scripted.twist.vx_mps);
+        readYaml(step, "vy_mps", &scripted.twist.vy_mps);
+        readYaml(step, "omega_radps", &scripted.twist.omega_radps);
+        s.motion.script.push_back(scripted);
+      }
+    }
+    where = path;
+    validate(s);
+  } catch (const YAML::Exception& error) {
+    throw std::runtime_error(where + ": " + error.what());
+  } catch (const std::runtime_error& error) {
+    const std::string message = error.what();
+    throw std::runtime_error(message.rfind(path, 0) == 0 ? message : where + ": " + message);
+  } catch (const std::invalid_argument& error) {
+    throw std::runtime_error(where + ": " + error.what());
+  }
+  return s;
+}
+
+std::string scenarioTruthYaml(const Scenario& s, const Robot& robot)
+{
+  YAML::Emitter out;
+  out.SetDoublePrecision(12);
+  out << YAML::BeginMap;
+  out << YAML::Key << "name" << YAML::Value << s.name;
+  out << YAML::Key << "seed" << YAML::Value << s.seed;
+  out << YAML::Key << "duration_s" << YAML::Value << s.duration_s;
+  out << YAML::Key << "start_time_s" << YAML::Value << s.start_time_s;
+  out << YAML::Key << "world" << YAML::Value << s.world_path;
+  out << YAML::Key << "robot" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "type" << YAML::Value << s.robot.type;
+  for (const auto& [key, value] : robot.trueParameters()) {
+    out << YAML::Key << key << YAML::Value << value;
+  }
+  out << YAML::EndMap;
+  out << YAML::Key << "joints" << YAML::Value << YAML::BeginSeq;
+  const auto specs = robot.joints();
+  for (std::size_t i = 0; i < specs.size(); ++i) {
+    out << YAML::BeginMap;
+    out << YAML::Key << "name" << YAML::Value
+        << (s.encoders.joint_names.empty() ? specs[i].name : s.encoders.joint_names[i]);
+    out << YAML::Key << "kind" << YAML::Value
+        << (specs[i].kind == EncoderKind::kIncremental ? "incremental" : "absolute");
+    out << YAML::Key << "ticks_per_rev" << YAML::Value << specs[i].ticks_per_rev;
+    out << YAML::EndMap;
+  }
+  out << YAML::EndSeq;
+  const Pose2& T = s.laser.T_base_laser;
+  out << YAML::Key << "T_base_laser" << YAML::Value << YAML::BeginMap << YAML::Key << "x"
+      << YAML::Value << T.x() << YAML::Key << "y" << YAML::Value << T.y() << YAML::Key << "theta"
+      << YAML::Value << T.theta() << YAML::EndMap;
+  out << YAML::Key << "laser" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "rays" << YAML::Value << s.laser.rays;
+  out << YAML::Key << "fov_rad" << YAML::Value << s.laser.fov_rad;
+  out << YAML::Key << "rate_hz" << YAML::Value << s.laser.rate_hz;
+  out << YAML::Key << "range_noise_m" << YAML::Value << s.laser.range_noise_m;
+  out << YAML::Key << "max_range_m" << YAML::Value << s.laser.max_range_m;
+  out << YAML::Key << "dropout_probability" << YAML::Value << s.laser.dropout_probability;
+  out << YAML::Key << "frame_id" << YAML::Value << s.laser.frame_id;
+  out << YAML::Key << "topic" << YAML::Value << s.laser.topic;
+  out << YAML::EndMap;
+  out << YAML::Key << "encoders" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "rate_hz" << YAML::Value << s.encoders.rate_hz;
+  out << YAML::Key << "topic" << YAML::Value << s.encoders.topic;
+  out << YAML::Key << "units" << YAML::Value << (s.encoders.output_ticks ? "ticks" : "radians");
+  out << YAML::Key << "counter_bits" << YAML::Value << s.encoders.counter_bits;
+  out << YAML::Key << "initial_ticks" << YAML::Value << s.encoders.initial_ticks;
+  out << YAML::Key << "time_offset_s" << YAML::Value << s.encoders.time_offset_s;
+  out << YAML::EndMap;
+  out << YAML::Key << "tracker" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "enabled" << YAML::Value << s.tracker.enabled;
+  out << YAML::Key << "translation_noise_m" << YAML::Value << s.tracker.translation_noise_m;
+  out << YAML::Key << "rotation_noise_rad" << YAML::Value << s.tracker.rotation_noise_rad;
+  out << YAML::Key << "topic" << YAML::Value << s.tracker.topic;
+  out << YAML::EndMap;
+  out << YAML::Key << "ground_truth_topic" << YAML::Value << s.ground_truth_topic;
+  out << YAML::Key << "ground_truth_frame" << YAML::Value << s.ground_truth_frame;
+  out << YAML::EndMap;
+  return "# odometry_calibration simulator: true parameters of this run\n" +
+         std::string(out.c_str()) + "\n";
+}
+
+}  // namespace sim
+}  // namespace odometry_calibration

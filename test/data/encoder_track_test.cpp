@@ -1,0 +1,74 @@
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "odometry_calibration/data/encoder_track.h"
+
+namespace odometry_calibration {
+namespace {
+
+EncoderTrack track()
+{
+  return EncoderTrack({{"wheel", EncoderKind::kIncremental, 4294967296.0, 0.0},
+                       {"steering", EncoderKind::kAbsolute, 0.0, 8192.0}},
+                      10.0);
+}
+
+TEST(EncoderTrack, InterpolatesBetweenSamplesAcrossAWrap)
+{
+  EncoderTrack t = track();
+  t.add(1.0, Eigen::Vector2d(4294967000.0, 100));
+  t.add(1.1, Eigen::Vector2d(4294967200.0, 200));
+  t.add(1.2, Eigen::Vector2d(104.0, 8092));  // wrapped: +200 ticks; steering -100
+  EXPECT_NEAR(t.at(1.05).values(0), 100.0, 1e-9);
+  EXPECT_NEAR(t.at(1.15).values(0), 300.0, 1e-6);
+  EXPECT_NEAR(t.at(1.15).values(1), 50.0, 1e-6);  // halfway from 200 to -100
+  const auto window = t.between(1.05, 1.15);
+  ASSERT_EQ(window.size(), 3u);
+  EXPECT_NEAR(window.front().stamp_s, 1.05, 1e-12);
+  EXPECT_NEAR(window[1].values(0), 200.0, 1e-9);
+  EXPECT_NEAR(window.back().values(0), 300.0, 1e-6);
+  EXPECT_THROW(t.at(1.3), std::out_of_range);
+  EXPECT_THROW(t.between(0.9, 1.1), std::out_of_range);
+}
+
+TEST(EncoderTrack, TimeGoingBackwardsRestartsTheTrack)
+{
+  EncoderTrack t = track();
+  t.add(5.0, Eigen::Vector2d(1000, 0));
+  t.add(5.1, Eigen::Vector2d(1100, 0));
+  EXPECT_EQ(t.add(5.1, Eigen::Vector2d(1100, 0)), EncoderTrack::AddResult::kDuplicate);
+  EXPECT_EQ(t.add(1.0, Eigen::Vector2d(1000, 0)), EncoderTrack::AddResult::kRestarted);
+  EXPECT_EQ(t.firstStamp(), 1.0);
+  EXPECT_EQ(t.at(1.0).values(0), 0.0);  // counts start again
+  t.add(1.1, Eigen::Vector2d(1050, 0));
+  EXPECT_EQ(t.at(1.1).values(0), 50.0);
+}
+
+TEST(EncoderTrack, GapsAndHistory)
+{
+  EncoderTrack t = track();
+  t.add(0.0, Eigen::Vector2d(0, 0));
+  t.add(0.1, Eigen::Vector2d(10, 0));
+  t.add(2.0, Eigen::Vector2d(200, 0));  // a silent encoder for 1.9 s
+  EXPECT_TRUE(t.covers(0.05, 0.5));
+  EXPECT_FALSE(t.covers(1.0, 0.5));
+  EXPECT_NEAR(t.largestGap(0.0, 2.0), 1.9, 1e-12);
+  for (int k = 1; k <= 200; ++k)
+    t.add(2.0 + 0.1 * k, Eigen::Vector2d(200 + k, 0));
+  EXPECT_GE(t.firstStamp(), 22.0 - 10.0 - 0.1 - 1e-9);  // older than 10 s dropped
+}
+
+TEST(EncoderTrack, BadReadingsLeaveTheTrackUnchanged)
+{
+  EncoderTrack t = track();
+  t.add(0.0, Eigen::Vector2d(0, 0));
+  EXPECT_THROW(t.add(0.1, Eigen::Vector3d(1, 2, 3)), std::invalid_argument);
+  EXPECT_THROW(t.add(0.1, Eigen::Vector2d(std::nan(""), 0)), std::invalid_argument);
+  EXPECT_EQ(t.lastStamp(), 0.0);
+  t.add(0.1, Eigen::Vector2d(7, 0));
+  EXPECT_EQ(t.at(0.1).values(0), 7.0);
+}
+
+}  // namespace
+}  // namespace odometry_calibration

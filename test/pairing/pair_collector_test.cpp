@@ -1,0 +1,338 @@
+#include <chrono>
+#include <cmath>
+#include <random>
+#include <thread>
+
+#include <gtest/gtest.h>
+
+#include "odometry_calibration/models/diff_drive_kinematics.h"
+#include "odometry_calibration/pairing/pair_collector.h"
+#include "odometry_calibration/sim/robot.h"
+#include "odometry_calibration/sim/simulator.h"
+
+namespace odometry_calibration {
+namespace {
+
+std::vector<EncoderChannelOptions> wheels()
+{
+  return {{"left_wheel", EncoderKind::kIncremental, 4294967296.0, 0.0},
+          {"right_wheel", EncoderKind::kIncremental, 4294967296.0, 0.0}};
+}
+
+Scan toScan(const sim::ScanSample& s)
+{
+  Scan scan;
+  scan.angle_min_rad = s.angle_min_rad;
+  scan.angle_increment_rad = s.angle_increment_rad;
+  scan.range_min_m = s.range_min_m;
+  scan.range_max_m = s.range_max_m;
+  scan.ranges_m.assign(s.ranges.begin(), s.ranges.end());
+  return scan;
+}
+
+/// Feeds a simulated run to a collector in time order, as the node and the bag tool do.
+struct Feeder : sim::SimulationSink
+{
+  PairCollector* collector;
+  bool use_tracker = false;
+  std::vector<MotionPair> pairs;
+  std::vector<double> truth_stamps;
+  std::vector<Pose2> truth;
+  void onJointState(const sim::JointStateSample& s) override
+  {
+    take(collector->addEncoders(s.stamp_s,
+                                Eigen::Map<const Eigen::VectorXd>(s.positions.data(), 2)));
+  }
+  void onScan(const sim::ScanSample& s) override
+  {
+    if (!use_tracker)
+      take(collector->addScan(s.stamp_s, toScan(s)));
+  }
+  void onTruth(const sim::TruthSample& s) override
+  {
+    truth_stamps.push_back(s.stamp_s);
+    truth.push_back(s.T_world_base);
+  }
+  void onTracker(const sim::TrackerSample& s) override
+  {
+    if (use_tracker) {
+      take(collector->addSensorPose(s.stamp_s, s.T_world_sensor,
+                                    Eigen::Vector3d(1e-5, 1e-5, 1e-6).asDiagonal()));
+    }
+  }
+  void take(const std::vector<CollectorEvent>& events)
+  {
+    for (const CollectorEvent& event : events) {
+      if (event.type == CollectorEvent::Type::kPair)
+        pairs.push_back(event.pair);
+    }
+  }
+  Pose2 truthAt(double t) const
+  {
+    for (std::size_t k = 0; k < truth_stamps.size(); ++k) {
+      if (std::abs(truth_stamps[k] - t) < 1e-9)
+        return truth[k];
+    }
+    ADD_FAILURE() << "no truth at " << t;
+    return Pose2();
+  }
+};
+
+sim::Scenario scenario(double duration_s)
+{
+  sim::Scenario s;
+  s.duration_s = duration_s;
+  s.laser.rays = 682;
+  s.laser.fov_rad = 4.18879;
+  s.laser.T_base_laser = Pose2(0.15, 0.0, 0.0);
+  s.encoders.rate_hz = 50.0;
+  s.motion.max_speed_mps = 0.4;
+  s.motion.max_turn_rate_radps = 0.8;
+  return s;
+}
+
+const char* kRoom =
+    "polygons: [[[-5, -4], [5, -4], [5, 4], [-5, 4]]]\n"
+    "boxes: [{center: [2.5, 2.0], size: [1.0, 0.6]}, {center: [-3, -2.5], size: [0.8, 0.8]}]\n"
+    "circles: [{center: [-2.0, 2.2], radius: 0.3}]\n";
+
+TEST(PairCollector, ScanPairsMatchTheTrueSensorMotion)
+{
+  const sim::Scenario s = scenario(30.0);
+  const sim::World world = sim::parseWorldYaml(kRoom, "room");
+  const auto robot = sim::makeRobot(s.robot);
+  CollectorOptions options;
+  options.keyframe_interval_s = 0.5;
+  // The nominal model as the matcher's initial guess.
+  const DiffDriveEncoderLayout layout;
+  MotionPredictor predictor = [layout](const std::vector<EncoderSample>& samples) {
+    const double intrinsic[3] = {0.077, 0.077, 0.33};
+    return sensorMotionFromBodyMotion(Pose2(0.15, 0, 0),
+                                      integrateDiffDriveMotion(intrinsic, layout, samples));
+  };
+  PairCollector collector(wheels(), options, predictor);
+  Feeder feeder;
+  feeder.collector = &collector;
+  sim::simulate(s, world, *robot, feeder);
+
+  ASSERT_GT(feeder.pairs.size(), 40u);
+  int off = 0;
+  for (const MotionPair& pair : feeder.pairs) {
+    EXPECT_NEAR(pair.end_stamp_s - pair.start_stamp_s, 0.5, 1e-6);
+    const Pose2 truth = between(feeder.truthAt(pair.start_stamp_s) * s.laser.T_base_laser,
+                                feeder.truthAt(pair.end_stamp_s) * s.laser.T_base_laser);
+    const Pose2 error = between(truth, pair.sensor_motion);
+    off += std::hypot(error.x(), error.y()) > 0.01 || std::abs(error.theta()) > 0.005;
+    // The encoder window spans the interval exactly.
+    EXPECT_NEAR(pair.encoder_samples.front().stamp_s, pair.start_stamp_s, 1e-9);
+    EXPECT_NEAR(pair.encoder_samples.back().stamp_s, pair.end_stamp_s, 1e-9);
+    EXPECT_GT(pair.covariance(0, 0), 0.0);
+  }
+  EXPECT_LE(off, 1) << "pairs more than 1 cm / 0.3 deg off the truth";
+  const CollectorStatistics& stats = collector.statistics();
+  EXPECT_EQ(stats.pairs, feeder.pairs.size());
+  EXPECT_EQ(stats.scans, 301u);
+}
+
+TEST(PairCollector, SensorPoseSourceAndTimeOffset)
+{
+  sim::Scenario s = scenario(20.0);
+  s.tracker.enabled = true;
+  s.tracker.translation_noise_m = 0.0;
+  s.tracker.rotation_noise_rad = 0.0;
+  s.encoders.time_offset_s = -0.15;  // encoder stamps early by 0.15 s
+  const sim::World world = sim::parseWorldYaml(kRoom, "room");
+  const auto robot = sim::makeRobot(s.robot);
+  CollectorOptions options;
+  options.time_offset_s = -0.15;  // ... which the collector undoes
+  PairCollector collector(wheels(), options);
+  Feeder feeder;
+  feeder.collector = &collector;
+  feeder.use_tracker = true;
+  sim::simulate(s, world, *robot, feeder);
+  ASSERT_GT(feeder.pairs.size(), 30u);
+  // With the offset undone, the encoder increments of a pair are those of its true interval:
+  // the ideal kinematics reproduce the measured (noise-free) motion to tick quantisation.
+  const double intrinsic[3] = {0.077, 0.077, 0.33};
+  double worst = 0.0;
+  for (const MotionPair& pair : feeder.pairs) {
+    const Pose2 predicted = sensorMotionFromBodyMotion(
+        s.laser.T_base_laser,
+        integrateDiffDriveMotion(intrinsic, DiffDriveEncoderLayout(), pair.encoder_samples));
+    const Pose2 error = between(pair.sensor_motion, predicted);
+    worst = std::max(worst, std::hypot(error.x(), error.y()));
+  }
+  EXPECT_LT(worst, 0.003);
+}
+
+TEST(PairCollector, RestartsWhenTimeGoesBackwardsAndRejectsEncoderGaps)
+{
+  PairCollector collector(wheels(), CollectorOptions());
+  const Eigen::Matrix3d covariance = Eigen::Matrix3d::Identity() * 1e-4;
+  for (int k = 0; k <= 50; ++k)
+    collector.addEncoders(0.02 * k, Eigen::Vector2d(10 * k, 10 * k));
+  auto only = [](const std::vector<CollectorEvent>& events) {
+    EXPECT_EQ(events.size(), 1u);
+    return events.empty() ? CollectorEvent() : events.front();
+  };
+  EXPECT_EQ(only(collector.addSensorPose(0.0, Pose2(), covariance)).type,
+            CollectorEvent::Type::kKeyframe);
+  EXPECT_EQ(only(collector.addSensorPose(0.5, Pose2(0.1, 0, 0), covariance)).type,
+            CollectorEvent::Type::kPair);
+  // A pose ahead of the encoders waits for them (equal stamps come in either order).
+  EXPECT_TRUE(collector.addSensorPose(1.4, Pose2(0.2, 0, 0), covariance).empty());
+  // The encoders were silent for 0.4 s: no pair over that interval.
+  const CollectorEvent gap = only(collector.addEncoders(1.4, Eigen::Vector2d(700, 700)));
+  EXPECT_EQ(gap.type, CollectorEvent::Type::kRejected);
+  EXPECT_NE(gap.reason.find("encoder"), std::string::npos) << gap.reason;
+  // A looping bag: time jumps back.
+  const CollectorEvent back = only(collector.addSensorPose(0.1, Pose2(), covariance));
+  EXPECT_EQ(back.type, CollectorEvent::Type::kRestarted);
+  EXPECT_EQ(collector.statistics().restarts, 1u);
+  EXPECT_EQ(collector.statistics().pairs, 1u);
+}
+
+/// Feeds one simulated run to two collectors: one matching in the background (its predictor
+/// sleeps at random to shuffle the threads' timing), one matching in the calling thread; every
+/// 13th scan is blanked so that matches fail. Compares what every call returned.
+struct TwinFeeder : sim::SimulationSink
+{
+  PairCollector* background;
+  PairCollector* inline_matching;
+  std::size_t calls = 0, scans = 0, pairs = 0;
+  void compare(const std::vector<CollectorEvent>& a, const std::vector<CollectorEvent>& b)
+  {
+    ++calls;
+    ASSERT_EQ(a.size(), b.size()) << "call " << calls;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      EXPECT_EQ(a[i].type, b[i].type) << "call " << calls;
+      EXPECT_EQ(a[i].reason, b[i].reason) << "call " << calls;
+      EXPECT_EQ(a[i].pair.start_stamp_s, b[i].pair.start_stamp_s);
+      EXPECT_EQ(a[i].pair.sensor_motion.vector(), b[i].pair.sensor_motion.vector());
+      EXPECT_EQ(a[i].pair.covariance, b[i].pair.covariance);
+      EXPECT_EQ(a[i].pair.encoder_samples.size(), b[i].pair.encoder_samples.size());
+      pairs += a[i].type == CollectorEvent::Type::kPair;
+    }
+    if (calls % 37 == 0)  // mid-run statistics count the matches submitted so far
+      compareStatistics();
+  }
+  void compareStatistics()
+  {
+    const CollectorStatistics& a = background->statistics();
+    const CollectorStatistics& b = inline_matching->statistics();
+    EXPECT_EQ(a.consecutive_matches, b.consecutive_matches) << "call " << calls;
+    EXPECT_EQ(a.consecutive_failures, b.consecutive_failures) << "call " << calls;
+    EXPECT_EQ(a.unverified_pairs, b.unverified_pairs);
+    EXPECT_EQ(a.keyframes, b.keyframes);
+    EXPECT_EQ(a.pairs, b.pairs);
+    EXPECT_EQ(a.rejected, b.rejected);
+  }
+  void onJointState(const sim::JointStateSample& s) override
+  {
+    const Eigen::Vector2d raw(s.positions[0], s.positions[1]);
+    compare(background->addEncoders(s.stamp_s, raw), inline_matching->addEncoders(s.stamp_s, raw));
+  }
+  void onScan(const sim::ScanSample& s) override
+  {
+    Scan scan = toScan(s);
+    if (++scans % 13 == 0)
+      scan.ranges_m.assign(scan.ranges_m.size(), 0.0);  // nothing usable: matches fail
+    compare(background->addScan(s.stamp_s, scan), inline_matching->addScan(s.stamp_s, scan));
+  }
+  void onTruth(const sim::TruthSample&) override {}
+  void onTracker(const sim::TrackerSample&) override {}
+};
+
+TEST(PairCollector, ResultsDoNotDependOnThreadTiming)
+{
+  const sim::Scenario s = scenario(40.0);
+  const sim::World world = sim::parseWorldYaml(kRoom, "room");
+  const auto robot = sim::makeRobot(s.robot);
+  const DiffDriveEncoderLayout layout;
+  auto nominal = [layout](const std::vector<EncoderSample>& samples) {
+    const double intrinsic[3] = {0.077, 0.077, 0.33};
+    return sensorMotionFromBodyMotion(Pose2(0.15, 0, 0),
+                                      integrateDiffDriveMotion(intrinsic, layout, samples));
+  };
+  std::mt19937 random(5);
+  MotionPredictor jittery = [&](const std::vector<EncoderSample>& samples) {
+    std::this_thread::sleep_for(std::chrono::microseconds(random() % 700));
+    return nominal(samples);
+  };
+  CollectorOptions options;
+  PairCollector background(wheels(), options, jittery);
+  options.background_matching = false;
+  PairCollector inline_matching(wheels(), options, nominal);
+  TwinFeeder feeder;
+  feeder.background = &background;
+  feeder.inline_matching = &inline_matching;
+  sim::simulate(s, world, *robot, feeder);
+  feeder.compare(background.flush(), inline_matching.flush());
+  feeder.compareStatistics();
+  // The blanked scans exercised the failure paths.
+  const CollectorStatistics& stats = background.statistics();
+  EXPECT_GT(feeder.pairs, 40u);
+  EXPECT_GE(stats.consecutive_failures, 20u);
+  EXPECT_GT(stats.unverified_pairs, 0u);
+  EXPECT_FALSE(stats.rejected.empty());
+  // A one-threaded run skips the matches after a failure until the next keyframe.
+  EXPECT_LT(stats.consecutive_matches, stats.scans - 1);
+}
+
+TEST(PairCollector, MinimumMotionExtendsIntervalsAndDropsStandingStill)
+{
+  CollectorOptions options;
+  options.min_translation_m = 0.05;
+  options.min_rotation_rad = 0.05;
+  // 1000 ticks per metre, straight ahead.
+  MotionPredictor predictor = [](const std::vector<EncoderSample>& samples) {
+    return Pose2((samples.back().values(0) - samples.front().values(0)) / 1000.0, 0.0, 0.0);
+  };
+  PairCollector collector(wheels(), options, predictor);
+  // Driving for 1 s, standing for 3 s, driving again until 5 s (10 ticks per 20 ms).
+  double ticks = 0.0;
+  std::vector<std::pair<double, double>> pairs;
+  std::vector<std::string> rejected;
+  auto take = [&](const std::vector<CollectorEvent>& events) {
+    for (const CollectorEvent& event : events) {
+      if (event.type == CollectorEvent::Type::kPair)
+        pairs.emplace_back(event.pair.start_stamp_s, event.pair.end_stamp_s);
+      if (event.type == CollectorEvent::Type::kRejected)
+        rejected.push_back(event.reason);
+    }
+  };
+  const Eigen::Matrix3d covariance = Eigen::Matrix3d::Identity() * 1e-4;
+  for (int k = 0; k <= 250; ++k) {
+    const double t = 0.02 * k;
+    if (k > 0 && (t <= 1.0 + 1e-9 || t > 4.0 + 1e-9))
+      ticks += 10.0;
+    take(collector.addEncoders(t, Eigen::Vector2d(ticks, ticks)));
+    if (k % 5 == 0)
+      take(collector.addSensorPose(t, Pose2(ticks / 1000.0, 0, 0), covariance));
+  }
+  take(collector.flush());
+  const std::vector<std::pair<double, double>> expected = {
+      {0.0, 0.5}, {0.5, 1.0}, {3.0, 4.1}, {4.1, 4.6}};  // 4.1: 5 cm since driving on
+  ASSERT_EQ(pairs.size(), expected.size());
+  for (std::size_t i = 0; i < expected.size(); ++i) {
+    EXPECT_NEAR(pairs[i].first, expected[i].first, 1e-9) << i;
+    EXPECT_NEAR(pairs[i].second, expected[i].second, 1e-9) << i;
+  }
+  ASSERT_EQ(rejected.size(), 1u);
+  EXPECT_NE(rejected[0].find("too little motion"), std::string::npos) << rejected[0];
+}
+
+TEST(PairCollector, InvalidOptionsAreNamed)
+{
+  CollectorOptions options;
+  options.keyframe_interval_s = 0.0;
+  try {
+    PairCollector collector(wheels(), options);
+    FAIL();
+  } catch (const std::invalid_argument& error) {
+    EXPECT_NE(std::string(error.what()).find("keyframe_interval_s"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace odometry_calibration

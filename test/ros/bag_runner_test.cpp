@@ -1,0 +1,160 @@
+#include <filesystem>
+#include <fstream>
+
+#include <gtest/gtest.h>
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
+#include <sensor_msgs/JointState.h>
+
+#include "odometry_calibration/calibration/time_offset.h"
+#include "odometry_calibration/models/model_factory.h"
+#include "odometry_calibration/ros/bag_runner.h"
+#include "odometry_calibration/ros/sim_bag_writer.h"
+
+namespace odometry_calibration {
+namespace {
+
+const std::string kConfig = ODOMETRY_CALIBRATION_CONFIG_DIR;
+
+class BagRunner : public ::testing::Test
+{
+protected:
+  void SetUp() override
+  {
+    char pattern[] = "/tmp/bag_runner_test.XXXXXX";
+    directory_ = mkdtemp(pattern);
+    scenario_ = sim::loadScenarioYaml(kConfig + "/sim/scenarios/diff_drive_office.yaml",
+                                      kConfig + "/sim/worlds");
+    scenario_.duration_s = 40.0;
+    bag_ = directory_ + "/office.bag";
+    simulateToBag(scenario_, bag_, "");
+    config_ = loadCalibrationConfig(kConfig + "/diff_drive.yaml");
+  }
+  void TearDown() override { std::filesystem::remove_all(directory_); }
+
+  std::string directory_, bag_;
+  sim::Scenario scenario_;
+  CalibrationConfig config_;
+};
+
+TEST_F(BagRunner, CalibratesASimulatedBagToItsTruth)
+{
+  const BagRunResult run = runBags({bag_}, config_);
+  EXPECT_EQ(run.joint_state_messages, 2001u);
+  EXPECT_EQ(run.ego_motion_messages, 401u);
+  EXPECT_GT(run.pairs.size(), 70u);
+  EXPECT_EQ(run.bad_joint_states, 0u);
+  auto model = makeModel("diff_drive", config_.models);
+  const ModelReport report = model->fit(run.pairs);
+  ASSERT_TRUE(report.converged);
+  // scenario truth: r_L 0.0765, r_R 0.0775, b 0.32, laser (0.145, 0.01, 0.02)
+  EXPECT_NEAR(report.parameters[0].value, 0.0765, 0.0765 * 0.005);
+  EXPECT_NEAR(report.parameters[1].value, 0.0775, 0.0775 * 0.005);
+  EXPECT_NEAR(report.parameters[2].value, 0.32, 0.32 * 0.005);
+  EXPECT_NEAR(report.T_base_sensor.x(), 0.145, 0.005);
+  EXPECT_NEAR(report.T_base_sensor.y(), 0.01, 0.005);
+  EXPECT_NEAR(report.T_base_sensor.theta(), 0.02, 0.0087);
+}
+
+TEST_F(BagRunner, EstimatesTheEncoderLaserTimeOffset)
+{
+  // The encoders stamped 0.15 s early (they run ahead of the laser), as on the Mines log.
+  scenario_.encoders.time_offset_s = -0.15;
+  scenario_.motion.max_speed_mps = 0.6;
+  scenario_.motion.max_turn_rate_radps = 1.2;
+  const std::string bag = directory_ + "/offset.bag";
+  simulateToBag(scenario_, bag, "");
+  const BagRunResult run = runBags({bag}, config_);
+  ASSERT_GT(run.encoder_history.size(), 1000u);
+  const TimeOffsetResult offset = estimateTimeOffset(
+      run.pairs, run.encoder_history, [&]() { return makeModel("diff_drive", config_.models); },
+      TimeOffsetOptions());
+  EXPECT_NEAR(offset.offset_s, -0.15, 0.015);
+  EXPECT_FALSE(offset.at_boundary);
+  EXPECT_GT(offset.sigma_s, 0.0);
+  EXPECT_LT(offset.sigma_s, 0.02);
+  // The cost is far worse at zero offset than at the estimate.
+  double at_zero = 0.0, at_best = 1e300;
+  for (const auto& [tau, cost] : offset.curve) {
+    if (std::abs(tau) < 1e-9)
+      at_zero = cost;
+    at_best = std::min(at_best, cost);
+  }
+  EXPECT_GT(at_zero, 5.0 * at_best);
+}
+
+TEST_F(BagRunner, SameBagSamePairs)
+{
+  const BagRunResult a = runBags({bag_}, config_);
+  const BagRunResult b = runBags({bag_}, config_);
+  ASSERT_EQ(a.pairs.size(), b.pairs.size());
+  for (std::size_t i = 0; i < a.pairs.size(); ++i) {
+    EXPECT_EQ(a.pairs[i].sensor_motion.vector(), b.pairs[i].sensor_motion.vector());
+  }
+  // A time window: only the first 20 s.
+  const BagRunResult half = runBags({bag_}, config_, 0.0, 20.0);
+  EXPECT_NEAR(static_cast<double>(half.pairs.size()), a.pairs.size() / 2.0, 3.0);
+}
+
+TEST_F(BagRunner, BadInputGivesClearErrors)
+{
+  auto message = [&](const std::vector<std::string>& bags, const CalibrationConfig& config) {
+    try {
+      runBags(bags, config);
+    } catch (const std::runtime_error& error) {
+      return std::string(error.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(message({directory_ + "/missing.bag"}, config_).find("no bag file"), std::string::npos);
+  // A time window beyond the bag's end.
+  try {
+    runBags({bag_}, config_, 1000.0, 0.0);
+    ADD_FAILURE() << "an empty window was accepted";
+  } catch (const std::runtime_error& error) {
+    EXPECT_NE(std::string(error.what()).find("is empty"), std::string::npos) << error.what();
+  }
+  // A truncated bag (cut in the middle, index lost).
+  const std::string truncated = directory_ + "/truncated.bag";
+  {
+    std::ifstream in(bag_, std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), {});
+    std::ofstream(truncated, std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+  }
+  EXPECT_NE(message({truncated}, config_).find("reindex"), std::string::npos);
+  // A topic that is not in the bag.
+  CalibrationConfig other = config_;
+  other.scan_topic = "/front_scan";
+  EXPECT_NE(message({bag_}, other).find("/front_scan"), std::string::npos);
+  // JointState without the configured joints.
+  CalibrationConfig renamed = config_;
+  renamed.joints[1].name = "rear_wheel";
+  EXPECT_NE(message({bag_}, renamed).find("rear_wheel"), std::string::npos);
+}
+
+TEST_F(BagRunner, MismatchedJointStatesAreSkippedAndCounted)
+{
+  const std::string bag_path = directory_ + "/broken.bag";
+  {
+    rosbag::Bag in(bag_, rosbag::bagmode::Read);
+    rosbag::Bag out(bag_path, rosbag::bagmode::Write);
+    int count = 0;
+    for (const rosbag::MessageInstance& m : rosbag::View(in)) {
+      auto joints = m.instantiate<sensor_msgs::JointState>();
+      if (joints && ++count % 10 == 0) {
+        joints->position.pop_back();  // names and positions of different lengths
+        out.write(m.getTopic(), m.getTime(), *joints);
+      } else {
+        out.write(m.getTopic(), m.getTime(), m);
+      }
+    }
+  }
+  const BagRunResult run = runBags({bag_path}, config_);
+  EXPECT_EQ(run.bad_joint_states, 200u);
+  EXPECT_NE(run.first_bad_joint_state.find("2 names but 1 positions"), std::string::npos)
+      << run.first_bad_joint_state;
+  EXPECT_GT(run.pairs.size(), 60u);
+}
+
+}  // namespace
+}  // namespace odometry_calibration

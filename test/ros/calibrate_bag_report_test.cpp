@@ -1,0 +1,207 @@
+// End-to-end: calibrate_bag on a small simulated bag writes the Markdown report with its plots
+// (valid PNG images of the trajectories, the residual histograms and the time-offset curve),
+// still writes the report when gnuplot is missing, and writes nothing on bad input.
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
+
+#include "odometry_calibration/report/report_plots.h"
+#include "odometry_calibration/ros/sim_bag_writer.h"
+#include "odometry_calibration/sim/scenario.h"
+
+namespace odometry_calibration {
+namespace {
+
+namespace fs = std::filesystem;
+const std::string kConfig = ODOMETRY_CALIBRATION_CONFIG_DIR;
+const std::string kTool = CALIBRATE_BAG_PROGRAM;
+
+std::string readFile(const std::string& path)
+{
+  std::ifstream in(path, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), {});
+}
+
+/// Width and height from a PNG's IHDR chunk.
+std::pair<unsigned, unsigned> pngSize(const std::string& path)
+{
+  const std::string bytes = readFile(path);
+  auto be32 = [&](std::size_t at) {
+    return (unsigned(static_cast<unsigned char>(bytes[at])) << 24) |
+           (unsigned(static_cast<unsigned char>(bytes[at + 1])) << 16) |
+           (unsigned(static_cast<unsigned char>(bytes[at + 2])) << 8) |
+           unsigned(static_cast<unsigned char>(bytes[at + 3]));
+  };
+  return bytes.size() > 24 ? std::make_pair(be32(16), be32(20)) : std::make_pair(0u, 0u);
+}
+
+std::size_t count(const std::string& text, const std::string& what)
+{
+  std::size_t n = 0;
+  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1))
+    ++n;
+  return n;
+}
+
+class CalibrateBagReport : public ::testing::Test
+{
+protected:
+  static void SetUpTestSuite()
+  {
+    char pattern[] = "/tmp/calibrate_bag_report_test.XXXXXX";
+    directory_ = mkdtemp(pattern);
+    sim::Scenario scenario = sim::loadScenarioYaml(
+        kConfig + "/sim/scenarios/diff_drive_deformed.yaml", kConfig + "/sim/worlds");
+    scenario.duration_s = 60.0;
+    bag_ = directory_ + "/deformed.bag";
+    simulateToBag(scenario, bag_, "");
+  }
+  static void TearDownTestSuite() { fs::remove_all(directory_); }
+
+  /// Runs calibrate_bag with the demo config (time offset estimated); returns its exit status.
+  /// A relative output_dir is taken from directory_.
+  int run(const std::string& output_dir, const std::string& extra = "")
+  {
+    const std::string command = "cd " + directory_ + " && " + kTool + " --config " + kConfig +
+                                "/diff_drive_demo.yaml " + bag_ + " --quiet --output-dir " +
+                                output_dir + " " + extra + " > " + directory_ + "/stdout.txt 2> " +
+                                directory_ + "/stderr.txt";
+    const int status = std::system(command.c_str());
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  }
+  std::string output(const char* which) { return readFile(directory_ + "/" + which + ".txt"); }
+
+  static std::string directory_, bag_;
+};
+std::string CalibrateBagReport::directory_, CalibrateBagReport::bag_;
+
+TEST_F(CalibrateBagReport, WritesTheMarkdownReportWithPlots)
+{
+  // A relative output folder, as scripts/demo gives.
+  ASSERT_EQ(run("results/with_plots"), 0) << output("stdout") << output("stderr");
+  EXPECT_NE(output("stdout").find("report: results/with_plots/report.md"), std::string::npos);
+  EXPECT_EQ(output("stderr"), "");
+  const std::string out = directory_ + "/results/with_plots";
+  const std::string report = readFile(out + "/report.md");
+  ASSERT_FALSE(report.empty());
+
+  // The parameter table holds every fitted parameter with the estimate and sigma of
+  // result.yaml.
+  const YAML::Node result = YAML::LoadFile(out + "/result.yaml");
+  ASSERT_EQ(result["parameters"].size(), 6u);
+  for (const auto& parameter : result["parameters"]) {
+    const std::string name = parameter.first.as<std::string>();
+    const std::size_t at = report.find("| " + name + " | ");
+    ASSERT_NE(at, std::string::npos) << name;
+    const std::string line = report.substr(at, report.find('\n', at) - at);
+    char estimate[32], sigma[32];
+    std::snprintf(estimate, sizeof(estimate), "%.7g", parameter.second["value"].as<double>());
+    std::snprintf(sigma, sizeof(sigma), "%.3g", parameter.second["sigma"].as<double>());
+    EXPECT_NE(line.find(std::string(" ") + estimate + " | " + sigma + " | "), std::string::npos)
+        << line;
+  }
+  // The time offset (truth -0.15 s) with its sigma, the verdict, the sections.
+  char tau[32];
+  std::snprintf(tau, sizeof(tau), "Estimated τ = %.4f s ± ", result["time_offset_s"].as<double>());
+  EXPECT_NE(report.find(tau), std::string::npos) << report;
+  EXPECT_NEAR(result["time_offset_s"].as<double>(), -0.15, 0.02);
+  EXPECT_NE(report.find("the encoders run ahead of the laser"), std::string::npos);
+  for (const char* section :
+       {"## Parameters", "## Observability", "## Time offset",
+        "## Per-pair errors before and after", "## Trajectories", "## Pair collection"}) {
+    EXPECT_EQ(count(report, std::string(section) + "\n"), 1u) << section;
+  }
+  EXPECT_EQ(report.find("Some plots are missing"), std::string::npos);
+  // Table rows keep their columns: the solver's message ("|cost_change|/cost") is escaped.
+  const std::size_t fit_row = report.find("\n| fit | ");
+  ASSERT_NE(fit_row, std::string::npos);
+  const std::string fit = report.substr(fit_row + 1, report.find('\n', fit_row + 1) - fit_row - 1);
+  std::size_t separators = 0;
+  for (std::size_t i = 0; i < fit.size(); ++i)
+    separators += fit[i] == '|' && (i == 0 || fit[i - 1] != '\\');
+  EXPECT_EQ(separators, 3u) << fit;
+  // The error table: calibration beats the nominal model by far (the robot is deformed).
+  auto median_after = [&](const std::string& row) {
+    const std::size_t at = report.find(row);
+    return at == std::string::npos ? -1.0 : std::atof(report.c_str() + at + row.size());
+  };
+  const double before = median_after("| nominal (before) | ");
+  const double after = median_after("| calibrated `diff_drive` (after) | ");
+  EXPECT_GT(after, 0.0);
+  EXPECT_LT(after, 0.5 * before);
+
+  // Three images referenced, present, valid PNG of the scripted sizes.
+  for (const auto& [image, width] : {std::make_pair(std::string(kTrajectoryPlot), 900u),
+                                     std::make_pair(std::string(kResidualPlot), 1100u),
+                                     std::make_pair(std::string(kTimeOffsetPlot), 900u)}) {
+    EXPECT_EQ(count(report, "](plots/" + image + ")"), 1u) << image;
+    const std::string path = out + "/plots/" + image;
+    EXPECT_TRUE(isPngFile(path)) << path;
+    EXPECT_GT(fs::file_size(path), 5000u) << path;
+    EXPECT_EQ(pngSize(path).first, width) << path;
+  }
+  // The plotted data: one trajectory row per keyframe, the histogram counts every pair.
+  const std::string trajectories = readFile(out + "/plots/trajectories.dat");
+  const std::size_t pairs = count(readFile(out + "/pairs.csv"), "\n") - 3;  // header lines
+  EXPECT_GT(pairs, 100u);
+  EXPECT_EQ(count(trajectories, "\n"), pairs + 2);  // comment + first keyframe + one per pair
+  std::istringstream histogram(readFile(out + "/plots/residuals.dat"));
+  std::size_t calibrated = 0;
+  for (std::string line; std::getline(histogram, line) && !line.empty();) {
+    if (line[0] == '#')
+      continue;
+    double centre, nominal_count, calibrated_count;
+    std::istringstream(line) >> centre >> nominal_count >> calibrated_count;
+    calibrated += static_cast<std::size_t>(calibrated_count);
+  }
+  EXPECT_LE(calibrated, pairs);
+  EXPECT_GE(calibrated, pairs * 95 / 100);  // 98 % of all errors on the axis
+  // Nothing temporary left behind.
+  for (const auto& entry : fs::directory_iterator(out))
+    EXPECT_EQ(entry.path().filename().string().find(".plots.tmp"), std::string::npos);
+}
+
+TEST_F(CalibrateBagReport, WithoutGnuplotTheReportSaysWhatIsMissing)
+{
+  const std::string out = directory_ + "/without_gnuplot";
+  ASSERT_EQ(run(out, "--gnuplot /nonexistent/gnuplot"), 0) << output("stderr");
+  EXPECT_NE(output("stderr").find("gnuplot-nox"), std::string::npos) << output("stderr");
+  const std::string report = readFile(out + "/report.md");
+  EXPECT_NE(report.find("Some plots are missing: the plotting program '/nonexistent/gnuplot' was "
+                        "not found (install the Debian package gnuplot-nox"),
+            std::string::npos)
+      << report;
+  EXPECT_NE(report.find("| sensor_x | "), std::string::npos);
+  EXPECT_EQ(report.find("](plots/"), std::string::npos);  // no broken image links
+  EXPECT_FALSE(fs::exists(out + "/plots/" + kTrajectoryPlot));
+  EXPECT_GT(fs::file_size(out + "/plots/trajectories.gp"), 100u);  // to draw them later
+  EXPECT_TRUE(fs::exists(out + "/result.yaml"));
+  EXPECT_TRUE(fs::exists(out + "/pairs.csv"));
+
+  // Run again with gnuplot into the same folder: the plot folder is replaced as a whole.
+  ASSERT_EQ(run(out), 0) << output("stderr");
+  EXPECT_TRUE(isPngFile(out + "/plots/" + kTrajectoryPlot));
+  EXPECT_EQ(readFile(out + "/report.md").find("Some plots are missing"), std::string::npos);
+  std::size_t folders = 0;
+  for (const auto& entry : fs::directory_iterator(out))
+    folders += entry.is_directory() ? 1 : 0;
+  EXPECT_EQ(folders, 1u);
+}
+
+TEST_F(CalibrateBagReport, BadInputWritesNothing)
+{
+  const std::string out = directory_ + "/bad_input";
+  EXPECT_EQ(run(out, directory_ + "/missing.bag"), 1);
+  EXPECT_NE(output("stderr").find("missing.bag"), std::string::npos);
+  EXPECT_FALSE(fs::exists(out));
+}
+
+}  // namespace
+}  // namespace odometry_calibration

@@ -1,0 +1,298 @@
+// Scan -> points (invalid readings), local line fits, and the two nearest-point searches.
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "odometry_calibration/scan/nearest_point_search.h"
+#include "odometry_calibration/scan/scan.h"
+#include "odometry_calibration/scan/scan_lines.h"
+#include "support/synthetic_scans.h"
+
+namespace odometry_calibration {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+Scan fourRayScan(std::vector<double> ranges_m)
+{
+  Scan scan;
+  scan.angle_min_rad = -M_PI / 4;
+  scan.angle_increment_rad = M_PI / 6;
+  scan.range_min_m = 0.1;
+  scan.range_max_m = 10.0;
+  scan.ranges_m = std::move(ranges_m);
+  return scan;
+}
+
+TEST(ScanToPoints, KeepsValidReadingsWithTheirRayGeometry)
+{
+  const ScanPoints points = scanToPoints(fourRayScan({1.0, 2.0, 3.0, 4.0}));
+  ASSERT_EQ(points.size(), 4u);
+  for (int i = 0; i < 4; ++i) {
+    const double angle = -M_PI / 4 + i * M_PI / 6;
+    EXPECT_NEAR(points.angles_rad[i], angle, 1e-15);
+    EXPECT_NEAR(points.points_m[i].x(), (i + 1.0) * std::cos(angle), 1e-15);
+    EXPECT_NEAR(points.points_m[i].y(), (i + 1.0) * std::sin(angle), 1e-15);
+    EXPECT_NEAR(points.directions[i].norm(), 1.0, 1e-15);
+    EXPECT_EQ(points.ray_indices[i], i);
+  }
+}
+
+TEST(ScanToPoints, DropsNanInfZeroOutOfRangeAndMaskedReadings)
+{
+  Scan scan = fourRayScan({std::nan(""), kInf, 0.0, 0.05});
+  scan.ranges_m.insert(scan.ranges_m.end(), {10.5, -kInf, 2.5, 3.5});
+  scan.valid = {1, 1, 1, 1, 1, 1, 1, 0};
+  const ScanPoints points = scanToPoints(scan);
+  ASSERT_EQ(points.size(), 1u);  // only 2.5 m on ray 6 survives
+  EXPECT_EQ(points.ray_indices[0], 6);
+  EXPECT_DOUBLE_EQ(points.ranges_m[0], 2.5);
+  // The count without conversion agrees, ray by ray.
+  EXPECT_EQ(countUsableReadings(scan), 1u);
+  for (std::size_t i = 0; i < scan.ranges_m.size(); ++i)
+    EXPECT_EQ(isUsableReading(scan, i), i == 6) << i;
+  scan.valid.clear();
+  EXPECT_EQ(countUsableReadings(scan), scanToPoints(scan).size());
+  EXPECT_EQ(countUsableReadings(scan), 2u);  // 2.5 m and 3.5 m
+}
+
+TEST(ScanToPoints, AllInvalidGivesNoPointsAndNoException)
+{
+  EXPECT_TRUE(scanToPoints(fourRayScan({0.0, kInf, std::nan(""), 0.0})).empty());
+  EXPECT_TRUE(scanToPoints(fourRayScan({})).empty());
+}
+
+TEST(ScanToPoints, CompensatesTheMotionDuringTheSweep)
+{
+  // Ray 3 is measured 3 ms after the stamp; meanwhile the sensor turned by omega * 3 ms and
+  // moved along the arc exp(tau xi). The point must come out where the sensor at the stamp sees
+  // it: turned, then shifted by the chord of the arc.
+  Scan scan = fourRayScan({1.0, 2.0, 3.0, 4.0});
+  scan.time_increment_s = 0.001;
+  SensorVelocity velocity;
+  velocity.vx_mps = 2.0;
+  velocity.vy_mps = -0.5;
+  velocity.omega_radps = 4.0;
+  const ScanPoints points = scanToPoints(scan, velocity);
+  ASSERT_EQ(points.size(), 4u);
+  const double tau_s = 0.003;
+  const double theta = velocity.omega_radps * tau_s;
+  const double a = std::sin(theta) / theta;
+  const double b = (1.0 - std::cos(theta)) / theta;
+  const Eigen::Vector2d t(a * velocity.vx_mps * tau_s - b * velocity.vy_mps * tau_s,
+                          b * velocity.vx_mps * tau_s + a * velocity.vy_mps * tau_s);
+  const double angle = -M_PI / 4 + 3 * M_PI / 6;
+  const Eigen::Vector2d expected =
+      4.0 * Eigen::Vector2d(std::cos(angle + theta), std::sin(angle + theta)) + t;
+  EXPECT_NEAR((points.points_m[3] - expected).norm(), 0.0, 1e-12);
+  EXPECT_NEAR(points.ranges_m[3], expected.norm(), 1e-12);
+  EXPECT_NEAR(points.angles_rad[3], std::atan2(expected.y(), expected.x()), 1e-12);
+  EXPECT_NEAR((points.directions[3] - expected.normalized()).norm(), 0.0, 1e-12);
+  // Ray 0 is at the stamp: unchanged. Without a time increment nothing moves.
+  EXPECT_NEAR(
+      (points.points_m[0] - Eigen::Vector2d(std::cos(M_PI / 4), -std::sin(M_PI / 4))).norm(), 0.0,
+      1e-15);
+  scan.time_increment_s = 0.0;
+  EXPECT_NEAR(scanToPoints(scan, velocity).points_m[3].y(), 4.0 * std::sin(angle), 1e-15);
+  scan.time_increment_s = std::nan("");
+  EXPECT_THROW(scanToPoints(scan), std::invalid_argument);
+}
+
+TEST(ScanToPoints, CompensatedPointsStayOrderedByBearing)
+{
+  // Turning clockwise faster than the rays advance reverses their bearings: the points must
+  // come out sorted by bearing again, each with its own ray index and geometry.
+  Scan scan = fourRayScan({1.0, 2.0, 3.0, 4.0});
+  scan.time_increment_s = 1.0;
+  SensorVelocity velocity;
+  velocity.omega_radps = -1.0;  // -1 rad per ray against +pi/6 between rays
+  const ScanPoints points = scanToPoints(scan, velocity);
+  ASSERT_EQ(points.size(), 4u);
+  for (int k = 0; k < 4; ++k) {
+    const int ray = 3 - k;
+    EXPECT_EQ(points.ray_indices[k], ray);
+    EXPECT_NEAR(points.ranges_m[k], ray + 1.0, 1e-12);
+    const double bearing = -M_PI / 4 + ray * (M_PI / 6 - 1.0);
+    EXPECT_NEAR(points.angles_rad[k], bearing, 1e-12);
+    EXPECT_NEAR(points.points_m[k].x(), (ray + 1.0) * std::cos(bearing), 1e-12);
+    if (k > 0) {
+      EXPECT_LT(points.angles_rad[k - 1], points.angles_rad[k]);
+    }
+  }
+}
+
+TEST(ScanToPoints, NegativeIncrementStillGivesIncreasingAngles)
+{
+  Scan scan = fourRayScan({1.0, 2.0, 3.0, 4.0});
+  scan.angle_min_rad = M_PI / 4;
+  scan.angle_increment_rad = -M_PI / 6;
+  const ScanPoints points = scanToPoints(scan);
+  ASSERT_EQ(points.size(), 4u);
+  EXPECT_EQ(points.ray_indices.front(), 3);
+  for (std::size_t i = 1; i < points.size(); ++i) {
+    EXPECT_GT(points.angles_rad[i], points.angles_rad[i - 1]);
+  }
+}
+
+TEST(ScanToPoints, RejectsUnusableGeometryNamingTheField)
+{
+  Scan scan = fourRayScan({1.0});
+  scan.angle_increment_rad = 0.0;
+  EXPECT_THROW(
+      {
+        try {
+          scanToPoints(scan);
+        } catch (const std::invalid_argument& error) {
+          EXPECT_NE(std::string(error.what()).find("angle_increment_rad"), std::string::npos);
+          throw;
+        }
+      },
+      std::invalid_argument);
+  scan = fourRayScan({1.0});
+  scan.range_max_m = 0.05;
+  EXPECT_THROW(scanToPoints(scan), std::invalid_argument);
+  scan = fourRayScan({1.0, 2.0});
+  scan.valid = {1};
+  EXPECT_THROW(scanToPoints(scan), std::invalid_argument);
+}
+
+/// Noise-free scan of a world from the origin.
+ScanPoints cleanScan(const synthetic::World& world, const Pose2& pose = Pose2(),
+                     int ray_count = 682)
+{
+  synthetic::LidarModel lidar;
+  lidar.range_sigma_m = 0.0;
+  lidar.ray_count = ray_count;
+  std::mt19937 rng(1);
+  return scanToPoints(synthetic::simulateScan(world, pose, lidar, rng));
+}
+
+TEST(ScanLines, StraightWallGivesExactNormalsTowardsTheSensor)
+{
+  synthetic::World world;
+  world.addSegment(2.0, -5.0, 2.0, 5.0);  // wall x = 2 in front of the sensor
+  const ScanPoints points = cleanScan(world);
+  const ScanLines lines = fitScanLines(points, LineFitOptions());
+  ASSERT_GT(lines.valid_count, 100u);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (lines.valid[i] == 0) {
+      continue;
+    }
+    EXPECT_NEAR(lines.normals[i].x(), -1.0, 1e-9);
+    EXPECT_NEAR(lines.normals[i].y(), 0.0, 1e-6);
+    EXPECT_NEAR(lines.centroids_m[i].x(), 2.0, 1e-9);
+    EXPECT_LE(lines.along_min_m[i], 0.0);
+    EXPECT_GE(lines.along_max_m[i], 0.0);
+  }
+}
+
+TEST(ScanLines, PointsNearACornerTakeTheSideOfTheirOwnWall)
+{
+  synthetic::World world;  // corner at (2, 1): walls x = 2 (below) and y = 1 (left)
+  world.addSegment(2.0, -5.0, 2.0, 1.0);
+  world.addSegment(2.0, 1.0, -5.0, 1.0);
+  const ScanPoints points = cleanScan(world);
+  const ScanLines lines = fitScanLines(points, LineFitOptions());
+  int checked = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Eigen::Vector2d& p = points.points_m[i];
+    const double from_corner_m = (p - Eigen::Vector2d(2.0, 1.0)).norm();
+    if (lines.valid[i] == 0 || from_corner_m > 0.3 || from_corner_m < 0.01) {
+      continue;
+    }
+    // On the wall x = 2 the normal is -x, on the wall y = 1 it is -y: never in between.
+    const bool on_x_wall = std::abs(p.x() - 2.0) < 1e-9;
+    const Eigen::Vector2d expected = on_x_wall ? Eigen::Vector2d(-1, 0) : Eigen::Vector2d(0, -1);
+    EXPECT_NEAR((lines.normals[i] - expected).norm(), 0.0, 1e-6) << "point " << p.transpose();
+    ++checked;
+  }
+  EXPECT_GT(checked, 20);
+}
+
+TEST(ScanLines, SmallObjectsFallBackToTwoPointSegments)
+{
+  synthetic::World world;
+  world.addCircle(1.5, 0.0, 0.012);  // a thin table leg: two or three points
+  const ScanPoints points = cleanScan(world);
+  ASSERT_GE(points.size(), 2u);
+  const ScanLines lines = fitScanLines(points, LineFitOptions());
+  EXPECT_EQ(lines.valid_count, points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    EXPECT_EQ(lines.fitted[i], 0);
+  }
+  LineFitOptions no_fallback;
+  no_fallback.segment_fallback = false;
+  EXPECT_EQ(fitScanLines(points, no_fallback).valid_count, 0u);
+}
+
+TEST(ScanLines, OptionsAreValidated)
+{
+  LineFitOptions options;
+  options.min_points = 2;
+  EXPECT_THROW(validate(options), std::invalid_argument);
+  options = LineFitOptions();
+  options.radius_m = -1.0;
+  try {
+    validate(options);
+    FAIL() << "negative radius accepted";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_NE(std::string(error.what()).find("line_fit.radius_m"), std::string::npos);
+  }
+}
+
+class NearestPointSearchFieldOfView : public ::testing::TestWithParam<double>
+{
+};
+
+TEST_P(NearestPointSearchFieldOfView, AngularAndKdTreeAgreeWithBruteForce)
+{
+  const synthetic::World world = synthetic::officeRoom();
+  synthetic::LidarModel lidar;
+  lidar.field_of_view_rad = GetParam();  // 240 deg, or 360 deg (the walks wrap around)
+  std::mt19937 rng(3);
+  const ScanPoints points =
+      scanToPoints(synthetic::simulateScan(world, Pose2(3, 3, 0.4), lidar, rng));
+  const ScanLines lines = fitScanLines(points, LineFitOptions());
+  const auto angular = makeAngularSearch(points, lines);
+  const auto kdtree = makeKdTreeSearch(points, lines);
+  std::uniform_real_distribution<double> coordinate(-6.0, 6.0);
+  std::uniform_real_distribution<double> angle(-M_PI, M_PI);
+  const double min_cosine = std::cos(0.6);
+  std::uniform_int_distribution<std::size_t> hint_index(0, points.size() - 1);
+  for (int query = 0; query < 2000; ++query) {
+    const Eigen::Vector2d q(coordinate(rng), coordinate(rng));
+    const double a = angle(rng);
+    const Eigen::Vector2d normal =
+        query % 2 == 0 ? Eigen::Vector2d(std::cos(a), std::sin(a)) : Eigen::Vector2d::Zero();
+    const double max_distance_m = query % 3 == 0 ? 0.3 : 2.0;
+    int expected = -1;
+    double best = max_distance_m;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      const bool compatible =
+          lines.fitted[i] == 0 || normal.isZero() || lines.normals[i].dot(normal) >= min_cosine;
+      const double distance = (points.points_m[i] - q).norm();
+      if (lines.valid[i] != 0 && compatible && distance <= best) {
+        best = distance;
+        expected = static_cast<int>(i);
+      }
+    }
+    EXPECT_EQ(angular->nearest(q, normal, min_cosine, max_distance_m, nullptr), expected)
+        << "query " << q.transpose();
+    EXPECT_EQ(kdtree->nearest(q, normal, min_cosine, max_distance_m, nullptr), expected)
+        << "query " << q.transpose();
+    // A hint (any reference point: near, far, unusable or out of range) never changes the
+    // answer.
+    for (const int hint : {expected, static_cast<int>(hint_index(rng)), -1, 100000}) {
+      EXPECT_EQ(angular->nearest(q, normal, min_cosine, max_distance_m, nullptr, hint), expected)
+          << "query " << q.transpose() << ", hint " << hint;
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(FieldsOfView, NearestPointSearchFieldOfView,
+                         ::testing::Values(240.0 * synthetic::kDegToRad, 2.0 * M_PI));
+
+}  // namespace
+}  // namespace odometry_calibration

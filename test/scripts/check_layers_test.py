@@ -1,0 +1,132 @@
+#!/usr/bin/env python3
+"""Tests of scripts/check_layers on small trees built here: a clean tree passes, and an upward
+include, a ROS header in a core layer, a source outside the layer folders and a header whose
+functions have no source each fail with a message naming the file, the line and the rule."""
+import os
+import subprocess
+import sys
+import tempfile
+import unittest
+
+CHECKER = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts",
+                       "check_layers")
+TABLE = """# test table
+common:
+geometry:
+data: geometry common
+models: data
+ros: models
+"""
+
+
+def write(root, path, text):
+    full = os.path.join(root, path)
+    os.makedirs(os.path.dirname(full), exist_ok=True)
+    with open(full, "w") as f:
+        f.write(text)
+
+
+def clean_tree(root):
+    write(root, "cmake/layers.txt", TABLE)
+    write(root, "msg/Report.msg", "string text\n")
+    write(root, "include/odometry_calibration/geometry/se2.h",
+          "#pragma once\nnamespace oc {\ninline double half(double x) { return x / 2; }\n}\n")
+    write(root, "include/odometry_calibration/data/encoder.h",
+          '#pragma once\n#include "odometry_calibration/geometry/se2.h"\n'
+          "namespace oc {\ndouble ticks(int n);\nstruct Decoder\n{\n  Decoder() = default;\n"
+          "  double decode(int n) const;\n};\n}\n")
+    write(root, "src/data/encoder.cpp", '#include "odometry_calibration/data/encoder.h"\n')
+    write(root, "include/odometry_calibration/models/model.h",
+          '#pragma once\n#include "odometry_calibration/data/encoder.h"\n'
+          "namespace oc {\nclass Model\n{\npublic:\n  virtual ~Model() = default;\n"
+          "  virtual double fit() = 0;\n};\n}\n")
+    write(root, "include/odometry_calibration/ros/node.h",
+          '#pragma once\n#include <ros/ros.h>\n#include "odometry_calibration/Report.h"\n'
+          '#include "odometry_calibration/models/model.h"\nvoid run();\n')
+    write(root, "src/ros/node.cpp", '#include "odometry_calibration/ros/node.h"\n')
+    write(root, "src/tools/tool_main.cpp", "#include <sensor_msgs/LaserScan.h>\n")
+    write(root, "test/ros/node_test.cpp", "#include <ros/ros.h>\n")
+    write(root, "test/data/encoder_test.cpp",
+          '#include "odometry_calibration/models/model.h"\n')
+
+
+def run(root):
+    result = subprocess.run([sys.executable, CHECKER, root], stdout=subprocess.PIPE,
+                            stderr=subprocess.STDOUT, text=True)
+    return result.returncode, result.stdout
+
+
+class CheckLayersTest(unittest.TestCase):
+    def setUp(self):
+        self.directory = tempfile.TemporaryDirectory()
+        self.root = self.directory.name
+        clean_tree(self.root)
+
+    def tearDown(self):
+        self.directory.cleanup()
+
+    def test_clean_tree_passes(self):
+        code, output = run(self.root)
+        self.assertEqual(code, 0, output)
+
+    def test_upward_include_fails(self):
+        write(self.root, "src/data/encoder.cpp",
+              '#include "odometry_calibration/data/encoder.h"\n\n'
+              '#include "odometry_calibration/models/model.h"\n')
+        code, output = run(self.root)
+        self.assertEqual(code, 1, output)
+        self.assertIn("src/data/encoder.cpp:3: data may not include models/ (cmake/layers.txt)",
+                      output)
+
+    def test_ros_include_in_core_layer_fails(self):
+        write(self.root, "include/odometry_calibration/geometry/se2.h",
+              "#pragma once\n#include <ros/ros.h>\n")
+        write(self.root, "src/data/encoder.cpp",
+              '#include "odometry_calibration/data/encoder.h"\n#include "odometry_calibration/'
+              'Report.h"\n#include <geometry_msgs/Pose2D.h>\n')
+        code, output = run(self.root)
+        self.assertEqual(code, 1, output)
+        self.assertIn("include/odometry_calibration/geometry/se2.h:2: geometry may not include "
+                      "ROS header ros/ros.h", output)
+        self.assertIn("src/data/encoder.cpp:2: data may not include ROS header "
+                      "odometry_calibration/Report.h", output)
+        self.assertIn("src/data/encoder.cpp:3: data may not include ROS header "
+                      "geometry_msgs/Pose2D.h", output)
+
+    def test_ros_include_in_core_test_fails(self):
+        write(self.root, "test/data/encoder_test.cpp", "#include <ros/time.h>\n")
+        code, output = run(self.root)
+        self.assertEqual(code, 1, output)
+        self.assertIn("test/data/encoder_test.cpp:1:", output)
+
+    def test_source_outside_layers_fails(self):
+        write(self.root, "src/core/encoder.cpp", "int x;\n")
+        code, output = run(self.root)
+        self.assertEqual(code, 1, output)
+        self.assertIn("src/core/encoder.cpp:1: not in a layer folder", output)
+
+    def test_header_without_source_fails(self):
+        os.remove(os.path.join(self.root, "src/data/encoder.cpp"))
+        code, output = run(self.root)
+        self.assertEqual(code, 1, output)
+        self.assertIn("include/odometry_calibration/data/encoder.h:1: declares functions but "
+                      "src/data/ has no encoder.cpp", output)
+
+    def test_source_named_after_no_header_fails(self):
+        write(self.root, "src/data/keyframes.cpp", "int y;\n")
+        code, output = run(self.root)
+        self.assertEqual(code, 1, output)
+        self.assertIn("src/data/keyframes.cpp:1: implements no header of its layer", output)
+
+    def test_layer_using_undefined_layer_is_a_table_error(self):
+        write(self.root, "cmake/layers.txt", "common: geometry\ngeometry:\n")
+        code, output = run(self.root)
+        self.assertEqual(code, 2, output)
+
+    def test_repository_tree_passes(self):
+        code, output = run(os.path.join(os.path.dirname(CHECKER), ".."))
+        self.assertEqual(code, 0, output)
+
+
+if __name__ == "__main__":
+    unittest.main()
