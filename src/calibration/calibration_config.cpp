@@ -252,18 +252,9 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
       throw std::runtime_error("prior_model must be 'none', 'diff_drive' or 'tricycle', got '" +
                                c.prior_model + "'");
     }
-    auto check_model = [](const std::string& name, const std::string& key) {
-      std::string list;
-      for (const std::string& known : knownModelNames()) {
-        if (known == name)
-          return;
-        list += " " + known;
-      }
-      throw std::runtime_error(key + ": unknown model '" + name + "' (known:" + list + ")");
-    };
-    check_model(c.model, "model");
+    requireKnownModel(c.model, "model");
     for (const std::string& name : c.compare_models)
-      check_model(name, "compare_models");
+      requireKnownModel(name, "compare_models");
   } catch (const YAML::Exception& error) {
     throw std::runtime_error(where + ": " + error.what());
   } catch (const std::runtime_error& error) {

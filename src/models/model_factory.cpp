@@ -1,5 +1,6 @@
 #include "odometry_calibration/models/model_factory.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include <yaml-cpp/yaml.h>
@@ -11,6 +12,22 @@ namespace odometry_calibration {
 std::vector<std::string> knownModelNames()
 {
   return {"linear", "diff_drive", "gp", "tricycle"};
+}
+
+bool isKnownModel(const std::string& name)
+{
+  const std::vector<std::string> known = knownModelNames();
+  return std::find(known.begin(), known.end(), name) != known.end();
+}
+
+void requireKnownModel(const std::string& name, const std::string& what)
+{
+  if (isKnownModel(name))
+    return;
+  std::string known;
+  for (const std::string& model : knownModelNames())
+    known += " " + model;
+  throw std::invalid_argument(what + ": unknown model '" + name + "' (known:" + known + ")");
 }
 
 std::unique_ptr<MotionModel> makeModel(const std::string& name, const ModelFactoryOptions& options)
@@ -43,10 +60,8 @@ std::unique_ptr<MotionModel> makeModel(const std::string& name, const ModelFacto
     }
     return std::make_unique<TricycleModel>(options.tricycle);
   }
-  std::string known;
-  for (const std::string& model : knownModelNames())
-    known += " " + model;
-  throw std::invalid_argument("unknown model '" + name + "' (known:" + known + ")");
+  requireKnownModel(name, "makeModel");
+  throw std::logic_error("makeModel: model '" + name + "' is known but not made");
 }
 
 std::unique_ptr<MotionModel> loadModel(const std::string& model_yaml)

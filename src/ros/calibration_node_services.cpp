@@ -42,12 +42,10 @@ bool CalibrationNode::onCalibrate(Calibrate::Request& request, Calibrate::Respon
     time_offset_s = config_.collector.time_offset_s;
   }
   const std::string name = request.model.empty() ? config.model : request.model;
-  const std::vector<std::string> known = knownModelNames();
-  if (std::find(known.begin(), known.end(), name) == known.end()) {
-    response.message = "unknown model '" + name + "' (known:";
-    for (const std::string& k : known)
-      response.message += " " + k;
-    response.message += ")";
+  try {
+    requireKnownModel(name, "model");
+  } catch (const std::invalid_argument& error) {
+    response.message = error.what();
     return true;
   }
   try {

@@ -145,13 +145,8 @@ int main(int argc, char** argv)
     if (end_s > 0.0 && end_s <= start_s) {
       throw std::invalid_argument("--end must come after --start");
     }
-    if (!model_name.empty()) {
-      bool known = false;
-      for (const std::string& name : knownModelNames())
-        known |= name == model_name;
-      if (!known)
-        throw std::invalid_argument("--model: unknown model '" + model_name + "'");
-    }
+    if (!model_name.empty())
+      requireKnownModel(model_name, "--model");
   } catch (const std::exception& error) {
     std::cerr << "error: " << error.what() << "\n\n" << kUsage;
     return 2;

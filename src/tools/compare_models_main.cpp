@@ -114,13 +114,8 @@ int main(int argc, char** argv)
         throw std::invalid_argument("unknown option '" + arg + "'");
       }
     }
-    for (const std::string& name : models) {
-      bool known = false;
-      for (const std::string& model : knownModelNames())
-        known |= model == name;
-      if (!known)
-        throw std::invalid_argument("--models: unknown model '" + name + "'");
-    }
+    for (const std::string& name : models)
+      requireKnownModel(name, "--models");
     if (train.empty() || test.empty()) {
       throw std::invalid_argument("give at least one --train and one --test pairs file");
     }

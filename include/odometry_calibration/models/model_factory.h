@@ -27,6 +27,13 @@ struct ModelFactoryOptions
 /// Names makeModel knows.
 std::vector<std::string> knownModelNames();
 
+/// Whether makeModel knows `name`.
+bool isKnownModel(const std::string& name);
+
+/// Throws std::invalid_argument "<what>: unknown model '<name>' (known: linear diff_drive ...)"
+/// unless makeModel knows `name`; `what` names where the name came from (a key, an option).
+void requireKnownModel(const std::string& name, const std::string& what);
+
 /// A new, unfitted model. Throws std::invalid_argument for an unknown name (listing the known
 /// ones) or options that do not fit the joints.
 std::unique_ptr<MotionModel> makeModel(const std::string& name, const ModelFactoryOptions& options);
