@@ -17,7 +17,7 @@ std::string calibrationResultYaml(const ModelReport& report, const MotionModel& 
                                   const std::string& source, double time_offset_s)
 {
   char offset[64];
-  std::snprintf(offset, sizeof(offset), "time_offset_s: %.9g\n", time_offset_s);
+  std::snprintf(offset, sizeof(offset), "time_offset_s: %.6f\n", time_offset_s);
   return modelResultYaml(report, model.toYaml(), source) + offset;
 }
 

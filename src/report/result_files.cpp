@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "odometry_calibration/calibration/calibration_result.h"
 #include "odometry_calibration/common/atomic_file.h"
 #include "odometry_calibration/common/staged_directory.h"
 
@@ -13,6 +14,27 @@ const char* const kResultFileName = "result.yaml";
 const char* const kTextReportFileName = "report.txt";
 const char* const kReportFileName = "report.md";
 const char* const kPlotFolderName = "plots";
+
+ResultFiles resultFilesForJob(const JointLayout& joints, const CalibrationJobResult& job,
+                              const std::string& source)
+{
+  ResultFiles files;
+  files.pairs = {joints, job.pairs};
+  files.result_yaml = calibrationResultYaml(job.report, *job.model, source, job.time_offset_s);
+  files.plots.trajectories = job.trajectories;
+  files.plots.calibrated_label = job.report.model;
+  if (job.time_offset) {
+    files.plots.time_offset_curve = job.time_offset->curve;
+    files.plots.time_offset_s = job.time_offset->offset_s;
+    files.plots.time_offset_sigma_s = job.time_offset->sigma_s;
+  }
+  files.markdown.report = job.report;
+  files.markdown.time_offset = job.time_offset;
+  files.markdown.time_offset_used_s = job.time_offset_s;
+  files.markdown.trajectories = job.trajectories;
+  files.markdown.nominal_description = job.nominal_description;
+  return files;
+}
 
 ReportPlots writeResultFiles(const std::string& output_dir, ResultFiles files)
 {

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <filesystem>
 #include <memory>
+#include <sstream>
 #include <stdexcept>
 
 #include <rosbag/bag.h>
@@ -153,6 +154,41 @@ BagRunResult runBags(const std::vector<std::string>& bag_paths, const Calibratio
   result.conversion_time_s = reader.conversionTime();
   result.read_time_s = reader.readTime();
   return result;
+}
+
+std::vector<std::string> bagRunNotes(const BagRunResult& run)
+{
+  std::vector<std::string> notes;
+  if (run.bad_joint_states > 0) {
+    notes.push_back("skipped " + std::to_string(run.bad_joint_states) +
+                    " JointState messages, first: " + run.first_bad_joint_state);
+  }
+  for (const std::string& restart : run.restarts)
+    notes.push_back("restart " + restart);
+  return notes;
+}
+
+std::string formatBagRunSummary(const BagRunResult& run)
+{
+  std::ostringstream text;
+  text << "bags: " << run.bag_span_s << " s of data in " << run.wall_time_s << " s ("
+       << (run.wall_time_s > 0 ? run.bag_span_s / run.wall_time_s : 0.0) << "x real time; reading "
+       << run.read_time_s << " s, conversion " << run.conversion_time_s << " s, pairing "
+       << run.pairing_time_s << " s)\n";
+  const CollectorStatistics& s = run.statistics;
+  text << "keyframe pairs: " << s.pairs << " from " << s.scans << " scans, " << s.keyframes
+       << " keyframes";
+  if (s.consecutive_matches > 0) {
+    text << ", " << s.consecutive_failures << " of " << s.consecutive_matches
+         << " consecutive matches failed, " << s.unverified_pairs << " pairs unverified";
+  }
+  text << "\n";
+  for (const auto& [reason, count] : s.rejected) {
+    text << "  rejected " << count << ": " << reason << "\n";
+  }
+  for (const std::string& note : bagRunNotes(run))
+    text << note << "\n";
+  return text.str();
 }
 
 }  // namespace odometry_calibration

@@ -3,6 +3,7 @@
 #include <ctime>
 #include <filesystem>
 
+#include "odometry_calibration/calibration/calibration_job.h"
 #include "odometry_calibration/calibration/calibration_result.h"
 #include "odometry_calibration/common/atomic_file.h"
 #include "odometry_calibration/eval/model_report.h"
@@ -66,8 +67,15 @@ bool CalibrationNode::onCalibrate(Calibrate::Request& request, Calibrate::Respon
   std::shared_ptr<MotionModel> model;
   ModelReport report;
   try {
-    model = makeModel(name, config.models);
-    report = model->fit(pairs);
+    // The same job as calibrate_bag's; the node keeps no encoder history for a time-offset
+    // search and draws no report trajectories.
+    config.model = name;
+    CalibrationJobOptions job_options;
+    job_options.allow_time_offset = false;
+    job_options.compare_trajectories = false;
+    CalibrationJobResult job = runCalibrationJob(config, pairs, {}, job_options);
+    model = job.model;
+    report = std::move(job.report);
   } catch (const std::exception& error) {
     response.message = name + " fit failed: " + error.what();
     return true;

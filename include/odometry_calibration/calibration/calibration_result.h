@@ -21,7 +21,8 @@ struct CalibrationResult
 };
 
 /// result.yaml's text: the report's numbers, the fitted model (enough to predict again), the
-/// extrinsic and `time_offset_s`.
+/// extrinsic and `time_offset_s` (to the microsecond). The one writer of result.yaml, for the
+/// node's ~save and calibrate_bag.
 std::string calibrationResultYaml(const ModelReport& report, const MotionModel& model,
                                   const std::string& source, double time_offset_s);
 

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "odometry_calibration/calibration/calibration_job.h"
 #include "odometry_calibration/data/pairs_csv.h"
 #include "odometry_calibration/report/markdown_report.h"
 #include "odometry_calibration/report/report_plots.h"
@@ -30,6 +31,13 @@ struct ResultFiles
   MarkdownReportInput markdown;  ///< the report (plots, plot_folder and files are filled in)
   GnuplotOptions gnuplot;        ///< the plotting program
 };
+
+/// The files of one calibration job: its pairs, result.yaml (calibrationResultYaml, naming
+/// `source`), the plots' data and the report's fit, time offset and trajectories. The caller
+/// adds what it knows of the collection (bags, statistics, notes), the text report, the test
+/// table and the plotting program.
+ResultFiles resultFilesForJob(const JointLayout& joints, const CalibrationJobResult& job,
+                              const std::string& source);
 
 /// Creates `output_dir` if needed and writes everything into it. Returns what happened to the
 /// plots (their problem is empty when all were drawn). Throws std::runtime_error naming the

@@ -47,4 +47,12 @@ BagRunResult runBags(const std::vector<std::string>& bag_paths, const Calibratio
                      double start_offset_s = 0.0, double end_offset_s = 0.0,
                      const std::function<void(const BagProgress&)>& progress = nullptr);
 
+/// What went wrong while reading, in words: skipped JointState messages (how many, the first
+/// reason) and restarts after time went backwards; empty for a clean run.
+std::vector<std::string> bagRunNotes(const BagRunResult& run);
+
+/// The run in a few lines: data span and speed (reading, conversion, pairing times), pairs,
+/// scans and keyframes, consecutive-match failures, rejections by reason, then bagRunNotes.
+std::string formatBagRunSummary(const BagRunResult& run);
+
 }  // namespace odometry_calibration

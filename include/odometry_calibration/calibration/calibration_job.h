@@ -1,0 +1,74 @@
+// One calibration from collected pairs, the same for the live node and calibrate_bag (DESIGN.md,
+// "data flow": pairs in, optional encoder-laser time offset, fit, report data out).
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "odometry_calibration/calibration/calibration_config.h"
+#include "odometry_calibration/calibration/time_offset.h"
+#include "odometry_calibration/data/motion_pair.h"
+#include "odometry_calibration/eval/model_comparison.h"
+#include "odometry_calibration/eval/trajectory_comparison.h"
+#include "odometry_calibration/models/model.h"
+
+namespace odometry_calibration {
+
+/// What the job does besides the fit.
+struct CalibrationJobOptions
+{
+  /// Estimate the time offset when the configuration asks for it (`estimate_time_offset`);
+  /// needs the encoder history. The node has none yet and leaves it off.
+  bool allow_time_offset = true;
+  /// Chain the calibrated and nominal predictions against the matched displacements (the
+  /// report's trajectories and per-pair errors; one prediction per pair and model).
+  bool compare_trajectories = true;
+};
+
+/// The outcome of one calibration.
+struct CalibrationJobResult
+{
+  std::shared_ptr<MotionModel> model;           ///< the fitted model (config.model)
+  ModelReport report;                           ///< its report, time-offset warnings included
+  std::vector<MotionPair> pairs;                ///< the pairs fitted (windows cut at time_offset_s)
+  double time_offset_s = 0.0;                   ///< the offset the fit used [s]
+  std::optional<TimeOffsetResult> time_offset;  ///< the offset search, when it ran
+  /// Calibrated and nominal trajectories (with compare_trajectories); the nominal model is the
+  /// configuration's prior at time offset 0, `nominal_description` says so (empty: none).
+  TrajectoryComparison trajectories;
+  std::string nominal_description;
+  bool nominal_at_zero_offset = false;  ///< the nominal pairs were re-cut at time offset 0
+  double fit_time_s = 0.0;              ///< wall time of the offset search and the fit [s]
+};
+
+/// Fits config.model to `pairs` (collected at config.collector.time_offset_s). With
+/// `estimate_time_offset` in the configuration the offset tau is searched first on the pairs
+/// re-cut from `encoder_history` (time_offset.h) and the fit uses the pairs at the estimate; a
+/// flat cost curve keeps the configured offset and a minimum at the edge of the search range
+/// warns. Throws std::runtime_error when the offset is asked for without a continuous encoder
+/// history, std::invalid_argument from the model for too few or degenerate pairs.
+CalibrationJobResult runCalibrationJob(const CalibrationConfig& config,
+                                       const std::vector<MotionPair>& pairs,
+                                       const std::vector<EncoderSample>& encoder_history,
+                                       const CalibrationJobOptions& options = {});
+
+/// The paper's comparison (Tables III/IV): the job's model and each of config.compare_models
+/// (fitted to the job's pairs) scored on `test_pairs`, which were collected at the job's time
+/// offset. The job's model comes first.
+std::vector<ModelScore> scoreModelsOnTest(const CalibrationConfig& config,
+                                          const CalibrationJobResult& job,
+                                          const std::vector<MotionPair>& test_pairs);
+
+/// The time-offset search in words: the estimate with sigma and the cost curve, one line each.
+std::string formatTimeOffset(const TimeOffsetResult& offset);
+
+/// The text report's line comparing the nominal (at time offset 0) and calibrated median
+/// per-pair RPE; empty without a nominal model or an encoder history to re-cut its pairs.
+std::string formatNominalComparison(const CalibrationJobResult& job);
+
+/// calibrate_bag's exit status for a fit: 3 not converged, 4 converged with warnings, 0 clean.
+int calibrationExitStatus(const ModelReport& report);
+
+}  // namespace odometry_calibration

@@ -1,0 +1,126 @@
+#include "odometry_calibration/calibration/calibration_job.h"
+
+#include <chrono>
+#include <cstdio>
+#include <sstream>
+#include <stdexcept>
+
+#include "odometry_calibration/common/median.h"
+#include "odometry_calibration/models/model_factory.h"
+
+namespace odometry_calibration {
+
+CalibrationJobResult runCalibrationJob(const CalibrationConfig& config,
+                                       const std::vector<MotionPair>& pairs,
+                                       const std::vector<EncoderSample>& encoder_history,
+                                       const CalibrationJobOptions& options)
+{
+  const auto start = std::chrono::steady_clock::now();
+  CalibrationJobResult job;
+  job.pairs = pairs;
+  job.time_offset_s = config.collector.time_offset_s;
+  std::vector<std::string> offset_warnings;
+  if (options.allow_time_offset && config.estimate_time_offset) {
+    if (encoder_history.empty()) {
+      throw std::runtime_error(
+          "time offset estimation needs one continuous encoder stream "
+          "(the bags went back in time)");
+    }
+    TimeOffsetOptions search;
+    search.min_s = config.time_offset_search_min_s;
+    search.max_s = config.time_offset_search_max_s;
+    job.time_offset = estimateTimeOffset(
+        pairs, encoder_history, [&]() { return makeModel(config.model, config.models); }, search);
+    const TimeOffsetResult& offset = *job.time_offset;
+    if (offset.flat) {
+      offset_warnings.push_back(
+          "the time offset is not observable from this drive (flat cost curve): kept the "
+          "configured " +
+          std::to_string(job.time_offset_s) + " s");
+    } else {
+      job.time_offset_s = offset.offset_s;
+      if (offset.at_boundary) {
+        offset_warnings.push_back("the time offset estimate " + std::to_string(job.time_offset_s) +
+                                  " s lies at the edge of time_offset_search_s: widen it");
+      }
+    }
+    job.pairs = rewindowPairs(pairs, encoder_history, job.time_offset_s);
+  }
+  job.model = makeModel(config.model, config.models);
+  job.report = job.model->fit(job.pairs);
+  job.report.warnings.insert(job.report.warnings.end(), offset_warnings.begin(),
+                             offset_warnings.end());
+  job.fit_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+  if (options.compare_trajectories) {
+    // The evidence: the calibrated model against the scan matches, and the nominal robot (the
+    // prior's start values, no time offset) when there is one.
+    const std::shared_ptr<MotionModel> nominal = priorModel(config);
+    std::vector<MotionPair> nominal_pairs;
+    if (nominal) {
+      job.nominal_at_zero_offset = !encoder_history.empty();
+      nominal_pairs =
+          job.nominal_at_zero_offset ? rewindowPairs(pairs, encoder_history, 0.0) : pairs;
+      job.nominal_description =
+          "the " + config.prior_model + " start values of the configuration at time offset 0";
+    }
+    job.trajectories = compareTrajectories(job.pairs, *job.model, nominal_pairs, nominal.get());
+  }
+  return job;
+}
+
+std::vector<ModelScore> scoreModelsOnTest(const CalibrationConfig& config,
+                                          const CalibrationJobResult& job,
+                                          const std::vector<MotionPair>& test_pairs)
+{
+  std::vector<ModelScore> scores;
+  auto add = [&](const MotionModel& model, const ModelReport& fitted) {
+    ModelScore score = scoreModel(model, test_pairs);
+    score.fit_time_s = fitted.fit_time_s;
+    score.outliers = fitted.outliers;
+    scores.push_back(score);
+  };
+  add(*job.model, job.report);
+  for (const std::string& name : config.compare_models) {
+    if (name == config.model)
+      continue;
+    const std::unique_ptr<MotionModel> candidate = makeModel(name, config.models);
+    const ModelReport fitted = candidate->fit(job.pairs);
+    add(*candidate, fitted);
+  }
+  return scores;
+}
+
+std::string formatTimeOffset(const TimeOffsetResult& offset)
+{
+  std::ostringstream out;
+  out << "time offset (encoder values at scan time + tau): tau = " << offset.offset_s << " s +- "
+      << offset.sigma_s << " s"
+      << (offset.at_boundary ? "  WARNING: at the edge of the search range" : "")
+      << "\ncost curve (tau [s], trimmed mean chi^2):";
+  for (const auto& [tau, cost] : offset.curve)
+    out << " " << tau << ":" << cost;
+  return out.str() + "\n";
+}
+
+std::string formatNominalComparison(const CalibrationJobResult& job)
+{
+  if (job.nominal_description.empty() || !job.nominal_at_zero_offset)
+    return "";
+  char line[200];
+  std::snprintf(line, sizeof(line),
+                "median per-pair RPE vs the matched displacements: nominal (start values, "
+                "no time offset) %.4f m -> calibrated %.4f m\n",
+                median(translationErrors(job.trajectories.nominal_errors)),
+                median(translationErrors(job.trajectories.calibrated_errors)));
+  return line;
+}
+
+int calibrationExitStatus(const ModelReport& report)
+{
+  if (!report.converged)
+    return 3;
+  return report.warnings.empty() ? 0 : 4;
+}
+
+}  // namespace odometry_calibration

@@ -1,0 +1,168 @@
+// The calibration job shared by the node and calibrate_bag: fit, time offset, comparison.
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <stdexcept>
+
+#include <gtest/gtest.h>
+
+#include "odometry_calibration/calibration/calibration_job.h"
+#include "odometry_calibration/sim/pair_generator.h"
+
+namespace odometry_calibration {
+namespace {
+
+constexpr double kLeftRadiusM = 0.0765, kRightRadiusM = 0.0775, kSeparationM = 0.32;
+
+sim::GeneratedPairs simulatedPairs()
+{
+  sim::PairGeneratorOptions options;
+  options.robot = {"diff_drive",
+                   {{"wheel_radius_left_m", kLeftRadiusM},
+                    {"wheel_radius_right_m", kRightRadiusM},
+                    {"wheel_separation_m", kSeparationM}}};
+  options.T_base_sensor = Pose2(0.145, 0.02, 0.03);
+  options.duration_s = 90.0;
+  options.interval_s = 0.5;
+  return sim::generatePairs(options);
+}
+
+/// Every encoder sample of the pairs once, in time order: the history the pairs were cut from.
+std::vector<EncoderSample> encoderHistory(const std::vector<MotionPair>& pairs)
+{
+  std::map<double, EncoderSample> by_stamp;
+  for (const MotionPair& pair : pairs) {
+    for (const EncoderSample& sample : pair.encoder_samples)
+      by_stamp.emplace(sample.stamp_s, sample);
+  }
+  std::vector<EncoderSample> history;
+  for (const auto& entry : by_stamp)
+    history.push_back(entry.second);
+  return history;
+}
+
+CalibrationConfig diffDriveConfig(const JointLayout& joints)
+{
+  CalibrationConfig config;
+  config.model = "diff_drive";
+  config.prior_model = "diff_drive";
+  config.models.joints = joints;
+  config.models.diff_drive.initial_left_radius_m = 0.077;
+  config.models.diff_drive.initial_right_radius_m = 0.077;
+  config.models.diff_drive.initial_separation_m = 0.33;
+  config.models.diff_drive.initial_T_base_sensor = Pose2(0.1, 0.0, 0.0);
+  config.models.linear.joints = joints;
+  return config;
+}
+
+double parameter(const ModelReport& report, const std::string& name)
+{
+  for (const ParameterEstimate& estimate : report.parameters) {
+    if (estimate.name == name)
+      return estimate.value;
+  }
+  ADD_FAILURE() << "no parameter " << name;
+  return NAN;
+}
+
+TEST(CalibrationJob, FitsTheConfiguredModelAndComparesWithTheNominalRobot)
+{
+  const sim::GeneratedPairs data = simulatedPairs();
+  const CalibrationConfig config = diffDriveConfig(data.joints);
+  const CalibrationJobResult job =
+      runCalibrationJob(config, data.pairs, encoderHistory(data.pairs));
+  ASSERT_TRUE(job.model);
+  EXPECT_EQ(job.model->name(), "diff_drive");
+  EXPECT_TRUE(job.report.converged);
+  EXPECT_NEAR(parameter(job.report, "left_wheel_radius"), kLeftRadiusM, 0.001);
+  EXPECT_NEAR(parameter(job.report, "wheel_separation"), kSeparationM, 0.004);
+  EXPECT_FALSE(job.time_offset);  // not asked for
+  EXPECT_DOUBLE_EQ(job.time_offset_s, config.collector.time_offset_s);
+  EXPECT_EQ(job.pairs.size(), data.pairs.size());
+  // The nominal robot (radii 0.077, separation 0.33) is worse than the calibrated one.
+  ASSERT_FALSE(job.nominal_description.empty());
+  ASSERT_EQ(job.trajectories.nominal_errors.size(), data.pairs.size());
+  const std::string line = formatNominalComparison(job);
+  double nominal_m = 0, calibrated_m = 0;
+  ASSERT_EQ(std::sscanf(line.c_str() + line.find("time offset) ") + 13, "%lf m -> calibrated %lf",
+                        &nominal_m, &calibrated_m),
+            2)
+      << line;
+  EXPECT_GT(nominal_m, 3.0 * calibrated_m) << line;
+  EXPECT_LT(calibrated_m, 0.005) << line;
+}
+
+TEST(CalibrationJob, WithoutTrajectoriesOrHistoryThereIsNoNominalLine)
+{
+  const sim::GeneratedPairs data = simulatedPairs();
+  CalibrationJobOptions options;
+  options.compare_trajectories = false;
+  const CalibrationJobResult job =
+      runCalibrationJob(diffDriveConfig(data.joints), data.pairs, {}, options);
+  EXPECT_TRUE(job.trajectories.calibrated_errors.empty());
+  EXPECT_EQ(formatNominalComparison(job), "");
+}
+
+TEST(CalibrationJob, EstimatesTheTimeOffsetAndFitsThePairsCutThere)
+{
+  const sim::GeneratedPairs data = simulatedPairs();
+  const std::vector<EncoderSample> history = encoderHistory(data.pairs);
+  CalibrationConfig config = diffDriveConfig(data.joints);
+  // Collected with a wrong offset: the encoder windows 0.1 s late against the true 0.
+  config.collector.time_offset_s = 0.1;
+  config.estimate_time_offset = true;
+  config.time_offset_search_min_s = -0.2;
+  config.time_offset_search_max_s = 0.2;
+  const std::vector<MotionPair> late = rewindowPairs(data.pairs, history, 0.1);
+  const CalibrationJobResult job = runCalibrationJob(config, late, history);
+  ASSERT_TRUE(job.time_offset);
+  EXPECT_NEAR(job.time_offset_s, 0.0, 0.01);
+  EXPECT_NEAR(job.time_offset->offset_s, job.time_offset_s, 1e-12);
+  EXPECT_NEAR(parameter(job.report, "wheel_separation"), kSeparationM, 0.004);
+  EXPECT_NE(formatTimeOffset(*job.time_offset).find("tau = "), std::string::npos);
+
+  // Without a history the search cannot run, and says why.
+  try {
+    runCalibrationJob(config, late, {});
+    FAIL() << "time offset estimated without an encoder history";
+  } catch (const std::runtime_error& error) {
+    EXPECT_NE(std::string(error.what()).find("continuous encoder stream"), std::string::npos);
+  }
+  // The node's job leaves the offset alone.
+  CalibrationJobOptions node;
+  node.allow_time_offset = false;
+  const CalibrationJobResult kept = runCalibrationJob(config, late, {}, node);
+  EXPECT_DOUBLE_EQ(kept.time_offset_s, 0.1);
+  EXPECT_FALSE(kept.time_offset);
+}
+
+TEST(CalibrationJob, ScoresTheModelFirstThenTheComparedOnes)
+{
+  const sim::GeneratedPairs data = simulatedPairs();
+  CalibrationConfig config = diffDriveConfig(data.joints);
+  config.compare_models = {"linear", "diff_drive"};  // the fitted model is not scored twice
+  CalibrationJobOptions options;
+  options.compare_trajectories = false;
+  const CalibrationJobResult job = runCalibrationJob(config, data.pairs, {}, options);
+  const std::vector<MotionPair> test(data.pairs.begin(), data.pairs.begin() + 60);
+  const std::vector<ModelScore> scores = scoreModelsOnTest(config, job, test);
+  ASSERT_EQ(scores.size(), 2u);
+  EXPECT_EQ(scores[0].model, "diff_drive");
+  EXPECT_EQ(scores[1].model, "linear");
+  EXPECT_EQ(scores[0].test_pairs, 60u);
+  // The right parametric model beats the linear one on its own robot.
+  EXPECT_LT(scores[0].ate_m, scores[1].ate_m);
+}
+
+TEST(CalibrationJob, ExitStatusFollowsConvergenceAndWarnings)
+{
+  ModelReport report;
+  EXPECT_EQ(calibrationExitStatus(report), 0);
+  report.warnings.push_back("separation not determined");
+  EXPECT_EQ(calibrationExitStatus(report), 4);
+  report.converged = false;
+  EXPECT_EQ(calibrationExitStatus(report), 3);
+}
+
+}  // namespace
+}  // namespace odometry_calibration
