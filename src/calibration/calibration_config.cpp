@@ -255,13 +255,8 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
     requireKnownModel(c.model, "model");
     for (const std::string& name : c.compare_models)
       requireKnownModel(name, "compare_models");
-  } catch (const YAML::Exception& error) {
-    throw std::runtime_error(where + ": " + error.what());
-  } catch (const std::runtime_error& error) {
-    const std::string message = error.what();
-    throw std::runtime_error(message.rfind(source, 0) == 0 ? message : where + ": " + message);
-  } catch (const std::invalid_argument& error) {
-    throw std::runtime_error(where + ": " + error.what());
+  } catch (...) {
+    rethrowWithYamlContext(source, where);
   }
   return c;
 }

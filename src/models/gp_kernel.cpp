@@ -9,6 +9,8 @@ namespace {
 /// The kernel's positive parameters, unpacked from the log-parameters.
 struct Unpacked
 {
+  bool rbf = false;                ///< the kernel has the rbf term
+  bool linear = false;             ///< the kernel has the linear term
   double signal_variance = 0.0;    ///< sigma_f^2 (0 without rbf)
   Eigen::VectorXd inverse_length;  ///< 1 / l_p (rbf)
   double linear_variance = 0.0;    ///< sigma_l^2 (0 without linear)
@@ -82,17 +84,84 @@ Unpacked unpack(const GpKernel& kernel, const Eigen::VectorXd& theta)
 {
   Unpacked u;
   const int m = kernel.inputDimension();
-  if (kernel.type() != GpKernelType::kLinear) {
+  u.rbf = kernel.type() != GpKernelType::kLinear;
+  u.linear = kernel.type() != GpKernelType::kRbf;
+  if (u.rbf) {
     u.signal_variance = std::exp(2.0 * theta(0));
     u.inverse_length = (-theta.segment(1, m)).array().exp();
   } else {
     u.inverse_length = Eigen::VectorXd::Ones(m);
   }
-  if (kernel.type() != GpKernelType::kRbf) {
+  if (u.linear) {
     u.linear_variance = std::exp(2.0 * theta(theta.size() - 1));
   }
   return u;
 }
+
+/// k(a, b) for inputs of dimension m (paper eqs. 7-8, gp_kernel.h): sigma_f^2 exp(-1/2 sum_p
+/// ((a_p - b_p) / l_p)^2) with rbf, plus sigma_l^2 <a, b> with linear.
+double kernelValue(const Unpacked& u, const double* a, const double* b, int m)
+{
+  double value = 0.0;
+  if (u.rbf) {
+    value = u.signal_variance * std::exp(-0.5 * scaledDistance2(a, b, u.inverse_length.data(), m));
+  }
+  if (u.linear) {
+    value += u.linear_variance * dot(a, b, m);
+  }
+  return value;
+}
+
+/// Weighted sums over pairs of inputs of the kernel's derivatives with respect to its
+/// log-parameters: d k / d log sigma_f = 2 k_rbf; d k / d log l_p = k_rbf (d_p / l_p)^2;
+/// d k / d log sigma_l = 2 k_lin (the factors 2 and sigma_l^2 are applied once, in addTo).
+class GradientSums
+{
+public:
+  GradientSums(const Unpacked& u, int m) : u_(u), m_(m), g_length_(Eigen::VectorXd::Zero(m)), d2_(m)
+  {
+  }
+
+  /// Adds w times the derivatives of k(a, b).
+  void add(double w, const double* a, const double* b)
+  {
+    if (u_.rbf) {
+      double q = 0.0;
+      for (int p = 0; p < m_; ++p) {
+        const double d = (a[p] - b[p]) * u_.inverse_length(p);
+        d2_(p) = d * d;
+        q += d2_(p);
+      }
+      const double wk = w * u_.signal_variance * std::exp(-0.5 * q);
+      g_signal_ += wk;
+      g_length_ += wk * d2_;
+    }
+    if (u_.linear) {
+      g_linear_ += w * dot(a, b, m_);
+    }
+  }
+
+  /// gradient += the sums, in the parameter layout of the file comment (log sigma_l at
+  /// linear_index).
+  void addTo(int linear_index, Eigen::VectorXd* gradient) const
+  {
+    if (u_.rbf) {
+      (*gradient)(0) += 2.0 * g_signal_;
+      gradient->segment(1, m_) += g_length_;
+    }
+    if (u_.linear) {
+      (*gradient)(linear_index) += 2.0 * u_.linear_variance * g_linear_;
+    }
+  }
+
+private:
+  const Unpacked& u_;
+  int m_;
+  double g_signal_ = 0.0;
+  double g_linear_ = 0.0;
+  Eigen::VectorXd g_length_;  ///< per input dimension
+  Eigen::VectorXd d2_;        ///< scratch: ((a_p - b_p) / l_p)^2
+};
 
 }  // namespace
 
@@ -107,16 +176,7 @@ Eigen::MatrixXd GpKernel::cross(const Eigen::VectorXd& log_parameters, const Eig
   for (Eigen::Index j = 0; j < b.cols(); ++j) {
     const double* bj = b.col(j).data();
     for (Eigen::Index i = 0; i < a.cols(); ++i) {
-      const double* ai = a.col(i).data();
-      double value = 0.0;
-      if (hasRbf()) {
-        value = u.signal_variance *
-                std::exp(-0.5 * scaledDistance2(ai, bj, u.inverse_length.data(), m));
-      }
-      if (hasLinear()) {
-        value += u.linear_variance * dot(ai, bj, m);
-      }
-      k(i, j) = value;
+      k(i, j) = kernelValue(u, a.col(i).data(), bj, m);
     }
   }
   return k;
@@ -133,15 +193,7 @@ Eigen::MatrixXd GpKernel::gram(const Eigen::VectorXd& log_parameters,
   for (Eigen::Index j = 0; j < n; ++j) {
     const double* aj = a.col(j).data();
     for (Eigen::Index i = j; i < n; ++i) {
-      const double* ai = a.col(i).data();
-      double value = 0.0;
-      if (hasRbf()) {
-        value = u.signal_variance *
-                std::exp(-0.5 * scaledDistance2(ai, aj, u.inverse_length.data(), m));
-      }
-      if (hasLinear()) {
-        value += u.linear_variance * dot(ai, aj, m);
-      }
+      const double value = kernelValue(u, a.col(i).data(), aj, m);
       k(i, j) = value;
       k(j, i) = value;
     }
@@ -174,41 +226,14 @@ void GpKernel::addCrossGradient(const Eigen::VectorXd& log_parameters, const Eig
   check(log_parameters, a);
   check(log_parameters, b);
   const Unpacked u = unpack(*this, log_parameters);
-  const int m = dimension_;
-  // d k / d log sigma_f = 2 k_rbf; d k / d log l_p = k_rbf (d_p / l_p)^2;
-  // d k / d log sigma_l = 2 k_lin.
-  double g_signal = 0.0;
-  double g_linear = 0.0;
-  Eigen::VectorXd g_length = Eigen::VectorXd::Zero(m);
-  Eigen::VectorXd d2(m);
+  GradientSums sums(u, dimension_);
   for (Eigen::Index j = 0; j < b.cols(); ++j) {
     const double* bj = b.col(j).data();
     for (Eigen::Index i = 0; i < a.cols(); ++i) {
-      const double w = weights(i, j);
-      const double* ai = a.col(i).data();
-      if (hasRbf()) {
-        double q = 0.0;
-        for (int p = 0; p < m; ++p) {
-          const double d = (ai[p] - bj[p]) * u.inverse_length(p);
-          d2(p) = d * d;
-          q += d2(p);
-        }
-        const double wk = w * u.signal_variance * std::exp(-0.5 * q);
-        g_signal += wk;
-        g_length += wk * d2;
-      }
-      if (hasLinear()) {
-        g_linear += w * dot(ai, bj, m);
-      }
+      sums.add(weights(i, j), a.col(i).data(), bj);
     }
   }
-  if (hasRbf()) {
-    (*gradient)(0) += 2.0 * g_signal;
-    gradient->segment(1, m) += g_length;
-  }
-  if (hasLinear()) {
-    (*gradient)(linearIndex()) += 2.0 * u.linear_variance * g_linear;
-  }
+  sums.addTo(linearIndex(), gradient);
 }
 
 void GpKernel::addGramGradient(const Eigen::VectorXd& log_parameters, const Eigen::MatrixXd& a,
@@ -216,40 +241,15 @@ void GpKernel::addGramGradient(const Eigen::VectorXd& log_parameters, const Eige
 {
   check(log_parameters, a);
   const Unpacked u = unpack(*this, log_parameters);
-  const int m = dimension_;
-  double g_signal = 0.0;
-  double g_linear = 0.0;
-  Eigen::VectorXd g_length = Eigen::VectorXd::Zero(m);
-  Eigen::VectorXd d2(m);
+  GradientSums sums(u, dimension_);
   for (Eigen::Index j = 0; j < a.cols(); ++j) {
     const double* aj = a.col(j).data();
     for (Eigen::Index i = j; i < a.cols(); ++i) {
       // Off-diagonal entries stand for both triangles.
-      const double w = (i == j ? 1.0 : 2.0) * weights(i, j);
-      const double* ai = a.col(i).data();
-      if (hasRbf()) {
-        double q = 0.0;
-        for (int p = 0; p < m; ++p) {
-          const double d = (ai[p] - aj[p]) * u.inverse_length(p);
-          d2(p) = d * d;
-          q += d2(p);
-        }
-        const double wk = w * u.signal_variance * std::exp(-0.5 * q);
-        g_signal += wk;
-        g_length += wk * d2;
-      }
-      if (hasLinear()) {
-        g_linear += w * dot(ai, aj, m);
-      }
+      sums.add((i == j ? 1.0 : 2.0) * weights(i, j), a.col(i).data(), aj);
     }
   }
-  if (hasRbf()) {
-    (*gradient)(0) += 2.0 * g_signal;
-    gradient->segment(1, m) += g_length;
-  }
-  if (hasLinear()) {
-    (*gradient)(linearIndex()) += 2.0 * u.linear_variance * g_linear;
-  }
+  sums.addTo(linearIndex(), gradient);
 }
 
 void GpKernel::addDiagonalGradient(const Eigen::VectorXd& log_parameters, const Eigen::MatrixXd& a,

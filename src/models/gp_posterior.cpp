@@ -9,6 +9,35 @@
 #include "odometry_calibration/models/gp_likelihood.h"
 
 namespace odometry_calibration {
+namespace {
+
+/// The targets minus the profiled mean, r = y - H^T C, with the mean's coefficients
+/// C = (H S^-1 H^T)^-1 H S^-1 y (profiledMeanCoefficients) written to *mean_coefficients, where
+/// apply_inverse(v) = S^-1 v for the posterior's covariance S of the targets (K + Sigma, or its
+/// sparse approximation). Without a mean basis (p = 0): r = y and C empty.
+template <typename ApplyInverse>
+Eigen::VectorXd subtractProfiledMean(const GpRegressionData& data,
+                                     const ApplyInverse& apply_inverse,
+                                     Eigen::VectorXd* mean_coefficients)
+{
+  Eigen::VectorXd residuals = data.targets;
+  mean_coefficients->resize(0);
+  if (data.mean_basis.rows() > 0) {
+    *mean_coefficients =
+        profiledMeanCoefficients(data.mean_basis, apply_inverse(data.mean_basis.transpose()),
+                                 apply_inverse(data.targets).col(0));
+    residuals.noalias() -= data.mean_basis.transpose() * *mean_coefficients;
+  }
+  return residuals;
+}
+
+}  // namespace
+
+GpPosterior::GpPosterior(Kind kind, const GpKernel& kernel, const Eigen::VectorXd& log_parameters,
+                         const Eigen::MatrixXd& basis)
+    : kind_(kind), kernel_(kernel), log_parameters_(log_parameters), basis_(basis)
+{
+}
 
 void GpPosterior::factorExact()
 {
@@ -33,11 +62,7 @@ GpPosterior GpPosterior::exact(const GpKernel& kernel, const Eigen::VectorXd& lo
 GpPosterior GpPosterior::exact(const GpKernel& kernel, const Eigen::VectorXd& log_parameters,
                                const GpRegressionData& data, Eigen::VectorXd* mean_coefficients)
 {
-  GpPosterior posterior;
-  posterior.kind_ = Kind::kExact;
-  posterior.kernel_ = kernel;
-  posterior.log_parameters_ = log_parameters;
-  posterior.basis_ = data.inputs;
+  GpPosterior posterior(Kind::kExact, kernel, log_parameters, data.inputs);
   posterior.noise_variance_ = data.noise_variance;
   posterior.factorExact();
   const auto lower = posterior.factor_.triangularView<Eigen::Lower>();
@@ -47,14 +72,7 @@ GpPosterior GpPosterior::exact(const GpKernel& kernel, const Eigen::VectorXd& lo
     upper.solveInPlace(v);
     return v;
   };
-  Eigen::VectorXd residuals = data.targets;
-  mean_coefficients->resize(0);
-  if (data.mean_basis.rows() > 0) {
-    *mean_coefficients =
-        profiledMeanCoefficients(data.mean_basis, apply_inverse(data.mean_basis.transpose()),
-                                 apply_inverse(data.targets).col(0));
-    residuals.noalias() -= data.mean_basis.transpose() * *mean_coefficients;
-  }
+  const Eigen::VectorXd residuals = subtractProfiledMean(data, apply_inverse, mean_coefficients);
   posterior.weights_ = apply_inverse(residuals).col(0);
   return posterior;
 }
@@ -67,11 +85,7 @@ GpPosterior GpPosterior::exactFromState(const GpKernel& kernel,
   if (alpha.size() != inputs.cols() || noise_variance.size() != inputs.cols()) {
     throw std::runtime_error("gp: exact posterior needs one weight and one noise per input");
   }
-  GpPosterior posterior;
-  posterior.kind_ = Kind::kExact;
-  posterior.kernel_ = kernel;
-  posterior.log_parameters_ = log_parameters;
-  posterior.basis_ = inputs;
+  GpPosterior posterior(Kind::kExact, kernel, log_parameters, inputs);
   posterior.noise_variance_ = noise_variance;
   posterior.weights_ = alpha;
   posterior.factorExact();
@@ -114,20 +128,9 @@ GpPosterior GpPosterior::sparse(const GpKernel& kernel, const Eigen::VectorXd& l
     const Eigen::MatrixXd out = scaled - a.transpose() * llt_b.solve(a * scaled);
     return Eigen::MatrixXd(inv_sqrt_noise.asDiagonal() * out);
   };
-  Eigen::VectorXd residuals = data.targets;
-  mean_coefficients->resize(0);
-  if (data.mean_basis.rows() > 0) {
-    *mean_coefficients =
-        profiledMeanCoefficients(data.mean_basis, apply_inverse(data.mean_basis.transpose()),
-                                 apply_inverse(data.targets).col(0));
-    residuals.noalias() -= data.mean_basis.transpose() * *mean_coefficients;
-  }
+  const Eigen::VectorXd residuals = subtractProfiledMean(data, apply_inverse, mean_coefficients);
   const auto upper_m = l_m.transpose().triangularView<Eigen::Upper>();
-  GpPosterior posterior;
-  posterior.kind_ = Kind::kSparse;
-  posterior.kernel_ = kernel;
-  posterior.log_parameters_ = log_parameters;
-  posterior.basis_ = inducing_inputs;
+  GpPosterior posterior(Kind::kSparse, kernel, log_parameters, inducing_inputs);
   // w = L_m^-T B^-1 A S^-1/2 r.
   posterior.weights_ = llt_b.solve(a * inv_sqrt_noise.cwiseProduct(residuals));
   upper_m.solveInPlace(posterior.weights_);
@@ -151,11 +154,7 @@ GpPosterior GpPosterior::sparseFromState(const GpKernel& kernel,
   if (weights.size() != m || variance_matrix.rows() != m || variance_matrix.cols() != m) {
     throw std::runtime_error("gp: sparse posterior needs M weights and an M x M variance matrix");
   }
-  GpPosterior posterior;
-  posterior.kind_ = Kind::kSparse;
-  posterior.kernel_ = kernel;
-  posterior.log_parameters_ = log_parameters;
-  posterior.basis_ = inducing_inputs;
+  GpPosterior posterior(Kind::kSparse, kernel, log_parameters, inducing_inputs);
   posterior.weights_ = weights;
   posterior.variance_matrix_ = variance_matrix;
   return posterior;

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <thread>
+#include <utility>
 
 namespace odometry_calibration {
 
@@ -207,6 +208,31 @@ std::vector<CollectorEvent> PairCollector::addScan(double stamp_s, const Scan& s
   return processReadyScans(false);
 }
 
+std::optional<CollectorEvent> PairCollector::unpairedInput(
+    double stamp_s, const std::function<CollectorEvent(CollectorEvent)>& start_keyframe,
+    std::vector<EncoderSample>* window)
+{
+  if (!keyframe_) {
+    CollectorEvent event;
+    event.type = CollectorEvent::Type::kKeyframe;
+    return start_keyframe(event);
+  }
+  if (stamp_s - keyframe_->stamp_s < options_.keyframe_interval_s)
+    return CollectorEvent();
+  std::string reason;
+  auto found = encoderWindow(keyframe_->stamp_s, stamp_s, &reason);
+  if (!found)
+    return start_keyframe(reject(reason));
+  if (tooLittleMotion(*found)) {
+    if (stamp_s - keyframe_->stamp_s < 4.0 * options_.keyframe_interval_s)
+      return CollectorEvent();  // wait for more motion
+    return start_keyframe(
+        reject("too little motion (keyframes.min_translation_m/min_rotation_rad)"));
+  }
+  *window = std::move(*found);
+  return std::nullopt;
+}
+
 CollectorEvent PairCollector::processScan(double stamp_s,
                                           std::shared_ptr<LazyPreparedScan> prepared)
 {
@@ -241,27 +267,12 @@ CollectorEvent PairCollector::processScan(double stamp_s,
     ++statistics_.keyframes;
     return event;
   };
-  if (!keyframe_) {
-    CollectorEvent event;
-    event.type = CollectorEvent::Type::kKeyframe;
-    return start_keyframe(event);
-  }
-  if (stamp_s - keyframe_->stamp_s < options_.keyframe_interval_s)
-    return {};
-
-  std::string reason;
-  const auto window = encoderWindow(keyframe_->stamp_s, stamp_s, &reason);
-  if (!window)
-    return start_keyframe(reject(reason));
-  if (tooLittleMotion(*window)) {
-    if (stamp_s - keyframe_->stamp_s < 4.0 * options_.keyframe_interval_s)
-      return {};  // wait for more motion
-    return start_keyframe(
-        reject("too little motion (keyframes.min_translation_m/min_rotation_rad)"));
-  }
+  std::vector<EncoderSample> window;
+  if (const auto answer = unpairedInput(stamp_s, start_keyframe, &window))
+    return *answer;
   // Runs here while the background thread works through the consecutive matches.
   const PlicpResult match =
-      timedMatch(*keyframe_->scan, *prepared, predict(*window), options_.plicp,
+      timedMatch(*keyframe_->scan, *prepared, predict(window), options_.plicp,
                  &statistics_.preparation_time_s, &statistics_.matching_time_s);
   foldConsecutiveMatches();
   if (!match.valid()) {
@@ -276,7 +287,7 @@ CollectorEvent PairCollector::processScan(double stamp_s,
       return start_keyframe(reject("keyframe match disagrees with consecutive matches"));
     }
   }
-  return start_keyframe(pairEvent(stamp_s, *window, match.T_ref_new, match.covariance));
+  return start_keyframe(pairEvent(stamp_s, std::move(window), match.T_ref_new, match.covariance));
 }
 
 std::vector<CollectorEvent> PairCollector::addSensorPose(double stamp_s,
@@ -299,25 +310,11 @@ CollectorEvent PairCollector::processPose(double stamp_s, const Pose2& T_world_s
     ++statistics_.keyframes;
     return event;
   };
-  if (!keyframe_) {
-    CollectorEvent event;
-    event.type = CollectorEvent::Type::kKeyframe;
-    return start_keyframe(event);
-  }
-  if (stamp_s - keyframe_->stamp_s < options_.keyframe_interval_s)
-    return {};
-  std::string reason;
-  const auto window = encoderWindow(keyframe_->stamp_s, stamp_s, &reason);
-  if (!window)
-    return start_keyframe(reject(reason));
-  if (tooLittleMotion(*window)) {
-    if (stamp_s - keyframe_->stamp_s < 4.0 * options_.keyframe_interval_s)
-      return {};
-    return start_keyframe(
-        reject("too little motion (keyframes.min_translation_m/min_rotation_rad)"));
-  }
-  return start_keyframe(
-      pairEvent(stamp_s, *window, between(keyframe_->T_world_sensor, T_world_sensor), covariance));
+  std::vector<EncoderSample> window;
+  if (const auto answer = unpairedInput(stamp_s, start_keyframe, &window))
+    return *answer;
+  return start_keyframe(pairEvent(stamp_s, std::move(window),
+                                  between(keyframe_->T_world_sensor, T_world_sensor), covariance));
 }
 
 }  // namespace odometry_calibration

@@ -181,13 +181,8 @@ Scenario loadScenarioYaml(const std::string& path, const std::string& worlds_dir
     }
     where = path;
     validate(s);
-  } catch (const YAML::Exception& error) {
-    throw std::runtime_error(where + ": " + error.what());
-  } catch (const std::runtime_error& error) {
-    const std::string message = error.what();
-    throw std::runtime_error(message.rfind(path, 0) == 0 ? message : where + ": " + message);
-  } catch (const std::invalid_argument& error) {
-    throw std::runtime_error(where + ": " + error.what());
+  } catch (...) {
+    rethrowWithYamlContext(path, where);
   }
   return s;
 }

@@ -30,6 +30,13 @@ inline void checkYamlKeys(const YAML::Node& node, const std::set<std::string>& a
   }
 }
 
+/// To be called in a catch (...) around the reading of a configuration file `source`:
+/// rethrows the exception in flight as std::runtime_error "<where>: <what>", `where` being the
+/// section that was being read (e.g. "<source>: keyframes"). A YAML::Exception or
+/// std::invalid_argument always gets the prefix; another std::runtime_error only when its
+/// message does not already start with `source`; any other exception is rethrown as it is.
+[[noreturn]] void rethrowWithYamlContext(const std::string& source, const std::string& where);
+
 /// Reads `node[key]` into `value` when present (yaml-cpp throws on a wrong type).
 template <typename T>
 void readYaml(const YAML::Node& node, const char* key, T* value)

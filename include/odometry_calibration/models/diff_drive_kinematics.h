@@ -12,7 +12,7 @@
 
 #include "odometry_calibration/data/motion_pair.h"
 #include "odometry_calibration/geometry/se2.h"
-#include "odometry_calibration/models/tricycle_kinematics.h"  // sinc
+#include "odometry_calibration/models/encoder_steps.h"  // sinc, composeEncoderSteps
 
 namespace odometry_calibration {
 
@@ -53,16 +53,13 @@ template <typename T>
 Pose2T<T> integrateDiffDriveMotion(const T* intrinsic, const DiffDriveEncoderLayout& layout,
                                    const std::vector<EncoderSample>& samples)
 {
-  Pose2T<T> motion;
-  for (std::size_t k = 1; k < samples.size(); ++k) {
-    motion = motion *
-             diffDriveStep(
-                 intrinsic,
-                 samples[k].values(layout.left_index) - samples[k - 1].values(layout.left_index),
-                 samples[k].values(layout.right_index) - samples[k - 1].values(layout.right_index),
-                 layout.ticks_per_turn);
-  }
-  return motion;
+  return composeEncoderSteps<T>(
+      samples, [&](const EncoderSample& previous, const EncoderSample& current) {
+        return diffDriveStep(
+            intrinsic, current.values(layout.left_index) - previous.values(layout.left_index),
+            current.values(layout.right_index) - previous.values(layout.right_index),
+            layout.ticks_per_turn);
+      });
 }
 
 }  // namespace odometry_calibration

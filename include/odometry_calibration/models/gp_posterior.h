@@ -77,6 +77,10 @@ public:
   const Eigen::MatrixXd& varianceMatrix() const { return variance_matrix_; }
 
 private:
+  /// A posterior of `kind` over `basis` (the inputs, or the inducing inputs when sparse), with
+  /// the kernel and its log-parameters; the rest is filled by the factory functions.
+  GpPosterior(Kind kind, const GpKernel& kernel, const Eigen::VectorXd& log_parameters,
+              const Eigen::MatrixXd& basis);
   void factorExact();
 
   Kind kind_ = Kind::kExact;

@@ -17,6 +17,7 @@
 
 #include "odometry_calibration/data/motion_pair.h"
 #include "odometry_calibration/geometry/se2.h"
+#include "odometry_calibration/models/encoder_steps.h"  // sinc, composeEncoderSteps
 
 namespace odometry_calibration {
 
@@ -38,18 +39,6 @@ enum TricycleParameterIndex
   kSteeringOffset = 3,     ///< ds: steering angle at zero reading [rad]
   kTricycleParameterCount  ///< 4
 };
-
-/// sin(x)/x, with its series near 0 so that derivatives stay finite.
-template <typename T>
-T sinc(const T& x)
-{
-  using std::abs;
-  using std::sin;
-  if (abs(x) < T(1e-4)) {
-    return T(1.0) - x * x / T(6.0);
-  }
-  return sin(x) / x;
-}
 
 /// Base motion over one encoder step, given the step's traction ticks and steering reading.
 /// @param kinematic the four parameters (TricycleParameterIndex)
@@ -75,14 +64,13 @@ template <typename T>
 Pose2T<T> integrateTricycleMotion(const T* kinematic, const TricycleEncoderLayout& layout,
                                   const std::vector<EncoderSample>& samples)
 {
-  Pose2T<T> motion;
-  for (std::size_t k = 1; k < samples.size(); ++k) {
-    const double traction_ticks =
-        samples[k].values(layout.traction_index) - samples[k - 1].values(layout.traction_index);
-    const double steering_ticks = samples[k].values(layout.steering_index);
-    motion = motion * tricycleStep(kinematic, layout, traction_ticks, steering_ticks);
-  }
-  return motion;
+  return composeEncoderSteps<T>(
+      samples, [&](const EncoderSample& previous, const EncoderSample& current) {
+        const double traction_ticks =
+            current.values(layout.traction_index) - previous.values(layout.traction_index);
+        const double steering_ticks = current.values(layout.steering_index);
+        return tricycleStep(kinematic, layout, traction_ticks, steering_ticks);
+      });
 }
 
 }  // namespace odometry_calibration

@@ -141,6 +141,16 @@ public:
   const CollectorOptions& options() const { return options_; }
 
 private:
+  /// The keyframe rule shared by scans and sensor poses, for an input at stamp_s: the first
+  /// input becomes the keyframe; one less than keyframes.interval_s after the keyframe waits;
+  /// one without an encoder window, or with too little motion after 4 intervals, is rejected
+  /// (counted) and becomes the new keyframe; any other is paired with the keyframe. Returns the
+  /// caller's answer when the input is not paired: an empty event (wait) or
+  /// start_keyframe(event) with the keyframe or rejection event; nullopt when it is to be paired,
+  /// with *window the encoder samples from the keyframe to stamp_s.
+  std::optional<CollectorEvent> unpairedInput(
+      double stamp_s, const std::function<CollectorEvent(CollectorEvent)>& start_keyframe,
+      std::vector<EncoderSample>* window);
   CollectorEvent processScan(double stamp_s, std::shared_ptr<LazyPreparedScan> prepared);
   CollectorEvent processPose(double stamp_s, const Pose2& T_world_sensor,
                              const Eigen::Matrix3d& covariance);

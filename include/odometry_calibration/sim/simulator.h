@@ -66,26 +66,21 @@ public:
   explicit TeeSink(std::vector<SimulationSink*> sinks) : sinks_(std::move(sinks)) {}
   void onJointState(const JointStateSample& s) override
   {
-    for (auto* sink : sinks_)
-      sink->onJointState(s);
+    forward(&SimulationSink::onJointState, s);
   }
-  void onScan(const ScanSample& s) override
-  {
-    for (auto* sink : sinks_)
-      sink->onScan(s);
-  }
-  void onTruth(const TruthSample& s) override
-  {
-    for (auto* sink : sinks_)
-      sink->onTruth(s);
-  }
-  void onTracker(const TrackerSample& s) override
-  {
-    for (auto* sink : sinks_)
-      sink->onTracker(s);
-  }
+  void onScan(const ScanSample& s) override { forward(&SimulationSink::onScan, s); }
+  void onTruth(const TruthSample& s) override { forward(&SimulationSink::onTruth, s); }
+  void onTracker(const TrackerSample& s) override { forward(&SimulationSink::onTracker, s); }
 
 private:
+  /// Calls `receive` (one of the SimulationSink callbacks) with `sample` on every sink, in order.
+  template <typename Sample>
+  void forward(void (SimulationSink::*receive)(const Sample&), const Sample& sample)
+  {
+    for (auto* sink : sinks_)
+      (sink->*receive)(sample);
+  }
+
   std::vector<SimulationSink*> sinks_;
 };
 
