@@ -4,6 +4,20 @@
 
 namespace odometry_calibration {
 
+Pose2 se2Exp(const Eigen::Vector3d& xi)
+{
+  const double theta = xi.z();
+  double a = 1.0;  // sin(theta) / theta
+  double b = 0.0;  // (1 - cos(theta)) / theta
+  if (std::abs(theta) > 1e-9) {
+    a = std::sin(theta) / theta;
+    b = (1.0 - std::cos(theta)) / theta;
+  } else {
+    b = 0.5 * theta;
+  }
+  return Pose2(a * xi.x() - b * xi.y(), b * xi.x() + a * xi.y(), theta);
+}
+
 Eigen::Vector3d se2Log(const Pose2& step)
 {
   const double theta = step.theta();

@@ -11,20 +11,11 @@ namespace odometry_calibration {
 namespace {
 
 /// The sensor's pose after moving for tau_s seconds at constant `velocity`: the SE(2)
-/// exponential exp(tau * xi), theta = omega tau, t = V(theta) v tau with
-/// V = [sin(theta), -(1 - cos(theta)); 1 - cos(theta), sin(theta)] / theta.
+/// exponential exp(tau * xi).
 Pose2 poseAfter(const SensorVelocity& velocity, double tau_s)
 {
-  const double theta_rad = velocity.omega_radps * tau_s;
-  double a = 1.0;  // sin(theta) / theta
-  double b = 0.0;  // (1 - cos(theta)) / theta
-  if (std::abs(theta_rad) > 1e-9) {
-    a = std::sin(theta_rad) / theta_rad;
-    b = (1.0 - std::cos(theta_rad)) / theta_rad;
-  }
-  const double vx_m = velocity.vx_mps * tau_s;
-  const double vy_m = velocity.vy_mps * tau_s;
-  return Pose2(a * vx_m - b * vy_m, b * vx_m + a * vy_m, theta_rad);
+  return se2Exp(Eigen::Vector3d(velocity.vx_mps * tau_s, velocity.vy_mps * tau_s,
+                                velocity.omega_radps * tau_s));
 }
 
 /// Moves every point into the frame of the sensor at the stamp and reorders by bearing (the

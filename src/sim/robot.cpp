@@ -10,18 +10,8 @@ namespace sim {
 Pose2 integrateTwist(const Twist2& twist, double dt_s)
 {
   // Exact arc: rotate by w dt while translating with the body-frame velocity (SE(2) exp).
-  const double angle = twist.omega_radps * dt_s;
-  double a = 1.0;  // sin(angle) / angle
-  double b = 0.0;  // (1 - cos(angle)) / angle
-  if (std::abs(angle) > 1e-9) {
-    a = std::sin(angle) / angle;
-    b = (1.0 - std::cos(angle)) / angle;
-  } else {
-    b = 0.5 * angle;
-  }
-  const double x = twist.vx_mps * dt_s;
-  const double y = twist.vy_mps * dt_s;
-  return Pose2(a * x - b * y, b * x + a * y, angle);
+  return se2Exp(
+      Eigen::Vector3d(twist.vx_mps * dt_s, twist.vy_mps * dt_s, twist.omega_radps * dt_s));
 }
 
 namespace {

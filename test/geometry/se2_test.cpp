@@ -127,5 +127,27 @@ TEST(Se2, TransformPointMapsChildToParent)
   EXPECT_NEAR(p_w(1), 3.0, 1e-12);
 }
 
+TEST(Se2, ExpFollowsTheArcAndInvertsLog)
+{
+  // A quarter circle of radius 2 m driven forward: ends at (2, 2) facing +y.
+  const Pose2 quarter = se2Exp(Eigen::Vector3d(M_PI, 0.0, M_PI / 2));
+  EXPECT_NEAR(quarter.x(), 2.0, 1e-12);
+  EXPECT_NEAR(quarter.y(), 2.0, 1e-12);
+  EXPECT_NEAR(quarter.theta(), M_PI / 2, 1e-12);
+  // Straight and nearly straight motion: the first-order arc, no division by zero.
+  const Pose2 straight = se2Exp(Eigen::Vector3d(1.0, 0.0, 0.0));
+  EXPECT_NEAR(straight.x(), 1.0, 1e-15);
+  EXPECT_NEAR(straight.y(), 0.0, 1e-15);
+  const Pose2 tiny = se2Exp(Eigen::Vector3d(1.0, 0.0, 2e-10));
+  EXPECT_NEAR(tiny.y(), 1e-10, 1e-16);
+  // exp(log(T)) = T for motions with sideways components and turns both ways.
+  for (const Pose2& step : {Pose2(0.3, -0.1, 0.7), Pose2(-0.2, 0.05, -1.2), Pose2(0.1, 0.0, 0.0)}) {
+    const Pose2 back = se2Exp(se2Log(step));
+    EXPECT_NEAR(back.x(), step.x(), 1e-12);
+    EXPECT_NEAR(back.y(), step.y(), 1e-12);
+    EXPECT_NEAR(back.theta(), step.theta(), 1e-12);
+  }
+}
+
 }  // namespace
 }  // namespace odometry_calibration

@@ -150,6 +150,11 @@ Eigen::Matrix<T, 3, 1> boxMinus(const Pose2T<T>& predicted, const Pose2T<T>& mea
   return (measured.inverse() * predicted).vector();
 }
 
+/// The SE(2) exponential: the pose reached by moving for unit time at the constant body
+/// velocity xi = (vx [m], vy [m], omega [rad]) along a circular arc: theta = omega,
+/// t = V(theta) (vx, vy) with V as in se2Log (first-order terms below 1e-9 rad).
+Pose2 se2Exp(const Eigen::Vector3d& xi);
+
 /// The SE(2) logarithm: the constant body velocity (vx, vy, omega) times duration that moves
 /// through `step` along a circular arc: t = V(θ) v with V = [sinθ/θ, -(1-cosθ)/θ; (1-cosθ)/θ,
 /// sinθ/θ].
