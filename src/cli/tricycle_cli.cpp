@@ -1,9 +1,6 @@
 #include "odometry_calibration/cli/tricycle_cli.h"
 
-#include <cerrno>
 #include <cmath>
-#include <cstdlib>
-#include <sstream>
 
 #include "odometry_calibration/common/arguments.h"
 #include "odometry_calibration/common/atomic_file.h"
@@ -14,19 +11,6 @@
 #include "odometry_calibration/report/tricycle_result_yaml.h"
 
 namespace odometry_calibration {
-namespace {
-
-double parseNumber(const std::string& option, const std::string& text)
-{
-  try {
-    return parseNumberArgument(option, text);
-  } catch (const std::invalid_argument& error) {
-    throw UsageError(error.what());
-  }
-}
-
-}  // namespace
-
 std::string tricycleCliUsage()
 {
   return "usage: calibrate_tricycle DATASET [options]\n"
@@ -55,60 +39,48 @@ std::string tricycleCliUsage()
 TricycleCliOptions parseTricycleCliArguments(const std::vector<std::string>& arguments)
 {
   TricycleCliOptions options;
-  for (std::size_t i = 0; i < arguments.size(); ++i) {
-    const std::string& argument = arguments[i];
-    auto value = [&]() -> const std::string& {
-      if (i + 1 >= arguments.size()) {
-        throw UsageError("option " + argument + " needs a value");
-      }
-      return arguments[++i];
-    };
-    if (argument == "-h" || argument == "--help") {
-      options.help = true;
-    } else if (argument == "--output") {
-      options.output_path = value();
-    } else if (argument == "--interval") {
-      options.keyframe_interval_s = parseNumber(argument, value());
-      if (!(options.keyframe_interval_s > 0.0)) {
-        throw UsageError("option --interval: the keyframe spacing must be > 0 s");
-      }
-    } else if (argument == "--translation-sigma") {
-      options.calibration.translation_sigma_m = parseNumber(argument, value());
-      if (!(options.calibration.translation_sigma_m > 0.0)) {
-        throw UsageError("option --translation-sigma: expected a standard deviation > 0 m");
-      }
-    } else if (argument == "--rotation-sigma") {
-      options.calibration.rotation_sigma_rad = parseNumber(argument, value());
-      if (!(options.calibration.rotation_sigma_rad > 0.0)) {
-        throw UsageError("option --rotation-sigma: expected a standard deviation > 0 rad");
-      }
-    } else if (argument == "--huber") {
-      options.calibration.huber_threshold = parseNumber(argument, value());
-      if (options.calibration.huber_threshold < 0.0) {
-        throw UsageError("option --huber: expected a threshold >= 0 (0 = no robust loss)");
-      }
-    } else if (argument == "--max-iterations") {
-      const double n = parseNumber(argument, value());
-      if (n < 1 || n > 1e6 || std::floor(n) != n) {
-        throw UsageError("option --max-iterations: expected a whole number in [1, 1e6]");
-      }
-      options.calibration.max_iterations = static_cast<int>(n);
-    } else if (!argument.empty() && argument[0] == '-') {
-      throw UsageError("unknown option '" + argument + "'");
-    } else if (options.dataset_path.empty()) {
-      options.dataset_path = argument;
-    } else {
-      throw UsageError("only one dataset file is accepted, got '" + options.dataset_path +
-                       "' and '" + argument + "'");
-    }
+  std::vector<std::string> datasets;
+  double max_iterations = options.calibration.max_iterations;
+  ArgumentParser parser;
+  parser.option("--output", &options.output_path)
+      .number("--interval", &options.keyframe_interval_s)
+      .number("--translation-sigma", &options.calibration.translation_sigma_m)
+      .number("--rotation-sigma", &options.calibration.rotation_sigma_rad)
+      .number("--huber", &options.calibration.huber_threshold)
+      .number("--max-iterations", &max_iterations)
+      .positionals(&datasets);
+  if (!parser.parse(arguments)) {
+    options.help = true;
+    return options;
   }
-  if (!options.help && options.dataset_path.empty()) {
-    throw UsageError("missing the dataset file");
+  if (!(options.keyframe_interval_s > 0.0)) {
+    throw ArgumentError("option --interval: the keyframe spacing must be > 0 s");
   }
+  if (!(options.calibration.translation_sigma_m > 0.0)) {
+    throw ArgumentError("option --translation-sigma: expected a standard deviation > 0 m");
+  }
+  if (!(options.calibration.rotation_sigma_rad > 0.0)) {
+    throw ArgumentError("option --rotation-sigma: expected a standard deviation > 0 rad");
+  }
+  if (options.calibration.huber_threshold < 0.0) {
+    throw ArgumentError("option --huber: expected a threshold >= 0 (0 = no robust loss)");
+  }
+  if (max_iterations < 1 || max_iterations > 1e6 || std::floor(max_iterations) != max_iterations) {
+    throw ArgumentError("option --max-iterations: expected a whole number in [1, 1e6]");
+  }
+  options.calibration.max_iterations = static_cast<int>(max_iterations);
+  if (datasets.empty()) {
+    throw ArgumentError("missing the dataset file");
+  }
+  if (datasets.size() > 1) {
+    throw ArgumentError("only one dataset file is accepted, got '" + datasets[0] + "' and '" +
+                        datasets[1] + "'");
+  }
+  options.dataset_path = datasets[0];
   try {
     validate(options.calibration);
   } catch (const std::invalid_argument& error) {
-    throw UsageError(error.what());
+    throw ArgumentError(error.what());
   }
   return options;
 }

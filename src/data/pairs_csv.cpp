@@ -173,6 +173,31 @@ PairsFile readPairsCsv(const std::string& path)
   return parsePairsCsv(input, path);
 }
 
+PairsFile readPairsCsvFiles(const std::vector<std::string>& paths)
+{
+  PairsFile all;
+  for (const std::string& path : paths) {
+    PairsFile file = readPairsCsv(path);
+    if (all.joints.names.empty()) {
+      all.joints = file.joints;
+    } else if (file.joints.names != all.joints.names) {
+      throw std::invalid_argument("'" + path + "' has other joints than the first file");
+    }
+    all.pairs.insert(all.pairs.end(), file.pairs.begin(), file.pairs.end());
+  }
+  return all;
+}
+
+TrainTestPairs readTrainTestPairsCsv(const std::vector<std::string>& training_paths,
+                                     const std::vector<std::string>& testing_paths)
+{
+  TrainTestPairs pairs{readPairsCsvFiles(training_paths), readPairsCsvFiles(testing_paths)};
+  if (pairs.testing.joints.names != pairs.training.joints.names) {
+    throw std::invalid_argument("the test pairs have other joints than the training pairs");
+  }
+  return pairs;
+}
+
 void writePairsCsv(const std::string& path, const PairsFile& file)
 {
   std::string text = pairsCsvHeader(file.joints);

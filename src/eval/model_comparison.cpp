@@ -49,4 +49,24 @@ std::string formatComparisonTable(const std::vector<ModelScore>& scores)
   return table;
 }
 
+std::vector<ModelScore> compareModels(const std::vector<std::string>& models,
+                                      const ModelFactoryOptions& options,
+                                      const std::vector<MotionPair>& training,
+                                      const std::vector<MotionPair>& testing)
+{
+  std::vector<ModelScore> scores;
+  for (const std::string& name : models) {
+    auto model = makeModel(name, options);
+    if (training.empty())
+      throw std::invalid_argument("the training files hold no pair");
+    const ModelReport report = model->fit(training);
+    ModelScore score = scoreModel(*model, testing);
+    score.fit_time_s = report.fit_time_s;
+    score.outliers = report.outliers;
+    score.warnings = report.warnings;
+    scores.push_back(score);
+  }
+  return scores;
+}
+
 }  // namespace odometry_calibration

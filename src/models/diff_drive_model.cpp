@@ -32,6 +32,32 @@ void validate(const DiffDriveOptions& o)
   }
 }
 
+namespace {
+
+/// The joint named `name`, or for an empty name the `nth_incremental` incremental joint (from 0).
+int jointIndex(const JointLayout& joints, const std::string& name, int nth_incremental)
+{
+  int seen = 0;
+  for (std::size_t j = 0; j < joints.names.size(); ++j) {
+    if (name.empty() ? (joints.kinds[j] == EncoderKind::kIncremental && seen++ == nth_incremental)
+                     : joints.names[j] == name) {
+      return static_cast<int>(j);
+    }
+  }
+  throw std::invalid_argument(name.empty() ? "diff_drive needs two incremental joints"
+                                           : "no joint named '" + name + "' in the pairs");
+}
+
+}  // namespace
+
+DiffDriveEncoderLayout diffDriveLayoutForJoints(const JointLayout& joints,
+                                                const std::string& left_joint,
+                                                const std::string& right_joint,
+                                                double ticks_per_turn)
+{
+  return {jointIndex(joints, left_joint, 0), jointIndex(joints, right_joint, 1), ticks_per_turn};
+}
+
 DiffDriveModel::DiffDriveModel(DiffDriveOptions options) : options_(std::move(options))
 {
   validate(options_);

@@ -126,6 +126,18 @@ void SimBagWriter::close()
   bag_->close();
 }
 
+std::string defaultSimulationBagPath(const sim::Scenario& scenario)
+{
+  return scenario.name + ".bag";
+}
+
+std::string defaultTruthPath(const std::string& bag_path)
+{
+  const bool ends_in_bag =
+      bag_path.size() > 4 && bag_path.compare(bag_path.size() - 4, 4, ".bag") == 0;
+  return (ends_in_bag ? bag_path.substr(0, bag_path.size() - 4) : bag_path) + "_truth.yaml";
+}
+
 sim::SimulationSummary simulateToBag(const sim::Scenario& scenario, const std::string& bag_path,
                                      const std::string& truth_path, sim::SimulationSink* extra_sink)
 {

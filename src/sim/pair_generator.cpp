@@ -87,5 +87,15 @@ GeneratedPairs generatePairs(const PairGeneratorOptions& options)
   return generated;
 }
 
+PairGeneratorOptions pairGeneratorOptions(const Scenario& scenario, PairGeneratorOptions options)
+{
+  options.robot = scenario.robot;
+  options.T_base_sensor = scenario.laser.T_base_laser;
+  options.motion = scenario.motion;
+  options.encoder_rate_hz = scenario.encoders.rate_hz;
+  options.duration_s = scenario.duration_s;
+  options.seed = scenario.seed;
+  return options;
+}
 }  // namespace sim
 }  // namespace odometry_calibration

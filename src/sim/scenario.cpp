@@ -250,5 +250,20 @@ std::string scenarioTruthYaml(const Scenario& s, const Robot& robot)
          std::string(out.c_str()) + "\n";
 }
 
+Scenario loadScenarioYaml(const std::string& path, const std::string& worlds_directory,
+                          const ScenarioOverrides& overrides)
+{
+  Scenario scenario = loadScenarioYaml(path, worlds_directory);
+  if (overrides.seed >= 0.0)
+    scenario.seed = static_cast<unsigned>(overrides.seed);
+  if (overrides.duration_s > 0.0)
+    scenario.duration_s = overrides.duration_s;
+  return scenario;
+}
+
+std::string shippedWorldsDirectory()
+{
+  return std::string(ODOMETRY_CALIBRATION_CONFIG_DIR) + "/sim/worlds";
+}
 }  // namespace sim
 }  // namespace odometry_calibration

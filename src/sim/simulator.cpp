@@ -210,5 +210,9 @@ SimulationSummary simulate(const Scenario& scenario, const World& world, const R
   return summary;
 }
 
+bool droveTooLittle(const Scenario& scenario, const SimulationSummary& summary)
+{
+  return summary.distance_m < 0.05 * scenario.motion.max_speed_mps * scenario.duration_s;
+}
 }  // namespace sim
 }  // namespace odometry_calibration

@@ -85,5 +85,22 @@ void TricycleLogSink::onTracker(const TrackerSample& sample)
   ++rows_;
 }
 
+bool canWriteTricycleLog(const Scenario& scenario)
+{
+  return scenario.robot.type == "tricycle" && scenario.tracker.enabled;
+}
+
+std::unique_ptr<TricycleLogSink> makeTricycleLogSink(const Scenario& scenario)
+{
+  if (!canWriteTricycleLog(scenario)) {
+    throw std::invalid_argument("a tricycle log needs a tricycle robot with the tracker enabled");
+  }
+  const auto parameters = makeRobot(scenario.robot)->trueParameters();
+  const TricycleParameters nominal = TricycleParameters::fromVectors(
+      Eigen::Vector4d(0.1, 0.0106141, 1.4, 0.0), Eigen::Vector3d(1.5, 0.0, 0.0));
+  return std::make_unique<TricycleLogSink>(scenario, nominal,
+                                           parameters.at("steering_ticks_per_rev"),
+                                           parameters.at("traction_ticks_per_rev"));
+}
 }  // namespace sim
 }  // namespace odometry_calibration

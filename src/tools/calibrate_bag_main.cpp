@@ -76,39 +76,20 @@ int main(int argc, char** argv)
   bool quiet = !isatty(STDERR_FILENO);
   bool single_thread = false;
   try {
-    const std::vector<std::string> args(argv + 1, argv + argc);
-    for (std::size_t i = 0; i < args.size(); ++i) {
-      const std::string& arg = args[i];
-      if (arg == "-h" || arg == "--help") {
-        std::cout << kUsage;
-        return 0;
-      } else if (arg == "--quiet") {
-        quiet = true;
-      } else if (arg == "--single-thread") {
-        single_thread = true;
-      } else if (arg.rfind("--", 0) == 0) {
-        if (i + 1 >= args.size())
-          throw std::invalid_argument("option " + arg + " needs a value");
-        const std::string& value = args[++i];
-        if (arg == "--config")
-          config_path = value;
-        else if (arg == "--output-dir")
-          output_dir = value;
-        else if (arg == "--model")
-          model_name = value;
-        else if (arg == "--gnuplot")
-          gnuplot.program = value;
-        else if (arg == "--test")
-          test_bags.push_back(value);
-        else if (arg == "--start")
-          start_s = parseNumberArgument(arg, value, 0.0);
-        else if (arg == "--end")
-          end_s = parseNumberArgument(arg, value, 0.0);
-        else
-          throw std::invalid_argument("unknown option '" + arg + "'");
-      } else {
-        bags.push_back(arg);
-      }
+    ArgumentParser parser;
+    parser.option("--config", &config_path)
+        .option("--output-dir", &output_dir)
+        .option("--model", &model_name)
+        .option("--gnuplot", &gnuplot.program)
+        .repeatedOption("--test", &test_bags)
+        .number("--start", &start_s, 0.0)
+        .number("--end", &end_s, 0.0)
+        .flag("--quiet", &quiet)
+        .flag("--single-thread", &single_thread)
+        .positionals(&bags);
+    if (!parser.parse(argc, argv)) {
+      std::cout << kUsage;
+      return 0;
     }
     if (config_path.empty() || bags.empty()) {
       throw std::invalid_argument("give --config and at least one bag");

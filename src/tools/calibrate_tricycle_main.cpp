@@ -20,7 +20,7 @@ int main(int argc, char** argv)
       return 0;
     }
     return runTricycleCli(options, std::cout, std::cerr);
-  } catch (const UsageError& error) {
+  } catch (const ArgumentError& error) {
     std::cerr << "error: " << error.what() << "\n\n" << tricycleCliUsage();
     return 2;
   }

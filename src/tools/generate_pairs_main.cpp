@@ -1,6 +1,4 @@
 // generate_pairs: keyframe pairs with a known truth from a simulator scenario, as a pairs file.
-#include <cmath>
-#include <cstdlib>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -31,41 +29,24 @@ const char* kUsage =
 int main(int argc, char** argv)
 {
   using namespace odometry_calibration;
-  std::string scenario_path, output;
+  std::vector<std::string> scenario_paths;
+  std::string output;
   sim::PairGeneratorOptions options;
-  double seed = -1.0, duration = -1.0;
+  sim::ScenarioOverrides overrides;
   try {
-    const std::vector<std::string> args(argv + 1, argv + argc);
-    for (std::size_t i = 0; i < args.size(); ++i) {
-      const std::string& arg = args[i];
-      if (arg == "-h" || arg == "--help") {
-        std::cout << kUsage;
-        return 0;
-      }
-      if (arg[0] != '-') {
-        scenario_path = arg;
-        continue;
-      }
-      if (i + 1 >= args.size())
-        throw std::invalid_argument("option " + arg + " needs a value");
-      const std::string& value = args[++i];
-      if (arg == "--output") {
-        output = value;
-      } else if (arg == "--interval") {
-        options.interval_s = parseNumberArgument(arg, value, 0.0);
-      } else if (arg == "--noise-m") {
-        options.translation_noise_m = parseNumberArgument(arg, value, 0.0);
-      } else if (arg == "--noise-rad") {
-        options.rotation_noise_rad = parseNumberArgument(arg, value, 0.0);
-      } else if (arg == "--seed") {
-        seed = parseNumberArgument(arg, value, 0.0);
-      } else if (arg == "--duration") {
-        duration = parseNumberArgument(arg, value, 0.0);
-      } else {
-        throw std::invalid_argument("unknown option '" + arg + "'");
-      }
+    ArgumentParser parser;
+    parser.option("--output", &output)
+        .number("--interval", &options.interval_s, 0.0)
+        .number("--noise-m", &options.translation_noise_m, 0.0)
+        .number("--noise-rad", &options.rotation_noise_rad, 0.0)
+        .number("--seed", &overrides.seed, 0.0)
+        .number("--duration", &overrides.duration_s, 0.0)
+        .positionals(&scenario_paths, 1);
+    if (!parser.parse(argc, argv)) {
+      std::cout << kUsage;
+      return 0;
     }
-    if (scenario_path.empty() || output.empty()) {
+    if (scenario_paths.empty() || output.empty()) {
       throw std::invalid_argument("give a scenario and --output");
     }
   } catch (const std::exception& error) {
@@ -73,15 +54,10 @@ int main(int argc, char** argv)
     return 2;
   }
   try {
-    const sim::Scenario scenario = sim::loadScenarioYaml(
-        scenario_path, std::string(ODOMETRY_CALIBRATION_CONFIG_DIR) + "/sim/worlds");
-    options.robot = scenario.robot;
-    options.T_base_sensor = scenario.laser.T_base_laser;
-    options.motion = scenario.motion;
-    options.encoder_rate_hz = scenario.encoders.rate_hz;
-    options.duration_s = duration > 0.0 ? duration : scenario.duration_s;
-    options.seed = seed >= 0.0 ? static_cast<unsigned>(seed) : scenario.seed;
-    const sim::GeneratedPairs generated = sim::generatePairs(options);
+    const sim::Scenario scenario =
+        sim::loadScenarioYaml(scenario_paths[0], sim::shippedWorldsDirectory(), overrides);
+    const sim::GeneratedPairs generated =
+        sim::generatePairs(sim::pairGeneratorOptions(scenario, options));
     writePairsCsv(output, {generated.joints, generated.pairs});
     std::cout << "wrote " << generated.pairs.size() << " pairs to " << output << "\n";
   } catch (const std::exception& error) {

@@ -58,7 +58,7 @@ TEST(TricycleCli, NamesTheBadOption)
   auto message = [](const std::vector<std::string>& arguments) -> std::string {
     try {
       parseTricycleCliArguments(arguments);
-    } catch (const UsageError& error) {
+    } catch (const ArgumentError& error) {
       return error.what();
     }
     return "";

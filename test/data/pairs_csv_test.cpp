@@ -106,5 +106,34 @@ TEST_F(PairsCsv, ErrorsNameTheLine)
   EXPECT_NE(message("# joints: a:sideways\n").find("a:sideways"), std::string::npos);
 }
 
+TEST_F(PairsCsv, SeveralFilesMustShareTheirJoints)
+{
+  const std::string a = directory_ + "/a.csv", b = directory_ + "/b.csv", c = directory_ + "/c.csv";
+  writePairsCsv(a, {joints(), {pair(0.0), pair(0.5)}});
+  writePairsCsv(b, {joints(), {pair(1.0)}});
+  writePairsCsv(c, {{{"left", "right"}, {EncoderKind::kIncremental, EncoderKind::kIncremental}},
+                    {pair(2.0)}});
+  const PairsFile all = readPairsCsvFiles({a, b});
+  EXPECT_EQ(all.joints.names, joints().names);
+  ASSERT_EQ(all.pairs.size(), 3u);
+  EXPECT_EQ(all.pairs[2].start_stamp_s, pair(1.0).start_stamp_s);
+  EXPECT_TRUE(readPairsCsvFiles({}).pairs.empty());
+  try {
+    readPairsCsvFiles({a, c});
+    FAIL() << "files with other joints were accepted";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_EQ(std::string(error.what()), "'" + c + "' has other joints than the first file");
+  }
+
+  const TrainTestPairs pairs = readTrainTestPairsCsv({a}, {b});
+  EXPECT_EQ(pairs.training.pairs.size(), 2u);
+  EXPECT_EQ(pairs.testing.pairs.size(), 1u);
+  try {
+    readTrainTestPairsCsv({a, b}, {c});
+    FAIL() << "test pairs with other joints were accepted";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_STREQ(error.what(), "the test pairs have other joints than the training pairs");
+  }
+}
 }  // namespace
 }  // namespace odometry_calibration

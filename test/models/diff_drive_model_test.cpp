@@ -112,5 +112,29 @@ TEST(DiffDriveModel, RejectsTooFewPairsAndBadOptions)
   EXPECT_THROW(DiffDriveModel{bad}, std::invalid_argument);
 }
 
+TEST(DiffDriveModel, FindsTheWheelJointsByNameOrAsTheIncrementalOnes)
+{
+  const JointLayout joints{
+      {"steer", "left", "right"},
+      {EncoderKind::kAbsolute, EncoderKind::kIncremental, EncoderKind::kIncremental}};
+  const DiffDriveEncoderLayout defaults = diffDriveLayoutForJoints(joints, "", "", 1024.0);
+  EXPECT_EQ(defaults.left_index, 1);
+  EXPECT_EQ(defaults.right_index, 2);
+  EXPECT_EQ(defaults.ticks_per_turn, 1024.0);
+  const DiffDriveEncoderLayout named = diffDriveLayoutForJoints(joints, "right", "left", 2000.0);
+  EXPECT_EQ(named.left_index, 2);
+  EXPECT_EQ(named.right_index, 1);
+  auto message = [&](const JointLayout& layout, const std::string& left) -> std::string {
+    try {
+      diffDriveLayoutForJoints(layout, left, "", 2000.0);
+    } catch (const std::invalid_argument& error) {
+      return error.what();
+    }
+    return "";
+  };
+  EXPECT_EQ(message(joints, "front"), "no joint named 'front' in the pairs");
+  EXPECT_EQ(message({{"steer", "left"}, {EncoderKind::kAbsolute, EncoderKind::kIncremental}}, ""),
+            "diff_drive needs two incremental joints");
+}
 }  // namespace
 }  // namespace odometry_calibration

@@ -153,5 +153,15 @@ TEST(SimBag, ScenarioErrorsNameTheKey)
   EXPECT_FALSE(std::ifstream(directory + "/x.bag.partial").good());
 }
 
+TEST(SimBag, DefaultFileNames)
+{
+  sim::Scenario scenario;
+  scenario.name = "office";
+  EXPECT_EQ(defaultSimulationBagPath(scenario), "office.bag");
+  EXPECT_EQ(defaultTruthPath("office.bag"), "office_truth.yaml");
+  EXPECT_EQ(defaultTruthPath("/tmp/run.2.bag"), "/tmp/run.2_truth.yaml");
+  EXPECT_EQ(defaultTruthPath("run"), "run_truth.yaml");
+  EXPECT_EQ(defaultTruthPath(".bag"), ".bag_truth.yaml");
+}
 }  // namespace
 }  // namespace odometry_calibration

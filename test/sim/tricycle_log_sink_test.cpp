@@ -83,6 +83,33 @@ TEST(SimTricycleLog, NeedsTicksAndA32BitCounter)
   EXPECT_THROW(TricycleLogSink(s, TricycleParameters(), 8192, 5000), std::invalid_argument);
 }
 
+TEST(SimTricycleLog, MadeForATrackedTricycleWithTheRealLogsNominalValues)
+{
+  Scenario s;
+  s.robot = {"tricycle", {}};
+  EXPECT_FALSE(canWriteTricycleLog(s));  // no tracker
+  EXPECT_THROW(makeTricycleLogSink(s), std::invalid_argument);
+  s.tracker.enabled = true;
+  EXPECT_TRUE(canWriteTricycleLog(s));
+  s.robot.type = "diff_drive";
+  EXPECT_FALSE(canWriteTricycleLog(s));
+  s.robot.type = "tricycle";
+  s.duration_s = 2.0;
+  s.motion.max_speed_mps = 0.5;
+  const World world =
+      parseWorldYaml("polygons:\n  - [[-15, -10], [15, -10], [15, 10], [-15, 10]]\n", "hall");
+  const auto sink = makeTricycleLogSink(s);
+  simulate(s, world, *makeRobot(s.robot), *sink);
+  std::istringstream text(sink->text());
+  const TricycleDataset dataset = parseTricycleDataset(text, "simulated");
+  const TricycleParameters nominal = tricycleNominalFromHeader(dataset.header);
+  EXPECT_DOUBLE_EQ(nominal.steering_scale, 0.1);
+  EXPECT_DOUBLE_EQ(nominal.traction_scale_m_per_turn, 0.0106141);
+  EXPECT_DOUBLE_EQ(nominal.axis_length_m, 1.4);
+  EXPECT_DOUBLE_EQ(nominal.steering_offset_rad, 0.0);
+  EXPECT_DOUBLE_EQ(nominal.T_base_sensor.x(), 1.5);
+  EXPECT_GT(sink->rows(), 0u);
+}
 }  // namespace
 }  // namespace sim
 }  // namespace odometry_calibration

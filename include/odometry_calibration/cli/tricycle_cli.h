@@ -3,20 +3,13 @@
 #pragma once
 
 #include <ostream>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "odometry_calibration/common/arguments.h"
 #include "odometry_calibration/models/tricycle_calibration.h"
 
 namespace odometry_calibration {
-
-/// Wrong command-line usage; the message says what was wrong.
-class UsageError : public std::runtime_error
-{
-public:
-  using std::runtime_error::runtime_error;
-};
 
 /// Everything the command can be told.
 struct TricycleCliOptions
@@ -31,8 +24,8 @@ struct TricycleCliOptions
 /// Usage text with every option, its unit and default.
 std::string tricycleCliUsage();
 
-/// Parses argv-style arguments (without the program name). Throws UsageError naming the bad
-/// option or value.
+/// Parses argv-style arguments (without the program name) with ArgumentParser. Throws
+/// ArgumentError naming the bad option or value.
 TricycleCliOptions parseTricycleCliArguments(const std::vector<std::string>& arguments);
 
 /// Loads the log, fits, prints the report to `out`, writes the YAML. Returns the process exit

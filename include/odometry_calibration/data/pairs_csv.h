@@ -47,6 +47,23 @@ PairsFile readPairsCsv(const std::string& path);
 /// Writes a whole pairs file atomically.
 void writePairsCsv(const std::string& path, const PairsFile& file);
 
+/// The pairs of several files, in order, which must share their joints (names and order): the
+/// joints are the first file's. Throws std::invalid_argument "'<path>' has other joints than the
+/// first file", or readPairsCsv's errors. No path gives an empty PairsFile.
+PairsFile readPairsCsvFiles(const std::vector<std::string>& paths);
+
+/// Pairs to train on and pairs to test on, with the same joints.
+struct TrainTestPairs
+{
+  PairsFile training;
+  PairsFile testing;
+};
+
+/// readPairsCsvFiles of each list; throws std::invalid_argument "the test pairs have other
+/// joints than the training pairs" unless both have the same joints.
+TrainTestPairs readTrainTestPairsCsv(const std::vector<std::string>& training_paths,
+                                     const std::vector<std::string>& testing_paths);
+
 /// Appends pairs to a file as they are collected, flushing each row to disk, so that a crash
 /// loses at most the row being written. An existing file is continued after checking that its
 /// joints match (and its rows are loaded: `existing()`).

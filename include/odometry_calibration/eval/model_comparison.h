@@ -10,6 +10,7 @@
 
 #include "odometry_calibration/data/motion_pair.h"
 #include "odometry_calibration/models/model.h"
+#include "odometry_calibration/models/model_factory.h"
 
 namespace odometry_calibration {
 
@@ -33,5 +34,14 @@ ModelScore scoreModel(const MotionModel& model, const std::vector<MotionPair>& t
 
 /// The comparison as a fixed-width text table, one row per model.
 std::string formatComparisonTable(const std::vector<ModelScore>& scores);
+
+/// Fits each model of `models` (makeModel with `options`, in order) on the training pairs and
+/// scores it on the test pairs (scoreModel, plus the fit's time, outliers and warnings). Throws
+/// std::invalid_argument "the training files hold no pair" without training pairs, or what
+/// makeModel and the fit throw.
+std::vector<ModelScore> compareModels(const std::vector<std::string>& models,
+                                      const ModelFactoryOptions& options,
+                                      const std::vector<MotionPair>& training,
+                                      const std::vector<MotionPair>& testing);
 
 }  // namespace odometry_calibration

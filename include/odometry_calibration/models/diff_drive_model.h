@@ -27,6 +27,14 @@ struct DiffDriveOptions
 /// Throws std::invalid_argument naming the first invalid option.
 void validate(const DiffDriveOptions& options);
 
+/// The wheels among `joints`: the joint named `left_joint` (`right_joint`), or, for an empty
+/// name, the first (second) incremental joint. Throws std::invalid_argument "no joint named
+/// '<name>' in the pairs" or "diff_drive needs two incremental joints".
+DiffDriveEncoderLayout diffDriveLayoutForJoints(const JointLayout& joints,
+                                                const std::string& left_joint,
+                                                const std::string& right_joint,
+                                                double ticks_per_turn);
+
 /// The fitted model: intrinsics (r_L, r_R, b), the sensor's pose, and their 6x6 covariance.
 class DiffDriveModel : public MotionModel
 {

@@ -45,6 +45,13 @@ private:
   bool wrote_static_tf_ = false;
 };
 
+/// The bag a simulation writes unless told otherwise: "<scenario name>.bag".
+std::string defaultSimulationBagPath(const sim::Scenario& scenario);
+
+/// The truth file that goes with a bag unless told otherwise: the bag's path without ".bag",
+/// plus "_truth.yaml".
+std::string defaultTruthPath(const std::string& bag_path);
+
 /// Runs the scenario into a bag written atomically (temporary file, renamed when complete)
 /// and writes the truth YAML next to it atomically ("" skips it). `extra_sink`, if given,
 /// receives every sample too. Returns the run's summary.

@@ -9,6 +9,7 @@
 #include "odometry_calibration/models/model.h"
 #include "odometry_calibration/sim/drive_plan.h"
 #include "odometry_calibration/sim/robot.h"
+#include "odometry_calibration/sim/scenario.h"
 
 namespace odometry_calibration {
 namespace sim {
@@ -38,6 +39,10 @@ struct GeneratedPairs
 /// Runs the simulator and cuts the run into pairs. Throws std::invalid_argument for invalid
 /// options.
 GeneratedPairs generatePairs(const PairGeneratorOptions& options);
+
+/// `options` with the scenario's robot, laser pose (as the sensor), motion, encoder rate,
+/// duration and seed; the keyframe interval and the noise stay `options`'.
+PairGeneratorOptions pairGeneratorOptions(const Scenario& scenario, PairGeneratorOptions options);
 
 }  // namespace sim
 }  // namespace odometry_calibration

@@ -78,6 +78,21 @@ void validate(const Scenario& scenario);
 /// Throws std::runtime_error naming the file and the key.
 Scenario loadScenarioYaml(const std::string& path, const std::string& worlds_directory);
 
+/// What a command line may change in a scenario file.
+struct ScenarioOverrides
+{
+  double seed = -1.0;        ///< >= 0: replaces the scenario's seed (as an unsigned)
+  double duration_s = -1.0;  ///< > 0: replaces the scenario's duration [s]
+};
+
+/// loadScenarioYaml, then the overrides.
+Scenario loadScenarioYaml(const std::string& path, const std::string& worlds_directory,
+                          const ScenarioOverrides& overrides);
+
+/// The folder of the worlds shipped with the package (its config/sim/worlds), where a
+/// scenario's bare world name is looked up.
+std::string shippedWorldsDirectory();
+
 /// YAML text of the scenario with the robot's true parameters after defaults (the truth file).
 std::string scenarioTruthYaml(const Scenario& scenario, const Robot& robot);
 

@@ -110,5 +110,10 @@ SimulationSummary simulate(const Scenario& scenario, const World& world, const R
 /// Names of the joints as published (scenario's names or the robot's defaults).
 std::vector<std::string> publishedJointNames(const Scenario& scenario, const Robot& robot);
 
+/// Whether a run drove too little for a calibration: less than 5 % of the distance at the
+/// scenario's top speed over its duration (a script that stands still, or a random planner
+/// boxed in near the start pose).
+bool droveTooLittle(const Scenario& scenario, const SimulationSummary& summary);
+
 }  // namespace sim
 }  // namespace odometry_calibration

@@ -3,6 +3,7 @@
 // project generates itself, with the truth known.
 #pragma once
 
+#include <memory>
 #include <string>
 
 #include "odometry_calibration/models/tricycle_calibration.h"
@@ -45,6 +46,14 @@ private:
   double traction_cumulative_ = 0.0;
   double previous_traction_raw_ = 0.0;
 };
+
+/// Whether a scenario can be written as a tricycle log: a tricycle robot with the tracker enabled.
+bool canWriteTricycleLog(const Scenario& scenario);
+
+/// A sink for a scenario that canWriteTricycleLog (std::invalid_argument otherwise), with the
+/// robot's true tick counts and, in its header, the real log's nominal values (Ksteer 0.1,
+/// Ktraction 0.0106141, axis 1.4, offset 0, sensor at x = 1.5) as the calibration's start.
+std::unique_ptr<TricycleLogSink> makeTricycleLogSink(const Scenario& scenario);
 
 }  // namespace sim
 }  // namespace odometry_calibration

@@ -1,0 +1,63 @@
+#include "odometry_calibration/eval/model_comparison.h"
+
+#include <stdexcept>
+
+#include <gtest/gtest.h>
+
+#include "odometry_calibration/sim/pair_generator.h"
+
+namespace odometry_calibration {
+namespace {
+
+sim::GeneratedPairs pairs(unsigned seed)
+{
+  sim::PairGeneratorOptions options;
+  options.robot = {"diff_drive",
+                   {{"wheel_radius_left_m", 0.0765},
+                    {"wheel_radius_right_m", 0.0775},
+                    {"wheel_separation_m", 0.32}}};
+  options.duration_s = 60.0;
+  options.seed = seed;
+  return sim::generatePairs(options);
+}
+
+TEST(ModelComparison, FitsEachModelOnTrainingAndScoresItOnTest)
+{
+  const sim::GeneratedPairs training = pairs(1), testing = pairs(2);
+  ModelFactoryOptions options;
+  options.joints = training.joints;
+  options.diff_drive.initial_left_radius_m = 0.077;
+  options.diff_drive.initial_right_radius_m = 0.077;
+  options.diff_drive.initial_separation_m = 0.33;
+  const std::vector<ModelScore> scores =
+      compareModels({"diff_drive", "linear"}, options, training.pairs, testing.pairs);
+  ASSERT_EQ(scores.size(), 2u);
+  EXPECT_EQ(scores[0].model, "diff_drive");
+  EXPECT_EQ(scores[1].model, "linear");
+  for (const ModelScore& score : scores) {
+    EXPECT_EQ(score.test_pairs, testing.pairs.size());
+    EXPECT_GT(score.fit_time_s, 0.0);
+    EXPECT_LT(score.ate_m, 1.0);
+  }
+  // The true model family fits the ideal robot better than a straight line.
+  EXPECT_LT(scores[0].rmse_xytheta.norm(), 0.01);
+}
+
+TEST(ModelComparison, NeedsTrainingPairsAndKnownModels)
+{
+  const sim::GeneratedPairs testing = pairs(2);
+  ModelFactoryOptions options;
+  options.joints = testing.joints;
+  try {
+    compareModels({"linear"}, options, {}, testing.pairs);
+    FAIL() << "no training pair was accepted";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_STREQ(error.what(), "the training files hold no pair");
+  }
+  EXPECT_THROW(compareModels({"cubic"}, options, testing.pairs, testing.pairs),
+               std::invalid_argument);
+  EXPECT_TRUE(compareModels({}, options, testing.pairs, testing.pairs).empty());
+}
+
+}  // namespace
+}  // namespace odometry_calibration

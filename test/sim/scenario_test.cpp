@@ -1,0 +1,79 @@
+#include "odometry_calibration/sim/scenario.h"
+
+#include <filesystem>
+
+#include <gtest/gtest.h>
+
+#include "odometry_calibration/sim/pair_generator.h"
+#include "odometry_calibration/sim/simulator.h"
+
+namespace odometry_calibration {
+namespace sim {
+namespace {
+
+const std::string kScenarios = std::string(ODOMETRY_CALIBRATION_CONFIG_DIR) + "/sim/scenarios";
+
+TEST(SimScenario, ShippedWorldsAreThePackagesConfigWorlds)
+{
+  EXPECT_TRUE(std::filesystem::is_regular_file(shippedWorldsDirectory() + "/office.yaml"));
+  // A scenario naming a shipped world by its bare name loads with that folder.
+  const Scenario scenario =
+      loadScenarioYaml(kScenarios + "/diff_drive_office.yaml", shippedWorldsDirectory());
+  EXPECT_EQ(std::filesystem::path(scenario.world_path).filename(), "office.yaml");
+}
+
+TEST(SimScenario, OverridesReplaceSeedAndDurationOnlyWhenGiven)
+{
+  const std::string path = kScenarios + "/pairs_ideal.yaml";
+  const Scenario file = loadScenarioYaml(path, shippedWorldsDirectory());
+  const Scenario kept = loadScenarioYaml(path, shippedWorldsDirectory(), ScenarioOverrides{});
+  EXPECT_EQ(kept.seed, file.seed);
+  EXPECT_EQ(kept.duration_s, file.duration_s);
+  ScenarioOverrides overrides;
+  overrides.seed = 0.0;
+  overrides.duration_s = 12.5;
+  const Scenario changed = loadScenarioYaml(path, shippedWorldsDirectory(), overrides);
+  EXPECT_EQ(changed.seed, 0u);
+  EXPECT_EQ(changed.duration_s, 12.5);
+  overrides.duration_s = 0.0;  // 0 keeps the file's duration
+  EXPECT_EQ(loadScenarioYaml(path, shippedWorldsDirectory(), overrides).duration_s,
+            file.duration_s);
+}
+
+TEST(SimScenario, PairGeneratorTakesTheScenariosRobotAndRun)
+{
+  const Scenario scenario =
+      loadScenarioYaml(kScenarios + "/pairs_ideal.yaml", shippedWorldsDirectory());
+  PairGeneratorOptions given;
+  given.interval_s = 0.7;
+  given.translation_noise_m = 0.01;
+  given.rotation_noise_rad = 0.02;
+  const PairGeneratorOptions options = pairGeneratorOptions(scenario, given);
+  EXPECT_EQ(options.robot.type, scenario.robot.type);
+  EXPECT_EQ(options.robot.parameters, scenario.robot.parameters);
+  EXPECT_EQ(options.T_base_sensor.x(), scenario.laser.T_base_laser.x());
+  EXPECT_EQ(options.T_base_sensor.theta(), scenario.laser.T_base_laser.theta());
+  EXPECT_EQ(options.motion.max_speed_mps, scenario.motion.max_speed_mps);
+  EXPECT_EQ(options.encoder_rate_hz, scenario.encoders.rate_hz);
+  EXPECT_EQ(options.duration_s, scenario.duration_s);
+  EXPECT_EQ(options.seed, scenario.seed);
+  EXPECT_EQ(options.interval_s, 0.7);
+  EXPECT_EQ(options.translation_noise_m, 0.01);
+  EXPECT_EQ(options.rotation_noise_rad, 0.02);
+}
+
+TEST(SimScenario, ARunThatBarelyMovedIsTooLittle)
+{
+  Scenario scenario;
+  scenario.duration_s = 100.0;
+  scenario.motion.max_speed_mps = 0.5;  // 5 % of 50 m: 2.5 m
+  SimulationSummary summary;
+  summary.distance_m = 2.0;
+  EXPECT_TRUE(droveTooLittle(scenario, summary));
+  summary.distance_m = 3.0;
+  EXPECT_FALSE(droveTooLittle(scenario, summary));
+}
+
+}  // namespace
+}  // namespace sim
+}  // namespace odometry_calibration
