@@ -1,0 +1,336 @@
+// Our PLICP and the reference implementation (Censi's CSM, sm_icp) side by side, in one process,
+// on the same scans with the same first guesses (issue 16): synthetic office rooms of 180, 682
+// and 1081 rays and a sparse corridor scene (with the true motion), and the real Mines log's
+// consecutive and 0.5 s keyframe pairs (agreement, path length). Each data set is matched in
+// several passes a whole set apart, the two matchers interleaved pair by pair (alternating which
+// goes first); a pair's time is its fastest pass. Both sides convert the scans themselves inside
+// the timed call (ours: Scan -> prepared points and line fits; CSM: Scan -> laser_data, then its
+// own preprocessing). Options: each matcher's defaults, covariance on for both (as a calibrator
+// uses them; a second row per set with covariance off for both). Run scripts/bench_plicp_vs_csm
+// for the table.
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "odometry_calibration/scan/plicp.h"
+#include "support/mines_log.h"
+#include "support/synthetic_scans.h"
+
+// CSM's C headers last: they define min and max as macros.
+#include <csm/csm_all.h>
+#include <options/options.h>
+#undef min
+#undef max
+
+// CSM's option table with its defaults (csm/sm_options.c; no header declares it).
+extern "C" void sm_options(struct sm_params* p, struct option* ops);
+
+namespace {
+
+using namespace odometry_calibration;
+
+constexpr int kPasses = 3;
+
+/// One pair to match: two scans, the first guess, and the truth when there is one.
+struct MatchCase
+{
+  Scan reference;
+  Scan current;
+  Pose2 guess_ref_new;
+  bool has_truth = false;
+  Pose2 truth_ref_new;
+};
+
+/// What one matcher returned for one pair.
+struct Outcome
+{
+  bool valid = false;
+  Pose2 T_ref_new;
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+};
+
+/// CSM's laser_data for a scan: the same usable rays as ours (finite, within the scan's range
+/// limits), the others marked invalid.
+LDP toLaserData(const Scan& scan)
+{
+  const int n = static_cast<int>(scan.ranges_m.size());
+  LDP ld = ld_alloc_new(n);
+  for (int i = 0; i < n; ++i) {
+    const double range = scan.ranges_m[static_cast<std::size_t>(i)];
+    ld->theta[i] = scan.angle_min_rad + i * scan.angle_increment_rad;
+    const bool usable =
+        std::isfinite(range) && range >= scan.range_min_m && range <= scan.range_max_m;
+    ld->valid[i] = usable ? 1 : 0;
+    ld->readings[i] = usable ? range : std::numeric_limits<double>::quiet_NaN();
+  }
+  ld->min_theta = ld->theta[0];
+  ld->max_theta = ld->theta[n - 1];
+  return ld;
+}
+
+/// CSM's defaults (its sm_options), the scan's range limits, covariance as asked.
+sm_params csmDefaults(const Scan& scan, bool covariance)
+{
+  static const sm_params defaults = [] {
+    sm_params params{};
+    struct option* options = options_allocate(100);  // kept: CSM has no way to free it
+    sm_options(&params, options);
+    return params;
+  }();
+  sm_params params = defaults;
+  params.min_reading = scan.range_min_m;
+  params.max_reading = scan.range_max_m;
+  params.laser[0] = params.laser[1] = params.laser[2] = 0.0;
+  params.do_compute_covariance = covariance ? 1 : 0;
+  return params;
+}
+
+Outcome matchWithCsm(const MatchCase& pair, bool covariance)
+{
+  sm_params params = csmDefaults(pair.reference, covariance);
+  params.laser_ref = toLaserData(pair.reference);
+  params.laser_sens = toLaserData(pair.current);
+  params.first_guess[0] = pair.guess_ref_new.x();
+  params.first_guess[1] = pair.guess_ref_new.y();
+  params.first_guess[2] = pair.guess_ref_new.theta();
+  sm_result result{};
+  sm_icp(&params, &result);
+  Outcome outcome;
+  outcome.valid = result.valid != 0;
+  outcome.T_ref_new = Pose2(result.x[0], result.x[1], result.x[2]);
+  if (covariance && outcome.valid && result.cov_x_m) {
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c)
+        outcome.covariance(r, c) = gsl_matrix_get(result.cov_x_m, r, c);
+  }
+  if (result.cov_x_m)
+    gsl_matrix_free(result.cov_x_m);
+  if (result.dx_dy1_m)
+    gsl_matrix_free(result.dx_dy1_m);
+  if (result.dx_dy2_m)
+    gsl_matrix_free(result.dx_dy2_m);
+  ld_free(params.laser_ref);
+  ld_free(params.laser_sens);
+  return outcome;
+}
+
+Outcome matchWithOurs(const MatchCase& pair, bool covariance)
+{
+  PlicpOptions options;
+  options.compute_covariance = covariance;
+  const PlicpResult result = matchScans(pair.reference, pair.current, pair.guess_ref_new, options);
+  return {result.valid(), result.T_ref_new, result.covariance};
+}
+
+double median(std::vector<double> values)
+{
+  if (values.empty())
+    return std::numeric_limits<double>::quiet_NaN();
+  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
+  return values[values.size() / 2];
+}
+
+double mean(const std::vector<double>& values)
+{
+  double sum = 0.0;
+  for (const double v : values)
+    sum += v;
+  return values.empty() ? std::numeric_limits<double>::quiet_NaN() : sum / values.size();
+}
+
+/// Times both matchers on every case (fastest of kPasses interleaved passes per case) and puts
+/// speed, validity and accuracy (against the truth, or between the two) into the counters.
+void runSideBySide(benchmark::State& state, const std::vector<MatchCase>& cases, bool covariance)
+{
+  if (cases.empty()) {
+    state.SkipWithError(
+        "no data (the Mines log is read from ODOMETRY_CALIBRATION_SHARED_DATA_DIR)");
+    return;
+  }
+  sm_debug_write(0);
+  const std::size_t n = cases.size();
+  std::vector<double> ours_ms(n, std::numeric_limits<double>::infinity()), csm_ms = ours_ms;
+  std::vector<Outcome> ours(n), csm(n);
+  for (auto _ : state) {
+    for (int pass = 0; pass < kPasses; ++pass) {
+      for (std::size_t k = 0; k < n; ++k) {
+        auto timeOurs = [&] {
+          const auto start = std::chrono::steady_clock::now();
+          ours[k] = matchWithOurs(cases[k], covariance);
+          const std::chrono::duration<double, std::milli> took =
+              std::chrono::steady_clock::now() - start;
+          ours_ms[k] = std::min(ours_ms[k], took.count());
+        };
+        auto timeCsm = [&] {
+          const auto start = std::chrono::steady_clock::now();
+          csm[k] = matchWithCsm(cases[k], covariance);
+          const std::chrono::duration<double, std::milli> took =
+              std::chrono::steady_clock::now() - start;
+          csm_ms[k] = std::min(csm_ms[k], took.count());
+        };
+        if ((k + pass) % 2 == 0) {
+          timeOurs();
+          timeCsm();
+        } else {
+          timeCsm();
+          timeOurs();
+        }
+      }
+    }
+  }
+  state.counters["pairs"] = static_cast<double>(n);
+  state.counters["ours_median_ms"] = median(ours_ms);
+  state.counters["csm_median_ms"] = median(csm_ms);
+  state.counters["ratio_median"] = median(csm_ms) / median(ours_ms);
+  state.counters["ours_mean_ms"] = mean(ours_ms);
+  state.counters["csm_mean_ms"] = mean(csm_ms);
+  state.counters["ratio_mean"] = mean(csm_ms) / mean(ours_ms);
+  std::vector<double> ours_err_mm, csm_err_mm, ours_err_deg, csm_err_deg, gap_mm;
+  double ours_path_m = 0.0, csm_path_m = 0.0;
+  int ours_valid = 0, csm_valid = 0, ours_wild = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    ours_valid += ours[k].valid ? 1 : 0;
+    csm_valid += csm[k].valid ? 1 : 0;
+    if (cases[k].has_truth) {
+      const Pose2 ours_error = between(cases[k].truth_ref_new, ours[k].T_ref_new);
+      const Pose2 csm_error = between(cases[k].truth_ref_new, csm[k].T_ref_new);
+      if (ours[k].valid) {
+        ours_err_mm.push_back(1e3 * std::hypot(ours_error.x(), ours_error.y()));
+        ours_err_deg.push_back(std::abs(ours_error.theta()) * 180.0 / M_PI);
+        // Off by more than 5 sigma along the weakest direction of its own covariance.
+        if (covariance) {
+          const Eigen::Vector3d e(
+              ours[k].T_ref_new.x() - cases[k].truth_ref_new.x(),
+              ours[k].T_ref_new.y() - cases[k].truth_ref_new.y(),
+              normalizeAngle(ours[k].T_ref_new.theta() - cases[k].truth_ref_new.theta()));
+          const double nees = e.dot(ours[k].covariance.ldlt().solve(e));
+          ours_wild += nees > 25.0 ? 1 : 0;
+        }
+      }
+      if (csm[k].valid) {
+        csm_err_mm.push_back(1e3 * std::hypot(csm_error.x(), csm_error.y()));
+        csm_err_deg.push_back(std::abs(csm_error.theta()) * 180.0 / M_PI);
+      }
+    } else if (ours[k].valid && csm[k].valid) {
+      const Pose2 gap = between(csm[k].T_ref_new, ours[k].T_ref_new);
+      gap_mm.push_back(1e3 * std::hypot(gap.x(), gap.y()));
+      ours_path_m += std::hypot(ours[k].T_ref_new.x(), ours[k].T_ref_new.y());
+      csm_path_m += std::hypot(csm[k].T_ref_new.x(), csm[k].T_ref_new.y());
+    }
+  }
+  state.counters["ours_valid"] = ours_valid;
+  state.counters["csm_valid"] = csm_valid;
+  if (!ours_err_mm.empty() || !csm_err_mm.empty()) {
+    state.counters["ours_err_median_mm"] = median(ours_err_mm);
+    state.counters["csm_err_median_mm"] = median(csm_err_mm);
+    state.counters["ours_err_median_deg"] = median(ours_err_deg);
+    state.counters["csm_err_median_deg"] = median(csm_err_deg);
+    if (covariance)
+      state.counters["ours_valid_beyond_5sigma"] = ours_wild;
+  }
+  if (!gap_mm.empty()) {
+    state.counters["median_gap_mm"] = median(gap_mm);
+    // Sum of the matched distances, ours over CSM's, on the pairs both call valid [%].
+    state.counters["path_ours_vs_csm_pct"] = 100.0 * (ours_path_m / csm_path_m - 1.0);
+  }
+}
+
+/// Synthetic trials with the truth (1 cm range noise, 240 deg field of view, guess off by
+/// 2-5 cm and 1-3 deg, as in the PLICP tests).
+std::vector<MatchCase> syntheticCases(const synthetic::World& world, int rays, double range_max_m,
+                                      int count)
+{
+  synthetic::LidarModel lidar;
+  lidar.ray_count = rays;
+  lidar.range_max_m = range_max_m;
+  std::mt19937 rng(11);
+  std::vector<MatchCase> cases;
+  for (int k = 0; k < count; ++k) {
+    const synthetic::Trial trial =
+        synthetic::makeTrial(world, lidar, synthetic::TrialOptions(), rng);
+    cases.push_back({trial.reference, trial.current, trial.guess_ref_new, true, trial.T_ref_new});
+  }
+  return cases;
+}
+
+const std::vector<mines::Record>& minesRecords()
+{
+  static const std::vector<mines::Record> records =
+      mines::loadLog(mines::logPath(ODOMETRY_CALIBRATION_SHARED_DATA_DIR));
+  return records;
+}
+
+/// The Mines log's pairs `step` scans apart (1: consecutive, zero guess as CSM's users
+/// commonly run it; 5: 0.5 s keyframes, guessed from the nominal wheel odometry). Sweep
+/// compensation off on both sides (CSM has none), so the two see the same points.
+std::vector<MatchCase> minesCases(std::size_t step)
+{
+  const std::vector<mines::Record>& records = minesRecords();
+  std::vector<MatchCase> cases;
+  for (std::size_t k = 0; k + step < records.size(); k += step) {
+    MatchCase pair{records[k].scan, records[k + step].scan, Pose2(), false, Pose2()};
+    pair.reference.time_increment_s = 0.0;
+    pair.current.time_increment_s = 0.0;
+    if (step > 1)
+      pair.guess_ref_new = mines::laserMotion(mines::wheelOdometry(records[k], records[k + step]));
+    cases.push_back(pair);
+  }
+  return cases;
+}
+
+void BM_SideBySideRoom(benchmark::State& state)
+{
+  static const std::vector<MatchCase> cases180 =
+      syntheticCases(synthetic::officeRoom(), 180, 20.0, 200);
+  static const std::vector<MatchCase> cases682 =
+      syntheticCases(synthetic::officeRoom(), 682, 20.0, 200);
+  static const std::vector<MatchCase> cases1081 =
+      syntheticCases(synthetic::officeRoom(), 1081, 20.0, 200);
+  const int rays = static_cast<int>(state.range(0));
+  runSideBySide(state,
+                rays == 180   ? cases180
+                : rays == 682 ? cases682
+                              : cases1081,
+                state.range(1) != 0);
+}
+
+void BM_SideBySideSparseCorridor(benchmark::State& state)
+{
+  // A 2 m corridor seen to 5.6 m (the URG-04LX's range): the along-axis motion is barely
+  // constrained; a matcher should say so rather than report a confident wrong value.
+  static const std::vector<MatchCase> cases = syntheticCases(synthetic::corridor(), 682, 5.6, 200);
+  runSideBySide(state, cases, state.range(0) != 0);
+}
+
+void BM_SideBySideMines(benchmark::State& state)
+{
+  static const std::vector<MatchCase> consecutive = minesCases(1);
+  static const std::vector<MatchCase> keyframes = minesCases(5);
+  runSideBySide(state, state.range(0) == 1 ? consecutive : keyframes, state.range(1) != 0);
+}
+
+}  // namespace
+
+BENCHMARK(BM_SideBySideRoom)
+    ->ArgNames({"rays", "covariance"})
+    ->ArgsProduct({{180, 682, 1081}, {1, 0}})
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SideBySideSparseCorridor)
+    ->ArgNames({"covariance"})
+    ->Arg(1)
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SideBySideMines)
+    ->ArgNames({"step", "covariance"})
+    ->ArgsProduct({{1, 5}, {1, 0}})
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
+
+BENCHMARK_MAIN();
