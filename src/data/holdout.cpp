@@ -55,4 +55,32 @@ std::vector<SampleBlock> timeBlocks(const std::vector<double>& stamps_s, std::si
   return blocks;
 }
 
+PairHoldout holdOutLastPairs(const std::vector<MotionPair>& pairs, double holdout_fraction)
+{
+  if (!(holdout_fraction > 0.0 && holdout_fraction < 1.0)) {
+    throw std::invalid_argument("the held-out fraction must be in (0, 1), got " +
+                                std::to_string(holdout_fraction));
+  }
+  PairHoldout split;
+  if (pairs.empty()) {
+    throw std::invalid_argument("no pair to hold out");
+  }
+  const double start_s = pairs.front().start_stamp_s;
+  const double end_s = pairs.back().end_stamp_s;
+  split.border_stamp_s = start_s + (1.0 - holdout_fraction) * (end_s - start_s);
+  for (const MotionPair& pair : pairs) {
+    if (pair.end_stamp_s <= split.border_stamp_s) {
+      split.training.push_back(pair);
+    } else if (pair.start_stamp_s >= split.border_stamp_s) {
+      split.test.push_back(pair);
+    }
+  }
+  if (split.training.size() < 2 || split.test.size() < 2) {
+    throw std::invalid_argument("holding out " + std::to_string(holdout_fraction) + " of " +
+                                std::to_string(pairs.size()) +
+                                " pairs leaves fewer than two pairs on one side");
+  }
+  return split;
+}
+
 }  // namespace odometry_calibration

@@ -60,5 +60,26 @@ TEST(Holdout, TimeBlocksRefuseBlocksOfFewerThanTwoSamples)
   EXPECT_THROW(timeBlocks({0.0, 0.1, 0.2, 0.3, 9.7, 9.8, 9.9, 10.0}, 3), std::invalid_argument);
 }
 
+TEST(Holdout, PairsAreSplitByTimeAndTheOneAcrossTheBorderIsDropped)
+{
+  std::vector<MotionPair> pairs;
+  for (int i = 0; i < 10; ++i) {  // [0, 1], [1, 2], ... [9, 10] s
+    MotionPair pair;
+    pair.start_stamp_s = i;
+    pair.end_stamp_s = i + 1.0;
+    pairs.push_back(pair);
+  }
+  const PairHoldout split = holdOutLastPairs(pairs, 0.35);  // border at 6.5 s
+  EXPECT_DOUBLE_EQ(split.border_stamp_s, 6.5);
+  ASSERT_EQ(split.training.size(), 6u);  // up to [5, 6]
+  ASSERT_EQ(split.test.size(), 3u);      // from [7, 8]; [6, 7] crosses the border
+  EXPECT_DOUBLE_EQ(split.training.back().end_stamp_s, 6.0);
+  EXPECT_DOUBLE_EQ(split.test.front().start_stamp_s, 7.0);
+  EXPECT_EQ(holdOutLastPairs(pairs, 0.4).training.size(), 6u);  // [5, 6] ends on the border
+  EXPECT_THROW(holdOutLastPairs(pairs, 0.05), std::invalid_argument);
+  EXPECT_THROW(holdOutLastPairs(pairs, 1.0), std::invalid_argument);
+  EXPECT_THROW(holdOutLastPairs({}, 0.5), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace odometry_calibration
