@@ -91,6 +91,26 @@ std::vector<ModelScore> scoreModelsOnTest(const CalibrationConfig& config,
   return scores;
 }
 
+std::vector<ModelScore> scoreHeldOut(const CalibrationConfig& config,
+                                     const CalibrationJobResult& job,
+                                     const std::vector<MotionPair>& test_pairs,
+                                     const std::vector<EncoderSample>& encoder_history)
+{
+  const bool recut = !encoder_history.empty();
+  std::vector<ModelScore> scores;
+  scores.push_back(
+      scoreModel(*job.model, recut && job.time_offset_s != config.collector.time_offset_s
+                                 ? rewindowPairs(test_pairs, encoder_history, job.time_offset_s)
+                                 : test_pairs));
+  scores.back().model = "calibrated";
+  if (const std::shared_ptr<MotionModel> nominal = priorModel(config)) {
+    scores.push_back(
+        scoreModel(*nominal, recut ? rewindowPairs(test_pairs, encoder_history, 0.0) : test_pairs));
+    scores.back().model = "nominal";
+  }
+  return scores;
+}
+
 std::string formatTimeOffset(const TimeOffsetResult& offset)
 {
   std::ostringstream out;

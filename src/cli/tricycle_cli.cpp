@@ -1,16 +1,41 @@
 #include "odometry_calibration/cli/tricycle_cli.h"
 
 #include <cmath>
+#include <type_traits>
 
 #include "odometry_calibration/common/arguments.h"
 #include "odometry_calibration/common/atomic_file.h"
+#include "odometry_calibration/data/holdout.h"
 #include "odometry_calibration/data/keyframes.h"
+#include "odometry_calibration/data/reference_pairs.h"
 #include "odometry_calibration/datasets/tricycle_dataset.h"
 #include "odometry_calibration/datasets/tricycle_log.h"
 #include "odometry_calibration/eval/tricycle_report.h"
 #include "odometry_calibration/report/tricycle_result_yaml.h"
 
 namespace odometry_calibration {
+namespace {
+
+/// The interval when the drive is too short to choose one (the default before issue 22) [s].
+constexpr double kFallbackIntervalS = 0.5;
+
+/// Indices of the keyframes T apart (the first sample, then each window's end), for the RPE.
+std::vector<std::size_t> keyframeIndices(const std::vector<EncoderSample>& samples,
+                                         double interval_s)
+{
+  std::vector<double> stamps_s;
+  for (const EncoderSample& sample : samples) {
+    stamps_s.push_back(sample.stamp_s);
+  }
+  std::vector<std::size_t> keyframes = {0};
+  for (const KeyframeWindow& window : selectKeyframeWindows(stamps_s, interval_s)) {
+    keyframes.push_back(window.last);
+  }
+  return keyframes;
+}
+
+}  // namespace
+
 std::string tricycleCliUsage()
 {
   return "usage: calibrate_tricycle DATASET [options]\n"
@@ -22,7 +47,16 @@ std::string tricycleCliUsage()
          "options:\n"
          "  --output PATH            result YAML, written atomically (default\n"
          "                           tricycle_calibration.yaml; '' to skip)\n"
-         "  --interval S             keyframe spacing T [s] (default 0.5)\n"
+         "  --interval S|auto        keyframe spacing T [s]; auto (default): chosen by\n"
+         "                           time-blocked cross-validation among the candidates\n"
+         "  --interval-candidates L  comma-separated candidate T [s] of auto (default\n"
+         "                           0.25,0.35,0.5,0.7,1,1.4,2,2.8,4,5.6,8)\n"
+         "  --folds N,M,...          cuts of the cross-validation into N, M, ... time blocks\n"
+         "                           (default 2,3,4,5,6)\n"
+         "  --window-stride S        start a keyframe window every S [s] (overlapping windows\n"
+         "                           when S < T; default 0: windows end to end)\n"
+         "  --holdout F              hold out the last fraction F of the samples (0 < F < 1):\n"
+         "                           fit on the rest, report the errors on them (default: none)\n"
          "  --translation-sigma M    assumed sigma of a measured displacement's x, y [m]\n"
          "                           (default 0.01)\n"
          "  --rotation-sigma RAD     assumed sigma of a measured heading change [rad]\n"
@@ -41,9 +75,16 @@ TricycleCliOptions parseTricycleCliArguments(const std::vector<std::string>& arg
   TricycleCliOptions options;
   std::vector<std::string> datasets;
   double max_iterations = options.calibration.max_iterations;
+  std::string interval = "auto";
+  std::vector<std::string> candidates;
+  std::vector<std::string> folds;
   ArgumentParser parser;
   parser.option("--output", &options.output_path)
-      .number("--interval", &options.keyframe_interval_s)
+      .option("--interval", &interval)
+      .listOption("--interval-candidates", &candidates)
+      .listOption("--folds", &folds)
+      .number("--holdout", &options.holdout_fraction)
+      .number("--window-stride", &options.interval_selection.stride_s, 0.0)
       .number("--translation-sigma", &options.calibration.translation_sigma_m)
       .number("--rotation-sigma", &options.calibration.rotation_sigma_rad)
       .number("--huber", &options.calibration.huber_threshold)
@@ -53,8 +94,37 @@ TricycleCliOptions parseTricycleCliArguments(const std::vector<std::string>& arg
     options.help = true;
     return options;
   }
-  if (!(options.keyframe_interval_s > 0.0)) {
-    throw ArgumentError("option --interval: the keyframe spacing must be > 0 s");
+  if (interval != "auto") {
+    options.keyframe_interval_s = parseNumberArgument("--interval", interval);
+    if (!(options.keyframe_interval_s > 0.0)) {
+      throw ArgumentError("option --interval: the keyframe spacing must be > 0 s (or auto)");
+    }
+  }
+  if (!candidates.empty()) {
+    options.interval_selection.candidates_s.clear();
+    for (const std::string& candidate : candidates) {
+      options.interval_selection.candidates_s.push_back(
+          parseNumberArgument("--interval-candidates", candidate));
+    }
+  }
+  if (!folds.empty()) {
+    options.interval_selection.fold_counts.clear();
+    for (const std::string& count : folds) {
+      const double value = parseNumberArgument("--folds", count, 2.0);
+      if (value > 100 || std::floor(value) != value) {
+        throw ArgumentError("option --folds: expected whole numbers in [2, 100], got '" + count +
+                            "'");
+      }
+      options.interval_selection.fold_counts.push_back(static_cast<std::size_t>(value));
+    }
+  }
+  try {
+    validate(options.interval_selection);
+  } catch (const std::invalid_argument& error) {
+    throw ArgumentError(std::string("option --interval-candidates / --folds: ") + error.what());
+  }
+  if (!(options.holdout_fraction >= 0.0 && options.holdout_fraction < 1.0)) {
+    throw ArgumentError("option --holdout: expected a fraction in (0, 1) (0 = none)");
   }
   if (!(options.calibration.translation_sigma_m > 0.0)) {
     throw ArgumentError("option --translation-sigma: expected a standard deviation > 0 m");
@@ -102,40 +172,72 @@ int runTricycleCli(const TricycleCliOptions& options, std::ostream& out, std::os
     }
     const TricycleEncoderLayout layout = tricycleLayoutFromHeader(dataset.header);
     const TricycleParameters nominal = tricycleNominalFromHeader(dataset.header);
-    const std::vector<EncoderSample> samples = decodeTricycleEncoders(dataset, layout);
+    const std::vector<EncoderSample> all_samples = decodeTricycleEncoders(dataset, layout);
+    const std::vector<Pose2> all_reference = tricycleTrackerPoses(dataset);
     Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
     covariance.diagonal() << std::pow(options.calibration.translation_sigma_m, 2),
         std::pow(options.calibration.translation_sigma_m, 2),
         std::pow(options.calibration.rotation_sigma_rad, 2);
-    const std::vector<MotionPair> pairs =
-        tricyclePairs(dataset, samples, options.keyframe_interval_s, covariance);
+
+    // The fit sees the first samples only; the held-out ones score it.
+    const std::size_t training_end =
+        options.holdout_fraction > 0.0 ? holdoutStart(all_samples.size(), options.holdout_fraction)
+                                       : all_samples.size();
+    const auto head = [training_end](const auto& all) {
+      return std::vector<typename std::decay_t<decltype(all)>::value_type>(
+          all.begin(), all.begin() + static_cast<std::ptrdiff_t>(training_end));
+    };
+    const auto tail = [training_end](const auto& all) {
+      return std::vector<typename std::decay_t<decltype(all)>::value_type>(
+          all.begin() + static_cast<std::ptrdiff_t>(training_end), all.end());
+    };
+    const std::vector<EncoderSample> samples = head(all_samples);
+    const std::vector<Pose2> reference = head(all_reference);
+
+    TricycleValidation validation;
+    validation.interval_s = options.keyframe_interval_s;
+    if (!(validation.interval_s > 0.0)) {
+      try {
+        const IntervalChoice choice =
+            chooseTricycleInterval(samples, reference, layout, nominal, options.calibration,
+                                   covariance, options.interval_selection);
+        validation.interval_s = choice.interval_s;
+        validation.interval_chosen = true;
+        validation.fold_counts = options.interval_selection.fold_counts;
+        validation.curve = choice.curve;
+      } catch (const std::invalid_argument& error) {
+        // Too short a drive to cross-validate: the fixed interval of earlier versions, and why.
+        validation.interval_s = kFallbackIntervalS;
+        validation.fallback_reason = error.what();
+      }
+    }
+    const std::vector<MotionPair> pairs = referencePairs(
+        samples, reference, validation.interval_s, covariance, options.interval_selection.stride_s);
 
     const TricycleCalibrationResult result =
         calibrateTricycle(pairs, layout, nominal, options.calibration);
+    const TricycleEvaluation evaluation = evaluateTricycle(
+        result, layout, samples, reference, keyframeIndices(samples, validation.interval_s));
+    if (options.holdout_fraction > 0.0) {
+      const std::vector<EncoderSample> test_samples = tail(all_samples);
+      validation.holdout_fraction = options.holdout_fraction;
+      validation.training_samples = samples.size();
+      validation.held_out_samples = test_samples.size();
+      validation.held_out = evaluateTricycle(result, layout, test_samples, tail(all_reference),
+                                             keyframeIndices(test_samples, validation.interval_s));
+    }
 
-    std::vector<Pose2> reference;
-    reference.reserve(dataset.rows.size());
-    for (const TricycleDatasetRow& row : dataset.rows) {
-      reference.push_back(row.T_world_sensor);
+    out << "dataset: " << options.dataset_path << " (" << dataset.rows.size() << " samples";
+    if (options.holdout_fraction > 0.0) {
+      out << ", the first " << samples.size() << " fitted";
     }
-    std::vector<double> stamps_s;
-    for (const EncoderSample& sample : samples) {
-      stamps_s.push_back(sample.stamp_s);
-    }
-    std::vector<std::size_t> keyframes = {0};
-    for (const KeyframeWindow& window :
-         selectKeyframeWindows(stamps_s, options.keyframe_interval_s)) {
-      keyframes.push_back(window.last);
-    }
-    const TricycleEvaluation evaluation =
-        evaluateTricycle(result, layout, samples, reference, keyframes);
-
-    out << "dataset: " << options.dataset_path << " (" << dataset.rows.size() << " samples, "
-        << pairs.size() << " keyframe pairs at T = " << options.keyframe_interval_s << " s)\n\n";
+    out << ", " << pairs.size() << " keyframe pairs at T = " << validation.interval_s << " s)\n\n";
+    out << formatTricycleValidation(validation) << "\n";
     out << formatTricycleReport(result, evaluation);
     if (!options.output_path.empty()) {
-      writeFileAtomically(options.output_path,
-                          tricycleResultToYaml(result, evaluation, options.dataset_path));
+      writeFileAtomically(
+          options.output_path,
+          tricycleResultToYaml(result, evaluation, options.dataset_path, &validation));
       out << "\nresult written to " << options.output_path << "\n";
     }
     if (!result.converged)

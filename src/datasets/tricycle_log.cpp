@@ -3,7 +3,7 @@
 #include <stdexcept>
 
 #include "odometry_calibration/data/encoder.h"
-#include "odometry_calibration/data/keyframes.h"
+#include "odometry_calibration/data/reference_pairs.h"
 
 namespace odometry_calibration {
 
@@ -71,24 +71,17 @@ std::vector<MotionPair> tricyclePairs(const TricycleDataset& dataset,
   if (samples.size() != dataset.rows.size()) {
     throw std::invalid_argument("tricyclePairs: one decoded sample per dataset row expected");
   }
-  std::vector<double> stamps_s;
-  stamps_s.reserve(samples.size());
-  for (const EncoderSample& sample : samples) {
-    stamps_s.push_back(sample.stamp_s);
+  return referencePairs(samples, tricycleTrackerPoses(dataset), interval_s, covariance);
+}
+
+std::vector<Pose2> tricycleTrackerPoses(const TricycleDataset& dataset)
+{
+  std::vector<Pose2> poses;
+  poses.reserve(dataset.rows.size());
+  for (const TricycleDatasetRow& row : dataset.rows) {
+    poses.push_back(row.T_world_sensor);
   }
-  std::vector<MotionPair> pairs;
-  for (const KeyframeWindow& window : selectKeyframeWindows(stamps_s, interval_s)) {
-    MotionPair pair;
-    pair.start_stamp_s = stamps_s[window.first];
-    pair.end_stamp_s = stamps_s[window.last];
-    pair.encoder_samples.assign(samples.begin() + static_cast<std::ptrdiff_t>(window.first),
-                                samples.begin() + static_cast<std::ptrdiff_t>(window.last) + 1);
-    pair.sensor_motion = between(dataset.rows[window.first].T_world_sensor,
-                                 dataset.rows[window.last].T_world_sensor);
-    pair.covariance = covariance;
-    pairs.push_back(std::move(pair));
-  }
-  return pairs;
+  return poses;
 }
 
 }  // namespace odometry_calibration

@@ -109,4 +109,48 @@ std::string formatTricycleReport(const TricycleCalibrationResult& result,
   return text;
 }
 
+std::string formatTricycleValidation(const TricycleValidation& validation)
+{
+  std::string text;
+  if (validation.interval_chosen) {
+    std::string cuts;
+    for (std::size_t count : validation.fold_counts) {
+      cuts += (cuts.empty() ? "" : ",") + std::to_string(count);
+    }
+    text += line("keyframe interval: T = %.2f s, chosen by time-blocked cross-validation",
+                 validation.interval_s);
+    text += "  (validation curve: the ATE dead-reckoned through each time block by a fit to the\n";
+    text +=
+        "   pairs outside it, RMS over the blocks, mean over the cuts into " + cuts + " blocks)\n";
+    text += line("  %8s %8s %16s", "T [s]", "pairs", "validation ATE");
+    for (const IntervalScore& score : validation.curve) {
+      if (std::isfinite(score.validation_ate_m)) {
+        text +=
+            line("  %8.2f %8zu %14.3f m%s", score.interval_s, score.pairs, score.validation_ate_m,
+                 score.interval_s == validation.interval_s ? "  <- chosen" : "");
+      } else {
+        text += line("  %8.2f %8zu %16s", score.interval_s, score.pairs, "too few pairs");
+      }
+    }
+  } else if (!validation.fallback_reason.empty()) {
+    text += line("keyframe interval: T = %.2f s (not chosen: %s)", validation.interval_s,
+                 validation.fallback_reason.c_str());
+  } else {
+    text += line("keyframe interval: T = %.2f s (set by hand)", validation.interval_s);
+  }
+  if (validation.holdout_fraction > 0.0) {
+    const TricycleEvaluation& e = validation.held_out;
+    text += "\n";
+    text += line(
+        "held out: the last %.0f %% of the samples (%zu samples, %.1f s), never seen by "
+        "the fit",
+        100.0 * validation.holdout_fraction, validation.held_out_samples, e.duration_s);
+    text += line("  ATE (paper eq. 11): nominal %.3f m -> calibrated %.3f m", e.ate_initial_m,
+                 e.ate_calibrated_m);
+    text += line("  RPE (paper eq. 10, between keyframes): nominal %.4f m -> calibrated %.4f m",
+                 e.rpe_initial_m, e.rpe_calibrated_m);
+  }
+  return text;
+}
+
 }  // namespace odometry_calibration

@@ -226,6 +226,12 @@ std::string markdownReport(const MarkdownReportInput& input)
            "per-axis RMSE:\n\n```\n"
         << input.test_table << "```\n";
   }
+  if (!input.holdout_table.empty()) {
+    out << "\n## Held-out pairs\n\n"
+        << input.holdout_note
+        << "; ATE and RPE of the chained predictions (paper eqs. 10-11), per-axis RMSE:\n\n```\n"
+        << input.holdout_table << "```\n";
+  }
   if (!input.files.empty()) {
     out << "\n## Files\n\n";
     for (const std::string& file : input.files)

@@ -19,7 +19,8 @@ void emitRms(YAML::Emitter& out, const char* key, const ResidualRms& rms)
 }  // namespace
 
 std::string tricycleResultToYaml(const TricycleCalibrationResult& result,
-                                 const TricycleEvaluation& evaluation, const std::string& source)
+                                 const TricycleEvaluation& evaluation, const std::string& source,
+                                 const TricycleValidation* validation)
 {
   YAML::Emitter out;
   out.SetDoublePrecision(10);
@@ -60,6 +61,39 @@ std::string tricycleResultToYaml(const TricycleCalibrationResult& result,
   out << YAML::Key << "rpe_initial_m" << YAML::Value << evaluation.rpe_initial_m;
   out << YAML::Key << "rpe_calibrated_m" << YAML::Value << evaluation.rpe_calibrated_m;
   out << YAML::EndMap;
+  if (validation != nullptr) {
+    out << YAML::Key << "keyframe_interval" << YAML::Value << YAML::BeginMap;
+    out << YAML::Key << "interval_s" << YAML::Value << validation->interval_s;
+    out << YAML::Key << "chosen" << YAML::Value
+        << (validation->interval_chosen           ? "cross_validation"
+            : validation->fallback_reason.empty() ? "by_hand"
+                                                  : "fallback");
+    if (validation->interval_chosen) {
+      out << YAML::Key << "fold_counts" << YAML::Value << YAML::Flow << validation->fold_counts;
+      out << YAML::Key << "validation_curve" << YAML::Value << YAML::BeginSeq;
+      for (const IntervalScore& score : validation->curve) {
+        out << YAML::Flow << YAML::BeginMap;
+        out << YAML::Key << "interval_s" << YAML::Value << score.interval_s;
+        out << YAML::Key << "ate_m" << YAML::Value << score.validation_ate_m;
+        out << YAML::Key << "pairs" << YAML::Value << score.pairs;
+        out << YAML::EndMap;
+      }
+      out << YAML::EndSeq;
+    }
+    out << YAML::EndMap;
+    if (validation->holdout_fraction > 0.0) {
+      const TricycleEvaluation& e = validation->held_out;
+      out << YAML::Key << "holdout" << YAML::Value << YAML::BeginMap;
+      out << YAML::Key << "fraction" << YAML::Value << validation->holdout_fraction;
+      out << YAML::Key << "training_samples" << YAML::Value << validation->training_samples;
+      out << YAML::Key << "held_out_samples" << YAML::Value << validation->held_out_samples;
+      out << YAML::Key << "ate_initial_m" << YAML::Value << e.ate_initial_m;
+      out << YAML::Key << "ate_calibrated_m" << YAML::Value << e.ate_calibrated_m;
+      out << YAML::Key << "rpe_initial_m" << YAML::Value << e.rpe_initial_m;
+      out << YAML::Key << "rpe_calibrated_m" << YAML::Value << e.rpe_calibrated_m;
+      out << YAML::EndMap;
+    }
+  }
   out << YAML::Key << "warnings" << YAML::Value << YAML::BeginSeq;
   for (const std::string& warning : result.warnings) {
     out << warning;

@@ -19,6 +19,7 @@
 #include "odometry_calibration/calibration/calibration_job.h"
 #include "odometry_calibration/common/arguments.h"
 #include "odometry_calibration/common/text_file.h"
+#include "odometry_calibration/data/holdout.h"
 #include "odometry_calibration/eval/model_comparison.h"
 #include "odometry_calibration/eval/model_report.h"
 #include "odometry_calibration/models/model_factory.h"
@@ -44,6 +45,9 @@ const char* kUsage =
     "  --test BAG           score the models on this bag too (repeatable); prints the paper's\n"
     "                       comparison table for the model and the config's compare_models\n"
     "  --start S, --end S   use only [S, E] seconds after the first message\n"
+    "  --holdout F          hold out the pairs of the last fraction F (0 < F < 1) of the\n"
+    "                       collection: fit on the others, score calibrated and nominal\n"
+    "                       models on them\n"
     "  --quiet              no progress display\n"
     "  --single-thread      no matching thread: every match in the pairing thread (same\n"
     "                       results, slower)\n"
@@ -72,7 +76,7 @@ int main(int argc, char** argv)
   std::string config_path, output_dir, model_name;
   GnuplotOptions gnuplot;
   std::vector<std::string> bags, test_bags;
-  double start_s = 0.0, end_s = 0.0;
+  double start_s = 0.0, end_s = 0.0, holdout = 0.0;
   bool quiet = !isatty(STDERR_FILENO);
   bool single_thread = false;
   try {
@@ -84,6 +88,7 @@ int main(int argc, char** argv)
         .repeatedOption("--test", &test_bags)
         .number("--start", &start_s, 0.0)
         .number("--end", &end_s, 0.0)
+        .number("--holdout", &holdout, 0.0)
         .flag("--quiet", &quiet)
         .flag("--single-thread", &single_thread)
         .positionals(&bags);
@@ -96,6 +101,9 @@ int main(int argc, char** argv)
     }
     if (end_s > 0.0 && end_s <= start_s) {
       throw std::invalid_argument("--end must come after --start");
+    }
+    if (!(holdout < 1.0)) {
+      throw std::invalid_argument("option --holdout: expected a fraction in (0, 1)");
     }
     if (!model_name.empty())
       requireKnownModel(model_name, "--model");
@@ -124,7 +132,12 @@ int main(int argc, char** argv)
     const std::string summary = formatBagRunSummary(run);
     std::cout << summary;
 
-    const CalibrationJobResult job = runCalibrationJob(config, run.pairs, run.encoder_history);
+    PairHoldout holdout_split;
+    if (holdout > 0.0) {
+      holdout_split = holdOutLastPairs(run.pairs, holdout);
+    }
+    const CalibrationJobResult job = runCalibrationJob(
+        config, holdout > 0.0 ? holdout_split.training : run.pairs, run.encoder_history);
     std::string text = summary + (job.time_offset ? formatTimeOffset(*job.time_offset) : "") +
                        "\n" + formatModelReport(job.report) + formatNominalComparison(job);
     ResultFiles files = resultFilesForJob(jointLayout(config), job, bags.front());
@@ -136,6 +149,24 @@ int main(int argc, char** argv)
       files.markdown.test_pairs = test.pairs.size();
       text += "\ntest bags: " + std::to_string(test.pairs.size()) + " pairs\n" +
               files.markdown.test_table;
+    }
+    if (holdout > 0.0) {
+      const std::vector<ModelScore> scores =
+          scoreHeldOut(config, job, holdout_split.test, run.encoder_history);
+      files.markdown.holdout_table = formatComparisonTable(scores);
+      char note[400];
+      std::snprintf(note, sizeof(note),
+                    "held out: the %zu pairs after %.1f s (the last %.0f %% of the collection), "
+                    "%zu fitted; calibrated: the fitted %s",
+                    holdout_split.test.size(),
+                    holdout_split.border_stamp_s - run.pairs.front().start_stamp_s, 100.0 * holdout,
+                    holdout_split.training.size(), config.model.c_str());
+      files.markdown.holdout_note = note;
+      if (scores.size() > 1) {
+        files.markdown.holdout_note +=
+            ", nominal: the " + config.prior_model + " start values at time offset 0";
+      }
+      text += "\n" + files.markdown.holdout_note + "\n" + files.markdown.holdout_table;
     }
     char timing[300];
     std::snprintf(timing, sizeof(timing),

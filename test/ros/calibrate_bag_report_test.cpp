@@ -168,6 +168,42 @@ TEST_F(CalibrateBagReport, WritesTheMarkdownReportWithPlots)
     EXPECT_EQ(entry.path().filename().string().find(".plots.tmp"), std::string::npos);
 }
 
+TEST_F(CalibrateBagReport, HoldsOutTheLastPairsAndScoresCalibratedAndNominalOnThem)
+{
+  ASSERT_EQ(run("holdout", "--holdout 0.4"), 0) << output("stdout") << output("stderr");
+  const std::string report = readFile(directory_ + "/holdout/report.md");
+  EXPECT_EQ(count(report, "## Held-out pairs\n"), 1u);
+  // Rows "calibrated" and "nominal": name, ATE, RPE, ...
+  auto rpe = [&](const std::string& row) {
+    const std::size_t at = report.find("\n" + row + " ");
+    if (at == std::string::npos)
+      return -1.0;
+    double ate = 0.0, value = -1.0;
+    std::istringstream(report.substr(at + row.size() + 1)) >> ate >> value;
+    return value;
+  };
+  const double calibrated = rpe("calibrated");
+  const double nominal = rpe("nominal");
+  EXPECT_GT(calibrated, 0.0) << report;
+  EXPECT_LT(calibrated, 0.6 * nominal) << report;
+  // 40 % of the 60 s held out: the fit saw the pairs before about 36 s only.
+  const std::size_t at = report.find("held out: the ");
+  ASSERT_NE(at, std::string::npos);
+  std::size_t test_pairs = 0;
+  double border_s = 0.0;
+  std::sscanf(report.c_str() + at, "held out: the %zu pairs after %lf s", &test_pairs, &border_s);
+  EXPECT_NEAR(border_s, 36.0, 1.5);
+  EXPECT_GT(test_pairs, 40u);
+  // Fitted + held out < collected: the pair across the border is in neither.
+  const std::string stdout_text = output("stdout");
+  const std::size_t summary = stdout_text.find("keyframe pairs: ");
+  ASSERT_NE(summary, std::string::npos) << stdout_text;
+  const std::size_t collected = std::stoul(stdout_text.substr(summary + 16));
+  const YAML::Node result = YAML::LoadFile(directory_ + "/holdout/result.yaml");
+  EXPECT_LT(result["fit"]["pairs"].as<std::size_t>() + test_pairs, collected);
+  EXPECT_GE(result["fit"]["pairs"].as<std::size_t>() + test_pairs + 3, collected);
+}
+
 TEST_F(CalibrateBagReport, WithoutGnuplotTheReportSaysWhatIsMissing)
 {
   const std::string out = directory_ + "/without_gnuplot";

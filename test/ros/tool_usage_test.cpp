@@ -74,6 +74,8 @@ TEST(ToolUsage, CalibrateBag)
   expectBadUsage("calibrate_bag", "--config c.yaml a.bag --start x",
                  "option --start: expected a number >= 0, got 'x'");
   expectBadUsage("calibrate_bag", "--config c.yaml a.bag --foo 1", "unknown option '--foo'");
+  expectBadUsage("calibrate_bag", "--config c.yaml a.bag --holdout 1",
+                 "option --holdout: expected a fraction in (0, 1)");
   expectBadUsage("calibrate_bag", "a.bag --config", "option --config needs a value");
   expectBadUsage("calibrate_bag", "a.bag", "give --config and at least one bag");
   expectBadUsage("calibrate_bag", "--config c.yaml a.bag --start 5 --end 2",
@@ -89,6 +91,8 @@ TEST(ToolUsage, CalibrateTricycle)
   expectBadUsage("calibrate_tricycle", "log.txt --huber x",
                  "option --huber: expected a number, got 'x'");
   expectBadUsage("calibrate_tricycle", "a b", "only one dataset file is accepted, got 'a' and 'b'");
+  expectBadUsage("calibrate_tricycle", "log.txt --holdout 2",
+                 "option --holdout: expected a fraction in (0, 1)");
 }
 
 TEST(ToolUsage, CompareModels)

@@ -61,6 +61,15 @@ std::vector<ModelScore> scoreModelsOnTest(const CalibrationConfig& config,
                                           const CalibrationJobResult& job,
                                           const std::vector<MotionPair>& test_pairs);
 
+/// Held-out scores (scoreModel: ATE and RPE of the chained predictions, paper eqs. 10-11) of the
+/// job's model on `test_pairs` (collected at the configuration's time offset, re-cut at the
+/// job's from `encoder_history` when they differ), then of the nominal robot (the configuration's
+/// prior, at time offset 0) when there is one; rows named "calibrated" and "nominal".
+std::vector<ModelScore> scoreHeldOut(const CalibrationConfig& config,
+                                     const CalibrationJobResult& job,
+                                     const std::vector<MotionPair>& test_pairs,
+                                     const std::vector<EncoderSample>& encoder_history);
+
 /// The time-offset search in words: the estimate with sigma and the cost curve, one line each.
 std::string formatTimeOffset(const TimeOffsetResult& offset);
 

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "odometry_calibration/common/arguments.h"
+#include "odometry_calibration/eval/interval_selection.h"
 #include "odometry_calibration/models/tricycle_calibration.h"
 
 namespace odometry_calibration {
@@ -16,9 +17,13 @@ struct TricycleCliOptions
 {
   std::string dataset_path;                               ///< the log to calibrate (required)
   std::string output_path = "tricycle_calibration.yaml";  ///< result YAML; "" = do not write
-  double keyframe_interval_s = 0.5;                       ///< keyframe spacing T [s]
-  TricycleCalibrationOptions calibration;                 ///< fit options
-  bool help = false;                                      ///< print usage and exit
+  /// Keyframe spacing T [s]; 0 = chosen by time-blocked cross-validation (`--interval auto`).
+  double keyframe_interval_s = 0.0;
+  IntervalSelectionOptions interval_selection;  ///< candidates and folds of the automatic choice
+  /// Last fraction of the samples held out of the fit and used to score it (0: none).
+  double holdout_fraction = 0.0;
+  TricycleCalibrationOptions calibration;  ///< fit options
+  bool help = false;                       ///< print usage and exit
 };
 
 /// Usage text with every option, its unit and default.

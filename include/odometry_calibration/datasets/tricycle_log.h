@@ -33,4 +33,7 @@ std::vector<MotionPair> tricyclePairs(const TricycleDataset& dataset,
                                       const std::vector<EncoderSample>& samples, double interval_s,
                                       const Eigen::Matrix3d& covariance);
 
+/// The tracker's sensor pose of every row (the ego-motion reference), in file order.
+std::vector<Pose2> tricycleTrackerPoses(const TricycleDataset& dataset);
+
 }  // namespace odometry_calibration

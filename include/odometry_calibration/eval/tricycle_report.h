@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "odometry_calibration/data/motion_pair.h"
+#include "odometry_calibration/eval/interval_selection.h"
 #include "odometry_calibration/models/tricycle_calibration.h"
 
 namespace odometry_calibration {
@@ -35,5 +36,23 @@ TricycleEvaluation evaluateTricycle(const TricycleCalibrationResult& result,
 /// solver summary, trajectory errors, warnings.
 std::string formatTricycleReport(const TricycleCalibrationResult& result,
                                  const TricycleEvaluation& evaluation);
+
+/// How the keyframe interval was set and how the fit did on data it never saw.
+struct TricycleValidation
+{
+  double interval_s = 0.0;               ///< the keyframe interval T of the fit [s]
+  bool interval_chosen = false;          ///< T chosen by cross-validation (else set by hand)
+  std::vector<std::size_t> fold_counts;  ///< cuts (numbers of time blocks) of the validation
+  std::vector<IntervalScore> curve;
+  /// Why the interval could not be chosen (and a fixed one was used); "" otherwise.
+  std::string fallback_reason;       ///< the validation curve (interval_chosen)
+  double holdout_fraction = 0.0;     ///< last part of the log held out (0: none)
+  std::size_t training_samples = 0;  ///< samples the fit saw (the first ones)
+  std::size_t held_out_samples = 0;  ///< samples after them, never seen by the fit
+  TricycleEvaluation held_out;       ///< errors on the held-out samples (holdout_fraction > 0)
+};
+
+/// Report text: the interval (with the validation curve when chosen) and the held-out errors.
+std::string formatTricycleValidation(const TricycleValidation& validation);
 
 }  // namespace odometry_calibration

@@ -34,6 +34,8 @@ struct MarkdownReportInput
   std::string nominal_description;
   std::string test_table;  ///< the comparison table on test bags (empty: none)
   std::size_t test_pairs = 0;
+  std::string holdout_table;       ///< calibrated and nominal on the held-out pairs (empty: none)
+  std::string holdout_note;        ///< which pairs were held out, in words
   ReportPlots plots;               ///< images made, or why not
   std::string plot_folder;         ///< folder of the images, relative to the report
   std::vector<std::string> files;  ///< the other files written, for the list at the end

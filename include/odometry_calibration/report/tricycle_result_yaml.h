@@ -10,8 +10,10 @@ namespace odometry_calibration {
 
 /// YAML document with the calibrated parameters (value, sigma, initial, unit), the sensor pose
 /// in base_link, residuals, pair counts, solver summary, trajectory errors and warnings.
-/// `source` names the data the fit used.
+/// `source` names the data the fit used. With `validation`, also the keyframe interval (and its
+/// validation curve when chosen) and the held-out errors.
 std::string tricycleResultToYaml(const TricycleCalibrationResult& result,
-                                 const TricycleEvaluation& evaluation, const std::string& source);
+                                 const TricycleEvaluation& evaluation, const std::string& source,
+                                 const TricycleValidation* validation = nullptr);
 
 }  // namespace odometry_calibration
