@@ -30,7 +30,8 @@ std::vector<std::string> observabilityWarnings(const std::vector<MotionPair>& pa
                                                const std::vector<ParameterEstimate>& estimates,
                                                const Eigen::MatrixXd& covariance,
                                                bool covariance_available,
-                                               const ObservabilityHints& hints)
+                                               const ObservabilityHints& hints,
+                                               std::vector<std::string>* notes)
 {
   std::vector<std::string> warnings;
   double travel_m = 0.0;
@@ -89,11 +90,11 @@ std::vector<std::string> observabilityWarnings(const std::vector<MotionPair>& pa
         continue;
       }
       const double correlation = covariance(i, j) / denominator;
-      if (std::abs(correlation) > kMaxCorrelation) {
-        warnings.push_back(estimates[i].name + " and " + estimates[j].name +
-                           " are almost indistinguishable (correlation " +
-                           formatNumber(correlation) +
-                           "): only their combination is determined by this motion");
+      // Information only: a poorly determined parameter has its own warning above.
+      if (notes != nullptr && std::abs(correlation) > kMaxCorrelation) {
+        notes->push_back(estimates[i].name + " and " + estimates[j].name +
+                         " are strongly correlated (" + formatNumber(correlation) +
+                         "); each is determined to the sigma shown");
       }
     }
   }
