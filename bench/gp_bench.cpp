@@ -134,9 +134,9 @@ void BM_GpFitDistinctSparse(benchmark::State& state)
 }
 
 /// Prediction (mean and covariance) per pair.
-void predict(benchmark::State& state, std::size_t max_exact_pairs)
+void predict(benchmark::State& state, std::size_t max_exact_pairs, bool distinct = false)
 {
-  const sim::GeneratedPairs& train = trainingPairs(static_cast<int>(state.range(0)), false);
+  const sim::GeneratedPairs& train = trainingPairs(static_cast<int>(state.range(0)), distinct);
   GaussianProcessModel model(benchOptions(max_exact_pairs), train.joints);
   model.fit(train.pairs);
   const sim::GeneratedPairs& test = testPairs();
@@ -146,6 +146,10 @@ void predict(benchmark::State& state, std::size_t max_exact_pairs)
     index = (index + 1) % test.pairs.size();
   }
   state.counters["distinct"] = static_cast<double>(distinctInputs(train));
+  int projected = 0;
+  for (int axis = 0; axis < 3; ++axis)
+    projected += model.output(axis).posterior.projectedMean() ? 1 : 0;
+  state.counters["projected_means"] = projected;
 }
 
 void BM_GpPredictExact(benchmark::State& state)
@@ -155,6 +159,34 @@ void BM_GpPredictExact(benchmark::State& state)
 void BM_GpPredictSparse(benchmark::State& state)
 {
   predict(state, 0);
+}
+// The same with the variance from the full Cholesky factor, O(n^2) (what predict() did before
+// issue 23): three outputs' means and exact variances at inputs of the posterior.
+void BM_GpPredictExactDistinctFullVariance(benchmark::State& state)
+{
+  const sim::GeneratedPairs& train = trainingPairs(static_cast<int>(state.range(0)), true);
+  GaussianProcessModel model(benchOptions(1000000), train.joints);
+  model.fit(train.pairs);
+  const Eigen::MatrixXd& basis = model.output(0).posterior.basis();
+  Eigen::Index index = 0;
+  for (auto _ : state) {
+    for (int axis = 0; axis < 3; ++axis) {
+      const GpPosterior& posterior = model.output(axis).posterior;
+      double mean = 0.0, variance = 0.0;
+      posterior.predict(basis.col(index), &mean, &variance);
+      benchmark::DoNotOptimize(mean);
+      benchmark::DoNotOptimize(posterior.exactVariance(basis.col(index)));
+    }
+    index = (index + 1) % basis.cols();
+  }
+  state.counters["distinct"] = static_cast<double>(basis.cols());
+}
+
+// Issue 23: an exact posterior on ~3000 distinct inputs (no repeats): the mean O(n), the
+// variance through the cached low-rank projection, O(M^2).
+void BM_GpPredictExactDistinct(benchmark::State& state)
+{
+  predict(state, 1000000, true);
 }
 
 }  // namespace
@@ -184,5 +216,7 @@ BENCHMARK(BM_GpFitDistinctSparse)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_GpPredictExact)->Arg(2000)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_GpPredictSparse)->Arg(2000)->Arg(50000)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_GpPredictExactDistinct)->Arg(3000)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_GpPredictExactDistinctFullVariance)->Arg(3000)->Unit(benchmark::kMicrosecond);
 
 BENCHMARK_MAIN();

@@ -365,5 +365,33 @@ TEST(GpModel, LearnsSpeedDependentSlip)
   }
 }
 
+TEST(GpModel, RadiansFromAJointStateMergeLikeTicks)
+{
+  // The same drive as JointState positions in radians (ticks * 2 pi / 4096): increments that are
+  // the same number of ticks differ in their last bits, yet must merge as the ticks do.
+  const sim::GeneratedPairs ticks = generate(0.3, 240.0, 8);
+  sim::GeneratedPairs radians = ticks;
+  const double radians_per_tick = 2.0 * M_PI / 4096.0;
+  for (MotionPair& pair : radians.pairs) {
+    for (EncoderSample& sample : pair.encoder_samples)
+      sample.values *= radians_per_tick;
+  }
+  GpOptions options;
+  options.num_threads = 1;
+  GaussianProcessModel in_ticks(options, ticks.joints);
+  GaussianProcessModel in_radians(options, radians.joints);
+  in_ticks.fit(ticks.pairs);
+  in_radians.fit(radians.pairs);
+  ASSERT_FALSE(in_ticks.output(0).sparse);
+  EXPECT_EQ(in_radians.output(0).posterior.basis().cols(),
+            in_ticks.output(0).posterior.basis().cols());
+  for (std::size_t i = 0; i < ticks.pairs.size(); i += 37) {
+    const MotionPrediction a = in_ticks.predict(ticks.pairs[i].encoder_samples);
+    const MotionPrediction b = in_radians.predict(radians.pairs[i].encoder_samples);
+    EXPECT_NEAR(a.mean.x(), b.mean.x(), 1e-6);
+    EXPECT_NEAR(a.mean.theta(), b.mean.theta(), 1e-6);
+  }
+}
+
 }  // namespace
 }  // namespace odometry_calibration
