@@ -228,6 +228,8 @@ TEST(GpModel, RejectsGrossOutliersItself)
   const ModelReport report = robust_model.fit(dirty);
   EXPECT_GE(report.outliers, injected);
   EXPECT_LE(report.outliers, injected + dirty.size() / 50);
+  EXPECT_EQ(report.rejected, report.outliers);
+  EXPECT_EQ(report.down_weighted, 0u);
   const Eigen::Vector3d clean_rmse = modelRmse(clean_model, test, false);
   const Eigen::Vector3d robust_rmse = modelRmse(robust_model, test, false);
   for (int axis = 0; axis < 3; ++axis) {

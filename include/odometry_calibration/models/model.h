@@ -53,7 +53,9 @@ struct ModelReport
   ResidualRms after;                          ///< errors of the fit on all pairs used
   Eigen::Vector3d residual_rms_xytheta = Eigen::Vector3d::Zero();  ///< per axis, inliers
   std::size_t pairs_used = 0;                                      ///< pairs given to the fit
-  std::size_t outliers = 0;  ///< pairs rejected or down-weighted (rejected + down_weighted)
+  /// The model's own outlier count, as before issue 23: parametric models the pairs beyond the
+  /// Huber threshold (rejected + down_weighted), linear and GP the pairs left out (rejected).
+  std::size_t outliers = 0;
   /// Pairs beyond the model's outlier cut: left out of the fit (linear, GP) or, under the
   /// parametric models' Huber loss, beyond its gross threshold (5 sigma: weight below 3/5).
   std::size_t rejected = 0;
