@@ -395,5 +395,26 @@ TEST(GpModel, RadiansFromAJointStateMergeLikeTicks)
   }
 }
 
+TEST(GpModel, ReportsTheRefinementBudgetAsABudget)
+{
+  // More distinct inputs than likelihood_subset: the best start is refined for a fixed budget.
+  // Using that budget up is its normal end and must say so, after the search's own ending.
+  const sim::GeneratedPairs data = generate(0.3, 240.0, 9);
+  GpOptions options;
+  options.likelihood_subset = 100;
+  options.refine_iterations = 2;
+  GaussianProcessModel model(options, data.joints);
+  const ModelReport report = model.fit(data.pairs);
+  for (int axis = 0; axis < 3; ++axis) {
+    const std::string& termination = model.output(axis).termination;
+    EXPECT_NE(termination.find("search: "), std::string::npos) << termination;
+    EXPECT_NE(termination.find("refinement: "), std::string::npos) << termination;
+    EXPECT_EQ(termination.find("refinement: Maximum number of iterations"), std::string::npos)
+        << termination;
+  }
+  EXPECT_NE(report.termination.find("used its budget of 2 iterations"), std::string::npos)
+      << report.termination;
+}
+
 }  // namespace
 }  // namespace odometry_calibration
