@@ -7,6 +7,7 @@
 // held-out RMSE per axis in units of the noise sigma. Run through scripts/bench.
 #include <benchmark/benchmark.h>
 
+#include <cmath>
 #include <map>
 #include <random>
 #include <utility>
@@ -108,6 +109,23 @@ void fit(benchmark::State& state, std::size_t max_exact_pairs, bool distinct)
   state.counters["rmse_th"] = rmse(2);
 }
 
+// Issue 23: the same pairs with the encoder values as a JointState in radians (ticks * 2 pi /
+// 4096) or in ticks (second argument 0): the fit must cost the same (duplicates merge alike).
+void BM_GpFitUnits(benchmark::State& state)
+{
+  sim::GeneratedPairs train = trainingPairs(static_cast<int>(state.range(0)), false);
+  if (state.range(1) != 0) {
+    for (MotionPair& pair : train.pairs) {
+      for (EncoderSample& sample : pair.encoder_samples)
+        sample.values *= 2.0 * M_PI / 4096.0;
+    }
+  }
+  GaussianProcessModel model(benchOptions(3000), train.joints);
+  for (auto _ : state)
+    benchmark::DoNotOptimize(model.fit(train.pairs));
+  state.counters["inputs"] = static_cast<double>(model.output(0).posterior.basis().cols());
+}
+
 // Default regime: exact posterior up to 3000 distinct inputs, sparse above.
 void BM_GpFit(benchmark::State& state)
 {
@@ -204,6 +222,10 @@ BENCHMARK(BM_GpFitSparse)
     ->Arg(2000)
     ->Arg(10000)
     ->Arg(50000)
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_GpFitUnits)
+    ->ArgsProduct({{2000}, {0, 1}})
     ->Iterations(1)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_GpFitDistinctExact)->Arg(500)->Arg(2000)->Iterations(1)->Unit(benchmark::kMillisecond);
