@@ -7,6 +7,7 @@
 // held-out RMSE per axis in units of the noise sigma. Run through scripts/bench.
 #include <benchmark/benchmark.h>
 
+#include <cmath>
 #include <map>
 #include <random>
 #include <utility>
@@ -108,6 +109,23 @@ void fit(benchmark::State& state, std::size_t max_exact_pairs, bool distinct)
   state.counters["rmse_th"] = rmse(2);
 }
 
+// Issue 23: the same pairs with the encoder values as a JointState in radians (ticks * 2 pi /
+// 4096) or in ticks (second argument 0): the fit must cost the same (duplicates merge alike).
+void BM_GpFitUnits(benchmark::State& state)
+{
+  sim::GeneratedPairs train = trainingPairs(static_cast<int>(state.range(0)), false);
+  if (state.range(1) != 0) {
+    for (MotionPair& pair : train.pairs) {
+      for (EncoderSample& sample : pair.encoder_samples)
+        sample.values *= 2.0 * M_PI / 4096.0;
+    }
+  }
+  GaussianProcessModel model(benchOptions(3000), train.joints);
+  for (auto _ : state)
+    benchmark::DoNotOptimize(model.fit(train.pairs));
+  state.counters["inputs"] = static_cast<double>(model.output(0).posterior.basis().cols());
+}
+
 // Default regime: exact posterior up to 3000 distinct inputs, sparse above.
 void BM_GpFit(benchmark::State& state)
 {
@@ -134,9 +152,9 @@ void BM_GpFitDistinctSparse(benchmark::State& state)
 }
 
 /// Prediction (mean and covariance) per pair.
-void predict(benchmark::State& state, std::size_t max_exact_pairs)
+void predict(benchmark::State& state, std::size_t max_exact_pairs, bool distinct = false)
 {
-  const sim::GeneratedPairs& train = trainingPairs(static_cast<int>(state.range(0)), false);
+  const sim::GeneratedPairs& train = trainingPairs(static_cast<int>(state.range(0)), distinct);
   GaussianProcessModel model(benchOptions(max_exact_pairs), train.joints);
   model.fit(train.pairs);
   const sim::GeneratedPairs& test = testPairs();
@@ -146,6 +164,10 @@ void predict(benchmark::State& state, std::size_t max_exact_pairs)
     index = (index + 1) % test.pairs.size();
   }
   state.counters["distinct"] = static_cast<double>(distinctInputs(train));
+  int projected = 0;
+  for (int axis = 0; axis < 3; ++axis)
+    projected += model.output(axis).posterior.projectedMean() ? 1 : 0;
+  state.counters["projected_means"] = projected;
 }
 
 void BM_GpPredictExact(benchmark::State& state)
@@ -155,6 +177,34 @@ void BM_GpPredictExact(benchmark::State& state)
 void BM_GpPredictSparse(benchmark::State& state)
 {
   predict(state, 0);
+}
+// The same with the variance from the full Cholesky factor, O(n^2) (what predict() did before
+// issue 23): three outputs' means and exact variances at inputs of the posterior.
+void BM_GpPredictExactDistinctFullVariance(benchmark::State& state)
+{
+  const sim::GeneratedPairs& train = trainingPairs(static_cast<int>(state.range(0)), true);
+  GaussianProcessModel model(benchOptions(1000000), train.joints);
+  model.fit(train.pairs);
+  const Eigen::MatrixXd& basis = model.output(0).posterior.basis();
+  Eigen::Index index = 0;
+  for (auto _ : state) {
+    for (int axis = 0; axis < 3; ++axis) {
+      const GpPosterior& posterior = model.output(axis).posterior;
+      double mean = 0.0, variance = 0.0;
+      posterior.predict(basis.col(index), &mean, &variance);
+      benchmark::DoNotOptimize(mean);
+      benchmark::DoNotOptimize(posterior.exactVariance(basis.col(index)));
+    }
+    index = (index + 1) % basis.cols();
+  }
+  state.counters["distinct"] = static_cast<double>(basis.cols());
+}
+
+// Issue 23: an exact posterior on ~3000 distinct inputs (no repeats): the mean O(n), the
+// variance through the cached low-rank projection, O(M^2).
+void BM_GpPredictExactDistinct(benchmark::State& state)
+{
+  predict(state, 1000000, true);
 }
 
 }  // namespace
@@ -174,6 +224,10 @@ BENCHMARK(BM_GpFitSparse)
     ->Arg(50000)
     ->Iterations(1)
     ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_GpFitUnits)
+    ->ArgsProduct({{2000}, {0, 1}})
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_GpFitDistinctExact)->Arg(500)->Arg(2000)->Iterations(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_GpFitDistinctSparse)
     ->Arg(500)
@@ -184,5 +238,7 @@ BENCHMARK(BM_GpFitDistinctSparse)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_GpPredictExact)->Arg(2000)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_GpPredictSparse)->Arg(2000)->Arg(50000)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_GpPredictExactDistinct)->Arg(3000)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_GpPredictExactDistinctFullVariance)->Arg(3000)->Unit(benchmark::kMicrosecond);
 
 BENCHMARK_MAIN();

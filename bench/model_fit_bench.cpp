@@ -42,11 +42,14 @@ DiffDriveOptions nominal()
   return options;
 }
 
+// Second argument: the global starts (yaw_starts; 1 = the single start of before issue 23).
 void BM_DiffDriveFit(benchmark::State& state)
 {
   const auto pairs = pairsOfSize(static_cast<std::size_t>(state.range(0)));
+  DiffDriveOptions options = nominal();
+  options.yaw_starts = static_cast<int>(state.range(1));
   for (auto _ : state) {
-    DiffDriveModel model(nominal());
+    DiffDriveModel model(options);
     benchmark::DoNotOptimize(model.fit(pairs));
   }
 }
@@ -81,10 +84,7 @@ void BM_LinearPredict(benchmark::State& state)
 }  // namespace
 
 BENCHMARK(BM_DiffDriveFit)
-    ->Arg(500)
-    ->Arg(2000)
-    ->Arg(10000)
-    ->Arg(50000)
+    ->ArgsProduct({{500, 2000, 10000, 50000}, {1, 8}})
     ->Iterations(1)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_LinearFit)->Arg(500)->Arg(2000)->Arg(10000)->Arg(50000)->Unit(benchmark::kMillisecond);

@@ -157,7 +157,7 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
     const YAML::Node diff = root["diff_drive"];
     checkYamlKeys(diff,
                   {"left_joint", "right_joint", "wheel_radius_m", "wheel_separation_m",
-                   "sensor_pose", "huber_threshold"},
+                   "sensor_pose", "huber_threshold", "max_iterations", "yaw_starts"},
                   where);
     DiffDriveOptions& d = c.models.diff_drive;
     std::string left = c.joints[0].name;
@@ -169,6 +169,8 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
     d.initial_left_radius_m = d.initial_right_radius_m = radius;
     readYaml(diff, "wheel_separation_m", &d.initial_separation_m);
     readYaml(diff, "huber_threshold", &d.huber_threshold);
+    readYaml(diff, "max_iterations", &d.max_iterations);
+    readYaml(diff, "yaw_starts", &d.yaw_starts);
     d.initial_T_base_sensor = readSensorPose(diff);
     if (c.model == "diff_drive" || c.prior_model == "diff_drive" ||
         std::find(c.compare_models.begin(), c.compare_models.end(), "diff_drive") !=
@@ -193,11 +195,12 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
     };
     where = source + ": tricycle";
     const YAML::Node tri = root["tricycle"];
-    checkYamlKeys(tri,
-                  {"steering_joint", "traction_joint", "steering_scale",
-                   "traction_scale_m_per_turn", "axis_length_m", "steering_offset_rad",
-                   "sensor_pose", "huber_threshold", "translation_sigma_m", "rotation_sigma_rad"},
-                  where);
+    checkYamlKeys(
+        tri,
+        {"steering_joint", "traction_joint", "steering_scale", "traction_scale_m_per_turn",
+         "axis_length_m", "steering_offset_rad", "sensor_pose", "huber_threshold",
+         "translation_sigma_m", "rotation_sigma_rad", "max_iterations", "yaw_starts"},
+        where);
     TricycleModelOptions& t = c.models.tricycle;
     std::string steering = c.joints[0].name;
     std::string traction = c.joints.size() > 1 ? c.joints[1].name : "";
@@ -210,6 +213,8 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
     readYaml(tri, "huber_threshold", &t.calibration.huber_threshold);
     readYaml(tri, "translation_sigma_m", &t.calibration.translation_sigma_m);
     readYaml(tri, "rotation_sigma_rad", &t.calibration.rotation_sigma_rad);
+    readYaml(tri, "max_iterations", &t.calibration.max_iterations);
+    readYaml(tri, "yaw_starts", &t.calibration.yaw_starts);
     t.initial.T_base_sensor = readSensorPose(tri);
     if (uses("tricycle")) {
       t.layout.steering_index = jointIndex(c, steering, where + ".steering_joint");

@@ -75,9 +75,8 @@ std::vector<ModelScore> scoreModelsOnTest(const CalibrationConfig& config,
 {
   std::vector<ModelScore> scores;
   auto add = [&](const MotionModel& model, const ModelReport& fitted) {
-    ModelScore score = scoreModel(model, test_pairs);
-    score.fit_time_s = fitted.fit_time_s;
-    score.outliers = fitted.outliers;
+    ModelScore score = withFitReport(scoreModel(model, test_pairs), fitted);
+    score.warnings.clear();  // the test table never showed them; the report does
     scores.push_back(score);
   };
   add(*job.model, job.report);

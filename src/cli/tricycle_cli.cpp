@@ -62,7 +62,7 @@ std::string tricycleCliUsage()
          "  --rotation-sigma RAD     assumed sigma of a measured heading change [rad]\n"
          "                           (default 0.01)\n"
          "  --huber K                Huber threshold [sigma] (default 3; 0 = plain least squares)\n"
-         "  --max-iterations N       solver iteration cap (default 100)\n"
+         "  --max-iterations N       solver iteration cap per solve (default 500)\n"
          "  -h, --help               this text\n"
          "\n"
          "exit status: 0 success; 1 bad input; 2 bad usage; 3 the solver did not converge;\n"

@@ -33,6 +33,16 @@ ModelScore scoreModel(const MotionModel& model, const std::vector<MotionPair>& t
   return score;
 }
 
+ModelScore withFitReport(ModelScore score, const ModelReport& report)
+{
+  score.fit_time_s = report.fit_time_s;
+  score.outliers = report.outliers;
+  score.warnings = report.warnings;
+  score.converged = report.converged;
+  score.termination = report.termination;
+  return score;
+}
+
 std::string formatComparisonTable(const std::vector<ModelScore>& scores)
 {
   std::string table;
@@ -41,10 +51,17 @@ std::string formatComparisonTable(const std::vector<ModelScore>& scores)
                 "RPE [m]", "RMSE x [m]", "RMSE y [m]", "RMSE th [rad]", "fit [s]", "outliers");
   table += line;
   for (const ModelScore& s : scores) {
-    std::snprintf(line, sizeof(line), "%-12s %10.4f %10.5f %11.5f %11.5f %13.5f %9.3f %8zu\n",
+    std::snprintf(line, sizeof(line), "%-12s %10.4f %10.5f %11.5f %11.5f %13.5f %9.3f %8zu%s\n",
                   s.model.c_str(), s.ate_m, s.rpe_m, s.rmse_xytheta(0), s.rmse_xytheta(1),
-                  s.rmse_xytheta(2), s.fit_time_s, s.outliers);
+                  s.rmse_xytheta(2), s.fit_time_s, s.outliers,
+                  s.converged ? "" : "  NOT converged");
     table += line;
+  }
+  for (const ModelScore& s : scores) {
+    if (!s.converged) {
+      table += "NOT converged: " + s.model + " (" + s.termination +
+               "); its scores are those of wherever the solver stopped, not a calibration\n";
+    }
   }
   return table;
 }
@@ -60,11 +77,7 @@ std::vector<ModelScore> compareModels(const std::vector<std::string>& models,
     if (training.empty())
       throw std::invalid_argument("the training files hold no pair");
     const ModelReport report = model->fit(training);
-    ModelScore score = scoreModel(*model, testing);
-    score.fit_time_s = report.fit_time_s;
-    score.outliers = report.outliers;
-    score.warnings = report.warnings;
-    scores.push_back(score);
+    scores.push_back(withFitReport(scoreModel(*model, testing), report));
   }
   return scores;
 }

@@ -11,13 +11,18 @@ std::string formatModelReport(const ModelReport& r)
 {
   std::string text;
   char line[512];
-  std::snprintf(line, sizeof(line), "Model '%s': %zu pairs, %zu rejected or down-weighted\n",
-                r.model.c_str(), r.pairs_used, r.outliers);
+  std::snprintf(line, sizeof(line), "Model '%s': %zu pairs, %zu rejected, %zu down-weighted\n",
+                r.model.c_str(), r.pairs_used, r.rejected, r.down_weighted);
   text += line;
   std::snprintf(line, sizeof(line), "fit: %s after %d iterations, %.3f s (%s)\n",
                 r.converged ? "converged" : "NOT converged", r.iterations, r.fit_time_s,
                 r.termination.c_str());
   text += line;
+  if (r.starts > 1) {
+    std::snprintf(line, sizeof(line), "starts: %d of %d sensor-yaw starts reached the best fit\n",
+                  r.starts_agreed, r.starts);
+    text += line;
+  }
   if (!r.parameters.empty()) {
     std::snprintf(line, sizeof(line), "\n%-24s %12s %14s %12s  %s\n", "parameter", "initial",
                   "estimate", "sigma", "unit");
@@ -49,10 +54,14 @@ std::string formatModelReport(const ModelReport& r)
   }
   if (r.warnings.empty()) {
     text += "observability: no warning\n";
+    for (const std::string& note : r.notes)
+      text += "  note: " + note + "\n";
   } else {
     text += "WARNINGS:\n";
     for (const std::string& warning : r.warnings)
       text += "  - " + warning + "\n";
+    for (const std::string& note : r.notes)
+      text += "  note: " + note + "\n";
   }
   return text;
 }
@@ -72,6 +81,10 @@ std::string modelResultYaml(const ModelReport& r, const std::string& model_yaml,
   out << YAML::Key << "termination" << YAML::Value << r.termination;
   out << YAML::Key << "pairs" << YAML::Value << r.pairs_used;
   out << YAML::Key << "outliers" << YAML::Value << r.outliers;
+  out << YAML::Key << "rejected" << YAML::Value << r.rejected;
+  out << YAML::Key << "down_weighted" << YAML::Value << r.down_weighted;
+  out << YAML::Key << "starts" << YAML::Value << r.starts;
+  out << YAML::Key << "starts_agreed" << YAML::Value << r.starts_agreed;
   out << YAML::Key << "residual_rms_translation_m" << YAML::Value << r.after.translation_m;
   out << YAML::Key << "residual_rms_rotation_rad" << YAML::Value << r.after.rotation_rad;
   out << YAML::EndMap;
@@ -91,6 +104,10 @@ std::string modelResultYaml(const ModelReport& r, const std::string& model_yaml,
   out << YAML::Key << "warnings" << YAML::Value << YAML::BeginSeq;
   for (const std::string& warning : r.warnings)
     out << warning;
+  out << YAML::EndSeq;
+  out << YAML::Key << "notes" << YAML::Value << YAML::BeginSeq;
+  for (const std::string& note : r.notes)
+    out << note;
   out << YAML::EndSeq << YAML::EndMap;
   return "# odometry_calibration result\n" + std::string(out.c_str()) + "\n";
 }

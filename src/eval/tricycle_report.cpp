@@ -67,11 +67,18 @@ std::string formatTricycleReport(const TricycleCalibrationResult& result,
   std::string text;
   text += "Tricycle calibration report\n";
   text += "===========================\n";
-  text += line("pairs: %zu used, %zu inliers, %zu outliers (beyond the Huber threshold)",
-               result.pair_count, result.pair_count - result.outlier_count, result.outlier_count);
+  text += line(
+      "pairs: %zu used, %zu inliers, %zu outliers (beyond the Huber threshold: %zu down-weighted, "
+      "%zu gross beyond 5 sigma)",
+      result.pair_count, result.pair_count - result.outlier_count, result.outlier_count,
+      result.outlier_count - result.gross_outliers, result.gross_outliers);
   text += line("solver: %s after %d iterations, %.3f s (%s)",
                result.converged ? "converged" : "NOT converged", result.iterations,
                result.solve_time_s, result.termination.c_str());
+  if (result.starts > 1) {
+    text += line("starts: %d of %d sensor-yaw starts reached the best fit", result.starts_agreed,
+                 result.starts);
+  }
   text += "\n";
   text += line("%-16s %12s %14s %12s  %s", "parameter", "initial", "calibrated", "sigma", "unit");
   for (const ParameterEstimate& estimate : result.estimates) {
@@ -106,6 +113,8 @@ std::string formatTricycleReport(const TricycleCalibrationResult& result,
       text += "  - " + warning + "\n";
     }
   }
+  for (const std::string& note : result.notes)
+    text += "  note: " + note + "\n";
   return text;
 }
 

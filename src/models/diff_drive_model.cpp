@@ -30,6 +30,9 @@ void validate(const DiffDriveOptions& o)
   if (o.max_iterations < 1) {
     throw std::invalid_argument("diff_drive option 'max_iterations' must be >= 1");
   }
+  if (o.yaw_starts < 1 || o.yaw_starts > 360) {
+    throw std::invalid_argument("diff_drive option 'yaw_starts' must be in [1, 360]");
+  }
 }
 
 namespace {
@@ -125,6 +128,7 @@ ModelReport DiffDriveModel::fit(const std::vector<MotionPair>& pairs)
   SensorMotionFitOptions fit_options;
   fit_options.huber_threshold = options_.huber_threshold;
   fit_options.max_iterations = options_.max_iterations;
+  fit_options.yaw_starts = options_.yaw_starts;
   SensorMotionFit<3> fit = fitSensorMotion<DiffDriveKinematics>(pairs, options_.layout, intrinsics_,
                                                                 T_base_sensor_, fit_options);
   // Sign ambiguity: (-r_L, -r_R, -b) with the sensor at (-x, -y, theta + pi) predicts the same
@@ -147,6 +151,10 @@ ModelReport DiffDriveModel::fit(const std::vector<MotionPair>& pairs)
   residualRms(pairs, options_.layout, intrinsics_, T_base_sensor_, &fit.inlier,
               &report.residual_rms_xytheta, &residual_covariance_);
   report.outliers = fit.outliers;
+  report.rejected = fit.gross_outliers;
+  report.down_weighted = fit.outliers - fit.gross_outliers;
+  report.starts = fit.starts;
+  report.starts_agreed = fit.starts_agreed;
   report.iterations = fit.iterations;
   report.converged = fit.converged;
   report.termination = fit.termination;
@@ -171,8 +179,8 @@ ModelReport DiffDriveModel::fit(const std::vector<MotionPair>& pairs)
   hints.confused_by_one_way_turns =
       "the radii's difference is poorly separated from the sensor's position";
   hints.relative_parameters = {"left_wheel_radius", "right_wheel_radius", "wheel_separation"};
-  report.warnings =
-      observabilityWarnings(pairs, report.parameters, covariance_, fit.covariance_available, hints);
+  report.warnings = observabilityWarnings(pairs, report.parameters, covariance_,
+                                          fit.covariance_available, hints, &report.notes);
   return report;
 }
 

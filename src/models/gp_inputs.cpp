@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <random>
 #include <stdexcept>
@@ -46,6 +47,43 @@ GpInputGroups groupDuplicateInputs(const Eigen::MatrixXd& inputs)
     groups.inputs.col(static_cast<Eigen::Index>(g)) = inputs.col(first_members[g]);
   }
   return groups;
+}
+
+int snapQuantisedFeatures(Eigen::MatrixXd* features)
+{
+  int snapped = 0;
+  for (Eigen::Index p = 0; p < features->rows(); ++p) {
+    std::vector<double> values;
+    for (Eigen::Index i = 0; i < features->cols(); ++i)
+      values.push_back((*features)(p, i));
+    std::sort(values.begin(), values.end());
+    const double largest = std::max(std::abs(values.front()), std::abs(values.back()));
+    if (!(largest > 0.0) || !std::isfinite(largest))
+      continue;
+    // The quantum: the smallest gap between values that differ by more than rounding.
+    const double rounding = 1e-9 * largest;
+    double quantum = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 1; i < values.size(); ++i) {
+      const double gap = values[i] - values[i - 1];
+      if (gap > rounding)
+        quantum = std::min(quantum, gap);
+    }
+    if (!std::isfinite(quantum))
+      continue;
+    // Snap only if every value is a whole multiple of it up to rounding (tick-quantised
+    // increments, whatever their unit); continuous features are left alone.
+    bool whole = true;
+    for (const double value : values) {
+      const double ratio = value / quantum;
+      whole = whole && std::abs(ratio - std::round(ratio)) < 1e-6;
+    }
+    if (!whole)
+      continue;
+    for (Eigen::Index i = 0; i < features->cols(); ++i)
+      (*features)(p, i) = std::round((*features)(p, i) / quantum) * quantum;
+    ++snapped;
+  }
+  return snapped;
 }
 
 GpInputGroups singletonGroups(const Eigen::MatrixXd& inputs)

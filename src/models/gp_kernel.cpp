@@ -216,7 +216,24 @@ Eigen::VectorXd GpKernel::diagonal(const Eigen::VectorXd& log_parameters,
 Eigen::VectorXd GpKernel::column(const Eigen::VectorXd& log_parameters, const Eigen::MatrixXd& a,
                                  const Eigen::VectorXd& x) const
 {
-  return cross(log_parameters, a, x);
+  // The same values as cross(a, x), computed a row of inputs at a time so that the distances
+  // and the exponential vectorise: this is the O(n) part of every prediction.
+  check(log_parameters, a);
+  if (x.size() != dimension_) {
+    throw std::invalid_argument("gp kernel expects inputs of dimension " +
+                                std::to_string(dimension_) + ", got " + std::to_string(x.size()));
+  }
+  const Unpacked u = unpack(*this, log_parameters);
+  Eigen::VectorXd k = Eigen::VectorXd::Zero(a.cols());
+  if (u.rbf) {
+    Eigen::ArrayXd q = Eigen::ArrayXd::Zero(a.cols());
+    for (int p = 0; p < dimension_; ++p)
+      q += ((a.row(p).transpose().array() - x(p)) * u.inverse_length(p)).square();
+    k.array() = u.signal_variance * (-0.5 * q).exp();
+  }
+  if (u.linear)
+    k.noalias() += u.linear_variance * (a.transpose() * x);
+  return k;
 }
 
 void GpKernel::addCrossGradient(const Eigen::VectorXd& log_parameters, const Eigen::MatrixXd& a,

@@ -176,7 +176,9 @@ ModelReport GaussianProcessModel::fit(const std::vector<MotionPair>& pairs)
                                 " keyframe pairs, got " + std::to_string(pairs.size()) +
                                 ": record a longer drive");
   }
-  const PairArrays arrays = extractPairs(pairs, joints_);
+  PairArrays arrays = extractPairs(pairs, joints_);
+  // Tick-quantised increments in any unit (radians from a JointState) merge like ticks do.
+  snapQuantisedFeatures(&arrays.features);
   const Eigen::Index n = arrays.features.cols();
   input_scale_ = (arrays.features.rowwise().squaredNorm() / static_cast<double>(n)).cwiseSqrt();
   for (Eigen::Index p = 0; p < input_scale_.size(); ++p) {

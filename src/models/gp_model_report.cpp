@@ -26,6 +26,7 @@ ModelReport GaussianProcessModel::makeReport(const std::vector<MotionPair>& pair
   report.model = name();
   report.pairs_used = pairs.size();
   report.outliers = pairs.size() - inliers;
+  report.rejected = report.outliers;  // left out of the posterior; none is down-weighted
   double translation2 = 0.0;
   double rotation2 = 0.0;
   Eigen::Vector3d inlier2 = Eigen::Vector3d::Zero();

@@ -25,6 +25,22 @@ Eigen::VectorXd GpOutputModel::means(const Eigen::MatrixXd& inputs) const
   return out;
 }
 
+namespace {
+
+/// The end of a refinement with a fixed iteration budget, in words: using the budget up is its
+/// normal end, not a failure to converge.
+std::string budgetTermination(const GpOptimizationResult& run, int budget)
+{
+  if (run.iterations >= budget) {
+    return "used its budget of " + std::to_string(budget) +
+           " iterations (refine_iterations; a budget, not a convergence test)";
+  }
+  return "stopped after " + std::to_string(run.iterations) + " of " + std::to_string(budget) +
+         " iterations: " + run.termination;
+}
+
+}  // namespace
+
 GpOutputModel fitGpOutput(const GpOutputProblem& problem, const GpOptions& options,
                           const Eigen::MatrixXd& inducing_inputs, unsigned seed,
                           const Eigen::VectorXd* warm_start, bool optimise)
@@ -61,7 +77,8 @@ GpOutputModel fitGpOutput(const GpOutputProblem& problem, const GpOptions& optio
       best = maximizeLogLikelihood(exact_objective, *warm_start, options.max_iterations);
     } else if (options.refine_iterations > 0) {
       best = maximizeLogLikelihood(vfe_objective, *warm_start, options.refine_iterations);
-      best.converged = true;  // a budget, not a convergence criterion
+      best.converged = true;  // a budget, not a convergence criterion: say so
+      best.termination = budgetTermination(best, options.refine_iterations);
     } else {
       best.hyperparameters = *warm_start;
       best.converged = true;
@@ -101,7 +118,10 @@ GpOutputModel fitGpOutput(const GpOutputProblem& problem, const GpOptions& optio
       GpOptimizationResult refined =
           maximizeLogLikelihood(vfe_objective, best.hyperparameters, options.refine_iterations);
       model.iterations += refined.iterations;
-      refined.converged = best.converged;  // the refinement has a budget, not a criterion
+      // The search decides convergence; the refinement has a budget, not a criterion.
+      refined.converged = best.converged;
+      refined.termination = "search: " + best.termination + "; refinement: " +
+                            budgetTermination(refined, options.refine_iterations);
       best = std::move(refined);
       how += ", refined on the VFE bound with " + std::to_string(inducing_inputs.cols()) +
              " inducing inputs over " + std::to_string(vfe_problem.groups.size()) + " inputs";

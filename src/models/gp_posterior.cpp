@@ -1,11 +1,13 @@
 #include "odometry_calibration/models/gp_posterior.h"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 #include <Eigen/Cholesky>
 #include <Eigen/Dense>
 
+#include "odometry_calibration/models/gp_inducing.h"
 #include "odometry_calibration/models/gp_likelihood.h"
 
 namespace odometry_calibration {
@@ -48,6 +50,52 @@ void GpPosterior::factorExact()
     throw std::runtime_error("gp: K + Sigma is not positive definite (degenerate hyperparameters)");
   }
   factor_ = llt.matrixL();
+  variance_basis_.resize(0, 0);
+  low_rank_variance_.resize(0, 0);
+  if (basis_.cols() <= kGpLowRankVarianceInputs)
+    return;
+  // V_e = K_ZZ^-1 K_Zn (K + S)^-1 K_nZ K_ZZ^-1, with (K + S)^-1 = L^-T L^-1: O(n^2 M) once.
+  variance_basis_ = selectInducingInputs(basis_, kGpVarianceInducingInputs, 7u);
+  Eigen::MatrixXd l_z;
+  if (!factorInducingCovariance(kernel_.gram(log_parameters_, variance_basis_), &l_z)) {
+    variance_basis_.resize(0, 0);
+    return;  // keep the exact variance
+  }
+  Eigen::MatrixXd w = kernel_.cross(log_parameters_, basis_, variance_basis_);  // n x M
+  factor_.triangularView<Eigen::Lower>().solveInPlace(w);                       // L^-1 K_nZ
+  Eigen::MatrixXd p = Eigen::MatrixXd::Zero(w.cols(), w.cols());
+  p.selfadjointView<Eigen::Lower>().rankUpdate(w.transpose());
+  p = p.selfadjointView<Eigen::Lower>();
+  const auto lower_z = l_z.triangularView<Eigen::Lower>();
+  const auto upper_z = l_z.transpose().triangularView<Eigen::Upper>();
+  lower_z.solveInPlace(p);            // L_z^-1 P
+  Eigen::MatrixXd q = p.transpose();  // P L_z^-T
+  lower_z.solveInPlace(q);            // L_z^-1 P L_z^-T (symmetric)
+  upper_z.solveInPlace(q);            // L_z^-T L_z^-1 P L_z^-T
+  Eigen::MatrixXd v = q.transpose();
+  upper_z.solveInPlace(v);  // K_ZZ^-1 P K_ZZ^-1
+  low_rank_variance_ = 0.5 * (v + v.transpose());
+  variance_factor_ = l_z;
+}
+
+void GpPosterior::projectMean()
+{
+  projected_weights_.resize(0);
+  if (low_rank_variance_.size() == 0)
+    return;
+  Eigen::VectorXd w = kernel_.cross(log_parameters_, variance_basis_, basis_) * weights_;
+  variance_factor_.triangularView<Eigen::Lower>().solveInPlace(w);
+  variance_factor_.transpose().triangularView<Eigen::Upper>().solveInPlace(w);
+  const double tolerance = 0.01 * std::sqrt(noise_variance_.minCoeff());
+  const Eigen::Index step = std::max<Eigen::Index>(1, basis_.cols() / 256);
+  for (Eigen::Index i = 0; i < basis_.cols(); i += step) {
+    const Eigen::VectorXd x = basis_.col(i);
+    const double exact = kernel_.column(log_parameters_, basis_, x).dot(weights_);
+    const double projected = kernel_.column(log_parameters_, variance_basis_, x).dot(w);
+    if (!(std::abs(exact - projected) <= tolerance))
+      return;  // keep the exact mean
+  }
+  projected_weights_ = w;
 }
 
 GpPosterior GpPosterior::exact(const GpKernel& kernel, const Eigen::VectorXd& log_parameters,
@@ -74,6 +122,7 @@ GpPosterior GpPosterior::exact(const GpKernel& kernel, const Eigen::VectorXd& lo
   };
   const Eigen::VectorXd residuals = subtractProfiledMean(data, apply_inverse, mean_coefficients);
   posterior.weights_ = apply_inverse(residuals).col(0);
+  posterior.projectMean();
   return posterior;
 }
 
@@ -89,6 +138,7 @@ GpPosterior GpPosterior::exactFromState(const GpKernel& kernel,
   posterior.noise_variance_ = noise_variance;
   posterior.weights_ = alpha;
   posterior.factorExact();
+  posterior.projectMean();
   return posterior;
 }
 
@@ -162,16 +212,36 @@ GpPosterior GpPosterior::sparseFromState(const GpKernel& kernel,
 
 void GpPosterior::predict(const Eigen::VectorXd& x, double* mean, double* variance) const
 {
+  if (projected_weights_.size() > 0) {  // O(M^2), no O(n) kernel column
+    const Eigen::VectorXd k_z = kernel_.column(log_parameters_, variance_basis_, x);
+    *mean = k_z.dot(projected_weights_);
+    const double prior = kernel_.diagonal(log_parameters_, x)(0);
+    *variance = std::max(prior - k_z.dot(low_rank_variance_ * k_z), 0.0);
+    return;
+  }
   const Eigen::VectorXd k = kernel_.column(log_parameters_, basis_, x);
   const double prior = kernel_.diagonal(log_parameters_, x)(0);
   *mean = k.dot(weights_);
   double explained = 0.0;
-  if (kind_ == Kind::kExact) {
+  if (kind_ == Kind::kExact && low_rank_variance_.size() > 0) {
+    const Eigen::VectorXd k_z = kernel_.column(log_parameters_, variance_basis_, x);
+    explained = k_z.dot(low_rank_variance_ * k_z);
+  } else if (kind_ == Kind::kExact) {
     explained = factor_.triangularView<Eigen::Lower>().solve(k).squaredNorm();
   } else {
     explained = k.dot(variance_matrix_ * k);
   }
   *variance = std::max(prior - explained, 0.0);
+}
+
+double GpPosterior::exactVariance(const Eigen::VectorXd& x) const
+{
+  const Eigen::VectorXd k = kernel_.column(log_parameters_, basis_, x);
+  const double prior = kernel_.diagonal(log_parameters_, x)(0);
+  const double explained = kind_ == Kind::kExact
+                               ? factor_.triangularView<Eigen::Lower>().solve(k).squaredNorm()
+                               : k.dot(variance_matrix_ * k);
+  return std::max(prior - explained, 0.0);
 }
 
 Eigen::VectorXd GpPosterior::means(const Eigen::MatrixXd& inputs) const

@@ -38,10 +38,12 @@ namespace {
 
 /// Robust regression of one output (eq. 9 for one row of W): IRLS with Huber weights on
 /// residuals scaled by sigma_j and by a robust (MAD) scale, pairs beyond the outlier threshold
-/// dropped. Returns the row, the final scale, and marks outliers.
+/// dropped. Returns the row, the final scale, and marks outliers and the pairs the Huber weight
+/// down-weights (beyond its threshold, not dropped).
 Eigen::VectorXd robustRow(const Eigen::MatrixXd& X, const Eigen::VectorXd& y,
                           const Eigen::VectorXd& sigma, const LinearModelOptions& options,
-                          std::vector<bool>* outlier, double* scale, int* iterations)
+                          std::vector<bool>* outlier, std::vector<bool>* down_weighted,
+                          double* scale, int* iterations)
 {
   const Eigen::Index n = X.rows();
   Eigen::VectorXd weight = sigma.cwiseInverse().cwiseAbs2();
@@ -59,6 +61,8 @@ Eigen::VectorXd robustRow(const Eigen::MatrixXd& X, const Eigen::VectorXd& y,
     for (Eigen::Index j = 0; j < n; ++j) {
       const double u = std::abs(scaled(j)) / *scale;
       (*outlier)[static_cast<std::size_t>(j)] = u > options.outlier_threshold;
+      (*down_weighted)[static_cast<std::size_t>(j)] =
+          u > options.huber_threshold && u <= options.outlier_threshold;
       const double huber = u <= options.huber_threshold ? 1.0 : options.huber_threshold / u;
       weight(j) = (*outlier)[static_cast<std::size_t>(j)] ? 0.0 : huber / (sigma(j) * sigma(j));
     }
@@ -114,13 +118,19 @@ ModelReport LinearModel::fit(const std::vector<MotionPair>& pairs)
   report.model = name();
   report.pairs_used = pairs.size();
   std::vector<bool> outlier_any(pairs.size(), false);
+  std::vector<bool> down_weighted_any(pairs.size(), false);
   weight_covariance_.assign(3, Eigen::MatrixXd::Zero(m, m));
   for (int axis = 0; axis < 3; ++axis) {
     std::vector<bool> outlier(pairs.size(), false);
+    std::vector<bool> down_weighted(pairs.size(), false);
     double scale = 1.0;
-    weights_.row(axis) =
-        robustRow(X, Y.col(axis), sigma.col(axis), options_, &outlier, &scale, &report.iterations)
-            .transpose();
+    weights_.row(axis) = robustRow(X, Y.col(axis), sigma.col(axis), options_, &outlier,
+                                   &down_weighted, &scale, &report.iterations)
+                             .transpose();
+    for (std::size_t j = 0; j < pairs.size(); ++j) {
+      if (down_weighted[j])
+        down_weighted_any[j] = true;
+    }
     Eigen::VectorXd w(n);
     double sum2 = 0.0;
     std::size_t count = 0;
@@ -143,6 +153,11 @@ ModelReport LinearModel::fit(const std::vector<MotionPair>& pairs)
   }
   report.outliers =
       static_cast<std::size_t>(std::count(outlier_any.begin(), outlier_any.end(), true));
+  report.rejected = report.outliers;
+  for (std::size_t j = 0; j < pairs.size(); ++j) {
+    if (down_weighted_any[j] && !outlier_any[j])
+      ++report.down_weighted;
+  }
   report.residual_rms_xytheta = residual_variance_.cwiseSqrt();
 
   // Residuals of all pairs, and the structure check on the inliers: residual RMS per axis

@@ -30,7 +30,8 @@ std::vector<std::string> observabilityWarnings(const std::vector<MotionPair>& pa
                                                const std::vector<ParameterEstimate>& estimates,
                                                const Eigen::MatrixXd& covariance,
                                                bool covariance_available,
-                                               const ObservabilityHints& hints)
+                                               const ObservabilityHints& hints,
+                                               std::vector<std::string>* notes)
 {
   std::vector<std::string> warnings;
   double travel_m = 0.0;
@@ -62,6 +63,7 @@ std::vector<std::string> observabilityWarnings(const std::vector<MotionPair>& pa
         "not determined by this motion; sigmas are not reported");
     return warnings;
   }
+  std::vector<bool> poorly_determined(estimates.size(), false);
   for (std::size_t i = 0; i < estimates.size(); ++i) {
     const ParameterEstimate& estimate = estimates[i];
     const bool relative =
@@ -75,6 +77,7 @@ std::vector<std::string> observabilityWarnings(const std::vector<MotionPair>& pa
     } else {
       poor = estimate.sigma > kMaxAbsoluteSigmaM;
     }
+    poorly_determined[i] = poor;
     if (poor) {
       warnings.push_back(estimate.name + " is poorly determined (sigma " +
                          formatNumber(estimate.sigma) + " " + estimate.unit +
@@ -89,11 +92,14 @@ std::vector<std::string> observabilityWarnings(const std::vector<MotionPair>& pa
         continue;
       }
       const double correlation = covariance(i, j) / denominator;
-      if (std::abs(correlation) > kMaxCorrelation) {
-        warnings.push_back(estimates[i].name + " and " + estimates[j].name +
-                           " are almost indistinguishable (correlation " +
-                           formatNumber(correlation) +
-                           "): only their combination is determined by this motion");
+      // Information only, for two parameters that are each determined: a poorly determined one
+      // has its own warning above.
+      if (notes != nullptr && std::abs(correlation) > kMaxCorrelation &&
+          !poorly_determined[static_cast<std::size_t>(i)] &&
+          !poorly_determined[static_cast<std::size_t>(j)]) {
+        notes->push_back(estimates[i].name + " and " + estimates[j].name +
+                         " are strongly correlated (" + formatNumber(correlation) +
+                         "); each is determined to the sigma shown");
       }
     }
   }

@@ -48,6 +48,9 @@ void validate(const TricycleCalibrationOptions& options)
   if (options.max_iterations < 1) {
     throw std::invalid_argument("max_iterations must be at least 1");
   }
+  if (options.yaw_starts < 1 || options.yaw_starts > 360) {
+    throw std::invalid_argument("yaw_starts must be in [1, 360]");
+  }
 }
 
 Pose2 predictTricycleSensorMotion(const TricycleParameters& parameters,
@@ -166,8 +169,30 @@ TricycleCalibrationResult calibrateTricycle(const std::vector<MotionPair>& pairs
   SensorMotionFitOptions fit_options;
   fit_options.huber_threshold = options.huber_threshold;
   fit_options.max_iterations = options.max_iterations;
-  const SensorMotionFit<4> fit = fitSensorMotion<TricycleKinematics>(
+  fit_options.yaw_starts = options.yaw_starts;
+  SensorMotionFit<4> fit = fitSensorMotion<TricycleKinematics>(
       pairs, layout, initial.kinematicVector(), initial.T_base_sensor, fit_options);
+  // Symmetries (which the global starts can land in): (Ks, -Kt, -a, ds) with the sensor at
+  // (-x, -y, theta + pi) predicts the same motions (the base motion is conjugated by a half
+  // turn), and so does (Ks, -Kt, a, ds + pi) (the wheel pointing the other way, rolling
+  // backwards). Keep the physical solution, with a positive axis length and traction scale;
+  // the covariance changes sign accordingly.
+  Eigen::Matrix<double, 7, 1> flip = Eigen::Matrix<double, 7, 1>::Ones();
+  if (fit.intrinsic(kAxisLength) < 0.0) {
+    fit.intrinsic(kTractionScale) = -fit.intrinsic(kTractionScale);
+    fit.intrinsic(kAxisLength) = -fit.intrinsic(kAxisLength);
+    fit.T_base_sensor = Pose2(-fit.T_base_sensor.x(), -fit.T_base_sensor.y(),
+                              normalizeAngle(fit.T_base_sensor.theta() + M_PI));
+    flip(kTractionScale) = -flip(kTractionScale);
+    flip(kAxisLength) = -1.0;
+    flip(4) = flip(5) = -1.0;
+  }
+  if (fit.intrinsic(kTractionScale) < 0.0) {
+    fit.intrinsic(kTractionScale) = -fit.intrinsic(kTractionScale);
+    fit.intrinsic(kSteeringOffset) = normalizeAngle(fit.intrinsic(kSteeringOffset) + M_PI);
+    flip(kTractionScale) = -flip(kTractionScale);
+  }
+  fit.covariance = flip.asDiagonal() * fit.covariance * flip.asDiagonal();
   result.solve_time_s = fit.solve_time_s;
   result.iterations = fit.iterations;
   result.converged = fit.converged;
@@ -180,6 +205,9 @@ TricycleCalibrationResult calibrateTricycle(const std::vector<MotionPair>& pairs
       inliers.push_back(pairs[i]);
   }
   result.outlier_count = fit.outliers;
+  result.gross_outliers = fit.gross_outliers;
+  result.starts = fit.starts;
+  result.starts_agreed = fit.starts_agreed;
   result.after_inliers = tricycleResidualRms(inliers, layout, result.calibrated);
   result.chi2_per_dof = fit.chi2_per_dof;
   result.covariance = fit.covariance;
@@ -191,7 +219,7 @@ TricycleCalibrationResult calibrateTricycle(const std::vector<MotionPair>& pairs
   hints.confused_by_one_way_turns = "steering_offset cannot be separated from steering_scale";
   hints.relative_parameters = {"steering_scale", "traction_scale", "axis_length"};
   result.warnings = observabilityWarnings(pairs, result.estimates, result.covariance,
-                                          result.covariance_available, hints);
+                                          result.covariance_available, hints, &result.notes);
   return result;
 }
 

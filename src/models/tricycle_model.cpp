@@ -40,6 +40,11 @@ ModelReport TricycleModel::fit(const std::vector<MotionPair>& pairs)
   report.after = result.after;
   report.pairs_used = result.pair_count;
   report.outliers = result.outlier_count;
+  report.rejected = result.gross_outliers;
+  report.down_weighted = result.outlier_count - result.gross_outliers;
+  report.starts = result.starts;
+  report.starts_agreed = result.starts_agreed;
+  report.notes = result.notes;
   report.iterations = result.iterations;
   report.converged = result.converged;
   report.termination = result.termination;

@@ -63,7 +63,12 @@ void summary(std::ostringstream& out, const MarkdownReportInput& input)
       << "| fit | " << (r.converged ? "converged" : "**NOT converged**") << " after "
       << r.iterations << " iterations, " << format("%.3f", r.fit_time_s) << " s ("
       << cell(r.termination) << ") |\n"
-      << "| pairs | " << r.pairs_used << " used, " << r.outliers << " rejected or down-weighted |\n"
+      << "| pairs | " << r.pairs_used << " used, " << r.rejected << " rejected, " << r.down_weighted
+      << " down-weighted |\n"
+      << (r.starts > 1
+              ? "| starts | " + std::to_string(r.starts_agreed) + " of " +
+                    std::to_string(r.starts) + " sensor-yaw starts reached the best fit |\n"
+              : std::string())
       << "| verdict | "
       << (r.warnings.empty()
               ? "no warning"
@@ -112,10 +117,11 @@ void observability(std::ostringstream& out, const ModelReport& r)
   if (r.warnings.empty()) {
     out << "No warning: the drive determines every parameter of the model, and the fit has no "
            "adequacy or time-offset warning.\n";
-    return;
   }
   for (const std::string& warning : r.warnings)
     out << "- **WARNING**: " << warning << "\n";
+  for (const std::string& note : r.notes)
+    out << (r.warnings.empty() ? "\n- note: " : "- note: ") << note << "\n";
 }
 
 void timeOffset(std::ostringstream& out, const MarkdownReportInput& input)

@@ -50,6 +50,9 @@ std::string tricycleResultToYaml(const TricycleCalibrationResult& result,
   out << YAML::Key << "termination" << YAML::Value << result.termination;
   out << YAML::Key << "pairs" << YAML::Value << result.pair_count;
   out << YAML::Key << "outliers" << YAML::Value << result.outlier_count;
+  out << YAML::Key << "gross_outliers" << YAML::Value << result.gross_outliers;
+  out << YAML::Key << "starts" << YAML::Value << result.starts;
+  out << YAML::Key << "starts_agreed" << YAML::Value << result.starts_agreed;
   out << YAML::Key << "chi2_per_dof" << YAML::Value << result.chi2_per_dof;
   emitRms(out, "residual_rms_before", result.before);
   emitRms(out, "residual_rms_after", result.after);
@@ -98,6 +101,10 @@ std::string tricycleResultToYaml(const TricycleCalibrationResult& result,
   for (const std::string& warning : result.warnings) {
     out << warning;
   }
+  out << YAML::EndSeq;
+  out << YAML::Key << "notes" << YAML::Value << YAML::BeginSeq;
+  for (const std::string& note : result.notes)
+    out << note;
   out << YAML::EndSeq;
   out << YAML::EndMap;
   return "# odometry_calibration result (tricycle model)\n" + std::string(out.c_str()) + "\n";

@@ -27,7 +27,10 @@ const char* kUsage =
     "  --right-joint NAME     right wheel joint (default: the second incremental joint)\n"
     "  --ticks-per-rev N      encoder ticks per wheel turn (default 2000)\n"
     "  --start R_L,R_R,B,X,Y,THETA  start values [m, m, m, m, m, rad]\n"
-    "                         (default 0.077,0.077,0.33,0.15,0,0)\n";
+    "                         (default 0.077,0.077,0.33,0.15,0,0)\n"
+    "\n"
+    "Exit status: 0 success; 1 bad input; 2 bad usage; 3 a model's fit did not converge (its\n"
+    "row is marked NOT converged: its scores are not those of a calibration).\n";
 
 }  // namespace
 
@@ -37,6 +40,7 @@ int main(int argc, char** argv)
   std::string left, right;
   double ticks_per_rev = 2000.0;
   std::vector<double> start = {0.077, 0.077, 0.33, 0.15, 0.0, 0.0};
+  bool all_converged = true;
   try {
     ArgumentParser parser;
     parser.repeatedOption("--train", &train)
@@ -77,6 +81,7 @@ int main(int argc, char** argv)
         compareModels(models, options, training.pairs, testing.pairs);
     std::cout << formatComparisonTable(scores);
     for (const ModelScore& score : scores) {
+      all_converged = all_converged && score.converged;
       for (const std::string& warning : score.warnings) {
         std::cout << "\n" << score.model << ": " << warning;
       }
@@ -86,5 +91,5 @@ int main(int argc, char** argv)
     std::cerr << "error: " << error.what() << "\n";
     return 1;
   }
-  return 0;
+  return all_converged ? 0 : 3;
 }

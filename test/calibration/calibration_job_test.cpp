@@ -164,5 +164,61 @@ TEST(CalibrationJob, ExitStatusFollowsConvergenceAndWarnings)
   EXPECT_EQ(calibrationExitStatus(report), 3);
 }
 
+// Issue 23 acceptance: a well-excited drive exits 0 without an observability warning; a drive
+// without turns (straight ahead and back) warns about the wheel separation and exits 4.
+TEST(CalibrationJob, WellExcitedDriveExitsZeroAndADriveWithoutTurnsWarnsAndExitsFour)
+{
+  sim::GeneratedPairs excited = simulatedPairs();
+  const CalibrationConfig config = diffDriveConfig(excited.joints);
+  CalibrationJobOptions options;
+  options.compare_trajectories = false;
+  const CalibrationJobResult good = runCalibrationJob(config, excited.pairs, {}, options);
+  EXPECT_TRUE(good.report.converged) << good.report.termination;
+  EXPECT_TRUE(good.report.warnings.empty()) << good.report.warnings.front();
+  EXPECT_EQ(calibrationExitStatus(good.report), 0);
+
+  sim::PairGeneratorOptions straight;
+  straight.robot = {"diff_drive",
+                    {{"wheel_radius_left_m", kLeftRadiusM},
+                     {"wheel_radius_right_m", kRightRadiusM},
+                     {"wheel_separation_m", kSeparationM}}};
+  straight.T_base_sensor = Pose2(0.145, 0.02, 0.03);
+  straight.interval_s = 0.5;
+  straight.duration_s = 60.0;
+  straight.motion.type = "scripted";
+  for (int leg = 0; leg < 6; ++leg) {
+    sim::ScriptedMotion motion;
+    motion.duration_s = 5.0;
+    motion.twist.vx_mps = leg % 2 == 0 ? 0.5 : -0.5;
+    straight.motion.script.push_back(motion);
+  }
+  const sim::GeneratedPairs no_turns = sim::generatePairs(straight);
+  const CalibrationJobResult bad = runCalibrationJob(config, no_turns.pairs, {}, options);
+  bool names_separation = false;
+  for (const std::string& warning : bad.report.warnings)
+    names_separation |= warning.find("wheel_separation") != std::string::npos;
+  EXPECT_TRUE(names_separation);
+  EXPECT_EQ(calibrationExitStatus(bad.report), bad.report.converged ? 4 : 3);
+  EXPECT_EQ(calibrationExitStatus(bad.report), 4) << bad.report.termination;
+}
+
+TEST(CalibrationJob, TestTableMarksAFitThatDidNotConverge)
+{
+  const sim::GeneratedPairs data = simulatedPairs();
+  CalibrationConfig config = diffDriveConfig(data.joints);
+  config.models.diff_drive.max_iterations = 1;
+  config.models.diff_drive.yaw_starts = 1;
+  CalibrationJobOptions options;
+  options.compare_trajectories = false;
+  const CalibrationJobResult job = runCalibrationJob(config, data.pairs, {}, options);
+  ASSERT_FALSE(job.report.converged);
+  EXPECT_EQ(calibrationExitStatus(job.report), 3);
+  const std::vector<MotionPair> test(data.pairs.begin(), data.pairs.begin() + 60);
+  const std::vector<ModelScore> scores = scoreModelsOnTest(config, job, test);
+  ASSERT_EQ(scores.size(), 1u);
+  EXPECT_FALSE(scores[0].converged);
+  EXPECT_NE(formatComparisonTable(scores).find("NOT converged"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace odometry_calibration

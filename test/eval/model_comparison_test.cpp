@@ -59,5 +59,25 @@ TEST(ModelComparison, NeedsTrainingPairsAndKnownModels)
   EXPECT_TRUE(compareModels({}, options, testing.pairs, testing.pairs).empty());
 }
 
+TEST(ModelComparison, MarksAFitThatDidNotConvergeAndLeavesTheOthersAlone)
+{
+  const sim::GeneratedPairs training = pairs(1), testing = pairs(2);
+  ModelFactoryOptions options;
+  options.joints = training.joints;
+  options.diff_drive.max_iterations = 1;
+  options.diff_drive.yaw_starts = 1;
+  const std::vector<ModelScore> scores =
+      compareModels({"diff_drive", "linear"}, options, training.pairs, testing.pairs);
+  ASSERT_EQ(scores.size(), 2u);
+  EXPECT_FALSE(scores[0].converged);
+  EXPECT_TRUE(scores[1].converged);
+  const std::string table = formatComparisonTable(scores);
+  const std::string diff_row = table.substr(table.find("\ndiff_drive") + 1);
+  EXPECT_NE(diff_row.substr(0, diff_row.find('\n')).find("NOT converged"), std::string::npos);
+  const std::string linear_row = table.substr(table.find("\nlinear") + 1);
+  EXPECT_EQ(linear_row.substr(0, linear_row.find('\n')).find("NOT converged"), std::string::npos);
+  EXPECT_NE(table.find("NOT converged: diff_drive ("), std::string::npos);
+}
+
 }  // namespace
 }  // namespace odometry_calibration

@@ -136,5 +136,64 @@ TEST(DiffDriveModel, FindsTheWheelJointsByNameOrAsTheIncrementalOnes)
   EXPECT_EQ(message({{"steer", "left"}, {EncoderKind::kAbsolute, EncoderKind::kIncremental}}, ""),
             "diff_drive needs two incremental joints");
 }
+// Issue 23 acceptance: the laser mounted at yaw 0, 90, -107 and 180 degrees, the fit started
+// from every yaw on a 30 degree grid (and the configuration's default start, yaw 0): it must
+// converge to the truth within the tolerances above, and never claim convergence otherwise.
+TEST(DiffDriveModel, GlobalStartsReachTheTruthFromEveryStartYaw)
+{
+  for (const double laser_yaw_deg : {0.0, 90.0, -107.0, 180.0}) {
+    sim::PairGeneratorOptions truth = truthOptions(5);
+    const double laser_yaw = laser_yaw_deg * M_PI / 180.0;
+    truth.T_base_sensor = Pose2(0.145, 0.02, laser_yaw);
+    const auto data = sim::generatePairs(truth);
+    for (int start_deg = -180; start_deg < 180; start_deg += 30) {
+      DiffDriveOptions options = nominal();
+      options.initial_T_base_sensor = Pose2(0.1, 0.0, start_deg * M_PI / 180.0);
+      DiffDriveModel model(options);
+      const ModelReport report = model.fit(data.pairs);
+      const std::string where = "laser yaw " + std::to_string(laser_yaw_deg) + " deg, start " +
+                                std::to_string(start_deg) + " deg";
+      ASSERT_TRUE(report.converged) << where << ": " << report.termination;
+      EXPECT_NEAR(model.intrinsics()(kLeftRadius), 0.0765, 0.005 * 0.0765) << where;
+      EXPECT_NEAR(model.intrinsics()(kRightRadius), 0.0775, 0.005 * 0.0775) << where;
+      EXPECT_NEAR(model.intrinsics()(kWheelSeparation), 0.32, 0.005 * 0.32) << where;
+      EXPECT_NEAR(model.T_base_sensor().x(), 0.145, 0.005) << where;
+      EXPECT_NEAR(model.T_base_sensor().y(), 0.02, 0.005) << where;
+      EXPECT_NEAR(normalizeAngle(model.T_base_sensor().theta() - laser_yaw), 0.0, 0.5 * M_PI / 180)
+          << where;
+      EXPECT_EQ(report.starts, 8) << where;
+      EXPECT_GE(report.starts_agreed, 1) << where;
+      EXPECT_TRUE(report.warnings.empty()) << where << ": " << report.warnings.front();
+    }
+  }
+}
+
+TEST(DiffDriveModel, CorrelatedButDeterminedParametersAreANoteNotAWarning)
+{
+  const auto data = sim::generatePairs(truthOptions(3));
+  DiffDriveModel model(nominal());
+  const ModelReport report = model.fit(data.pairs);
+  ASSERT_TRUE(report.converged);
+  EXPECT_TRUE(report.warnings.empty()) << report.warnings.front();
+  for (const std::string& note : report.notes)
+    EXPECT_NE(note.find("correlated"), std::string::npos) << note;
+  EXPECT_EQ(report.outliers, report.rejected + report.down_weighted);
+}
+
+TEST(DiffDriveModel, OutliersAreCountedAsRejectedAndDownWeightedSeparately)
+{
+  auto data = sim::generatePairs(truthOptions(3));
+  // 2 % gross outliers: 0.3 m off, far beyond 5 sigma of the 2 mm noise.
+  for (std::size_t i = 0; i < data.pairs.size(); i += 50)
+    data.pairs[i].sensor_motion = data.pairs[i].sensor_motion * Pose2(0.3, -0.2, 0.4);
+  const std::size_t gross = (data.pairs.size() + 49) / 50;
+  DiffDriveModel model(nominal());
+  const ModelReport report = model.fit(data.pairs);
+  ASSERT_TRUE(report.converged);
+  EXPECT_EQ(report.rejected, gross);
+  EXPECT_EQ(report.outliers, report.rejected + report.down_weighted);
+  EXPECT_NEAR(model.intrinsics()(kWheelSeparation), 0.32, 0.005 * 0.32);
+}
+
 }  // namespace
 }  // namespace odometry_calibration

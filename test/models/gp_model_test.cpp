@@ -228,6 +228,8 @@ TEST(GpModel, RejectsGrossOutliersItself)
   const ModelReport report = robust_model.fit(dirty);
   EXPECT_GE(report.outliers, injected);
   EXPECT_LE(report.outliers, injected + dirty.size() / 50);
+  EXPECT_EQ(report.rejected, report.outliers);
+  EXPECT_EQ(report.down_weighted, 0u);
   const Eigen::Vector3d clean_rmse = modelRmse(clean_model, test, false);
   const Eigen::Vector3d robust_rmse = modelRmse(robust_model, test, false);
   for (int axis = 0; axis < 3; ++axis) {
@@ -363,6 +365,55 @@ TEST(GpModel, LearnsSpeedDependentSlip)
   for (int axis = 0; axis < 3; ++axis) {
     EXPECT_LE(steady(axis), 1.2) << "axis " << axis;
   }
+}
+
+TEST(GpModel, RadiansFromAJointStateMergeLikeTicks)
+{
+  // The same drive as JointState positions in radians (ticks * 2 pi / 4096): increments that are
+  // the same number of ticks differ in their last bits, yet must merge as the ticks do.
+  const sim::GeneratedPairs ticks = generate(0.3, 240.0, 8);
+  sim::GeneratedPairs radians = ticks;
+  const double radians_per_tick = 2.0 * M_PI / 4096.0;
+  for (MotionPair& pair : radians.pairs) {
+    for (EncoderSample& sample : pair.encoder_samples)
+      sample.values *= radians_per_tick;
+  }
+  GpOptions options;
+  options.num_threads = 1;
+  GaussianProcessModel in_ticks(options, ticks.joints);
+  GaussianProcessModel in_radians(options, radians.joints);
+  in_ticks.fit(ticks.pairs);
+  in_radians.fit(radians.pairs);
+  ASSERT_FALSE(in_ticks.output(0).sparse);
+  EXPECT_EQ(in_radians.output(0).posterior.basis().cols(),
+            in_ticks.output(0).posterior.basis().cols());
+  for (std::size_t i = 0; i < ticks.pairs.size(); i += 37) {
+    const MotionPrediction a = in_ticks.predict(ticks.pairs[i].encoder_samples);
+    const MotionPrediction b = in_radians.predict(radians.pairs[i].encoder_samples);
+    EXPECT_NEAR(a.mean.x(), b.mean.x(), 1e-6);
+    EXPECT_NEAR(a.mean.theta(), b.mean.theta(), 1e-6);
+  }
+}
+
+TEST(GpModel, ReportsTheRefinementBudgetAsABudget)
+{
+  // More distinct inputs than likelihood_subset: the best start is refined for a fixed budget.
+  // Using that budget up is its normal end and must say so, after the search's own ending.
+  const sim::GeneratedPairs data = generate(0.3, 240.0, 9);
+  GpOptions options;
+  options.likelihood_subset = 100;
+  options.refine_iterations = 2;
+  GaussianProcessModel model(options, data.joints);
+  const ModelReport report = model.fit(data.pairs);
+  for (int axis = 0; axis < 3; ++axis) {
+    const std::string& termination = model.output(axis).termination;
+    EXPECT_NE(termination.find("search: "), std::string::npos) << termination;
+    EXPECT_NE(termination.find("refinement: "), std::string::npos) << termination;
+    EXPECT_EQ(termination.find("refinement: Maximum number of iterations"), std::string::npos)
+        << termination;
+  }
+  EXPECT_NE(report.termination.find("used its budget of 2 iterations"), std::string::npos)
+      << report.termination;
 }
 
 }  // namespace

@@ -259,6 +259,52 @@ TEST(GpExact, PosteriorVarianceShrinksAtTrainingInputs)
   EXPECT_NEAR(mean, 0.0, 1e-12);
 }
 
+TEST(GpExact, LargePosteriorPredictsItsVarianceInLowRankCloseToTheExactOne)
+{
+  // 2000 distinct inputs (above kGpLowRankVarianceInputs): the variance comes from the
+  // projection on kGpVarianceInducingInputs inducing inputs, O(M^2) per prediction.
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> uniform(-2.0, 2.0);
+  const int n = 2000;
+  TestData data;
+  data.inputs.resize(2, n);
+  data.targets.resize(n);
+  data.variances = Eigen::VectorXd::Constant(n, 0.02);
+  for (int i = 0; i < n; ++i) {
+    data.inputs(0, i) = uniform(rng);
+    data.inputs(1, i) = uniform(rng);
+    data.targets(i) = std::sin(data.inputs(0, i)) + 0.5 * data.inputs(1, i);
+  }
+  const GpKernel kernel(GpKernelType::kRbf, 2);
+  const Eigen::Vector3d theta(std::log(1.0), std::log(0.6), std::log(0.6));
+  const GpPosterior gp =
+      GpPosterior::exact(kernel, theta, data.inputs, data.targets, data.variances);
+  ASSERT_TRUE(gp.lowRankVariance());
+  EXPECT_TRUE(gp.projectedMean());
+  for (int i = 0; i < 300; ++i) {
+    const Eigen::Vector2d x(1.2 * uniform(rng), 1.2 * uniform(rng));  // inside and around
+    double mean = 0.0, variance = 0.0;
+    gp.predict(x, &mean, &variance);
+    const double exact = gp.exactVariance(x);
+    // The projected mean is checked against the exact one at construction (1 % of the noise
+    // sigma on the training inputs); here it must hold where the data are.
+    if (x.cwiseAbs().maxCoeff() < 1.8) {
+      EXPECT_NEAR(mean, gp.means(x).coeff(0), 0.01 * std::sqrt(0.02)) << x.transpose();
+    }
+    // Where the data are, the projection is exact to 1e-4 of the prior variance (1); beyond
+    // their edge it errs on the safe side, by at most 10 %.
+    EXPECT_GE(variance, exact - 1e-4) << x.transpose();
+    EXPECT_LE(variance, 1.1 * exact + 1e-4) << x.transpose();
+    if (x.cwiseAbs().maxCoeff() < 1.8) {
+      EXPECT_NEAR(variance, exact, 1e-4) << x.transpose();
+    }
+  }
+  // A small posterior keeps the exact variance.
+  const TestData small = makeData(30, 6);
+  EXPECT_FALSE(GpPosterior::exact(kernel, theta, small.inputs, small.targets, small.variances)
+                   .lowRankVariance());
+}
+
 TEST(GpSparse, EqualsTheExactGpWhenInducingInputsAreTheTrainingInputs)
 {
   const TestData data = makeData(30, 7, 20);  // fine grid: distinct inputs

@@ -87,6 +87,11 @@ TEST(LinearModel, RejectsGrossOutliersItself)
   const ModelReport report = model.fit(train.pairs);
   const std::size_t injected = (train.pairs.size() + 32) / 33;
   EXPECT_GE(report.outliers, injected);
+  EXPECT_EQ(report.rejected, report.outliers);  // left out; down-weighted ones counted apart
+  // Huber at 1.345 sigma down-weights ~18 % of Gaussian errors per axis (~45 % of the pairs on
+  // some axis): counted, but apart from the rejected ones.
+  EXPECT_GT(report.down_weighted, 0u);
+  EXPECT_LE(report.rejected + report.down_weighted, train.pairs.size());
   EXPECT_LT(heldOutRmse(model, test).maxCoeff(), 1.3 * 0.002);
 }
 

@@ -25,14 +25,22 @@ struct ModelScore
   double fit_time_s = 0.0;
   std::size_t outliers = 0;  ///< rejected while training
   std::vector<std::string> warnings;
+  /// Whether the training fit converged; a row that did not is marked in the table, with
+  /// `termination` (its scores are those of wherever the solver stopped).
+  bool converged = true;
+  std::string termination;
 };
+
+/// `score` with the fit's time, outliers, warnings and convergence from `report`.
+ModelScore withFitReport(ModelScore score, const ModelReport& report);
 
 /// Scores a fitted model: each test pair's displacement predicted from its encoder samples,
 /// chained into a trajectory from the origin and compared with the chain of the measured
 /// displacements (the test pairs are taken as consecutive). Throws for fewer than 2 pairs.
 ModelScore scoreModel(const MotionModel& model, const std::vector<MotionPair>& test);
 
-/// The comparison as a fixed-width text table, one row per model.
+/// The comparison as a fixed-width text table, one row per model; a model whose fit did not
+/// converge is marked "NOT converged" on its row and named, with the reason, under the table.
 std::string formatComparisonTable(const std::vector<ModelScore>& scores);
 
 /// Fits each model of `models` (makeModel with `options`, in order) on the training pairs and

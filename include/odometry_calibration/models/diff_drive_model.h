@@ -21,7 +21,10 @@ struct DiffDriveOptions
   double initial_separation_m = 0.3;     ///< start value of b [m]
   Pose2 initial_T_base_sensor;           ///< start value of the sensor pose
   double huber_threshold = 3.0;          ///< Huber threshold on a pair's whitened error [sigma]
-  int max_iterations = 100;              ///< Levenberg-Marquardt iteration cap
+  int max_iterations = 500;              ///< Levenberg-Marquardt iteration cap (per solve)
+  /// Global starts: sensor yaws tried, evenly spaced from the start value (8: every 45 deg);
+  /// 1 = only the start value.
+  int yaw_starts = 8;
 };
 
 /// Throws std::invalid_argument naming the first invalid option.

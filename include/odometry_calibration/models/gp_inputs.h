@@ -34,6 +34,14 @@ struct GpInputGroups
 /// are in lexicographic order of their input; members in increasing index order.
 GpInputGroups groupDuplicateInputs(const Eigen::MatrixXd& inputs);
 
+/// Snaps each feature (row of `features`, m x n) whose values are all whole multiples of one
+/// quantum, up to floating-point rounding (1e-6 of the quantum), exactly onto those multiples:
+/// the quantum is the smallest gap between values larger than 1e-9 of the largest value. Encoder
+/// increments are tick-quantised whatever their unit (ticks, or radians = ticks * 2 pi / N from a
+/// JointState), so inputs that differ by less than one tick become bitwise equal and merge in
+/// groupDuplicateInputs; continuous features are left alone. Returns how many were snapped.
+int snapQuantisedFeatures(Eigen::MatrixXd* features);
+
 /// Every column its own group (no merging), for comparisons.
 GpInputGroups singletonGroups(const Eigen::MatrixXd& inputs);
 

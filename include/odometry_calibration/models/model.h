@@ -53,14 +53,24 @@ struct ModelReport
   ResidualRms after;                          ///< errors of the fit on all pairs used
   Eigen::Vector3d residual_rms_xytheta = Eigen::Vector3d::Zero();  ///< per axis, inliers
   std::size_t pairs_used = 0;                                      ///< pairs given to the fit
-  std::size_t outliers = 0;           ///< pairs rejected or down-weighted
+  /// The model's own outlier count, as before issue 23: parametric models the pairs beyond the
+  /// Huber threshold (rejected + down_weighted), linear and GP the pairs left out (rejected).
+  std::size_t outliers = 0;
+  /// Pairs beyond the model's outlier cut: left out of the fit (linear, GP) or, under the
+  /// parametric models' Huber loss, beyond its gross threshold (5 sigma: weight below 3/5).
+  std::size_t rejected = 0;
+  std::size_t down_weighted = 0;      ///< other pairs given a weight below one (robust loss)
   int iterations = 0;                 ///< optimiser iterations (0 if closed form)
   bool converged = true;              ///< the optimiser met its tolerance
   std::string termination;            ///< optimiser's reason, in words
+  int starts = 1;                     ///< optimiser starts tried (global starts)
+  int starts_agreed = 1;              ///< starts that reached the best minimum
   double fit_time_s = 0.0;            ///< wall time [s]
   bool has_extrinsic = false;         ///< whether T_base_sensor was estimated
   Pose2 T_base_sensor;                ///< the sensor's pose in base_link
-  std::vector<std::string> warnings;  ///< observability and model-adequacy warnings
+  std::vector<std::string> warnings;  ///< a parameter not determined, a fit not to trust
+  /// Information that is no warning, e.g. strongly correlated but well-determined parameters.
+  std::vector<std::string> notes;
 };
 
 /// A calibration model.

@@ -25,13 +25,16 @@ struct ObservabilityHints
   std::vector<std::string> relative_parameters;
 };
 
-/// Warnings about the motion in `pairs` (too little travel, no turns, turns one way only) and
-/// about the fit (covariance unavailable, sigma large, two parameters almost perfectly
-/// correlated). `covariance` is in the order of `estimates`. Empty when all is well determined.
+/// Warnings that a parameter is not determined: about the motion in `pairs` (too little
+/// travel, no turns, turns one way only) and about the fit (covariance unavailable, a sigma large
+/// against the value or an absolute tolerance). `covariance` is in the order of `estimates`.
+/// Empty when all is well determined. Two parameters that are almost perfectly correlated but
+/// each well determined are no warning: they go to `notes` (if given) as information.
 std::vector<std::string> observabilityWarnings(const std::vector<MotionPair>& pairs,
                                                const std::vector<ParameterEstimate>& estimates,
                                                const Eigen::MatrixXd& covariance,
                                                bool covariance_available,
-                                               const ObservabilityHints& hints);
+                                               const ObservabilityHints& hints,
+                                               std::vector<std::string>* notes = nullptr);
 
 }  // namespace odometry_calibration

@@ -70,7 +70,14 @@ private:
 struct SensorMotionFitOptions
 {
   double huber_threshold = 3.0;  ///< on a pair's whitened error norm [sigma]; <= 0: none
-  int max_iterations = 100;      ///< Levenberg-Marquardt iteration cap
+  int max_iterations = 500;      ///< Levenberg-Marquardt iteration cap (per solve)
+  /// Global starts: the sensor yaw is started at this many evenly spaced angles, the first being
+  /// the given start (every 360/n degrees), each solved on at most kScreeningPairs pairs; the
+  /// full fit starts from the best of them. 1 (or less): only the given start.
+  int yaw_starts = 8;
+  /// Whitened error norm beyond which a pair counts as a gross outlier (reported as rejected:
+  /// its Huber weight is below huber_threshold / gross_threshold) [sigma].
+  double gross_threshold = 5.0;
   /// Rescale the pairs' covariances by a robust estimate of the residual spread (median
   /// whitened error norm against that of unit Gaussian noise) and solve again, so that the
   /// Huber threshold means "n sigma of the actual noise" even when the supplied covariances
@@ -89,18 +96,21 @@ struct SensorMotionFit
   Eigen::Matrix<double, N + 3, N + 3> covariance = Eigen::Matrix<double, N + 3, N + 3>::Zero();
   bool covariance_available = false;
   double chi2_per_dof = std::numeric_limits<double>::quiet_NaN();
-  std::vector<bool> inlier;  ///< per pair: whitened error within the Huber threshold
-  double noise_scale = 1.0;  ///< factor applied to the pairs' sigmas (estimate_noise_scale)
-  std::size_t outliers = 0;
+  std::vector<bool> inlier;        ///< per pair: whitened error within the Huber threshold
+  double noise_scale = 1.0;        ///< factor applied to the pairs' sigmas (estimate_noise_scale)
+  std::size_t outliers = 0;        ///< pairs beyond the Huber threshold (down-weighted)
+  std::size_t gross_outliers = 0;  ///< of those, pairs beyond gross_threshold
   int iterations = 0;
+  int starts = 1;         ///< starts tried (yaw_starts)
+  int starts_agreed = 1;  ///< starts that reached the best minimum (within 1e-4 of its cost)
   bool converged = false;
   std::string termination;
   double solve_time_s = 0.0;
 };
 
-/// Fits the intrinsics and the sensor pose from the start values. Pairs need >= 2 samples.
+/// Fits the intrinsics and the sensor pose from one start (no global starts).
 template <class Kinematics>
-SensorMotionFit<Kinematics::kIntrinsics> fitSensorMotion(
+SensorMotionFit<Kinematics::kIntrinsics> fitSensorMotionFrom(
     const std::vector<MotionPair>& pairs, const typename Kinematics::Layout& layout,
     const Eigen::Matrix<double, Kinematics::kIntrinsics, 1>& initial_intrinsic,
     const Pose2& initial_T_base_sensor, const SensorMotionFitOptions& options)
@@ -187,6 +197,8 @@ SensorMotionFit<Kinematics::kIntrinsics> fitSensorMotion(
     if (is_inlier) {
       chi2_inliers += chi2;
       ++inlier_count;
+    } else if (chi2 > options.gross_threshold * options.gross_threshold) {
+      ++fit.gross_outliers;
     }
   }
   fit.outliers = pairs.size() - inlier_count;
@@ -224,6 +236,113 @@ SensorMotionFit<Kinematics::kIntrinsics> fitSensorMotion(
   }
   fit.intrinsic = intrinsic;
   fit.T_base_sensor = Pose2(sensor_pose(0), sensor_pose(1), sensor_pose(2));
+  return fit;
+}
+
+/// Pairs a global start is screened on at most (evenly spaced through the set).
+constexpr std::size_t kScreeningPairs = 200;
+
+/// One start of the screening: the solution on the screening pairs and its robust cost.
+template <int N>
+struct SensorMotionStart
+{
+  Eigen::Matrix<double, N, 1> intrinsic;
+  Eigen::Vector3d sensor_pose;
+  double cost = std::numeric_limits<double>::infinity();
+};
+
+/// Solves from one start on `pairs` with the supplied covariances (no noise scale, no
+/// covariance): the cheap first stage of the global starts.
+template <class Kinematics>
+SensorMotionStart<Kinematics::kIntrinsics> screenSensorMotionStart(
+    const std::vector<MotionPair>& pairs, const typename Kinematics::Layout& layout,
+    const Eigen::Matrix<double, Kinematics::kIntrinsics, 1>& initial_intrinsic,
+    const Eigen::Vector3d& initial_sensor_pose, const SensorMotionFitOptions& options)
+{
+  constexpr int N = Kinematics::kIntrinsics;
+  using Residual = SensorMotionResidual<Kinematics>;
+  SensorMotionStart<N> start;
+  start.intrinsic = initial_intrinsic;
+  start.sensor_pose = initial_sensor_pose;
+  ceres::Problem problem;
+  for (const MotionPair& pair : pairs) {
+    auto* cost = new ceres::AutoDiffCostFunction<Residual, 3, N, 3>(new Residual(pair, layout));
+    ceres::LossFunction* loss =
+        options.huber_threshold > 0.0 ? new ceres::HuberLoss(options.huber_threshold) : nullptr;
+    problem.AddResidualBlock(cost, loss, start.intrinsic.data(), start.sensor_pose.data());
+  }
+  problem.SetManifold(start.sensor_pose.data(), newSe2Manifold());
+  ceres::Solver::Options solver_options;
+  solver_options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+  solver_options.linear_solver_type = ceres::DENSE_QR;
+  solver_options.max_num_iterations = options.max_iterations;
+  // Only the basin matters here: the full fit polishes the best start.
+  solver_options.function_tolerance = 1e-8;
+  solver_options.gradient_tolerance = 1e-10;
+  solver_options.parameter_tolerance = 1e-8;
+  solver_options.num_threads = 1;
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver_options, &problem, &summary);
+  if (std::isfinite(summary.final_cost) && start.intrinsic.allFinite() &&
+      start.sensor_pose.allFinite()) {
+    start.cost = summary.final_cost;
+  }
+  return start;
+}
+
+/// Fits the intrinsics and the sensor pose. With options.yaw_starts > 1 (global starts), the
+/// sensor yaw is started at yaw_starts evenly spaced angles from the given one, each solved on a
+/// subset of at most kScreeningPairs pairs; the full fit (fitSensorMotionFrom) starts from the
+/// screening solution of least cost. `starts_agreed` counts the starts whose screening cost is
+/// within 1e-4 (relative) of the best: a low count says the cost has several minima and the
+/// start values matter. Pairs need >= 2 samples.
+template <class Kinematics>
+SensorMotionFit<Kinematics::kIntrinsics> fitSensorMotion(
+    const std::vector<MotionPair>& pairs, const typename Kinematics::Layout& layout,
+    const Eigen::Matrix<double, Kinematics::kIntrinsics, 1>& initial_intrinsic,
+    const Pose2& initial_T_base_sensor, const SensorMotionFitOptions& options)
+{
+  constexpr int N = Kinematics::kIntrinsics;
+  if (options.yaw_starts <= 1 || pairs.empty()) {
+    return fitSensorMotionFrom<Kinematics>(pairs, layout, initial_intrinsic, initial_T_base_sensor,
+                                           options);
+  }
+  const auto start_time = std::chrono::steady_clock::now();
+  std::vector<MotionPair> screening;
+  const std::size_t stride = (pairs.size() + kScreeningPairs - 1) / kScreeningPairs;
+  for (std::size_t i = 0; i < pairs.size(); i += stride)
+    screening.push_back(pairs[i]);
+  std::vector<SensorMotionStart<N>> starts;
+  for (int k = 0; k < options.yaw_starts; ++k) {
+    const double yaw = normalizeAngle(initial_T_base_sensor.theta() +
+                                      2.0 * M_PI * static_cast<double>(k) / options.yaw_starts);
+    starts.push_back(screenSensorMotionStart<Kinematics>(
+        screening, layout, initial_intrinsic,
+        Eigen::Vector3d(initial_T_base_sensor.x(), initial_T_base_sensor.y(), yaw), options));
+  }
+  std::size_t best = 0;
+  for (std::size_t k = 1; k < starts.size(); ++k) {
+    if (starts[k].cost < starts[best].cost)
+      best = k;
+  }
+  int agreed = 0;
+  for (const SensorMotionStart<N>& start : starts) {
+    if (start.cost <= starts[best].cost * (1.0 + 1e-4) + 1e-12)
+      ++agreed;
+  }
+  SensorMotionFit<N> fit;
+  if (std::isfinite(starts[best].cost)) {
+    const Eigen::Vector3d& pose = starts[best].sensor_pose;
+    fit = fitSensorMotionFrom<Kinematics>(pairs, layout, starts[best].intrinsic,
+                                          Pose2(pose(0), pose(1), pose(2)), options);
+  } else {
+    fit = fitSensorMotionFrom<Kinematics>(pairs, layout, initial_intrinsic, initial_T_base_sensor,
+                                          options);
+  }
+  fit.starts = options.yaw_starts;
+  fit.starts_agreed = agreed;
+  fit.solve_time_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
   return fit;
 }
 

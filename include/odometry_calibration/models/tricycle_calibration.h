@@ -43,8 +43,11 @@ struct TricycleCalibrationOptions
   /// Huber loss threshold on a pair's whitened error norm [sigma]; pairs beyond it are counted
   /// as outliers and down-weighted. <= 0 disables the robust loss.
   double huber_threshold = 3.0;
-  /// Iteration cap of the Levenberg-Marquardt solver.
-  int max_iterations = 100;
+  /// Iteration cap of the Levenberg-Marquardt solver (per solve).
+  int max_iterations = 500;
+  /// Global starts: sensor yaws tried, evenly spaced from the start value (8: every 45 deg);
+  /// 1 = only the start value.
+  int yaw_starts = 8;
 };
 
 /// Throws std::invalid_argument naming the first invalid option and the expected range.
@@ -60,16 +63,21 @@ struct TricycleCalibrationResult
   /// 7x7 covariance in the same order, scaled by the residual spread (chi2_per_dof).
   Eigen::Matrix<double, 7, 7> covariance = Eigen::Matrix<double, 7, 7>::Zero();
   bool covariance_available = false;
-  double chi2_per_dof = 0.0;      ///< inlier chi^2 / (inliers*3 - 7), at the solution
-  ResidualRms before;             ///< errors of the initial parameters, all pairs
-  ResidualRms after;              ///< errors of the estimate, all pairs
-  ResidualRms after_inliers;      ///< errors of the estimate, inlier pairs
-  std::size_t pair_count = 0;     ///< pairs used
-  std::size_t outlier_count = 0;  ///< pairs beyond the Huber threshold at the solution
-  int iterations = 0;             ///< solver iterations
-  bool converged = false;         ///< the solver met a convergence tolerance
-  std::string termination;        ///< solver's termination reason, in words
-  double solve_time_s = 0.0;      ///< wall time of the solver [s]
+  double chi2_per_dof = 0.0;       ///< inlier chi^2 / (inliers*3 - 7), at the solution
+  ResidualRms before;              ///< errors of the initial parameters, all pairs
+  ResidualRms after;               ///< errors of the estimate, all pairs
+  ResidualRms after_inliers;       ///< errors of the estimate, inlier pairs
+  std::size_t pair_count = 0;      ///< pairs used
+  std::size_t outlier_count = 0;   ///< pairs beyond the Huber threshold at the solution
+  std::size_t gross_outliers = 0;  ///< of those, pairs beyond 5 sigma
+  int starts = 1;                  ///< global starts tried
+  int starts_agreed = 1;           ///< starts that reached the best minimum
+  /// Information that is no warning (strong correlations of well-determined parameters).
+  std::vector<std::string> notes;
+  int iterations = 0;         ///< solver iterations
+  bool converged = false;     ///< the solver met a convergence tolerance
+  std::string termination;    ///< solver's termination reason, in words
+  double solve_time_s = 0.0;  ///< wall time of the solver [s]
   /// Observability and data warnings, each naming the missing motion or the poor parameter.
   std::vector<std::string> warnings;
 };
