@@ -45,9 +45,10 @@ struct TricycleCalibrationOptions
   double huber_threshold = 3.0;
   /// Iteration cap of the Levenberg-Marquardt solver (per solve).
   int max_iterations = 500;
-  /// Global starts: sensor yaws tried, evenly spaced from the start value (8: every 45 deg);
-  /// 1 = only the start value.
-  int yaw_starts = 8;
+  /// Global starts: sensor yaws tried, evenly spaced from the start value; 1 = only the start
+  /// value (the default: on the real tricycle log other yaws reach a mirrored solution, negative
+  /// Ks and the sensor turned by pi, with the same cost, which nothing maps back yet).
+  int yaw_starts = 1;
 };
 
 /// Throws std::invalid_argument naming the first invalid option and the expected range.
