@@ -102,7 +102,7 @@ BagRunResult runBagsUnchecked(const std::vector<std::string>& bag_paths,
   };
 
   // Reading and converting run ahead on their own thread; this one feeds the collector.
-  BagMessageReader reader(view, config);
+  BagMessageReader reader(view, config, bagNames(bag_paths));
   std::size_t messages = 0;
   Clock::duration pairing{};
   for (std::vector<BagInput> batch = reader.next(); !batch.empty(); batch = reader.next()) {
@@ -180,6 +180,7 @@ BagRunResult runBags(const std::vector<std::string>& bag_paths, const Calibratio
         bagNames(bag_paths) + " is corrupted or cut off: " + what +
         " (check it with 'rosbag check'; 'rosbag reindex' repairs a bag whose index is lost)");
   };
+  const BagReadScope reading(bagNames(bag_paths));
   try {
     return runBagsUnchecked(bag_paths, config, start_offset_s, end_offset_s, progress);
   } catch (const ros::Exception& error) {

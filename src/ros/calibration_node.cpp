@@ -54,6 +54,10 @@ CalibrationNode::CalibrationNode(ros::NodeHandle handle, ros::NodeHandle private
   if (options_.load_saved_calibration && fs::exists(result_path)) {
     try {
       const CalibrationResult saved = readCalibrationResult(result_path);
+      // Another robot's (or configuration's) result: its model must take these joints.
+      const auto joints = static_cast<Eigen::Index>(channels_.size());
+      saved.model->predict(
+          {{0.0, Eigen::VectorXd::Zero(joints)}, {0.1, Eigen::VectorXd::Zero(joints)}});
       active_model_ = saved.model;
       active_model_origin_ = "saved " + result_path;
       if (saved.has_extrinsic)

@@ -37,7 +37,7 @@ protected:
     directory_ = mkdtemp(pattern);
     sim::Scenario scenario = sim::loadScenarioYaml(
         kConfig + "/sim/scenarios/diff_drive_office.yaml", kConfig + "/sim/worlds");
-    scenario.duration_s = 12.0;
+    scenario.duration_s = 6.0;
     simulateToBag(scenario, directory_ + "/clean.bag", "");
     clean_ = readFile(directory_ + "/clean.bag");
   }
@@ -60,10 +60,16 @@ protected:
                                 "/out > /dev/null 2> " + directory_ + "/stderr.txt";
     const int status = std::system(command.c_str());
     Outcome outcome;
-    outcome.exited = WIFEXITED(status);
-    outcome.status = outcome.exited ? WEXITSTATUS(status) : WTERMSIG(status);
+    // The shell reports a program killed by a signal as exit status 128 + signal.
+    outcome.exited = WIFEXITED(status) && WEXITSTATUS(status) < 128;
+    outcome.status = WIFEXITED(status) ? WEXITSTATUS(status) % 128 : WTERMSIG(status);
     outcome.error = readFile(directory_ + "/stderr.txt");
-    fs::remove(bag);
+    if (outcome.exited) {
+      fs::remove(bag);
+    } else {  // kept for a replay
+      fs::rename(bag, "/tmp/" + name);
+      outcome.error += "(the bag is kept as /tmp/" + name + ")";
+    }
     return outcome;
   }
 
@@ -114,7 +120,7 @@ TEST_F(CorruptedBags, RandomCorruptionsNeverCrash)
         ++corrupted;
       }
     }
-    const Outcome outcome = run("corrupted.bag", bytes);
+    const Outcome outcome = run("corrupted-" + std::to_string(seed) + ".bag", bytes);
     ASSERT_TRUE(outcome.exited) << "seed " << seed << ": killed by signal " << outcome.status
                                 << "\n"
                                 << outcome.error;
@@ -125,7 +131,8 @@ TEST_F(CorruptedBags, RandomCorruptionsNeverCrash)
         << "seed " << seed << ": exit " << outcome.status << "\n"
         << outcome.error;
     if (outcome.status == 1) {
-      EXPECT_NE(outcome.error.find("corrupted.bag"), std::string::npos) << outcome.error;
+      EXPECT_NE(outcome.error.find("corrupted-" + std::to_string(seed) + ".bag"), std::string::npos)
+          << outcome.error;
     }
     ++statuses[outcome.status];
   }
