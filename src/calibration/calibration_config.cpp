@@ -55,7 +55,9 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
     }
     for (const YAML::Node& node : root["joints"]) {
       where = source + ": joints[" + std::to_string(c.joints.size()) + "]";
-      checkYamlKeys(node, {"name", "kind", "units_per_turn", "counter_bits", "sign"}, where);
+      checkYamlKeys(node,
+                    {"name", "kind", "units_per_turn", "counter_bits", "sign", "max_turns_per_s"},
+                    where);
       JointConfig joint;
       readYaml(node, "name", &joint.name);
       std::string kind = "incremental";
@@ -67,6 +69,7 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
       readYaml(node, "units_per_turn", &joint.units_per_turn);
       readYaml(node, "counter_bits", &joint.counter_bits);
       readYaml(node, "sign", &joint.sign);
+      readYaml(node, "max_turns_per_s", &joint.max_turns_per_s);
       if (joint.name.empty())
         throw std::runtime_error("name is required");
       if (!(joint.units_per_turn > 0.0))
@@ -74,6 +77,8 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
       if (joint.counter_bits < 0 || joint.counter_bits > 52) {
         throw std::runtime_error("counter_bits must be in [0, 52]");
       }
+      if (!std::isfinite(joint.max_turns_per_s) || joint.max_turns_per_s < 0.0)
+        throw std::runtime_error("max_turns_per_s must be >= 0 (0 = no glitch check)");
       if (joint.sign != 1.0 && joint.sign != -1.0)
         throw std::runtime_error("sign must be 1 or -1");
       c.joints.push_back(joint);
@@ -279,7 +284,8 @@ std::vector<EncoderChannelOptions> encoderChannels(const CalibrationConfig& conf
     channels.push_back(
         {joint.name, joint.kind,
          incremental && joint.counter_bits > 0 ? std::ldexp(1.0, joint.counter_bits) : 0.0,
-         incremental ? 0.0 : joint.units_per_turn});
+         incremental ? 0.0 : joint.units_per_turn,
+         incremental ? joint.max_turns_per_s * joint.units_per_turn : 0.0});
   }
   return channels;
 }

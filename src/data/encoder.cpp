@@ -34,6 +34,8 @@ void validate(const EncoderChannelOptions& options)
   if (!std::isfinite(options.full_range) || options.full_range < 0.0) {
     throw std::invalid_argument(who + ": full_range must be >= 0 (0 = reading used as is)");
   }
+  if (!std::isfinite(options.max_rate_per_s) || options.max_rate_per_s < 0.0)
+    throw std::invalid_argument(who + ": max_rate_per_s must be >= 0 (0 = unchecked)");
 }
 
 EncoderDecoder::EncoderDecoder(std::vector<EncoderChannelOptions> channels)

@@ -234,20 +234,47 @@ PairsCsvAppender::PairsCsvAppender(const std::string& path, const JointLayout& j
     throw std::runtime_error("cannot write pairs file '" + path + "': " + std::strerror(errno));
   }
   if (existing_.empty() && ::lseek(fd_, 0, SEEK_END) == 0) {
-    const std::string header = pairsCsvHeader(joints);
-    if (::write(fd_, header.data(), header.size()) != static_cast<ssize_t>(header.size())) {
-      throw std::runtime_error("cannot write pairs file '" + path + "'");
+    try {
+      appendText(pairsCsvHeader(joints));
+    } catch (...) {
+      ::close(fd_);
+      throw;
     }
   }
 }
 
 void PairsCsvAppender::append(const MotionPair& pair)
 {
-  const std::string row = pairsCsvRow(pair);
-  if (::write(fd_, row.data(), row.size()) != static_cast<ssize_t>(row.size()) ||
-      ::fdatasync(fd_) != 0) {
+  appendText(pairsCsvRow(pair));
+}
+
+void PairsCsvAppender::appendText(const std::string& text)
+{
+  // A failed write (full disk, a file size limit, a read-only remount) is cut back to where the
+  // file ended, so that the file never keeps half a row.
+  const off_t end = ::lseek(fd_, 0, SEEK_END);
+  std::size_t written = 0;
+  int error = 0;
+  while (end >= 0 && written < text.size()) {
+    const ssize_t n = ::write(fd_, text.data() + written, text.size() - written);
+    if (n < 0 && errno == EINTR)
+      continue;
+    if (n <= 0) {
+      error = n < 0 ? errno : ENOSPC;
+      break;
+    }
+    written += static_cast<std::size_t>(n);
+  }
+  if (end < 0)
+    error = errno;
+  else if (error == 0 && ::fdatasync(fd_) != 0)
+    error = errno;
+  if (error != 0) {
+    if (end >= 0 && ::ftruncate(fd_, end) != 0) {
+      // Nothing more to do: the reader drops a last row without a line end.
+    }
     throw std::runtime_error("cannot append to pairs file '" + path_ +
-                             "': " + std::strerror(errno));
+                             "': " + std::strerror(error));
   }
 }
 

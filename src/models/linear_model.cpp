@@ -228,6 +228,11 @@ ModelReport LinearModel::fit(const std::vector<MotionPair>& pairs)
 MotionPrediction LinearModel::predict(const std::vector<EncoderSample>& samples) const
 {
   const Eigen::VectorXd features = pairFeatures(samples, options_.joints);
+  if (weights_.cols() != features.size()) {
+    throw std::invalid_argument("linear: the model has weights for " +
+                                std::to_string(weights_.cols()) + " features, the joints give " +
+                                std::to_string(features.size()));
+  }
   const Eigen::Vector3d mean = weights_ * features;
   MotionPrediction prediction;
   prediction.mean = Pose2(mean(0), mean(1), mean(2));
@@ -312,6 +317,8 @@ LinearModel LinearModel::fromYaml(const std::string& text)
       }
       model.weight_covariance_.push_back(Eigen::Map<const Eigen::MatrixXd>(values.data(), m, m));
     }
+    if (!model.weight_covariance_.empty() && model.weight_covariance_.size() != 3)
+      throw std::runtime_error("weight_covariance needs 3 entries (one per axis) or none");
     return model;
   } catch (const YAML::Exception& error) {
     throw std::runtime_error(std::string("linear model YAML: ") + error.what());

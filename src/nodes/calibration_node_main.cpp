@@ -1,4 +1,5 @@
 // odometry_calibration_node: the live calibration node (see README, "The live node").
+#include <csignal>
 #include <iostream>
 
 #include <glog/logging.h>
@@ -10,6 +11,9 @@ int main(int argc, char** argv)
 {
   google::InitGoogleLogging(argv[0]);
   FLAGS_minloglevel = google::GLOG_FATAL;  // Ceres' own progress lines
+  // A file-size limit (ulimit -f) is a full disk for this node: a failed write, not a signal
+  // that kills it (the pairs stay in memory until they can be written).
+  std::signal(SIGXFSZ, SIG_IGN);
   ros::init(argc, argv, "odometry_calibration");
   // The handles outlive a failed start, so that the reason still reaches the log.
   ros::NodeHandle handle, private_handle("~");

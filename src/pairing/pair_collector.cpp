@@ -2,12 +2,20 @@
 
 #include "odometry_calibration/geometry/se2.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
+#include <sstream>
 #include <stdexcept>
 #include <thread>
 #include <utility>
 
 namespace odometry_calibration {
+namespace {
+
+constexpr double kOpen = std::numeric_limits<double>::infinity();  ///< a span not closed yet
+
+}  // namespace
 
 void validate(const CollectorOptions& o)
 {
@@ -32,7 +40,8 @@ PairCollector::PairCollector(std::vector<EncoderChannelOptions> channels, Collec
                              MotionPredictor predictor)
     : options_(std::move(options)),
       predictor_(std::move(predictor)),
-      track_(std::move(channels), std::max(30.0, 4.0 * options_.keyframe_interval_s))
+      track_(channels, std::max(30.0, 4.0 * options_.keyframe_interval_s)),
+      glitch_filter_(std::move(channels))
 {
   validate(options_);
   // The chain uses only the consecutive matches' poses and statuses; the covariance (which
@@ -78,6 +87,8 @@ void PairCollector::reset()
   foldConsecutiveMatches();
   pending_.clear();
   track_.clear();
+  glitch_filter_.reset();
+  glitch_spans_.clear();
   keyframe_.reset();
   previous_scan_.reset();
   chain_valid_ = false;
@@ -122,14 +133,43 @@ CollectorEvent PairCollector::reject(const std::string& reason)
   return event;
 }
 
-std::vector<CollectorEvent> PairCollector::addEncoders(double stamp_s, const Eigen::VectorXd& raw)
+std::vector<CollectorEvent> PairCollector::addEncoders(double stamp_s, const Eigen::VectorXd& raw,
+                                                       Eigen::VectorXd* accepted)
 {
+  if (accepted)
+    accepted->resize(0);
   ++statistics_.encoder_messages;
+  const bool backwards = !track_.empty() && stamp_s < track_.lastStamp();
+  if (backwards)
+    glitch_filter_.reset();
+  // Throws (state unchanged) for a wrong size or a non-finite value.
+  EncoderGlitchFilter::Result filtered = glitch_filter_.filter(stamp_s, raw);
+  if (filtered.glitch) {
+    const EncoderChannelOptions& channel = track_.channels()[filtered.channel];
+    ++statistics_.glitches[channel.name];
+    if (glitch_spans_.empty() || glitch_spans_.back().second < kOpen) {
+      glitch_spans_.emplace_back(track_.empty() ? -kOpen : track_.lastStamp(), kOpen);
+    }
+    while (glitch_spans_.size() > 1000 || glitch_spans_.front().second < stamp_s - 60.0)
+      glitch_spans_.pop_front();
+    CollectorEvent event;
+    event.type = CollectorEvent::Type::kGlitch;
+    std::ostringstream reason;
+    reason << "encoder glitch on joint '" << channel.name << "': an increment of "
+           << filtered.increment << " units, beyond " << channel.max_rate_per_s
+           << " units/s (the joint's max_turns_per_s); reading skipped";
+    event.reason = reason.str();
+    return {event};
+  }
   last_input_stamp_s_ = std::max(last_input_stamp_s_, stamp_s);
-  if (track_.add(stamp_s, raw) == EncoderTrack::AddResult::kRestarted) {
+  if (accepted)
+    *accepted = filtered.corrected;
+  if (!glitch_spans_.empty() && glitch_spans_.back().second == kOpen)
+    glitch_spans_.back().second = stamp_s;
+  if (track_.add(stamp_s, filtered.corrected) == EncoderTrack::AddResult::kRestarted) {
     // The encoder history is gone: so is the keyframe it would have been paired with.
     const CollectorEvent event = restart("the encoder stream");
-    track_.add(stamp_s, raw);
+    track_.add(stamp_s, filtered.corrected);
     return {event};
   }
   return processReadyScans(false);
@@ -178,6 +218,15 @@ std::optional<std::vector<EncoderSample>> PairCollector::encoderWindow(double st
     *reason = "gap in the encoder stream";
     return std::nullopt;
   }
+  // Between the readings around a glitch the counts are unknown (a jump was removed), and so
+  // is any value interpolated there.
+  for (const auto& [before_s, after_s] : glitch_spans_) {
+    if (before_s < to && after_s > from) {
+      *reason = "encoder glitch in the interval";
+      return std::nullopt;
+    }
+  }
+
   return track_.between(from, to);
 }
 

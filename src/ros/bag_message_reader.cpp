@@ -1,6 +1,12 @@
 #include "odometry_calibration/ros/bag_message_reader.h"
 
+#include <signal.h>
+#include <unistd.h>
+
 #include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <cstring>
 #include <utility>
 
 #include <geometry_msgs/PoseStamped.h>
@@ -22,11 +28,57 @@ double seconds(Clock::duration duration)
   return std::chrono::duration<double>(duration).count();
 }
 
+// The fault handler may only touch these: a flag of the faulting thread and a fixed buffer.
+thread_local volatile std::sig_atomic_t t_reading_bag = 0;
+char g_bag_names[2048] = "a bag";
+
+void write2(const char* text)
+{
+  ssize_t ignored = ::write(STDERR_FILENO, text, std::strlen(text));
+  (void)ignored;
+}
+
+void onBagReadFault(int signal)
+{
+  if (t_reading_bag) {
+    write2("error: ");
+    write2(g_bag_names);
+    write2(signal == SIGBUS ? " is corrupted: rosbag read outside the bag's data (SIGBUS)"
+                            : " is corrupted: rosbag read outside the bag's data (SIGSEGV)");
+    write2("; check it with 'rosbag check' (a bag whose index is lost: 'rosbag reindex')\n");
+    ::_exit(1);
+  }
+  std::signal(signal, SIG_DFL);
+  std::raise(signal);
+}
+
 }  // namespace
 
-BagMessageReader::BagMessageReader(rosbag::View& view, const CalibrationConfig& config)
+void containBagReadFaults()
 {
-  thread_ = std::thread([this, &view, config] {
+  struct sigaction action = {};
+  action.sa_handler = onBagReadFault;
+  sigemptyset(&action.sa_mask);
+  ::sigaction(SIGSEGV, &action, nullptr);
+  ::sigaction(SIGBUS, &action, nullptr);
+}
+
+BagReadScope::BagReadScope(const std::string& bags)
+{
+  std::snprintf(g_bag_names, sizeof(g_bag_names), "%s", bags.c_str());
+  t_reading_bag = 1;
+}
+
+BagReadScope::~BagReadScope()
+{
+  t_reading_bag = 0;
+}
+
+BagMessageReader::BagMessageReader(rosbag::View& view, const CalibrationConfig& config,
+                                   const std::string& bags)
+{
+  thread_ = std::thread([this, &view, config, bags] {
+    const BagReadScope reading(bags);
     try {
       read(view, config);
     } catch (...) {

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <filesystem>
 #include <memory>
+#include <new>
 #include <sstream>
 #include <stdexcept>
 
@@ -21,11 +22,19 @@ double seconds(Clock::duration duration)
   return std::chrono::duration<double>(duration).count();
 }
 
-}  // namespace
+/// "bag 'a.bag'" or "one of the bags 'a.bag', 'b.bag'", for messages.
+std::string bagNames(const std::vector<std::string>& bag_paths)
+{
+  std::string names;
+  for (const std::string& path : bag_paths)
+    names += (names.empty() ? "'" : ", '") + path + "'";
+  return (bag_paths.size() == 1 ? "bag " : "one of the bags ") + names;
+}
 
-BagRunResult runBags(const std::vector<std::string>& bag_paths, const CalibrationConfig& config,
-                     double start_offset_s, double end_offset_s,
-                     const std::function<void(const BagProgress&)>& progress)
+BagRunResult runBagsUnchecked(const std::vector<std::string>& bag_paths,
+                              const CalibrationConfig& config, double start_offset_s,
+                              double end_offset_s,
+                              const std::function<void(const BagProgress&)>& progress)
 {
   const auto run_start = Clock::now();
   std::vector<std::unique_ptr<rosbag::Bag>> bags;
@@ -93,7 +102,7 @@ BagRunResult runBags(const std::vector<std::string>& bag_paths, const Calibratio
   };
 
   // Reading and converting run ahead on their own thread; this one feeds the collector.
-  BagMessageReader reader(view, config);
+  BagMessageReader reader(view, config, bagNames(bag_paths));
   std::size_t messages = 0;
   Clock::duration pairing{};
   for (std::vector<BagInput> batch = reader.next(); !batch.empty(); batch = reader.next()) {
@@ -109,11 +118,12 @@ BagRunResult runBags(const std::vector<std::string>& bag_paths, const Calibratio
         case BagInput::Kind::kJoints:
           ++result.joint_state_messages;
           try {
-            if (result.encoder_history.empty() ||
-                input.stamp_s > result.encoder_history.back().stamp_s) {
-              result.encoder_history.push_back({input.stamp_s, history_decoder.decode(input.raw)});
+            Eigen::VectorXd accepted;  // empty for an encoder glitch
+            take(collector.addEncoders(input.stamp_s, input.raw, &accepted), input.stamp_s);
+            if (accepted.size() > 0 && (result.encoder_history.empty() ||
+                                        input.stamp_s > result.encoder_history.back().stamp_s)) {
+              result.encoder_history.push_back({input.stamp_s, history_decoder.decode(accepted)});
             }
-            take(collector.addEncoders(input.stamp_s, input.raw), input.stamp_s);
           } catch (const std::invalid_argument& error) {
             if (result.bad_joint_states++ == 0)
               result.first_bad_joint_state = error.what();
@@ -156,12 +166,42 @@ BagRunResult runBags(const std::vector<std::string>& bag_paths, const Calibratio
   return result;
 }
 
+}  // namespace
+
+BagRunResult runBags(const std::vector<std::string>& bag_paths, const CalibrationConfig& config,
+                     double start_offset_s, double end_offset_s,
+                     const std::function<void(const BagProgress&)>& progress)
+{
+  // rosbag and the message deserialisation throw these for a corrupted or cut-off bag (a
+  // chunk or record that does not parse, a length beyond the data, a compressed chunk that
+  // does not decompress); the run's own errors are plain std::runtime_error and pass as they are.
+  auto corrupted = [&](const char* what) {
+    return std::runtime_error(
+        bagNames(bag_paths) + " is corrupted or cut off: " + what +
+        " (check it with 'rosbag check'; 'rosbag reindex' repairs a bag whose index is lost)");
+  };
+  const BagReadScope reading(bagNames(bag_paths));
+  try {
+    return runBagsUnchecked(bag_paths, config, start_offset_s, end_offset_s, progress);
+  } catch (const ros::Exception& error) {
+    throw corrupted(error.what());
+  } catch (const std::logic_error& error) {
+    throw corrupted(error.what());
+  } catch (const std::bad_alloc&) {
+    throw corrupted("a record claims more memory than there is");
+  }
+}
+
 std::vector<std::string> bagRunNotes(const BagRunResult& run)
 {
   std::vector<std::string> notes;
   if (run.bad_joint_states > 0) {
     notes.push_back("skipped " + std::to_string(run.bad_joint_states) +
                     " JointState messages, first: " + run.first_bad_joint_state);
+  }
+  for (const auto& [joint, count] : run.statistics.glitches) {
+    notes.push_back("skipped " + std::to_string(count) + " encoder glitches on joint '" + joint +
+                    "' (increments beyond its max_turns_per_s)");
   }
   for (const std::string& restart : run.restarts)
     notes.push_back("restart " + restart);

@@ -54,6 +54,10 @@ CalibrationNode::CalibrationNode(ros::NodeHandle handle, ros::NodeHandle private
   if (options_.load_saved_calibration && fs::exists(result_path)) {
     try {
       const CalibrationResult saved = readCalibrationResult(result_path);
+      // Another robot's (or configuration's) result: its model must take these joints.
+      const auto joints = static_cast<Eigen::Index>(channels_.size());
+      saved.model->predict(
+          {{0.0, Eigen::VectorXd::Zero(joints)}, {0.1, Eigen::VectorXd::Zero(joints)}});
       active_model_ = saved.model;
       active_model_origin_ = "saved " + result_path;
       if (saved.has_extrinsic)
@@ -216,15 +220,17 @@ void CalibrationNode::onJointState(const sensor_msgs::JointState::ConstPtr& mess
     return;
   }
   const double stamp_s = message->header.stamp.toSec();
+  Eigen::VectorXd accepted;
   try {
-    handleEvents(collector_->addEncoders(stamp_s, raw), stamp_s);
+    handleEvents(collector_->addEncoders(stamp_s, raw, &accepted), stamp_s);
   } catch (const std::invalid_argument& error) {
     ++bad_joint_states_;
     last_problem_ = "JointState rejected: " + std::string(error.what());
     warnInput(error.what(), "JointState on " + joint_health_.topic + " rejected: " + error.what());
     return;
   }
-  integrateOdometry(stamp_s, raw);
+  if (accepted.size() > 0)  // empty for an encoder glitch: not motion
+    integrateOdometry(stamp_s, accepted);
 }
 
 void CalibrationNode::onScan(const sensor_msgs::LaserScan::ConstPtr& message)
@@ -299,12 +305,8 @@ void CalibrationNode::handleEvents(const std::vector<CollectorEvent>& events, do
     switch (event.type) {
       case CollectorEvent::Type::kPair:
         pairs_.push_back(event.pair);
-        try {
-          appender_->append(event.pair);
-        } catch (const std::exception& error) {
-          ROS_ERROR_THROTTLE(10.0, "cannot append to the pairs file: %s (pairs stay in memory)",
-                             error.what());
-        }
+        ++pairs_unwritten_;
+        writePendingPairs();
         pairs_publisher_.publish(
             ros_conversions::toPairMsg(event.pair, jointLayout(config_), sensorFrame()));
         addScanMatchedPose(event.pair);
@@ -316,6 +318,11 @@ void CalibrationNode::handleEvents(const std::vector<CollectorEvent>& events, do
             stamp_s, event.reason.c_str(), pairs_.size());
         last_problem_ = "time went backwards: " + event.reason;
         restartOdometry();
+        break;
+      case CollectorEvent::Type::kGlitch:
+        last_problem_ = event.reason;
+        warnInput(event.reason.substr(0, event.reason.find(':')),
+                  event.reason + " (counted on /diagnostics)");
         break;
       case CollectorEvent::Type::kRejected:
         // Each reason once as a warning; the counts are on /diagnostics.

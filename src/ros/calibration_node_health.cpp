@@ -15,8 +15,35 @@ void CalibrationNode::onTimer(const ros::WallTimerEvent& event)
   const double period_s = event.last_real.isZero() ? options_.diagnostics_period_s
                                                    : (event.current_real - event.last_real).toSec();
   warnSilentTopics();
+  writePendingPairs();
   publishDiagnostics(period_s);
   publishPaths();
+}
+
+void CalibrationNode::writePendingPairs()
+{
+  if (pairs_unwritten_ == 0)
+    return;
+  const std::string pairs_path = options_.output_directory + "/pairs.csv";
+  try {
+    if (!appender_)  // a reset could not create the file
+      appender_ = std::make_unique<PairsCsvAppender>(pairs_path, jointLayout(config_));
+    for (; pairs_unwritten_ > 0; --pairs_unwritten_)
+      appender_->append(pairs_[pairs_.size() - pairs_unwritten_]);
+  } catch (const std::exception& error) {
+    if (pairs_file_problem_.empty()) {
+      ROS_ERROR(
+          "%s: the pairs stay in memory (%zu not written yet) and are written when the disk "
+          "takes them again (retried with every pair and every %.1f s)",
+          error.what(), pairs_unwritten_, options_.diagnostics_period_s);
+    }
+    pairs_file_problem_ = error.what();
+    return;
+  }
+  if (!pairs_file_problem_.empty()) {
+    ROS_INFO("the pairs file %s is written again: no pair lost", pairs_path.c_str());
+    pairs_file_problem_.clear();
+  }
 }
 
 void CalibrationNode::warnSilentTopics()
@@ -72,10 +99,19 @@ void CalibrationNode::publishDiagnostics(double period_s)
   add("scan matching success ratio", std::to_string(icp_success));
   add("pairs collected", std::to_string(pairs_.size()));
   add("pairs resumed from file", std::to_string(pairs_resumed_));
+  add("pairs not yet in the pairs file", std::to_string(pairs_unwritten_));
+  if (!pairs_file_problem_.empty())
+    problems.push_back("cannot write the pairs file (pairs kept in memory): " +
+                       pairs_file_problem_);
   add("keyframe intervals rejected", std::to_string(rejected));
   for (const auto& [reason, count] : s.rejected)
     add("rejected: " + reason, std::to_string(count));
   add("JointStates skipped", std::to_string(bad_joint_states_));
+  for (const auto& channel : channels_) {
+    const auto found = s.glitches.find(channel.name);
+    add("encoder glitches: " + channel.name,
+        std::to_string(found == s.glitches.end() ? 0 : found->second));
+  }
   add("scans skipped", std::to_string(bad_scans_));
   add("restarts (time went backwards)", std::to_string(s.restarts));
   add("model", active_model_ ? active_model_->name() + " (" + active_model_origin_ + ")"

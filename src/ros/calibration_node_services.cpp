@@ -198,9 +198,17 @@ bool CalibrationNode::onReset(std_srvs::Trigger::Request&, std_srvs::Trigger::Re
     archived = archivePairsFile("~reset");
   else
     fs::remove(pairs_path);  // only a header: nothing to keep
-  appender_ = std::make_unique<PairsCsvAppender>(pairs_path, jointLayout(config_));
   pairs_.clear();
   pairs_resumed_ = 0;
+  pairs_unwritten_ = 0;
+  try {
+    appender_ = std::make_unique<PairsCsvAppender>(pairs_path, jointLayout(config_));
+    pairs_file_problem_.clear();
+  } catch (const std::exception& error) {
+    // New pairs stay in memory until the file can be created (writePendingPairs()).
+    ROS_ERROR("%s: new pairs stay in memory until it can be written", error.what());
+    pairs_file_problem_ = error.what();
+  }
   restartOdometry();
   response.success = true;
   response.message = "collection restarted: " + std::to_string(dropped) + " pairs set aside" +

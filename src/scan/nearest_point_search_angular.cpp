@@ -9,9 +9,12 @@ namespace {
 
 constexpr double kTwoPi = 2.0 * M_PI;
 
-/// Angle wrapped into [0, 2 pi) [rad], for angles within a few turns.
+/// Angle wrapped into [0, 2 pi) [rad]: exact steps for angles within a few turns, fmod beyond
+/// (a scan's angles are validated, but a loop must never run 1e30 times).
 double wrapPositive(double angle_rad)
 {
+  if (std::abs(angle_rad) > 8.0 * kTwoPi)
+    angle_rad = std::fmod(angle_rad, kTwoPi);
   while (angle_rad >= kTwoPi) {
     angle_rad -= kTwoPi;
   }

@@ -66,6 +66,15 @@ void validate(const Scan& scan)
   if (!std::isfinite(scan.angle_min_rad)) {
     throw std::invalid_argument("scan angle_min_rad must be a finite number of radians");
   }
+  // Rays beyond two turns either way are no laser's (and would make every bearing search wrap
+  // angles turn by turn).
+  const double last_rad =
+      scan.angle_min_rad + scan.angle_increment_rad * static_cast<double>(scan.ranges_m.size());
+  if (std::abs(scan.angle_min_rad) > 4.0 * M_PI || !(std::abs(last_rad) <= 4.0 * M_PI)) {
+    throw std::invalid_argument("scan angles must lie within [-4 pi, 4 pi] rad: angle_min_rad " +
+                                std::to_string(scan.angle_min_rad) + ", last ray at " +
+                                std::to_string(last_rad));
+  }
   if (!std::isfinite(scan.range_min_m) || scan.range_min_m < 0.0) {
     throw std::invalid_argument("scan range_min_m must be a finite number of metres >= 0");
   }

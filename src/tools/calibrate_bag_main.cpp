@@ -24,6 +24,7 @@
 #include "odometry_calibration/eval/model_report.h"
 #include "odometry_calibration/models/model_factory.h"
 #include "odometry_calibration/report/result_files.h"
+#include "odometry_calibration/ros/bag_message_reader.h"
 #include "odometry_calibration/ros/bag_runner.h"
 
 namespace {
@@ -72,6 +73,8 @@ void showProgress(const BagProgress& p)
 int main(int argc, char** argv)
 {
   google::InitGoogleLogging(argv[0]);
+  // A corrupted bag index makes rosbag read outside its buffers: exit 1 naming the bag.
+  containBagReadFaults();
   FLAGS_minloglevel = google::GLOG_FATAL;
   std::string config_path, output_dir, model_name;
   GnuplotOptions gnuplot;

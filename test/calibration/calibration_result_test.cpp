@@ -84,6 +84,29 @@ TEST(CalibrationResult, BadFilesNameTheProblem)
   EXPECT_THROW(readCalibrationResult("/nonexistent/result.yaml"), std::runtime_error);
 }
 
+TEST(CalibrationResult, AModelForOtherJointsRefusesToPredict)
+{
+  // Found by fuzz_calibration_result: a result.yaml whose model names joints the samples do
+  // not have (another robot's file) read past the samples' values.
+  const sim::GeneratedPairs data = simulatedPairs();
+  const std::vector<EncoderSample> one_joint = {{0.0, Eigen::VectorXd::Zero(1)},
+                                                {0.5, Eigen::VectorXd::Ones(1)}};
+  for (const std::string name : {"diff_drive", "linear", "gp"}) {
+    SCOPED_TRACE(name);
+    auto model = makeModel(name, factoryOptions(data.joints));
+    const ModelReport report = model->fit(data.pairs);
+    const CalibrationResult loaded =
+        parseCalibrationResult(calibrationResultYaml(report, *model, "test", 0.0), "result.yaml");
+    EXPECT_THROW(loaded.model->predict(one_joint), std::invalid_argument);
+  }
+  // A linear model's weight covariance needs one entry per axis (predict reads three).
+  const std::string linear_yaml =
+      "model: {model: linear, joints: [[left_wheel, incremental], [right_wheel, incremental]], "
+      "weights: [[1, 0], [0, 0], [0, 1]], residual_variance: [1, 1, 1], "
+      "weight_covariance: [[1, 0, 0, 1]]}\n";
+  EXPECT_THROW(parseCalibrationResult(linear_yaml, "result.yaml"), std::runtime_error);
+}
+
 TEST(CalibrationResult, UrdfSnippetPlacesTheLaser)
 {
   const std::string urdf = laserJointUrdf(Pose2(0.145, -0.02, 0.0314), "base_link", "laser");

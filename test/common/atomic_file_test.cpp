@@ -13,6 +13,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/file_size_limit.h"
+
 namespace odometry_calibration {
 namespace {
 
@@ -141,6 +143,26 @@ TEST_F(AtomicFileTest, WrittenFileHasMode0644EvenUnderRestrictiveUmask)
   };
   ASSERT_EQ(::stat(path.c_str(), &info), 0);
   EXPECT_EQ(info.st_mode & 07777, static_cast<mode_t>(0644));
+}
+
+TEST_F(AtomicFileTest, AFullDiskLeavesThePreviousFileIntact)
+{
+  const std::string path = dir_ + "/result.yaml";
+  const std::string previous = "model: diff_drive\nradius: 0.0765\n";
+  writeFileAtomically(path, previous);
+  {
+    const test::FileSizeLimit full_disk(100);  // the new content does not fit
+    try {
+      writeFileAtomically(path, std::string(10000, 'x'));
+      ADD_FAILURE() << "a write beyond the limit succeeded";
+    } catch (const std::runtime_error& error) {
+      EXPECT_NE(std::string(error.what()).find("result.yaml"), std::string::npos) << error.what();
+    }
+  }
+  EXPECT_EQ(readAll(path), previous);
+  EXPECT_EQ(entries(), std::vector<std::string>{"result.yaml"});  // no temporary left behind
+  writeFileAtomically(path, "retried\n");  // room again: the next write works
+  EXPECT_EQ(readAll(path), "retried\n");
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "odometry_calibration/data/pairs_csv.h"
+#include "support/file_size_limit.h"
 
 namespace odometry_calibration {
 namespace {
@@ -135,5 +136,24 @@ TEST_F(PairsCsv, SeveralFilesMustShareTheirJoints)
     EXPECT_STREQ(error.what(), "the test pairs have other joints than the training pairs");
   }
 }
+TEST_F(PairsCsv, AFailedAppendLeavesNoHalfRowAndCanBeRetried)
+{
+  const std::string path = directory_ + "/live.csv";
+  PairsCsvAppender appender(path, joints());
+  appender.append(pair(0.0));
+  const auto size = std::filesystem::file_size(path);
+  {
+    // The disk fills up in the middle of the next row.
+    const test::FileSizeLimit full_disk(size + 20);
+    EXPECT_THROW(appender.append(pair(0.5)), std::runtime_error);
+    EXPECT_THROW(appender.append(pair(0.5)), std::runtime_error);
+  }
+  EXPECT_EQ(std::filesystem::file_size(path), size);  // cut back: no half row
+  appender.append(pair(0.5));                         // room again: the same pair goes in
+  const PairsFile file = readPairsCsv(path);
+  ASSERT_EQ(file.pairs.size(), 2u);
+  EXPECT_EQ(file.pairs[1].start_stamp_s, pair(0.5).start_stamp_s);
+}
+
 }  // namespace
 }  // namespace odometry_calibration

@@ -1,5 +1,6 @@
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 
 #include <gtest/gtest.h>
 #include <rosbag/bag.h>
@@ -154,6 +155,67 @@ TEST_F(BagRunner, MismatchedJointStatesAreSkippedAndCounted)
   EXPECT_NE(run.first_bad_joint_state.find("2 names but 1 positions"), std::string::npos)
       << run.first_bad_joint_state;
   EXPECT_GT(run.pairs.size(), 60u);
+}
+
+TEST_F(BagRunner, EncoderGlitchesAreSkippedCountedAndChangeNoParameter)
+{
+  // 20 single-message jumps of 1e6 ticks (alternately on each wheel), every 300th JointState
+  // of a 2-minute drive (so that the intervals they take away leave the fit nearly the same
+  // pairs: 20 of about 230).
+  scenario_.duration_s = 120.0;
+  const std::string clean_path = directory_ + "/long.bag";
+  simulateToBag(scenario_, clean_path, "");
+  const std::string bag_path = directory_ + "/glitches.bag";
+  {
+    rosbag::Bag in(clean_path, rosbag::bagmode::Read);
+    rosbag::Bag out(bag_path, rosbag::bagmode::Write);
+    int count = 0, injected = 0;
+    for (const rosbag::MessageInstance& m : rosbag::View(in)) {
+      auto joints = m.instantiate<sensor_msgs::JointState>();
+      if (joints && ++count % 300 == 150 && injected < 20) {
+        joints->position[static_cast<std::size_t>(injected++ % 2)] += 1e6;
+        out.write(m.getTopic(), m.getTime(), *joints);
+      } else {
+        out.write(m.getTopic(), m.getTime(), m);
+      }
+    }
+    ASSERT_EQ(injected, 20);
+  }
+  const BagRunResult clean = runBags({clean_path}, config_);
+  const BagRunResult glitched = runBags({bag_path}, config_);
+  EXPECT_GT(glitched.pairs.size(), clean.pairs.size() - 25);
+  std::cout << "pairs: clean " << clean.pairs.size() << ", glitched " << glitched.pairs.size()
+            << "\n";
+  ASSERT_EQ(glitched.statistics.glitches.size(), 2u);
+  EXPECT_EQ(glitched.statistics.glitches.at("left_wheel"), 10u);
+  EXPECT_EQ(glitched.statistics.glitches.at("right_wheel"), 10u);
+  EXPECT_EQ(clean.statistics.glitches.size(), 0u);
+  EXPECT_EQ(glitched.bad_joint_states, 0u);
+  EXPECT_GT(glitched.statistics.rejected.at("encoder glitch in the interval"), 0u);
+  EXPECT_NE(formatBagRunSummary(glitched).find("skipped 10 encoder glitches on joint 'left_wheel'"),
+            std::string::npos)
+      << formatBagRunSummary(glitched);
+  // No glitch reaches the decoded history (a jump would be 500 turns).
+  for (std::size_t k = 1; k < glitched.encoder_history.size(); ++k) {
+    const Eigen::VectorXd step =
+        glitched.encoder_history[k].values - glitched.encoder_history[k - 1].values;
+    ASSERT_LT(step.cwiseAbs().maxCoeff(), 1000.0) << k;
+  }
+  auto clean_model = makeModel("diff_drive", config_.models);
+  auto glitched_model = makeModel("diff_drive", config_.models);
+  const ModelReport a = clean_model->fit(clean.pairs);
+  const ModelReport b = glitched_model->fit(glitched.pairs);
+  ASSERT_TRUE(a.converged);
+  ASSERT_TRUE(b.converged);
+  ASSERT_EQ(a.parameters.size(), b.parameters.size());
+  for (std::size_t p = 0; p < a.parameters.size(); ++p) {
+    EXPECT_LT(std::abs(a.parameters[p].value - b.parameters[p].value), a.parameters[p].sigma)
+        << a.parameters[p].name;
+    std::cout << a.parameters[p].name << ": clean " << a.parameters[p].value << ", glitched "
+              << b.parameters[p].value << " ("
+              << (b.parameters[p].value - a.parameters[p].value) / a.parameters[p].sigma
+              << " sigma)\n";
+  }
 }
 
 }  // namespace

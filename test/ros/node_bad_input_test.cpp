@@ -2,8 +2,11 @@
 // which keeps running (its services still answer at the end).
 #include <cmath>
 #include <filesystem>
+#include <map>
 
+#include <diagnostic_msgs/DiagnosticArray.h>
 #include <gtest/gtest.h>
+#include <nav_msgs/Odometry.h>
 #include <ros/ros.h>
 #include <sensor_msgs/JointState.h>
 #include <sensor_msgs/LaserScan.h>
@@ -153,6 +156,48 @@ TEST_F(NodeBadInput, EachProblemIsNamedAndTheNodeSurvives)
   std::string output_directory;
   if (ros::NodeHandle("~").getParam("output_directory", output_directory))
     std::filesystem::remove_all(output_directory);
+}
+
+TEST_F(NodeBadInput, EncoderGlitchesAreCountedAndDoNotMoveTheOdometry)
+{
+  nav_msgs::Odometry last_odom;
+  std::map<std::string, std::string> diagnostics;
+  ros::Subscriber odom = handle_.subscribe<nav_msgs::Odometry>(
+      kNode + "/odom", 100, [&](const nav_msgs::Odometry::ConstPtr& m) { last_odom = *m; });
+  ros::Subscriber status = handle_.subscribe<diagnostic_msgs::DiagnosticArray>(
+      "/diagnostics", 10, [&](const diagnostic_msgs::DiagnosticArray::ConstPtr& m) {
+        for (const auto& s : m->status)
+          for (const auto& v : s.values)
+            diagnostics[v.key] = v.value;
+      });
+  ASSERT_TRUE(waitFor([&] { return odom.getNumPublishers() > 0; }, 10));
+  // Straight driving, 20 ticks per 20 ms on each wheel (0.5 turn/s), with a 1e300 position on
+  // the left wheel and a 1e6-tick spike on the right one.
+  const double start_s = 1000.0;
+  for (int k = 0; k <= 40; ++k) {
+    double left = 20.0 * k, right = 20.0 * k;
+    if (k == 10)
+      left = 1e300;
+    if (k == 20)
+      right += 1e6;
+    joints_.publish(joints(start_s + 0.02 * k, left, right));
+    ros::WallDuration(0.002).sleep();
+  }
+  ASSERT_TRUE(waitFor([&] { return last_odom.header.stamp.toSec() >= start_s + 0.79; }, 10));
+  // 800 ticks of 2000 per turn on wheels of 0.077 m (config/diff_drive.yaml's nominal robot).
+  const double expected_m = 800.0 / 2000.0 * 2.0 * M_PI * 0.077;
+  EXPECT_NEAR(last_odom.pose.pose.position.x, expected_m, 0.005);
+  EXPECT_NEAR(last_odom.pose.pose.position.y, 0.0, 0.005);
+  EXPECT_TRUE(waitFor(
+      [&] {
+        return diagnostics["encoder glitches: left_wheel"] == "1" &&
+               diagnostics["encoder glitches: right_wheel"] == "1";
+      },
+      10))
+      << diagnostics["encoder glitches: left_wheel"] << " "
+      << diagnostics["encoder glitches: right_wheel"];
+  EXPECT_TRUE(log_->contains("encoder glitch on joint 'left_wheel'")) << log_->all();
+  EXPECT_TRUE(test::nodeRunning(kNode));
 }
 
 }  // namespace

@@ -1,11 +1,15 @@
 // rostest (test/node_restart.test): the node is killed with SIGKILL in the middle of a replay
 // and respawned by roslaunch. Every pair it had published before is still in the pairs file,
 // the new process resumes them and the calibration saved before the crash, and ~calibrate fits
-// all the pairs.
+// all the pairs. The new process then meets a full disk (a file-size limit set with prlimit):
+// it keeps collecting, keeps the pairs in memory, and writes every one once there is room.
 #include <signal.h>
 
+#include <algorithm>
+#include <cstdlib>
 #include <filesystem>
 #include <set>
+#include <string>
 
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <gtest/gtest.h>
@@ -36,11 +40,15 @@ TEST(NodeRestart, KilledMidRunLosesNoPair)
       handle.subscribe<odometry_calibration::CalibrationPair>(kNode + "/pairs", 1000, on_pair);
 
   std::string model_state;
+  std::size_t most_unwritten = 0;
   auto on_diagnostics = [&](const diagnostic_msgs::DiagnosticArray::ConstPtr& m) {
     for (const auto& status : m->status)
-      for (const auto& value : status.values)
+      for (const auto& value : status.values) {
         if (value.key == "model")
           model_state = value.value;
+        if (value.key == "pairs not yet in the pairs file")
+          most_unwritten = std::max<std::size_t>(most_unwritten, std::stoul(value.value));
+      }
   };
   ros::Subscriber diagnostics =
       handle.subscribe<diagnostic_msgs::DiagnosticArray>("/diagnostics", 10, on_diagnostics);
@@ -67,9 +75,27 @@ TEST(NodeRestart, KilledMidRunLosesNoPair)
   ASSERT_TRUE(waitFor([&] { return model_state.find("saved") != std::string::npos; }, 30))
       << "model after the restart: " << model_state;
   EXPECT_EQ(model_state.rfind("diff_drive", 0), 0u) << model_state;
+
+  // Then the disk is full (a file-size limit at the pairs file's size): the node keeps
+  // collecting, keeps the pairs in memory and writes them all once there is room again.
+  const int new_pid = test::nodePid(kNode);
+  const std::string pairs_path = output_directory + "/pairs.csv";
+  const std::string limit = "prlimit --pid " + std::to_string(new_pid) + " --fsize=";
+  ASSERT_EQ(
+      std::system((limit + std::to_string(std::filesystem::file_size(pairs_path)) + ":").c_str()),
+      0);
+  const std::size_t size_when_full = std::filesystem::file_size(pairs_path);
+  const std::size_t before_full = published.size();
+  ASSERT_TRUE(waitFor([&] { return published.size() >= before_full + 8; }, 60));
+  EXPECT_EQ(std::filesystem::file_size(pairs_path), size_when_full) << "a row written while full";
+  EXPECT_TRUE(waitFor([&] { return most_unwritten >= 5; }, 10))
+      << "unwritten pairs on /diagnostics: " << most_unwritten;
+  ASSERT_EQ(std::system((limit + "unlimited:").c_str()), 0);
+  EXPECT_TRUE(test::nodeRunning(kNode));
   ASSERT_TRUE(waitFor([&] { return !test::nodeRunning("/player"); }, 180));
   waitFor([] { return false; }, 2.0);
   ASSERT_GT(published.size(), before_kill + 20) << "the respawned node collected nothing";
+  EXPECT_EQ(test::nodePid(kNode), new_pid) << "the full disk killed the node";
 
   const PairsFile file = readPairsCsv(output_directory + "/pairs.csv");
   std::set<std::pair<double, double>> in_file;

@@ -156,6 +156,17 @@ TEST(ScanToPoints, RejectsUnusableGeometryNamingTheField)
   scan = fourRayScan({1.0, 2.0});
   scan.valid = {1};
   EXPECT_THROW(scanToPoints(scan), std::invalid_argument);
+  // Found by fuzz_messages: a LaserScan with angle_min 1e30 made the matcher's bearing search
+  // wrap the angle 2 pi at a time, forever. Rays beyond two turns are refused.
+  scan = fourRayScan({1.0, 2.0});
+  scan.angle_min_rad = 1e30;
+  EXPECT_THROW(scanToPoints(scan), std::invalid_argument);
+  scan = fourRayScan({1.0, 2.0});
+  scan.angle_increment_rad = 1e10;
+  EXPECT_THROW(scanToPoints(scan), std::invalid_argument);
+  scan = fourRayScan({1.0, 2.0});
+  scan.angle_min_rad = -2.0 * M_PI;  // a full turn from -2 pi is fine
+  EXPECT_NO_THROW(scanToPoints(scan));
 }
 
 /// Noise-free scan of a world from the origin.

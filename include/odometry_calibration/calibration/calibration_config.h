@@ -25,6 +25,9 @@ struct JointConfig
   double units_per_turn = 2.0 * M_PI;
   /// Incremental: the raw counter wraps after 2^counter_bits units (0 = never wraps).
   int counter_bits = 0;
+  /// Incremental: the fastest the joint can turn [turns/s]; a larger increment between two
+  /// readings is an encoder glitch, skipped (encoder_glitch_filter.h). 0 = unchecked.
+  double max_turns_per_s = 50.0;
   /// -1 when the joint counts backwards while the robot drives forward.
   double sign = 1.0;
 };

@@ -73,6 +73,8 @@ public:
   void clear();
 
   bool empty() const { return samples_.empty(); }
+  /// The channels' options.
+  const std::vector<EncoderChannelOptions>& channels() const { return decoder_.channels(); }
   double firstStamp() const { return samples_.front().stamp_s; }
   double lastStamp() const { return samples_.back().stamp_s; }
 

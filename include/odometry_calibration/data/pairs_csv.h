@@ -77,7 +77,9 @@ public:
   PairsCsvAppender(const PairsCsvAppender&) = delete;
   PairsCsvAppender& operator=(const PairsCsvAppender&) = delete;
 
-  /// Appends one pair and flushes it to disk.
+  /// Appends one pair and flushes it to disk. Throws std::runtime_error (naming the file and
+  /// the system error) when it cannot: the file is then cut back to its previous end, so it
+  /// never keeps half a row, and the same pair can be appended again later.
   void append(const MotionPair& pair);
 
   /// Pairs that were in the file when it was opened.
@@ -85,6 +87,9 @@ public:
   bool dropped_partial_line() const { return dropped_partial_line_; }
 
 private:
+  /// Writes `text` at the end, all or nothing (see append()).
+  void appendText(const std::string& text);
+
   std::string path_;
   int fd_ = -1;
   std::vector<MotionPair> existing_;

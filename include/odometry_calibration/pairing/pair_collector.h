@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "odometry_calibration/data/encoder_glitch_filter.h"
 #include "odometry_calibration/data/encoder_track.h"
 #include "odometry_calibration/data/motion_pair.h"
 #include "odometry_calibration/pairing/match_queue.h"
@@ -82,6 +83,7 @@ struct CollectorEvent
     kPair,       ///< a pair was produced (`pair`)
     kRejected,   ///< a keyframe interval gave no pair (`reason`)
     kRestarted,  ///< time went backwards: keyframes reset, collected pairs kept
+    kGlitch,     ///< an encoder reading skipped as a glitch (`reason` names the joint)
   };
   Type type = Type::kNothing;
   std::string reason;
@@ -100,6 +102,7 @@ struct CollectorStatistics
   std::size_t restarts = 0;
   std::size_t unverified_pairs = 0;  ///< pairs kept without the consistency check (it failed)
   std::map<std::string, std::size_t> rejected;  ///< reason -> count
+  std::map<std::string, std::size_t> glitches;  ///< joint -> readings skipped as encoder glitches
   double preparation_time_s = 0.0;              ///< thread time preparing scans (points, lines) [s]
   double matching_time_s = 0.0;                 ///< thread time matching scans, both kinds [s]
 };
@@ -116,8 +119,12 @@ public:
 
   /// A raw encoder reading (one value per channel). Throws std::invalid_argument for bad
   /// readings (the caller reports them); a time going backwards restarts the pairing. Scans
-  /// waiting for encoder data up to their time are processed now (hence the events).
-  std::vector<CollectorEvent> addEncoders(double stamp_s, const Eigen::VectorXd& raw);
+  /// waiting for encoder data up to their time are processed now (hence the events). A reading
+  /// beyond a channel's max_rate_per_s is a glitch (encoder_glitch_filter.h): skipped, counted,
+  /// one kGlitch event, and no pair is made across it. `accepted` (optional): the reading to
+  /// use for odometry, jumps removed; empty for a glitch.
+  std::vector<CollectorEvent> addEncoders(double stamp_s, const Eigen::VectorXd& raw,
+                                          Eigen::VectorXd* accepted = nullptr);
 
   /// A laser scan stamped with the laser clock. It waits until the encoder stream has reached
   /// its time (+ time_offset_s), or until max_encoder_gap_s later input shows it never will:
@@ -173,6 +180,10 @@ private:
   CollectorOptions options_;
   MotionPredictor predictor_;
   EncoderTrack track_;
+  EncoderGlitchFilter glitch_filter_;
+  /// Recent glitches, each as the stamps of the accepted readings around it (encoder clock; the
+  /// second is +inf until the next reading is accepted) [s]: no pair may overlap one.
+  std::deque<std::pair<double, double>> glitch_spans_;
   // Mutable: the consecutive matches run in the background and are folded in lazily, also
   // from statistics(); the folded state is what a one-threaded run would have had.
   mutable CollectorStatistics statistics_;

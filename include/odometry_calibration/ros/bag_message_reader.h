@@ -40,12 +40,31 @@ struct BagInput
   std::string problem;
 };
 
+/// rosbag trusts a bag's index: a corrupted index entry makes it read outside its buffers
+/// (SIGSEGV, SIGBUS) where no exception can be caught. A tool calls this once at start: from
+/// then on such a fault in a thread that holds a BagReadScope ends the program with exit
+/// status 1 and "error: <bags> is corrupted: ..." on stderr; a fault anywhere else still
+/// crashes as it would have (so that real bugs are not hidden).
+void containBagReadFaults();
+
+/// Marks the calling thread as reading `bags` (named in words, e.g. "bag 'a.bag'") while it
+/// lives. Only the latest scope's names are kept for the message.
+class BagReadScope
+{
+public:
+  explicit BagReadScope(const std::string& bags);
+  ~BagReadScope();
+  BagReadScope(const BagReadScope&) = delete;
+  BagReadScope& operator=(const BagReadScope&) = delete;
+};
+
 /// The reading thread. Not copyable; stops and joins when destroyed.
 class BagMessageReader
 {
 public:
   /// Starts reading `view` (which must outlive the reader) for the topics of `config`.
-  BagMessageReader(rosbag::View& view, const CalibrationConfig& config);
+  BagMessageReader(rosbag::View& view, const CalibrationConfig& config,
+                   const std::string& bags = "a bag");
   ~BagMessageReader();
   BagMessageReader(const BagMessageReader&) = delete;
   BagMessageReader& operator=(const BagMessageReader&) = delete;

@@ -84,6 +84,9 @@ private:
   void publishExtrinsic();
   void publishPaths();
   void publishDiagnostics(double period_s);
+  /// Appends the unwritten pairs to the pairs file (reopening it if needed); on failure keeps
+  /// them in memory, says so once, and is called again with the next pair and every period.
+  void writePendingPairs();
   void warnSilentTopics();
   /// Moves the pairs file aside (pairs-<time>.csv); returns the new name.
   std::string archivePairsFile(const std::string& why);
@@ -102,6 +105,10 @@ private:
   std::unique_ptr<PairsCsvAppender> appender_;
   std::vector<MotionPair> pairs_;
   std::size_t pairs_resumed_ = 0;
+  /// The last pairs_unwritten_ of pairs_ are not in the pairs file yet (a full or read-only
+  /// disk): written by writePendingPairs() as soon as it can.
+  std::size_t pairs_unwritten_ = 0;
+  std::string pairs_file_problem_;  ///< why the pairs file cannot be written now (empty: it can)
   EncoderDecoder odometry_decoder_;
   double last_encoder_stamp_s_ = -1e300;
   std::unique_ptr<OdometryIntegrator> nominal_odometry_;

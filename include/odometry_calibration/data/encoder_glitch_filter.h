@@ -1,0 +1,65 @@
+// Encoder glitches: a reading whose increment is beyond what the wheel can physically turn in
+// the time since the previous reading (a bit flip, a bus error, a driver that reports garbage
+// once) is not motion. The filter skips such readings and re-anchors on the next sane one, so
+// a glitch never enters the cumulative counts that odometry and pairs are made of.
+#pragma once
+
+#include <cstddef>
+#include <optional>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "odometry_calibration/data/encoder.h"
+
+namespace odometry_calibration {
+
+/// Looks at successive raw readings of the channels and tells glitches from motion. Only
+/// incremental channels with a `max_rate_per_s` (> 0) are checked; absolute ones pass unchanged.
+///
+/// A reading is sane when every checked channel's increment (wrap-safe) since the last accepted
+/// reading is at most max_rate_per_s * max(dt, kMinInterval_s) (stamps jitter, so at least 0.1 s of
+/// motion is always allowed), and, for a counter that wraps, its readings are within
+/// (-wrap_period, wrap_period). A reading that is not sane is a glitch and is skipped. The next
+/// reading is accepted when it is sane against the last accepted reading (a one-message spike)
+/// or against the glitch reading itself (the counter jumped and stays there, e.g. a driver
+/// restart): then the jump is absorbed into an offset and the counts go on from where they
+/// were (the motion during the jump is lost; the pairing drops the interval around it).
+class EncoderGlitchFilter
+{
+public:
+  /// Readings less than this far apart [s] may still move by max_rate_per_s * kMinInterval_s.
+  static constexpr double kMinInterval_s = 0.1;
+
+  /// Validates the channels (throws std::invalid_argument).
+  explicit EncoderGlitchFilter(std::vector<EncoderChannelOptions> channels);
+
+  /// What filter() found.
+  struct Result
+  {
+    bool glitch = false;        ///< the reading is skipped
+    std::size_t channel = 0;    ///< the first channel beyond its limit (if glitch)
+    double increment = 0.0;     ///< that channel's increment [raw units] (if glitch)
+    Eigen::VectorXd corrected;  ///< the reading to use, jumps removed (if not a glitch)
+  };
+
+  /// Checks the reading stamped `stamp_s` [s]. A reading stamped before the last one starts
+  /// over (it becomes the anchor). `raw` must hold one finite value per channel.
+  Result filter(double stamp_s, const Eigen::VectorXd& raw);
+
+  /// Forgets the anchor (the next reading is accepted as it is, offsets kept).
+  void reset();
+
+private:
+  bool sane(const Eigen::VectorXd& from, const Eigen::VectorXd& to, double dt_s,
+            std::size_t* channel, double* increment) const;
+
+  std::vector<EncoderChannelOptions> channels_;
+  std::optional<double> anchor_stamp_s_;  ///< last accepted reading
+  Eigen::VectorXd anchor_raw_;
+  std::optional<double> glitch_stamp_s_;  ///< last reading, if it was a glitch
+  Eigen::VectorXd glitch_raw_;
+  Eigen::VectorXd offset_;  ///< subtracted from raw readings: the absorbed jumps
+};
+
+}  // namespace odometry_calibration

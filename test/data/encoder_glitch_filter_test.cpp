@@ -1,0 +1,105 @@
+#include "odometry_calibration/data/encoder_glitch_filter.h"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+namespace odometry_calibration {
+namespace {
+
+// A wheel (2000 ticks per turn, at most 10 turns/s, 32-bit counter) and a steering encoder.
+EncoderGlitchFilter makeFilter()
+{
+  return EncoderGlitchFilter({{"wheel", EncoderKind::kIncremental, std::ldexp(1.0, 32), 0.0, 2e4},
+                              {"steering", EncoderKind::kAbsolute, 0.0, 4096.0, 0.0}});
+}
+
+Eigen::VectorXd reading(double wheel, double steering = 100.0)
+{
+  return Eigen::Vector2d(wheel, steering);
+}
+
+TEST(EncoderGlitchFilter, PassesMotionWithinTheLimit)
+{
+  EncoderGlitchFilter filter = makeFilter();
+  for (int k = 0; k < 100; ++k) {
+    // 15 000 ticks/s: below the limit; the steering may jump (absolute: not checked).
+    const auto result = filter.filter(0.01 * k, reading(150.0 * k, k % 2 ? 4000.0 : 10.0));
+    ASSERT_FALSE(result.glitch) << k;
+    EXPECT_EQ(result.corrected, reading(150.0 * k, k % 2 ? 4000.0 : 10.0));
+  }
+  // Stamps that jitter close together still allow 0.1 s of motion.
+  EXPECT_FALSE(filter.filter(0.9901, reading(150.0 * 99 + 1500.0)).glitch);
+}
+
+TEST(EncoderGlitchFilter, SkipsASpikeAndGoesOn)
+{
+  EncoderGlitchFilter filter = makeFilter();
+  EXPECT_FALSE(filter.filter(0.00, reading(1000.0)).glitch);
+  EXPECT_FALSE(filter.filter(0.01, reading(1010.0)).glitch);
+  const auto spike = filter.filter(0.02, reading(1e6 + 1020.0));
+  EXPECT_TRUE(spike.glitch);
+  EXPECT_EQ(spike.channel, 0u);
+  EXPECT_NEAR(spike.increment, 1e6 + 10.0, 1e-6);
+  EXPECT_EQ(spike.corrected.size(), 0);
+  // The next sane reading is measured from the last accepted one: no motion lost or added.
+  const auto next = filter.filter(0.03, reading(1030.0));
+  ASSERT_FALSE(next.glitch);
+  EXPECT_DOUBLE_EQ(next.corrected(0), 1030.0);
+}
+
+TEST(EncoderGlitchFilter, AHugeOrNonFiniteReadingNeverPasses)
+{
+  EncoderGlitchFilter filter = makeFilter();
+  EXPECT_FALSE(filter.filter(0.0, reading(5.0)).glitch);
+  EXPECT_TRUE(filter.filter(0.1, reading(1e300)).glitch);  // 1e300 mod 2^32 would be 0
+  EXPECT_TRUE(filter.filter(0.1, reading(std::ldexp(1.0, 32) + 5.0)).glitch);  // out of range
+  EXPECT_TRUE(filter.filter(0.2, reading(-1e300)).glitch);
+  EXPECT_THROW(filter.filter(0.3, reading(std::nan(""))), std::invalid_argument);
+  EXPECT_THROW(filter.filter(0.3, Eigen::VectorXd::Zero(3)), std::invalid_argument);
+  const auto sane = filter.filter(0.4, reading(6.0));
+  ASSERT_FALSE(sane.glitch);
+  EXPECT_DOUBLE_EQ(sane.corrected(0), 6.0);
+}
+
+TEST(EncoderGlitchFilter, ReanchorsWhenTheCounterJumpsAndStays)
+{
+  EncoderGlitchFilter filter = makeFilter();
+  EXPECT_FALSE(filter.filter(0.00, reading(500.0)).glitch);
+  EXPECT_TRUE(filter.filter(0.01, reading(7e6)).glitch);  // a driver restart, say
+  // Consistent with the jumped value: the jump is absorbed, the count goes on from 500.
+  const auto after = filter.filter(0.02, reading(7e6 + 20.0));
+  ASSERT_FALSE(after.glitch);
+  EXPECT_DOUBLE_EQ(after.corrected(0), 520.0);
+  const auto later = filter.filter(0.03, reading(7e6 + 40.0));
+  ASSERT_FALSE(later.glitch);
+  EXPECT_DOUBLE_EQ(later.corrected(0), 540.0);
+}
+
+TEST(EncoderGlitchFilter, WrapAroundIsNotAGlitch)
+{
+  EncoderGlitchFilter filter = makeFilter();
+  const double top = std::ldexp(1.0, 32);
+  EXPECT_FALSE(filter.filter(0.00, reading(top - 50.0)).glitch);
+  EXPECT_FALSE(filter.filter(0.01, reading(50.0)).glitch);
+}
+
+TEST(EncoderGlitchFilter, TimeGoingBackwardsStartsOver)
+{
+  EncoderGlitchFilter filter = makeFilter();
+  EXPECT_FALSE(filter.filter(10.0, reading(0.0)).glitch);
+  EXPECT_FALSE(filter.filter(5.0, reading(9e8)).glitch);  // a looping bag
+  EXPECT_FALSE(filter.filter(5.01, reading(9e8 + 10.0)).glitch);
+}
+
+TEST(EncoderGlitchFilter, ZeroRateChecksNothing)
+{
+  EncoderGlitchFilter filter({{"wheel", EncoderKind::kIncremental, 0.0, 0.0, 0.0}});
+  EXPECT_FALSE(filter.filter(0.0, Eigen::VectorXd::Constant(1, 0.0)).glitch);
+  EXPECT_FALSE(filter.filter(0.01, Eigen::VectorXd::Constant(1, 1e300)).glitch);
+  EXPECT_THROW(EncoderGlitchFilter({{"wheel", EncoderKind::kIncremental, 0.0, 0.0, -1.0}}),
+               std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace odometry_calibration
