@@ -29,8 +29,13 @@ CalibrationJobResult runCalibrationJob(const CalibrationConfig& config,
     TimeOffsetOptions search;
     search.min_s = config.time_offset_search_min_s;
     search.max_s = config.time_offset_search_max_s;
+    // The grid refits the model per offset from the configured start only: the global yaw
+    // starts (issue 23) are for the final fit and would multiply the search's cost.
+    ModelFactoryOptions search_models = config.models;
+    search_models.diff_drive.yaw_starts = 1;
+    search_models.tricycle.calibration.yaw_starts = 1;
     job.time_offset = estimateTimeOffset(
-        pairs, encoder_history, [&]() { return makeModel(config.model, config.models); }, search);
+        pairs, encoder_history, [&]() { return makeModel(config.model, search_models); }, search);
     const TimeOffsetResult& offset = *job.time_offset;
     if (offset.flat) {
       offset_warnings.push_back(
