@@ -108,6 +108,43 @@ struct SensorMotionFit
   double solve_time_s = 0.0;
 };
 
+/// The solver of the sensor-motion fits: Levenberg-Marquardt with dense QR on one thread, at most
+/// `max_iterations` per solve; `tolerance` on the relative cost change and the parameter step,
+/// `gradient_tolerance` on the gradient.
+inline ceres::Solver::Options sensorFitSolverOptions(int max_iterations, double tolerance,
+                                                     double gradient_tolerance)
+{
+  ceres::Solver::Options solver_options;
+  solver_options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+  solver_options.linear_solver_type = ceres::DENSE_QR;
+  solver_options.max_num_iterations = max_iterations;
+  solver_options.function_tolerance = tolerance;
+  solver_options.gradient_tolerance = gradient_tolerance;
+  solver_options.parameter_tolerance = tolerance;
+  solver_options.num_threads = 1;
+  return solver_options;
+}
+
+/// Adds one residual per pair to `problem`: the pair's whitened SE(2) error
+/// (SensorMotionResidual, its covariance scaled by `noise_scale`) under a Huber loss when
+/// `huber_threshold` > 0, on the blocks `intrinsic` (Kinematics::kIntrinsics values) and
+/// `sensor_pose` (x, y, theta, on the SE(2) manifold).
+template <class Kinematics>
+void addSensorMotionResiduals(ceres::Problem& problem, const std::vector<MotionPair>& pairs,
+                              const typename Kinematics::Layout& layout, double huber_threshold,
+                              double noise_scale, double* intrinsic, double* sensor_pose)
+{
+  using Residual = SensorMotionResidual<Kinematics>;
+  for (const MotionPair& pair : pairs) {
+    auto* cost = new ceres::AutoDiffCostFunction<Residual, 3, Kinematics::kIntrinsics, 3>(
+        new Residual(pair, layout, noise_scale));
+    ceres::LossFunction* loss =
+        huber_threshold > 0.0 ? new ceres::HuberLoss(huber_threshold) : nullptr;
+    problem.AddResidualBlock(cost, loss, intrinsic, sensor_pose);
+  }
+  problem.SetManifold(sensor_pose, newSe2Manifold());
+}
+
 /// Fits the intrinsics and the sensor pose from one start (no global starts).
 template <class Kinematics>
 SensorMotionFit<Kinematics::kIntrinsics> fitSensorMotionFrom(
@@ -127,25 +164,13 @@ SensorMotionFit<Kinematics::kIntrinsics> fitSensorMotionFrom(
   double scale = 1.0;
   auto build = [&]() {
     problem_holder = std::make_unique<ceres::Problem>();
-    for (const MotionPair& pair : pairs) {
-      auto* cost =
-          new ceres::AutoDiffCostFunction<Residual, 3, N, 3>(new Residual(pair, layout, scale));
-      ceres::LossFunction* loss =
-          options.huber_threshold > 0.0 ? new ceres::HuberLoss(options.huber_threshold) : nullptr;
-      problem_holder->AddResidualBlock(cost, loss, intrinsic.data(), sensor_pose.data());
-    }
-    problem_holder->SetManifold(sensor_pose.data(), newSe2Manifold());
+    addSensorMotionResiduals<Kinematics>(*problem_holder, pairs, layout, options.huber_threshold,
+                                         scale, intrinsic.data(), sensor_pose.data());
   };
   build();
 
-  ceres::Solver::Options solver_options;
-  solver_options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
-  solver_options.linear_solver_type = ceres::DENSE_QR;
-  solver_options.max_num_iterations = options.max_iterations;
-  solver_options.function_tolerance = 1e-12;
-  solver_options.gradient_tolerance = 1e-12;
-  solver_options.parameter_tolerance = 1e-12;
-  solver_options.num_threads = 1;
+  const ceres::Solver::Options solver_options =
+      sensorFitSolverOptions(options.max_iterations, 1e-12, 1e-12);
   ceres::Solver::Summary summary;
   const auto start = std::chrono::steady_clock::now();
   ceres::Solve(solver_options, problem_holder.get(), &summary);
@@ -260,27 +285,15 @@ SensorMotionStart<Kinematics::kIntrinsics> screenSensorMotionStart(
     const Eigen::Vector3d& initial_sensor_pose, const SensorMotionFitOptions& options)
 {
   constexpr int N = Kinematics::kIntrinsics;
-  using Residual = SensorMotionResidual<Kinematics>;
   SensorMotionStart<N> start;
   start.intrinsic = initial_intrinsic;
   start.sensor_pose = initial_sensor_pose;
   ceres::Problem problem;
-  for (const MotionPair& pair : pairs) {
-    auto* cost = new ceres::AutoDiffCostFunction<Residual, 3, N, 3>(new Residual(pair, layout));
-    ceres::LossFunction* loss =
-        options.huber_threshold > 0.0 ? new ceres::HuberLoss(options.huber_threshold) : nullptr;
-    problem.AddResidualBlock(cost, loss, start.intrinsic.data(), start.sensor_pose.data());
-  }
-  problem.SetManifold(start.sensor_pose.data(), newSe2Manifold());
-  ceres::Solver::Options solver_options;
-  solver_options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
-  solver_options.linear_solver_type = ceres::DENSE_QR;
-  solver_options.max_num_iterations = options.max_iterations;
+  addSensorMotionResiduals<Kinematics>(problem, pairs, layout, options.huber_threshold, 1.0,
+                                       start.intrinsic.data(), start.sensor_pose.data());
   // Only the basin matters here: the full fit polishes the best start.
-  solver_options.function_tolerance = 1e-8;
-  solver_options.gradient_tolerance = 1e-10;
-  solver_options.parameter_tolerance = 1e-8;
-  solver_options.num_threads = 1;
+  const ceres::Solver::Options solver_options =
+      sensorFitSolverOptions(options.max_iterations, 1e-8, 1e-10);
   ceres::Solver::Summary summary;
   ceres::Solve(solver_options, &problem, &summary);
   if (std::isfinite(summary.final_cost) && start.intrinsic.allFinite() &&
