@@ -1,4 +1,6 @@
+#include <algorithm>
 #include <stdexcept>
+#include <string>
 
 #include "odometry_calibration/data/pair_features.h"
 
@@ -33,6 +35,24 @@ Eigen::VectorXd pairFeatures(const std::vector<EncoderSample>& samples, const Jo
     features(j) = sum / (duration > 0.0 ? duration : static_cast<double>(samples.size() - 1));
   }
   return features;
+}
+
+void requireJointIndices(const std::vector<EncoderSample>& samples, const std::vector<int>& indices,
+                         const std::string& model, const std::string& what)
+{
+  int needed = 0;
+  std::string listed;
+  for (const int index : indices) {
+    needed = std::max(needed, index + 1);
+    listed += (listed.empty() ? "" : ", ") + std::to_string(index);
+  }
+  for (const EncoderSample& sample : samples) {
+    if (sample.values.size() < needed) {
+      throw std::invalid_argument(model + ": the model's " + what + " (indices " + listed +
+                                  ") are not among the samples' " +
+                                  std::to_string(sample.values.size()) + " joints");
+    }
+  }
 }
 
 }  // namespace odometry_calibration

@@ -190,18 +190,8 @@ MotionPrediction DiffDriveModel::predict(const std::vector<EncoderSample>& sampl
   if (samples.size() < 2) {
     throw std::invalid_argument("diff_drive prediction needs at least two encoder samples");
   }
-  // A model loaded from a file may name joints the samples do not have (another robot's
-  // result.yaml): refuse instead of reading past the values.
-  const int needed = std::max(options_.layout.left_index, options_.layout.right_index) + 1;
-  for (const EncoderSample& sample : samples) {
-    if (sample.values.size() < needed) {
-      throw std::invalid_argument("diff_drive: the model's wheel joints (indices " +
-                                  std::to_string(options_.layout.left_index) + ", " +
-                                  std::to_string(options_.layout.right_index) +
-                                  ") are not among the samples' " +
-                                  std::to_string(sample.values.size()) + " joints");
-    }
-  }
+  requireJointIndices(samples, {options_.layout.left_index, options_.layout.right_index},
+                      "diff_drive", "wheel joints");
   MotionPrediction prediction;
   prediction.mean = sensorMotionFromBodyMotion(
       T_base_sensor_, integrateDiffDriveMotion(intrinsics_.data(), options_.layout, samples));

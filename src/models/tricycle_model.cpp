@@ -67,17 +67,8 @@ MotionPrediction TricycleModel::predict(const std::vector<EncoderSample>& sample
 {
   if (samples.size() < 2)
     throw std::invalid_argument("tricycle prediction needs at least two encoder samples");
-  // A model loaded from a file may name joints the samples do not have.
-  const int needed = std::max(options_.layout.steering_index, options_.layout.traction_index) + 1;
-  for (const EncoderSample& sample : samples) {
-    if (sample.values.size() < needed) {
-      throw std::invalid_argument("tricycle: the model's joints (indices " +
-                                  std::to_string(options_.layout.steering_index) + ", " +
-                                  std::to_string(options_.layout.traction_index) +
-                                  ") are not among the samples' " +
-                                  std::to_string(sample.values.size()) + " joints");
-    }
-  }
+  requireJointIndices(samples, {options_.layout.steering_index, options_.layout.traction_index},
+                      "tricycle", "joints");
   MotionPrediction prediction;
   prediction.mean = predictTricycleSensorMotion(parameters_, options_.layout, samples);
   prediction.covariance = residual_covariance_;

@@ -15,6 +15,8 @@
 #include "odometry_calibration/ros/sim_bag_writer.h"
 #include "odometry_calibration/sim/scenario.h"
 
+#include "support/files.h"
+
 namespace odometry_calibration {
 namespace {
 
@@ -22,11 +24,7 @@ namespace fs = std::filesystem;
 const std::string kConfig = ODOMETRY_CALIBRATION_CONFIG_DIR;
 const std::string kTool = CALIBRATE_BAG_PROGRAM;
 
-std::string readFile(const std::string& path)
-{
-  std::ifstream in(path, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), {});
-}
+using test_support::readFile;
 
 class CorruptedBags : public ::testing::Test
 {

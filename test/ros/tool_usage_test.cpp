@@ -11,6 +11,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/files.h"
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -21,11 +23,7 @@ struct ToolRun
   std::string out, err;
 };
 
-std::string readFile(const fs::path& path)
-{
-  std::ifstream file(path);
-  return std::string(std::istreambuf_iterator<char>(file), {});
-}
+using odometry_calibration::test_support::readFile;
 
 /// Runs a built tool with `arguments` (shell words), capturing its exit status and output.
 ToolRun run(const std::string& tool, const std::string& arguments)
@@ -38,8 +36,8 @@ ToolRun run(const std::string& tool, const std::string& arguments)
   const int status = std::system(command.c_str());
   ToolRun result;
   result.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  result.out = readFile(directory / "out");
-  result.err = readFile(directory / "err");
+  result.out = readFile((directory / "out").string());
+  result.err = readFile((directory / "err").string());
   fs::remove_all(directory);
   return result;
 }

@@ -23,4 +23,10 @@ struct JointLayout
 /// absolute joint. Throws std::invalid_argument for fewer than two samples or a size mismatch.
 Eigen::VectorXd pairFeatures(const std::vector<EncoderSample>& samples, const JointLayout& joints);
 
+/// Checks that every sample carries the joints at `indices` (a model loaded from another robot's
+/// result.yaml may name joints the samples do not have). Throws std::invalid_argument
+/// "<model>: the model's <what> (indices i, j, ...) are not among the samples' N joints".
+void requireJointIndices(const std::vector<EncoderSample>& samples, const std::vector<int>& indices,
+                         const std::string& model, const std::string& what);
+
 }  // namespace odometry_calibration
