@@ -284,8 +284,7 @@ std::vector<EncoderChannelOptions> encoderChannels(const CalibrationConfig& conf
     channels.push_back(
         {joint.name, joint.kind,
          incremental && joint.counter_bits > 0 ? std::ldexp(1.0, joint.counter_bits) : 0.0,
-         incremental ? 0.0 : joint.units_per_turn,
-         incremental ? joint.max_turns_per_s * joint.units_per_turn : 0.0});
+         incremental ? 0.0 : joint.units_per_turn, joint.max_turns_per_s * joint.units_per_turn});
   }
   return channels;
 }

@@ -19,6 +19,26 @@ TEST(CalibrationConfig, ShippedConfigParses)
   const auto channels = encoderChannels(config);
   EXPECT_EQ(channels[0].wrap_period, 4294967296.0);
   EXPECT_EQ(config.models.joints.names.size(), 2u);
+  // 50 turns/s of 2000 ticks: the glitch limit in ticks per second.
+  EXPECT_DOUBLE_EQ(channels[0].max_rate_per_s, 1e5);
+}
+
+TEST(CalibrationConfig, AbsoluteJointsGetAGlitchLimitToo)
+{
+  const CalibrationConfig config = loadCalibrationConfig(kConfig + "/tricycle.yaml");
+  const auto channels = encoderChannels(config);
+  bool has_absolute = false;
+  for (std::size_t i = 0; i < channels.size(); ++i) {
+    if (channels[i].kind != EncoderKind::kAbsolute)
+      continue;
+    has_absolute = true;
+    // A steering angle in radians: max_turns_per_s (default 50) turns of units_per_turn (2 pi).
+    EXPECT_DOUBLE_EQ(channels[i].max_rate_per_s,
+                     config.joints[i].max_turns_per_s * config.joints[i].units_per_turn)
+        << channels[i].name;
+    EXPECT_GT(channels[i].max_rate_per_s, 0.0) << channels[i].name;
+  }
+  EXPECT_TRUE(has_absolute);
 }
 
 TEST(CalibrationConfig, ErrorsNameTheKey)
