@@ -120,7 +120,8 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
     checkYamlKeys(keyframes,
                   {"interval_s", "min_translation_m", "min_rotation_rad", "time_offset_s",
                    "max_encoder_gap_s", "check_consistency", "consistency_translation_m",
-                   "consistency_rotation_rad", "estimate_time_offset", "time_offset_search_s"},
+                   "consistency_rotation_rad", "estimate_time_offset", "time_offset_search_s",
+                   "fit_intervals_s"},
                   where);
     CollectorOptions& k = c.collector;
     readYaml(keyframes, "interval_s", &k.keyframe_interval_s);
@@ -139,6 +140,17 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
       }
       c.time_offset_search_min_s = range[0];
       c.time_offset_search_max_s = range[1];
+    }
+    if (keyframes && keyframes["fit_intervals_s"]) {
+      c.fit_intervals_s = keyframes["fit_intervals_s"].as<std::vector<double>>();
+      for (std::size_t i = 0; i < c.fit_intervals_s.size(); ++i) {
+        const double interval = c.fit_intervals_s[i];
+        if (!(interval > 0.0) || !(interval <= 60.0) ||
+            (i > 0 && !(interval > c.fit_intervals_s[i - 1]))) {
+          throw std::runtime_error(
+              "fit_intervals_s: candidate intervals must increase, each in (0, 60] s");
+        }
+      }
     }
 
     where = source + ": scan_matching";

@@ -51,7 +51,8 @@ const char* kUsage =
     "                       collection: fit on the others, score calibrated and nominal\n"
     "                       models on them\n"
     "  --interval T|auto    keyframe interval of the fitted pairs [s] (default: the config's\n"
-    "                       keyframes.interval_s); auto: chosen among 0.3, 0.5 and 1.0 s by\n"
+    "                       keyframes.interval_s); auto: chosen among keyframes.\n"
+    "                       fit_intervals_s (the default when set; else 0.3, 0.5, 1.0 s) by\n"
     "                       time-blocked cross-validation (the bags are paired once per\n"
     "                       interval); held-out and validation scores always use pairs at\n"
     "                       keyframes.interval_s\n"
@@ -66,7 +67,8 @@ const char* kUsage =
     "offset sits at the edge of its search range or is not observable\n";
 
 /// The fitted pairs' interval: the configured one (no extra pass), a given one, or one chosen by
-/// cross-validation among kAutoIntervals (calibration/fit_interval.h).
+/// cross-validation (calibration/fit_interval.h) among keyframes.fit_intervals_s (when set, also
+/// without --interval) or kAutoIntervals.
 struct FitIntervalRun
 {
   double interval_s = 0.0;                       ///< the fitted pairs' interval [s]
@@ -85,12 +87,15 @@ FitIntervalRun chooseBagFitInterval(const std::string& option, const std::vector
   FitIntervalRun result;
   const double configured = config.collector.keyframe_interval_s;
   result.interval_s = configured;
-  if (option.empty())
+  const bool automatic = option == "auto" || (option.empty() && !config.fit_intervals_s.empty());
+  if (option.empty() && !automatic)
     return result;
+  const std::vector<double> intervals = !automatic ? std::vector<double>{std::stod(option)}
+                                        : config.fit_intervals_s.empty() ? kAutoIntervals
+                                                                         : config.fit_intervals_s;
   // The pairs of each candidate interval as collected (before any time-offset re-cut).
   std::vector<IntervalPairs> collected;
-  for (const double interval :
-       option == "auto" ? kAutoIntervals : std::vector<double>{std::stod(option)}) {
+  for (const double interval : intervals) {
     IntervalPairs candidate{interval, {}};
     if (std::abs(interval - configured) < 1e-9) {
       candidate.pairs = evaluation;
@@ -101,7 +106,7 @@ FitIntervalRun chooseBagFitInterval(const std::string& option, const std::vector
     }
     collected.push_back(std::move(candidate));
   }
-  if (option != "auto") {
+  if (!automatic) {
     result.interval_s = collected.front().interval_s;
     result.pairs = std::move(collected.front().pairs);
     char text[160];

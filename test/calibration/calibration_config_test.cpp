@@ -66,6 +66,11 @@ TEST(CalibrationConfig, ErrorsNameTheKey)
   EXPECT_EQ(message(joints + "model: gp\ncompare_models: [linear, diff_drive]\n"), "");
   EXPECT_NE(message(joints + "compare_models: [linear, gpp]\n").find("compare_models"),
             std::string::npos);
+  EXPECT_EQ(message(joints + "keyframes: {fit_intervals_s: [0.3, 0.5, 1.0]}\n"), "");
+  EXPECT_NE(message(joints + "keyframes: {fit_intervals_s: [0.5, 0.3]}\n").find("must increase"),
+            std::string::npos);
+  EXPECT_NE(message(joints + "keyframes: {fit_intervals_s: [0, 1]}\n").find("fit_intervals_s"),
+            std::string::npos);
   // Wheels in different units cannot share one diff-drive model.
   EXPECT_NE(message("joints: [{name: l, units_per_turn: 100}, {name: r}]\n").find("units_per_turn"),
             std::string::npos);

@@ -56,6 +56,11 @@ struct CalibrationConfig
   bool estimate_time_offset = false;
   double time_offset_search_min_s = -0.4;
   double time_offset_search_max_s = 0.4;
+  /// Candidate keyframe intervals of the fitted pairs [s], increasing
+  /// (`keyframes.fit_intervals_s`): the node and calibrate_bag collect pairs at each and choose one
+  /// by time-blocked cross-validation on the interval_s pairs (calibration/fit_interval.h); empty:
+  /// fit the interval_s pairs.
+  std::vector<double> fit_intervals_s;
   std::string model = "diff_drive";         ///< model fitted by default
   std::vector<std::string> compare_models;  ///< further models fitted for the comparison table
   ModelFactoryOptions models;               ///< per-model options (joints filled in)
