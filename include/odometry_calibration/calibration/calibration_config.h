@@ -70,11 +70,9 @@ CalibrationConfig loadCalibrationConfig(const std::string& path);
 CalibrationConfig parseCalibrationConfig(const std::string& text, const std::string& source);
 
 /// `config_text` with the model sections (diff_drive, tricycle, mecanum, linear, gp, prior_model,
-/// model)
-/// replaced
-/// key by key by those of `override_yaml` (a YAML mapping, e.g. "{gp: {kernel: linear}}"), then
-/// parsed and validated. Throws std::runtime_error naming a key that may not be overridden or
-/// an invalid value.
+/// model) replaced key by key by those of `override_yaml` (a YAML mapping, e.g.
+/// "{gp: {kernel: linear}}"), then parsed and validated. Throws std::runtime_error naming a key
+/// that may not be overridden or an invalid value.
 CalibrationConfig overrideModelOptions(const std::string& config_text,
                                        const std::string& override_yaml, const std::string& source);
 
