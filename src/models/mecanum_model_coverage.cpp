@@ -21,9 +21,8 @@ MecanumMotionCoverage mecanumMotionCoverage(const std::vector<MotionPair>& pairs
                                             const MecanumEncoderLayout& layout,
                                             const Eigen::Matrix<double, 5, 1>& intrinsics)
 {
-  const std::array<int, 4> index =
-      std::array<int, 4>{layout.front_left_index, layout.front_right_index, layout.rear_left_index,
-                         layout.rear_right_index};
+  const int index[4] = {layout.front_left_index, layout.front_right_index, layout.rear_left_index,
+                        layout.rear_right_index};
   const double to_rad = 2.0 * M_PI / layout.ticks_per_turn;
   MecanumMotionCoverage coverage;
   for (const MotionPair& pair : pairs) {
