@@ -43,7 +43,7 @@ const char* kUsage =
     "options:\n"
     "  --output-dir DIR     where to write (default: the config's output_directory)\n"
     "  --model NAME         fit this model instead of the config's (diff_drive, tricycle,\n"
-    "                       linear, gp)\n"
+    "                       mecanum, linear, gp)\n"
     "  --test BAG           score the models on this bag too (repeatable); prints the paper's\n"
     "                       comparison table for the model and the config's compare_models\n"
     "  --start S, --end S   use only [S, E] seconds after the first message\n"

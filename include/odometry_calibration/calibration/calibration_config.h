@@ -65,7 +65,7 @@ struct CalibrationConfig
   std::vector<std::string> compare_models;  ///< further models fitted for the comparison table
   ModelFactoryOptions models;               ///< per-model options (joints filled in)
   /// Model used for the matcher's initial guess and the node's nominal odometry ("none", or a
-  /// parametric model with its start values: "diff_drive", "tricycle").
+  /// parametric model with its start values: "diff_drive", "tricycle", "mecanum").
   std::string prior_model = "diff_drive";
   std::string output_directory = "odometry_calibration_results";
 };
@@ -74,11 +74,10 @@ struct CalibrationConfig
 CalibrationConfig loadCalibrationConfig(const std::string& path);
 CalibrationConfig parseCalibrationConfig(const std::string& text, const std::string& source);
 
-/// `config_text` with the model sections (diff_drive, tricycle, linear, gp, prior_model, model)
-/// replaced
-/// key by key by those of `override_yaml` (a YAML mapping, e.g. "{gp: {kernel: linear}}"), then
-/// parsed and validated. Throws std::runtime_error naming a key that may not be overridden or
-/// an invalid value.
+/// `config_text` with the model sections (diff_drive, tricycle, mecanum, linear, gp, prior_model,
+/// model) replaced key by key by those of `override_yaml` (a YAML mapping, e.g.
+/// "{gp: {kernel: linear}}"), then parsed and validated. Throws std::runtime_error naming a key
+/// that may not be overridden or an invalid value.
 CalibrationConfig overrideModelOptions(const std::string& config_text,
                                        const std::string& override_yaml, const std::string& source);
 
