@@ -92,6 +92,8 @@ std::vector<ModelScore> scoreModelsOnTest(const CalibrationConfig& config,
     const ModelReport fitted = candidate->fit(job.pairs);
     add(*candidate, fitted);
   }
+  if (const std::shared_ptr<MotionModel> nominal = priorModel(config))
+    scores.push_back(scoreNominal(*nominal, test_pairs));
   return scores;
 }
 

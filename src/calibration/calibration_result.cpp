@@ -14,11 +14,18 @@
 namespace odometry_calibration {
 
 std::string calibrationResultYaml(const ModelReport& report, const MotionModel& model,
-                                  const std::string& source, double time_offset_s)
+                                  const std::string& source, double time_offset_s,
+                                  const std::vector<std::string>& joints)
 {
   char offset[64];
   std::snprintf(offset, sizeof(offset), "time_offset_s: %.6f\n", time_offset_s);
-  return modelResultYaml(report, model.toYaml(), source) + offset;
+  std::string text = modelResultYaml(report, model.toYaml(), source) + offset;
+  if (!joints.empty()) {
+    YAML::Emitter names;
+    names << YAML::Flow << joints;
+    text += "joints: " + std::string(names.c_str()) + "\n";
+  }
+  return text;
 }
 
 CalibrationResult parseCalibrationResult(const std::string& text, const std::string& source)
@@ -44,6 +51,8 @@ CalibrationResult parseCalibrationResult(const std::string& text, const std::str
     }
     if (const YAML::Node offset = root["time_offset_s"])
       result.time_offset_s = offset.as<double>();
+    if (const YAML::Node joints = root["joints"])
+      result.joints = joints.as<std::vector<std::string>>();
   } catch (const YAML::Exception& error) {
     throw std::runtime_error(source + ": " + error.what());
   } catch (const std::exception& error) {

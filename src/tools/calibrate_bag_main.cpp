@@ -37,14 +37,16 @@ const char* kUsage =
     "Reads the bags in timestamp order with the rosbag API, makes keyframe pairs (PLICP scan\n"
     "matching, or the configured ego-motion topic), fits the configured model and writes\n"
     "pairs.csv, result.yaml, report.txt and report.md (the report with plots in plots/, drawn\n"
-    "by gnuplot) to the output directory.\n"
+    "by gnuplot) to the output directory, and for diff_drive, skid_steer and mecanum fits\n"
+    "controller.yaml (the geometry as the robot's controller takes it).\n"
     "\n"
     "options:\n"
     "  --output-dir DIR     where to write (default: the config's output_directory)\n"
     "  --model NAME         fit this model instead of the config's (diff_drive, tricycle,\n"
-    "                       linear, gp)\n"
+    "                       skid_steer, linear, gp)\n"
     "  --test BAG           score the models on this bag too (repeatable); prints the paper's\n"
-    "                       comparison table for the model and the config's compare_models\n"
+    "                       comparison table for the model, the config's compare_models and\n"
+    "                       the nominal robot (prior_model's start values, not fitted)\n"
     "  --start S, --end S   use only [S, E] seconds after the first message\n"
     "  --holdout F          hold out the pairs of the last fraction F (0 < F < 1) of the\n"
     "                       collection: fit on the others, score calibrated and nominal\n"
@@ -190,8 +192,10 @@ int main(int argc, char** argv)
     files.markdown.statistics = run.statistics;
     files.markdown.collection_notes = bagRunNotes(run);
     const ReportPlots plots = writeResultFiles(output_dir, std::move(files));
+    const bool controller = !files.controller_yaml.empty();
     std::cout << "\nwritten: " << output_dir << "/{" << kPairsFileName << ", " << kResultFileName
-              << ", " << kTextReportFileName << ", " << kReportFileName << ", " << kPlotFolderName
+              << (controller ? std::string(", ") + kControllerFileName : "") << ", "
+              << kTextReportFileName << ", " << kReportFileName << ", " << kPlotFolderName
               << "/}\nreport: " << output_dir << "/" << kReportFileName << "\n";
     if (!plots.problem.empty()) {
       std::cerr << "warning: the report has no plots or only some: " << plots.problem << "\n";

@@ -20,7 +20,8 @@ const char* kUsage =
     "\n"
     "Fits each model on the training pairs and prints, per model, the ATE and RPE of the\n"
     "test trajectory integrated from its predictions (paper eqs. 10-11, against the chain of\n"
-    "measured displacements) and the per-axis RMSE of the predicted displacements.\n"
+    "measured displacements) and the per-axis RMSE of the predicted displacements; the last\n"
+    "row, \"nominal\", is the diff_drive at the --start values, not fitted (the baseline).\n"
     "\n"
     "diff_drive options:\n"
     "  --left-joint NAME      left wheel joint (default: the first incremental joint)\n"
@@ -77,8 +78,9 @@ int main(int argc, char** argv)
     options.diff_drive.initial_T_base_sensor = Pose2(start[3], start[4], start[5]);
     std::cout << "training pairs: " << training.pairs.size()
               << ", test pairs: " << testing.pairs.size() << "\n\n";
+    const DiffDriveModel nominal(options.diff_drive);  // unfitted: the start values
     const std::vector<ModelScore> scores =
-        compareModels(models, options, training.pairs, testing.pairs);
+        compareModels(models, options, training.pairs, testing.pairs, &nominal);
     std::cout << formatComparisonTable(scores);
     for (const ModelScore& score : scores) {
       all_converged = all_converged && score.converged;

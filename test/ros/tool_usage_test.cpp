@@ -132,6 +132,18 @@ TEST(ToolUsage, Simulate)
   expectBadUsage("simulate", "a.yaml b.yaml", "unexpected argument 'b.yaml'");
 }
 
+TEST(ToolUsage, ScoreCalibration)
+{
+  expectHelp("score_calibration");
+  expectBadUsage("score_calibration", "a.bag", "give --config and --result");
+  expectBadUsage("score_calibration", "--config c.yaml --result r.yaml",
+                 "give either bags or --pairs files");
+  expectBadUsage("score_calibration", "--config c.yaml --result r.yaml a.bag --pairs p.csv",
+                 "give either bags or --pairs files");
+  expectBadUsage("score_calibration", "--config c.yaml --result r.yaml a.bag --start 5 --end 2",
+                 "--end must come after --start");
+}
+
 TEST(ToolUsage, BadInputIsNotBadUsage)
 {
   const ToolRun result =

@@ -56,7 +56,8 @@ CalibrationJobResult runCalibrationJob(const CalibrationConfig& config,
 
 /// The paper's comparison (Tables III/IV): the job's model and each of config.compare_models
 /// (fitted to the job's pairs) scored on `test_pairs`, which were collected at the job's time
-/// offset. The job's model comes first.
+/// offset. The job's model comes first; the nominal robot (the configuration's prior, unfitted:
+/// scoreNominal) comes last when there is one.
 std::vector<ModelScore> scoreModelsOnTest(const CalibrationConfig& config,
                                           const CalibrationJobResult& job,
                                           const std::vector<MotionPair>& test_pairs);

@@ -5,6 +5,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "odometry_calibration/geometry/se2.h"
 #include "odometry_calibration/models/model.h"
@@ -18,13 +19,17 @@ struct CalibrationResult
   bool has_extrinsic = false;          ///< whether T_base_sensor was estimated
   Pose2 T_base_sensor;                 ///< the sensor's pose in base_link [m, m, rad]
   double time_offset_s = 0.0;          ///< encoder values at scan time + offset [s]
+  /// The joints the model was fitted on, in EncoderSample order (empty: not recorded).
+  std::vector<std::string> joints;
 };
 
 /// result.yaml's text: the report's numbers, the fitted model (enough to predict again), the
-/// extrinsic and `time_offset_s` (to the microsecond). The one writer of result.yaml, for the
-/// node's ~save and calibrate_bag.
+/// extrinsic and `time_offset_s` (to the microsecond), and `joints` (the joint names, in the
+/// model's order) when given. The one writer of result.yaml, for the node's ~save and
+/// calibrate_bag.
 std::string calibrationResultYaml(const ModelReport& report, const MotionModel& model,
-                                  const std::string& source, double time_offset_s);
+                                  const std::string& source, double time_offset_s,
+                                  const std::vector<std::string>& joints = {});
 
 /// Parses result.yaml's text. Throws std::runtime_error naming `source` and what is missing.
 CalibrationResult parseCalibrationResult(const std::string& text, const std::string& source);

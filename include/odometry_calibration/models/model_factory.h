@@ -9,6 +9,7 @@
 #include "odometry_calibration/models/gp_options.h"
 #include "odometry_calibration/models/linear_model.h"
 #include "odometry_calibration/models/model.h"
+#include "odometry_calibration/models/skid_steer_model.h"
 #include "odometry_calibration/models/tricycle_model.h"
 
 namespace odometry_calibration {
@@ -22,6 +23,7 @@ struct ModelFactoryOptions
   DiffDriveOptions diff_drive;
   GpOptions gp;
   TricycleModelOptions tricycle;
+  SkidSteerOptions skid_steer;
 };
 
 /// Names makeModel knows.
