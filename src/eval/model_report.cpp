@@ -24,7 +24,7 @@ std::string formatModelReport(const ModelReport& r)
     text += line;
   }
   if (!r.parameters.empty()) {
-    std::snprintf(line, sizeof(line), "\n%-24s %12s %14s %12s  %s\n", "parameter", "initial",
+    std::snprintf(line, sizeof(line), "\n%-29s %12s %14s %12s  %s\n", "parameter", "initial",
                   "estimate", "sigma", "unit");
     text += line;
     for (const ParameterEstimate& p : r.parameters) {
@@ -34,7 +34,7 @@ std::string formatModelReport(const ModelReport& r)
         std::snprintf(initial, sizeof(initial), "%.6g", p.initial);
       if (std::isfinite(p.sigma))
         std::snprintf(sigma, sizeof(sigma), "%.3g", p.sigma);
-      std::snprintf(line, sizeof(line), "%-24s %12s %14.7g %12s  %s\n", p.name.c_str(), initial,
+      std::snprintf(line, sizeof(line), "%-29s %12s %14.7g %12s  %s\n", p.name.c_str(), initial,
                     p.value, sigma, p.unit.c_str());
       text += line;
     }

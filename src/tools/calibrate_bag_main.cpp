@@ -191,8 +191,8 @@ int main(int argc, char** argv)
     files.markdown.run_time_s = run.wall_time_s;
     files.markdown.statistics = run.statistics;
     files.markdown.collection_notes = bagRunNotes(run);
-    const ReportPlots plots = writeResultFiles(output_dir, std::move(files));
     const bool controller = !files.controller_yaml.empty();
+    const ReportPlots plots = writeResultFiles(output_dir, std::move(files));
     std::cout << "\nwritten: " << output_dir << "/{" << kPairsFileName << ", " << kResultFileName
               << (controller ? std::string(", ") + kControllerFileName : "") << ", "
               << kTextReportFileName << ", " << kReportFileName << ", " << kPlotFolderName
