@@ -150,7 +150,8 @@ int main(int argc, char** argv)
       CalibrationConfig test_config = config;
       test_config.collector.time_offset_s = job.time_offset_s;
       const BagRunResult test = runBags(test_bags, test_config, 0.0, 0.0);
-      files.markdown.test_table = formatComparisonTable(scoreModelsOnTest(config, job, test.pairs));
+      files.markdown.test_table =
+          formatComparisonTable(scoreModelsOnTest(config, job, test.pairs, test.encoder_history));
       files.markdown.test_pairs = test.pairs.size();
       text += "\ntest bags: " + std::to_string(test.pairs.size()) + " pairs\n" +
               files.markdown.test_table;

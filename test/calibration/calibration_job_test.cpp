@@ -164,6 +164,31 @@ TEST(CalibrationJob, ScoresTheModelFirstThenTheComparedOnesThenTheNominal)
   EXPECT_NE(table.find("the configured nominal model, not fitted"), std::string::npos) << table;
 }
 
+TEST(CalibrationJob, TestTableScoresTheNominalAtTimeOffsetZero)
+{
+  // A job at time offset 0.1 s (configured, not estimated): its test pairs are cut there, the
+  // nominal row uses the same pairs re-cut at 0 from the test history, as the report does.
+  const sim::GeneratedPairs data = simulatedPairs();
+  const std::vector<EncoderSample> history = encoderHistory(data.pairs);
+  CalibrationConfig config = diffDriveConfig(data.joints);
+  config.collector.time_offset_s = 0.1;
+  CalibrationJobOptions options;
+  options.compare_trajectories = false;
+  const std::vector<MotionPair> late = rewindowPairs(data.pairs, history, 0.1);
+  const CalibrationJobResult job = runCalibrationJob(config, late, history, options);
+  ASSERT_DOUBLE_EQ(job.time_offset_s, 0.1);
+  const std::vector<ModelScore> scores = scoreModelsOnTest(config, job, late, history);
+  ASSERT_EQ(scores.size(), 2u);
+  const std::unique_ptr<MotionModel> nominal = makeModel("diff_drive", config.models);
+  const ModelScore at_zero = scoreModel(*nominal, rewindowPairs(late, history, 0.0));
+  const ModelScore at_job = scoreModel(*nominal, late);
+  EXPECT_DOUBLE_EQ(scores[1].ate_m, at_zero.ate_m);
+  EXPECT_DOUBLE_EQ(scores[1].rmse_xytheta(2), at_zero.rmse_xytheta(2));
+  EXPECT_NE(at_zero.rmse_xytheta(2), at_job.rmse_xytheta(2));  // the re-cut matters
+  // Without a history the nominal row takes the pairs as they are.
+  EXPECT_DOUBLE_EQ(scoreModelsOnTest(config, job, late)[1].ate_m, at_job.ate_m);
+}
+
 TEST(CalibrationJob, ExitStatusFollowsConvergenceAndWarnings)
 {
   ModelReport report;
