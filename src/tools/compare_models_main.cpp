@@ -1,10 +1,17 @@
 // compare_models: trains several models on some pairs files and scores them on others
 // (the paper's Tables III/IV).
 #include <iostream>
+#include <memory>
+#include <sstream>
 #include <string>
 #include <vector>
 
+#include <yaml-cpp/yaml.h>
+
+#include "odometry_calibration/calibration/calibration_config.h"
+#include "odometry_calibration/calibration/saved_calibration_score.h"
 #include "odometry_calibration/common/arguments.h"
+#include "odometry_calibration/common/text_file.h"
 #include "odometry_calibration/data/pairs_csv.h"
 #include "odometry_calibration/eval/model_comparison.h"
 #include "odometry_calibration/models/model_factory.h"
@@ -16,12 +23,16 @@ using namespace odometry_calibration;
 const char* kUsage =
     "usage: compare_models --train PAIRS.csv [--train ...] --test PAIRS.csv [--test ...]\n"
     "                      [--models linear,diff_drive,gp (default: all three)]\n"
-    "                      [diff_drive options]\n"
+    "                      [diff_drive options | --config CONFIG.yaml]\n"
     "\n"
     "Fits each model on the training pairs and prints, per model, the ATE and RPE of the\n"
     "test trajectory integrated from its predictions (paper eqs. 10-11, against the chain of\n"
     "measured displacements) and the per-axis RMSE of the predicted displacements; the last\n"
     "row, \"nominal\", is the diff_drive at the --start values, not fitted (the baseline).\n"
+    "\n"
+    "  --config CONFIG.yaml   take every model's options (skid_steer's sides too) and the\n"
+    "                         nominal row (its prior_model) from a calibration config instead\n"
+    "                         of the diff_drive options below; its joints must be the pairs'\n"
     "\n"
     "diff_drive options:\n"
     "  --left-joint NAME      left wheel joint (default: the first incremental joint)\n"
@@ -38,7 +49,7 @@ const char* kUsage =
 int main(int argc, char** argv)
 {
   std::vector<std::string> train, test, models = {"linear", "diff_drive", "gp"};
-  std::string left, right;
+  std::string left, right, config_path;
   double ticks_per_rev = 2000.0;
   std::vector<double> start = {0.077, 0.077, 0.33, 0.15, 0.0, 0.0};
   bool all_converged = true;
@@ -50,13 +61,19 @@ int main(int argc, char** argv)
         .option("--left-joint", &left)
         .option("--right-joint", &right)
         .number("--ticks-per-rev", &ticks_per_rev, 1.0)
-        .numberList("--start", &start, 6);
+        .numberList("--start", &start, 6)
+        .option("--config", &config_path);
     if (!parser.parse(argc, argv)) {
       std::cout << kUsage;
       return 0;
     }
     for (const std::string& name : models)
       requireKnownModel(name, "--models");
+    const std::vector<double> default_start = {0.077, 0.077, 0.33, 0.15, 0.0, 0.0};
+    if (!config_path.empty() &&
+        (!left.empty() || !right.empty() || ticks_per_rev != 2000.0 || start != default_start)) {
+      throw std::invalid_argument("give either --config or the diff_drive options");
+    }
     if (train.empty() || test.empty()) {
       throw std::invalid_argument("give at least one --train and one --test pairs file");
     }
@@ -69,18 +86,33 @@ int main(int argc, char** argv)
     const PairsFile& training = pairs.training;
     const PairsFile& testing = pairs.testing;
     ModelFactoryOptions options;
-    options.joints = training.joints;
-    options.diff_drive.layout =
-        diffDriveLayoutForJoints(training.joints, left, right, ticks_per_rev);
-    options.diff_drive.initial_left_radius_m = start[0];
-    options.diff_drive.initial_right_radius_m = start[1];
-    options.diff_drive.initial_separation_m = start[2];
-    options.diff_drive.initial_T_base_sensor = Pose2(start[3], start[4], start[5]);
+    std::shared_ptr<MotionModel> nominal;
+    if (!config_path.empty()) {
+      // The config's model sections are resolved (joints by name) for the models it uses:
+      // the ones to compare.
+      YAML::Node root = YAML::Load(readTextFile(config_path, "the configuration"));
+      root["compare_models"] = models;
+      std::ostringstream text;
+      text << root;
+      const CalibrationConfig config = parseCalibrationConfig(text.str(), config_path);
+      requireCalibrationJoints(jointLayout(config).names, training.joints.names,
+                               "the pairs file " + train.front());
+      options = config.models;
+      nominal = priorModel(config);
+    } else {
+      options.joints = training.joints;
+      options.diff_drive.layout =
+          diffDriveLayoutForJoints(training.joints, left, right, ticks_per_rev);
+      options.diff_drive.initial_left_radius_m = start[0];
+      options.diff_drive.initial_right_radius_m = start[1];
+      options.diff_drive.initial_separation_m = start[2];
+      options.diff_drive.initial_T_base_sensor = Pose2(start[3], start[4], start[5]);
+      nominal = std::make_shared<DiffDriveModel>(options.diff_drive);  // unfitted: start values
+    }
     std::cout << "training pairs: " << training.pairs.size()
               << ", test pairs: " << testing.pairs.size() << "\n\n";
-    const DiffDriveModel nominal(options.diff_drive);  // unfitted: the start values
     const std::vector<ModelScore> scores =
-        compareModels(models, options, training.pairs, testing.pairs, &nominal);
+        compareModels(models, options, training.pairs, testing.pairs, nominal.get());
     std::cout << formatComparisonTable(scores);
     for (const ModelScore& score : scores) {
       all_converged = all_converged && score.converged;

@@ -103,6 +103,26 @@ TEST(SkidSteerBag, MultiplierWithinTwoPercentNominalRowAndScoredAgain)
     EXPECT_NEAR(again[i], fitted[i], 1e-5) << i << "\n" << fit.out << score.out;
     EXPECT_NEAR(nominal_again[i], nominal[i], 1e-5) << i;
   }
+
+  // compare_models with the configuration: skid_steer's sides and the nominal row from it, on
+  // calibrate_bag's pairs (training on the first, testing on the second bag's).
+  const ToolResult test_pairs = run(
+      directory, std::string(CALIBRATE_BAG_PROGRAM) + " --config " + kConfig + "/skid_steer.yaml " +
+                     directory + "/test.bag --quiet --output-dir " + directory + "/test_out");
+  ASSERT_EQ(test_pairs.status, 0) << test_pairs.out << test_pairs.err;
+  const ToolResult compared =
+      run(directory, std::string(COMPARE_MODELS_PROGRAM) + " --config " + kConfig +
+                         "/skid_steer.yaml --models skid_steer --train " + directory +
+                         "/out/pairs.csv --test " + directory + "/test_out/pairs.csv");
+  ASSERT_EQ(compared.status, 0) << compared.out << compared.err;
+  const std::vector<double> model_row = row(compared.out, "skid_steer");
+  const std::vector<double> nominal_row = row(compared.out, "nominal");
+  ASSERT_EQ(model_row.size(), 5u) << compared.out;
+  ASSERT_EQ(nominal_row.size(), 5u) << compared.out;
+  // The same pairs and the same nominal robot as calibrate_bag --test: the same nominal row.
+  for (int i = 0; i < 5; ++i)
+    EXPECT_NEAR(nominal_row[i], nominal[i], 1e-5) << i << "\n" << compared.out;
+  EXPECT_GT(nominal_row[4], 3.0 * model_row[4]) << compared.out;
   fs::remove_all(directory);
 }
 

@@ -104,6 +104,8 @@ TEST(ToolUsage, CompareModels)
                  "option --ticks-per-rev: expected a number >= 1, got '0'");
   expectBadUsage("compare_models", "--train a --test b --models linear,cubic",
                  "--models: unknown model 'cubic'");
+  expectBadUsage("compare_models", "--train a --test b --config c.yaml --left-joint l",
+                 "give either --config or the diff_drive options");
 }
 
 TEST(ToolUsage, GeneratePairs)
