@@ -38,6 +38,7 @@ ModelScore scoreNominal(const MotionModel& nominal, const std::vector<MotionPair
   ModelScore score = scoreModel(nominal, test);
   score.model = "nominal";
   score.fitted = false;
+  score.nominal_model = nominal.name();
   return score;
 }
 
@@ -71,7 +72,8 @@ std::string formatComparisonTable(const std::vector<ModelScore>& scores)
   }
   for (const ModelScore& s : scores) {
     if (!s.fitted && s.model == "nominal") {
-      table += "nominal: the configured nominal model, not fitted\n";
+      table += "nominal: the configured nominal model, not fitted (" + s.nominal_model +
+               " at its start values)\n";
       break;
     }
   }

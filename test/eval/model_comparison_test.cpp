@@ -108,7 +108,10 @@ TEST(ModelComparison, AddsTheUnfittedNominalRowLast)
   const std::string table = formatComparisonTable(scores);
   const std::string row = table.substr(table.find("\nnominal") + 1);
   EXPECT_NE(row.substr(0, row.find('\n')).find(" - "), std::string::npos) << table;
-  EXPECT_NE(table.find("nominal: the configured nominal model, not fitted"), std::string::npos);
+  EXPECT_NE(table.find("nominal: the configured nominal model, not fitted (diff_drive at its "
+                       "start values)"),
+            std::string::npos)
+      << table;
 }
 
 }  // namespace

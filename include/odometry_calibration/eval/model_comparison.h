@@ -32,6 +32,7 @@ struct ModelScore
   /// False for a row without a fit here (the nominal model, a saved calibration): its fit time
   /// and outliers show "-"; a row named "nominal" is explained under the table.
   bool fitted = true;
+  std::string nominal_model;  ///< the nominal row: which model at its start values
 };
 
 /// The paper's baseline row: `nominal` (a parametric model at its configured start values,
