@@ -31,6 +31,11 @@ void validate(const SkidSteerOptions& o)
   positive(o.ticks_per_turn, "ticks_per_turn");
   positive(o.wheel_radius_m, "wheel_radius_m");
   positive(o.wheel_separation_m, "wheel_separation_m");
+  positive(o.huber_threshold, "huber_threshold");
+  if (o.max_iterations < 1)
+    throw std::invalid_argument("skid_steer option 'max_iterations' must be >= 1");
+  if (o.yaw_starts < 1 || o.yaw_starts > 360)
+    throw std::invalid_argument("skid_steer option 'yaw_starts' must be in [1, 360]");
 }
 
 std::vector<EncoderSample> averageSides(const std::vector<EncoderSample>& samples,

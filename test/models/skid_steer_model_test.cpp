@@ -103,6 +103,14 @@ TEST(SkidSteerModel, AveragesTheWheelsOfEachSide)
   bad = geometric();
   bad.wheel_separation_m = 0.0;
   EXPECT_THROW(SkidSteerModel{bad}, std::invalid_argument);
+  bad = geometric();
+  bad.yaw_starts = 0;
+  try {
+    SkidSteerModel{bad};
+    FAIL() << "yaw_starts 0 accepted";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_NE(std::string(error.what()).find("skid_steer option 'yaw_starts'"), std::string::npos);
+  }
 }
 
 TEST(SkidSteerModel, SavedModelPredictsTheSame)
