@@ -37,6 +37,64 @@ Pose2 readSensorPose(const YAML::Node& section)
   return Pose2(pose[0], pose[1], pose[2]);
 }
 
+/// The `skid_steer` section: the joints of each side (default: the incremental joints whose
+/// names contain "left" / "right"), the geometric radius and track width, the fit's options.
+/// The joints are resolved and checked only when the configuration uses the model (`used`).
+void readSkidSteer(const YAML::Node& section, bool used, const std::string& where,
+                   CalibrationConfig* c)
+{
+  checkYamlKeys(section,
+                {"left_joints", "right_joints", "wheel_radius_m", "wheel_separation_m",
+                 "sensor_pose", "huber_threshold", "max_iterations", "yaw_starts"},
+                where);
+  SkidSteerOptions& s = c->models.skid_steer;
+  std::vector<std::string> left, right;
+  for (const JointConfig& joint : c->joints) {
+    if (joint.kind != EncoderKind::kIncremental)
+      continue;
+    if (joint.name.find("left") != std::string::npos)
+      left.push_back(joint.name);
+    else if (joint.name.find("right") != std::string::npos)
+      right.push_back(joint.name);
+  }
+  readYaml(section, "left_joints", &left);
+  readYaml(section, "right_joints", &right);
+  readYaml(section, "wheel_radius_m", &s.wheel_radius_m);
+  readYaml(section, "wheel_separation_m", &s.wheel_separation_m);
+  readYaml(section, "huber_threshold", &s.huber_threshold);
+  readYaml(section, "max_iterations", &s.max_iterations);
+  readYaml(section, "yaw_starts", &s.yaw_starts);
+  s.initial_T_base_sensor = readSensorPose(section);
+  if (!used)
+    return;
+  if (left.empty() || right.empty()) {
+    throw std::runtime_error(
+        "left_joints and right_joints are required (no incremental joint named *left* / "
+        "*right* to default to)");
+  }
+  s.left_indices.clear();
+  s.right_indices.clear();
+  for (const std::string& name : left)
+    s.left_indices.push_back(jointIndex(*c, name, where + ".left_joints"));
+  for (const std::string& name : right)
+    s.right_indices.push_back(jointIndex(*c, name, where + ".right_joints"));
+  s.ticks_per_turn = c->joints[s.left_indices.front()].units_per_turn;
+  for (const std::vector<int>* side : {&s.left_indices, &s.right_indices}) {
+    for (int index : *side) {
+      if (c->joints[index].kind != EncoderKind::kIncremental ||
+          c->joints[index].units_per_turn != s.ticks_per_turn) {
+        throw std::runtime_error(
+            "the wheel joints must be incremental with the same units_per_turn");
+      }
+    }
+  }
+  try {
+    validate(s);
+  } catch (const std::invalid_argument& error) {
+    throw std::runtime_error(error.what());
+  }
+}
+
 }  // namespace
 
 CalibrationConfig parseCalibrationConfig(const std::string& text, const std::string& source)
@@ -48,7 +106,7 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
     checkYamlKeys(root,
                   {"joints", "joint_state_topic", "ego_motion", "keyframes", "scan_matching",
                    "model", "compare_models", "prior_model", "diff_drive", "linear", "gp",
-                   "tricycle", "mecanum", "output_directory"},
+                   "tricycle", "mecanum", "output_directory", "skid_steer"},
                   source);
     where = source + ": joints";
     if (!root["joints"] || !root["joints"].IsSequence() || root["joints"].size() == 0) {
@@ -89,7 +147,7 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
     readYaml(root, "model", &c.model);
     readYaml(root, "compare_models", &c.compare_models);
     // The matcher's guesses come from the fitted model's own start values when it has some.
-    if (c.model == "tricycle" || c.model == "mecanum")
+    if (c.model == "tricycle" || c.model == "mecanum" || c.model == "skid_steer")
       c.prior_model = c.model;
     readYaml(root, "prior_model", &c.prior_model);
     readYaml(root, "output_directory", &c.output_directory);
@@ -296,6 +354,8 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
       m.layout.ticks_per_turn = c.joints[static_cast<std::size_t>(*index[0])].units_per_turn;
       validate(m);
     }
+    where = source + ": skid_steer";
+    readSkidSteer(root["skid_steer"], uses("skid_steer"), where, &c);
 
     where = source + ": linear";
     const YAML::Node linear = root["linear"];
@@ -321,9 +381,9 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
 
     where = source;
     if (c.prior_model != "none" && c.prior_model != "diff_drive" && c.prior_model != "tricycle" &&
-        c.prior_model != "mecanum") {
+        c.prior_model != "mecanum" && c.prior_model != "skid_steer") {
       throw std::runtime_error(
-          "prior_model must be 'none', 'diff_drive', 'tricycle' or 'mecanum', got '" +
+          "prior_model must be 'none', 'diff_drive', 'tricycle', 'mecanum' or 'skid_steer', got '" +
           c.prior_model + "'");
     }
     requireKnownModel(c.model, "model");
@@ -387,6 +447,8 @@ std::optional<Pose2> priorSensorPose(const CalibrationConfig& config)
     return config.models.tricycle.initial.T_base_sensor;
   if (config.prior_model == "mecanum")
     return config.models.mecanum.initial_T_base_sensor;
+  if (config.prior_model == "skid_steer")
+    return config.models.skid_steer.initial_T_base_sensor;
   return std::nullopt;
 }
 
@@ -401,6 +463,13 @@ MotionPredictor priorPredictor(const CalibrationConfig& config)
   if (config.prior_model == "mecanum") {
     // The unfitted model predicts with its start values: the nominal robot.
     const std::shared_ptr<MotionModel> nominal = makeModel("mecanum", config.models);
+    return [nominal](const std::vector<EncoderSample>& samples) {
+      return nominal->predict(samples).mean;
+    };
+  }
+  if (config.prior_model == "skid_steer") {
+    // Unfitted: the geometric values (averageSides, then the diff-drive arcs).
+    const auto nominal = std::make_shared<SkidSteerModel>(config.models.skid_steer);
     return [nominal](const std::vector<EncoderSample>& samples) {
       return nominal->predict(samples).mean;
     };

@@ -77,7 +77,8 @@ CalibrationJobResult runCalibrationJob(const CalibrationConfig& config,
 
 std::vector<ModelScore> scoreModelsOnTest(const CalibrationConfig& config,
                                           const CalibrationJobResult& job,
-                                          const std::vector<MotionPair>& test_pairs)
+                                          const std::vector<MotionPair>& test_pairs,
+                                          const std::vector<EncoderSample>& test_history)
 {
   std::vector<ModelScore> scores;
   auto add = [&](const MotionModel& model, const ModelReport& fitted) {
@@ -92,6 +93,13 @@ std::vector<ModelScore> scoreModelsOnTest(const CalibrationConfig& config,
     const std::unique_ptr<MotionModel> candidate = makeModel(name, config.models);
     const ModelReport fitted = candidate->fit(job.pairs);
     add(*candidate, fitted);
+  }
+  if (const std::shared_ptr<MotionModel> nominal = priorModel(config)) {
+    const bool recut = !test_history.empty() && job.time_offset_s != 0.0;
+    const std::vector<MotionPair> nominal_pairs =
+        recut ? rewindowPairs(test_pairs, test_history, 0.0) : test_pairs;
+    if (nominal_pairs.size() >= 2)
+      scores.push_back(scoreNominal(*nominal, nominal_pairs));
   }
   return scores;
 }

@@ -15,14 +15,22 @@ namespace odometry_calibration {
 
 std::string calibrationResultYaml(const ModelReport& report, const MotionModel& model,
                                   const std::string& source, double time_offset_s,
-                                  double fit_interval_s)
+                                  const std::vector<std::string>& joints, double fit_interval_s)
 {
   char offset[64];
   std::snprintf(offset, sizeof(offset), "time_offset_s: %.6f\n", time_offset_s);
-  char interval[64] = "";
-  if (fit_interval_s > 0.0)
+  std::string text = modelResultYaml(report, model.toYaml(), source) + offset;
+  if (!joints.empty()) {
+    YAML::Emitter names;
+    names << YAML::Flow << joints;
+    text += "joints: " + std::string(names.c_str()) + "\n";
+  }
+  if (fit_interval_s > 0.0) {
+    char interval[64];
     std::snprintf(interval, sizeof(interval), "fit_interval_s: %.4f\n", fit_interval_s);
-  return modelResultYaml(report, model.toYaml(), source) + offset + interval;
+    text += interval;
+  }
+  return text;
 }
 
 CalibrationResult parseCalibrationResult(const std::string& text, const std::string& source)
@@ -53,7 +61,8 @@ CalibrationResult parseCalibrationResult(const std::string& text, const std::str
     }
     if (const YAML::Node offset = root["time_offset_s"])
       result.time_offset_s = offset.as<double>();
-
+    if (const YAML::Node joints = root["joints"])
+      result.joints = joints.as<std::vector<std::string>>();
   } catch (const YAML::Exception& error) {
     throw std::runtime_error(source + ": " + error.what());
   } catch (const std::exception& error) {

@@ -33,6 +33,15 @@ ModelScore scoreModel(const MotionModel& model, const std::vector<MotionPair>& t
   return score;
 }
 
+ModelScore scoreNominal(const MotionModel& nominal, const std::vector<MotionPair>& test)
+{
+  ModelScore score = scoreModel(nominal, test);
+  score.model = "nominal";
+  score.fitted = false;
+  score.nominal_model = nominal.name();
+  return score;
+}
+
 ModelScore withFitReport(ModelScore score, const ModelReport& report)
 {
   score.fit_time_s = report.fit_time_s;
@@ -51,11 +60,22 @@ std::string formatComparisonTable(const std::vector<ModelScore>& scores)
                 "RPE [m]", "RMSE x [m]", "RMSE y [m]", "RMSE th [rad]", "fit [s]", "outliers");
   table += line;
   for (const ModelScore& s : scores) {
-    std::snprintf(line, sizeof(line), "%-12s %10.4f %10.5f %11.5f %11.5f %13.5f %9.3f %8zu%s\n",
+    char fit[32] = "-", outliers[32] = "-";
+    if (s.fitted) {
+      std::snprintf(fit, sizeof(fit), "%.3f", s.fit_time_s);
+      std::snprintf(outliers, sizeof(outliers), "%zu", s.outliers);
+    }
+    std::snprintf(line, sizeof(line), "%-12s %10.4f %10.5f %11.5f %11.5f %13.5f %9s %8s%s\n",
                   s.model.c_str(), s.ate_m, s.rpe_m, s.rmse_xytheta(0), s.rmse_xytheta(1),
-                  s.rmse_xytheta(2), s.fit_time_s, s.outliers,
-                  s.converged ? "" : "  NOT converged");
+                  s.rmse_xytheta(2), fit, outliers, s.converged ? "" : "  NOT converged");
     table += line;
+  }
+  for (const ModelScore& s : scores) {
+    if (!s.fitted && s.model == "nominal") {
+      table += "nominal: the configured nominal model, not fitted (" + s.nominal_model +
+               " at its start values)\n";
+      break;
+    }
   }
   for (const ModelScore& s : scores) {
     if (!s.converged) {
@@ -69,7 +89,8 @@ std::string formatComparisonTable(const std::vector<ModelScore>& scores)
 std::vector<ModelScore> compareModels(const std::vector<std::string>& models,
                                       const ModelFactoryOptions& options,
                                       const std::vector<MotionPair>& training,
-                                      const std::vector<MotionPair>& testing)
+                                      const std::vector<MotionPair>& testing,
+                                      const MotionModel* nominal)
 {
   std::vector<ModelScore> scores;
   for (const std::string& name : models) {
@@ -79,6 +100,8 @@ std::vector<ModelScore> compareModels(const std::vector<std::string>& models,
     const ModelReport report = model->fit(training);
     scores.push_back(withFitReport(scoreModel(*model, testing), report));
   }
+  if (nominal)
+    scores.push_back(scoreNominal(*nominal, testing));
   return scores;
 }
 

@@ -24,7 +24,7 @@ std::string formatModelReport(const ModelReport& r)
     text += line;
   }
   if (!r.parameters.empty()) {
-    std::snprintf(line, sizeof(line), "\n%-24s %12s %14s %12s  %s\n", "parameter", "initial",
+    std::snprintf(line, sizeof(line), "\n%-29s %12s %14s %12s  %s\n", "parameter", "initial",
                   "estimate", "sigma", "unit");
     text += line;
     for (const ParameterEstimate& p : r.parameters) {
@@ -34,17 +34,29 @@ std::string formatModelReport(const ModelReport& r)
         std::snprintf(initial, sizeof(initial), "%.6g", p.initial);
       if (std::isfinite(p.sigma))
         std::snprintf(sigma, sizeof(sigma), "%.3g", p.sigma);
-      std::snprintf(line, sizeof(line), "%-24s %12s %14.7g %12s  %s\n", p.name.c_str(), initial,
+      std::snprintf(line, sizeof(line), "%-29s %12s %14.7g %12s  %s\n", p.name.c_str(), initial,
                     p.value, sigma, p.unit.c_str());
       text += line;
     }
   }
+  // A "before" exists only for models with start values (the parametric ones); the model-free
+  // fits have none, and the nominal model's numbers are in the comparison lines instead.
+  if (r.before.count > 0) {
+    std::snprintf(line, sizeof(line),
+                  "\nresidual RMS per pair: translation %.4f m -> %.4f m, rotation %.5f rad -> "
+                  "%.5f rad\n",
+                  r.before.translation_m, r.after.translation_m, r.before.rotation_rad,
+                  r.after.rotation_rad);
+  } else {
+    std::snprintf(line, sizeof(line),
+                  "\nresidual RMS per pair: translation %.4f m, rotation %.5f rad (no start "
+                  "values: nothing before the fit)\n",
+                  r.after.translation_m, r.after.rotation_rad);
+  }
+  text += line;
   std::snprintf(line, sizeof(line),
-                "\nresidual RMS per pair: translation %.4f m -> %.4f m, rotation %.5f rad -> "
-                "%.5f rad\n(per axis on the kept pairs: x %.4f m, y %.4f m, theta %.5f rad)\n",
-                r.before.translation_m, r.after.translation_m, r.before.rotation_rad,
-                r.after.rotation_rad, r.residual_rms_xytheta(0), r.residual_rms_xytheta(1),
-                r.residual_rms_xytheta(2));
+                "(per axis on the kept pairs: x %.4f m, y %.4f m, theta %.5f rad)\n",
+                r.residual_rms_xytheta(0), r.residual_rms_xytheta(1), r.residual_rms_xytheta(2));
   text += line;
   if (r.has_extrinsic) {
     std::snprintf(line, sizeof(line),

@@ -11,7 +11,7 @@ namespace odometry_calibration {
 
 std::vector<std::string> knownModelNames()
 {
-  return {"linear", "diff_drive", "gp", "tricycle", "mecanum"};
+  return {"linear", "diff_drive", "gp", "tricycle", "mecanum", "skid_steer"};
 }
 
 bool isKnownModel(const std::string& name)
@@ -72,6 +72,19 @@ std::unique_ptr<MotionModel> makeModel(const std::string& name, const ModelFacto
     }
     return std::make_unique<MecanumModel>(options.mecanum);
   }
+  if (name == "skid_steer") {
+    const int joints = static_cast<int>(options.joints.names.size());
+    for (const std::vector<int>* side :
+         {&options.skid_steer.left_indices, &options.skid_steer.right_indices}) {
+      for (int index : *side) {
+        if (index >= joints) {
+          throw std::invalid_argument("skid_steer: the wheel joints are not among the pairs' " +
+                                      std::to_string(joints) + " joints");
+        }
+      }
+    }
+    return std::make_unique<SkidSteerModel>(options.skid_steer);
+  }
   requireKnownModel(name, "makeModel");
   throw std::logic_error("makeModel: model '" + name + "' is known but not made");
 }
@@ -94,6 +107,8 @@ std::unique_ptr<MotionModel> loadModel(const std::string& model_yaml)
     return std::make_unique<TricycleModel>(TricycleModel::fromYaml(model_yaml));
   if (name == "mecanum")
     return std::make_unique<MecanumModel>(MecanumModel::fromYaml(model_yaml));
+  if (name == "skid_steer")
+    return std::make_unique<SkidSteerModel>(SkidSteerModel::fromYaml(model_yaml));
   throw std::runtime_error("model YAML: unknown or missing 'model' ('" + name + "')");
 }
 

@@ -105,6 +105,13 @@ void parameters(std::ostringstream& out, const ModelReport& r)
         << format("%.5f", r.T_base_sensor.theta()) << " rad ("
         << format("%.2f", r.T_base_sensor.theta() * kRadToDeg) << "°).\n";
   }
+  if (r.before.count == 0) {  // model-free: no start values, no "before"
+    out << "\nResidual RMS per pair: translation " << format("%.4f", r.after.translation_m)
+        << " m, rotation " << format("%.5f", r.after.rotation_rad)
+        << " rad (a model without start values; the nominal model, when configured, is compared "
+           "below).\n";
+    return;
+  }
   out << "\nResidual RMS per pair: translation " << format("%.4f", r.before.translation_m)
       << " m → " << format("%.4f", r.after.translation_m) << " m, rotation "
       << format("%.5f", r.before.rotation_rad) << " rad → " << format("%.5f", r.after.rotation_rad)

@@ -7,6 +7,7 @@
 #include "odometry_calibration/common/atomic_file.h"
 #include "odometry_calibration/common/median.h"
 #include "odometry_calibration/common/staged_directory.h"
+#include "odometry_calibration/report/controller_yaml.h"
 
 namespace odometry_calibration {
 
@@ -15,6 +16,7 @@ const char* const kResultFileName = "result.yaml";
 const char* const kTextReportFileName = "report.txt";
 const char* const kReportFileName = "report.md";
 const char* const kPlotFolderName = "plots";
+const char* const kControllerFileName = "controller.yaml";
 
 ResultFiles resultFilesForJob(const JointLayout& joints, const CalibrationJobResult& job,
                               const std::string& source)
@@ -24,8 +26,9 @@ ResultFiles resultFilesForJob(const JointLayout& joints, const CalibrationJobRes
   std::vector<double> durations_s;
   for (const MotionPair& pair : job.pairs)
     durations_s.push_back(pair.end_stamp_s - pair.start_stamp_s);
-  files.result_yaml =
-      calibrationResultYaml(job.report, *job.model, source, job.time_offset_s, median(durations_s));
+  files.result_yaml = calibrationResultYaml(job.report, *job.model, source, job.time_offset_s,
+                                            joints.names, median(durations_s));
+  files.controller_yaml = controllerYaml(job.report, source);
   files.plots.trajectories = job.trajectories;
   files.plots.calibrated_label = job.report.model;
   if (job.time_offset) {
@@ -62,10 +65,20 @@ ReportPlots writeResultFiles(const std::string& output_dir, ResultFiles files)
       std::string("`") + kTextReportFileName + "`: what the terminal showed",
       std::string("`") + kPlotFolderName +
           "/`: the images, their data (`.dat`) and gnuplot scripts (`.gp`)"};
+  if (!files.controller_yaml.empty()) {
+    markdown.files.push_back(std::string("`") + kControllerFileName +
+                             "`: the fitted geometry as the robot's controller takes it, with σ");
+  }
   const std::string report = markdownReport(markdown);
 
   writePairsCsv(output_dir + "/" + kPairsFileName, files.pairs);
   writeFileAtomically(output_dir + "/" + kResultFileName, files.result_yaml);
+  if (!files.controller_yaml.empty()) {
+    writeFileAtomically(output_dir + "/" + kControllerFileName, files.controller_yaml);
+  } else {  // an earlier fit's controller values must not pass for this one's
+    std::error_code ignored;
+    std::filesystem::remove(output_dir + "/" + kControllerFileName, ignored);
+  }
   writeFileAtomically(output_dir + "/" + kTextReportFileName, files.text_report);
   plot_folder.commit();
   writeFileAtomically(output_dir + "/" + kReportFileName, report);

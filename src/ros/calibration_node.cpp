@@ -8,6 +8,7 @@
 #include <geometry_msgs/TransformStamped.h>
 
 #include "odometry_calibration/calibration/calibration_result.h"
+#include "odometry_calibration/calibration/saved_calibration_score.h"
 #include "odometry_calibration/common/text_file.h"
 #include "odometry_calibration/ros/conversions.h"
 #include "odometry_calibration/ros/report_messages.h"
@@ -55,7 +56,9 @@ CalibrationNode::CalibrationNode(ros::NodeHandle handle, ros::NodeHandle private
   if (options_.load_saved_calibration && fs::exists(result_path)) {
     try {
       const CalibrationResult saved = readCalibrationResult(result_path);
-      // Another robot's (or configuration's) result: its model must take these joints.
+      // Another robot's (or configuration's) result: its joints (when recorded) must be these,
+      // and its model must take them.
+      requireCalibrationJoints(saved.joints, jointLayout(config_).names, "the configuration");
       const auto joints = static_cast<Eigen::Index>(channels_.size());
       saved.model->predict(
           {{0.0, Eigen::VectorXd::Zero(joints)}, {0.1, Eigen::VectorXd::Zero(joints)}});

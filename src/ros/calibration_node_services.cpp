@@ -9,6 +9,7 @@
 #include "odometry_calibration/common/atomic_file.h"
 #include "odometry_calibration/eval/model_report.h"
 #include "odometry_calibration/models/model_factory.h"
+#include "odometry_calibration/report/controller_yaml.h"
 #include "odometry_calibration/ros/calibration_node.h"
 #include "odometry_calibration/ros/conversions.h"
 #include "odometry_calibration/ros/report_messages.h"
@@ -121,8 +122,9 @@ bool CalibrationNode::onCalibrate(Calibrate::Request& request, Calibrate::Respon
     ROS_WARN("%s\n%s", response.message.c_str(), summary.c_str());
     return true;
   }
-  const std::string result_yaml = calibrationResultYaml(
-      report, *model, "live node " + ros::this_node::getName(), time_offset_s, fit_interval_s);
+  const std::string source = "live node " + ros::this_node::getName();
+  const std::string result_yaml = calibrationResultYaml(report, *model, source, time_offset_s,
+                                                        jointLayout(config).names, fit_interval_s);
   try {
     // Every fit is kept (last_fit.yaml); ~save makes it the calibration loaded on start.
     writeFileAtomically(options_.output_directory + "/last_fit.yaml", result_yaml);
@@ -162,6 +164,7 @@ bool CalibrationNode::onCalibrate(Calibrate::Request& request, Calibrate::Respon
     T_base_sensor_ = T_base_sensor;
     fitted_model_ = model;
     fitted_result_yaml_ = result_yaml;
+    fitted_controller_yaml_ = controllerYaml(report, source);
     corrected_odometry_ = std::move(replay);
     model_interval_s_ = fit_interval_s;
     corrected_path_.poses = std::move(path);
@@ -204,6 +207,15 @@ bool CalibrationNode::onSave(std_srvs::Trigger::Request&, std_srvs::Trigger::Res
   try {
     writeFileAtomically(result_path, fitted_result_yaml_);
     response.message = "saved " + result_path;
+    const std::string controller_path =
+        fs::absolute(options_.output_directory + "/controller.yaml").lexically_normal().string();
+    if (!fitted_controller_yaml_.empty()) {
+      writeFileAtomically(controller_path, fitted_controller_yaml_);
+      response.message += ", " + controller_path;
+    } else {  // an earlier calibration's controller values must not pass for this one's
+      std::error_code ignored;
+      fs::remove(controller_path, ignored);
+    }
     if (T_base_sensor_) {
       const std::string urdf_path =
           fs::absolute(options_.output_directory + "/laser_joint.urdf").lexically_normal().string();

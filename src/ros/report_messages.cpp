@@ -1,5 +1,7 @@
 #include "odometry_calibration/ros/report_messages.h"
 
+#include <limits>
+
 #include <ros/time.h>
 
 namespace odometry_calibration {
@@ -20,8 +22,11 @@ odometry_calibration::CalibrationReport toReportMsg(const ModelReport& report,
     parameter.sigma = p.sigma;
     msg.parameters.push_back(parameter);
   }
-  msg.residual_rms_translation_before_m = report.before.translation_m;
-  msg.residual_rms_rotation_before_rad = report.before.rotation_rad;
+  // Model-free fits have no start values: no "before" (NaN), never a 0 that looks measured.
+  const bool has_before = report.before.count > 0;
+  const double none = std::numeric_limits<double>::quiet_NaN();
+  msg.residual_rms_translation_before_m = has_before ? report.before.translation_m : none;
+  msg.residual_rms_rotation_before_rad = has_before ? report.before.rotation_rad : none;
   msg.residual_rms_translation_after_m = report.after.translation_m;
   msg.residual_rms_rotation_after_rad = report.after.rotation_rad;
   for (int i = 0; i < 3; ++i)

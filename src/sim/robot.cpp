@@ -332,6 +332,73 @@ private:
   Eigen::Matrix<double, 3, 4> solver_;  ///< their least-squares pseudo-inverse
 };
 
+/// Four wheels, two per side turning together (chained), steered by the speed difference of the
+/// sides. Turning drags the wheels sideways, so the robot turns as a differential drive whose
+/// separation is the track width times `effective_separation_factor` (Mandow et al., IROS 2007:
+/// the instantaneous centres of rotation of the two sides lie outside the wheels).
+class SkidSteer : public Robot
+{
+public:
+  explicit SkidSteer(const RobotOptions& options)
+      : p_(options, {{"wheel_radius_m", 0.1},
+                     {"wheel_radius_left_m", 0.0},
+                     {"wheel_radius_right_m", 0.0},
+                     {"wheel_separation_m", 0.5},
+                     {"effective_separation_factor", 1.45},
+                     {"encoder_ticks_per_rev", 2000}}),
+        deformation_(p_),
+        r_left_(p_["wheel_radius_left_m"] > 0.0 ? p_["wheel_radius_left_m"]
+                                                : p_.positive("wheel_radius_m")),
+        r_right_(p_["wheel_radius_right_m"] > 0.0 ? p_["wheel_radius_right_m"]
+                                                  : p_.positive("wheel_radius_m")),
+        separation_(p_.positive("wheel_separation_m")),
+        factor_(p_.positive("effective_separation_factor"))
+  {
+    if (factor_ < 1.0) {
+      throw std::invalid_argument("robot parameter 'effective_separation_factor' must be >= 1");
+    }
+    if (deformation_.axis_misalignment_rad != 0.0) {
+      throw std::invalid_argument("axis_misalignment_rad is not modelled for skid_steer");
+    }
+  }
+
+  std::vector<JointEncoderSpec> joints() const override
+  {
+    const double ticks = p_.positive("encoder_ticks_per_rev");
+    return {{"front_left_wheel", EncoderKind::kIncremental, ticks},
+            {"rear_left_wheel", EncoderKind::kIncremental, ticks},
+            {"front_right_wheel", EncoderKind::kIncremental, ticks},
+            {"rear_right_wheel", EncoderKind::kIncremental, ticks}};
+  }
+
+  Twist2 step(const Twist2& command, double dt_s, Eigen::VectorXd* joint_rad) const override
+  {
+    // The controller knows the geometric values only; the turn rate realised is smaller by the
+    // slip factor.
+    const double rate_left = (command.vx_mps - 0.5 * separation_ * command.omega_radps) / r_left_;
+    const double rate_right = (command.vx_mps + 0.5 * separation_ * command.omega_radps) / r_right_;
+    const double speed_left =
+        deformation_.effectiveRadius(0, r_left_, (*joint_rad)(0), rate_left) * rate_left;
+    const double speed_right =
+        deformation_.effectiveRadius(2, r_right_, (*joint_rad)(2), rate_right) * rate_right;
+    (*joint_rad)(0) += rate_left * dt_s;
+    (*joint_rad)(1) += rate_left * dt_s;
+    (*joint_rad)(2) += rate_right * dt_s;
+    (*joint_rad)(3) += rate_right * dt_s;
+    return {0.5 * (speed_left + speed_right), 0.0,
+            (speed_right - speed_left) / (factor_ * separation_)};
+  }
+
+  bool canTurnInPlace() const override { return true; }
+  double footprintRadius() const override { return 0.5 * factor_ * separation_ + 0.2; }
+  std::map<std::string, double> trueParameters() const override { return p_.all(); }
+
+private:
+  Parameters p_;
+  Deformation deformation_;
+  double r_left_, r_right_, separation_, factor_;
+};
+
 }  // namespace
 
 std::unique_ptr<Robot> makeRobot(const RobotOptions& options)
@@ -342,8 +409,10 @@ std::unique_ptr<Robot> makeRobot(const RobotOptions& options)
     return std::make_unique<Tricycle>(options);
   if (options.type == "mecanum")
     return std::make_unique<Mecanum>(options);
+  if (options.type == "skid_steer")
+    return std::make_unique<SkidSteer>(options);
   throw std::invalid_argument("unknown robot type '" + options.type +
-                              "' (expected diff_drive, tricycle or mecanum)");
+                              "' (expected diff_drive, tricycle, mecanum or skid_steer)");
 }
 
 }  // namespace sim

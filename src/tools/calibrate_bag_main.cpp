@@ -38,14 +38,16 @@ const char* kUsage =
     "Reads the bags in timestamp order with the rosbag API, makes keyframe pairs (PLICP scan\n"
     "matching, or the configured ego-motion topic), fits the configured model and writes\n"
     "pairs.csv, result.yaml, report.txt and report.md (the report with plots in plots/, drawn\n"
-    "by gnuplot) to the output directory.\n"
+    "by gnuplot) to the output directory, and for diff_drive, skid_steer and mecanum fits\n"
+    "controller.yaml (the geometry as the robot's controller takes it).\n"
     "\n"
     "options:\n"
     "  --output-dir DIR     where to write (default: the config's output_directory)\n"
     "  --model NAME         fit this model instead of the config's (diff_drive, tricycle,\n"
-    "                       mecanum, linear, gp)\n"
+    "                       mecanum, skid_steer, linear, gp)\n"
     "  --test BAG           score the models on this bag too (repeatable); prints the paper's\n"
-    "                       comparison table for the model and the config's compare_models\n"
+    "                       comparison table for the model, the config's compare_models and\n"
+    "                       the nominal robot (prior_model's start values, not fitted)\n"
     "  --start S, --end S   use only [S, E] seconds after the first message\n"
     "  --holdout F          hold out the pairs of the last fraction F (0 < F < 1) of the\n"
     "                       collection: fit on the others, score calibrated and nominal\n"
@@ -258,7 +260,8 @@ int main(int argc, char** argv)
       CalibrationConfig test_config = config;
       test_config.collector.time_offset_s = job.time_offset_s;
       const BagRunResult test = runBags(test_bags, test_config, 0.0, 0.0);
-      files.markdown.test_table = formatComparisonTable(scoreModelsOnTest(config, job, test.pairs));
+      files.markdown.test_table =
+          formatComparisonTable(scoreModelsOnTest(config, job, test.pairs, test.encoder_history));
       files.markdown.test_pairs = test.pairs.size();
       text += "\ntest bags: " + std::to_string(test.pairs.size()) + " pairs\n" +
               files.markdown.test_table;
@@ -299,9 +302,11 @@ int main(int argc, char** argv)
     files.markdown.run_time_s = run.wall_time_s;
     files.markdown.statistics = run.statistics;
     files.markdown.collection_notes = bagRunNotes(run);
+    const bool controller = !files.controller_yaml.empty();
     const ReportPlots plots = writeResultFiles(output_dir, std::move(files));
     std::cout << "\nwritten: " << output_dir << "/{" << kPairsFileName << ", " << kResultFileName
-              << ", " << kTextReportFileName << ", " << kReportFileName << ", " << kPlotFolderName
+              << (controller ? std::string(", ") + kControllerFileName : "") << ", "
+              << kTextReportFileName << ", " << kReportFileName << ", " << kPlotFolderName
               << "/}\nreport: " << output_dir << "/" << kReportFileName << "\n";
     if (!plots.problem.empty()) {
       std::cerr << "warning: the report has no plots or only some: " << plots.problem << "\n";

@@ -43,6 +43,45 @@ TEST(CalibrationConfig, AbsoluteJointsGetAGlitchLimitToo)
   EXPECT_TRUE(has_absolute);
 }
 
+TEST(CalibrationConfig, SkidSteerConfigResolvesBothSidesAndIsTheNominal)
+{
+  const CalibrationConfig config = loadCalibrationConfig(kConfig + "/skid_steer.yaml");
+  EXPECT_EQ(config.model, "skid_steer");
+  EXPECT_EQ(config.prior_model, "skid_steer");
+  const SkidSteerOptions& s = config.models.skid_steer;
+  EXPECT_EQ(s.left_indices, (std::vector<int>{0, 1}));
+  EXPECT_EQ(s.right_indices, (std::vector<int>{2, 3}));
+  EXPECT_DOUBLE_EQ(s.wheel_separation_m, 0.5);
+  EXPECT_DOUBLE_EQ(s.ticks_per_turn, 2000.0);
+  EXPECT_DOUBLE_EQ(priorSensorPose(config)->x(), 0.25);
+  // The nominal robot: both sides 100 ticks forward = 2 pi 0.1 m / 20 straight ahead; the
+  // laser sits on the axis, so it moves as the base does.
+  const std::vector<EncoderSample> samples = {{0.0, Eigen::Vector4d(0, 0, 0, 0)},
+                                              {0.5, Eigen::Vector4d(90, 110, 100, 100)}};
+  const Pose2 motion = priorPredictor(config)(samples);
+  EXPECT_NEAR(motion.x(), 2.0 * M_PI * 0.1 / 20.0, 1e-12);
+  EXPECT_NEAR(motion.theta(), 0.0, 1e-12);
+  ASSERT_TRUE(priorModel(config));
+  EXPECT_EQ(priorModel(config)->name(), "skid_steer");
+
+  // Default sides: the incremental joints named *left* / *right*; none to default to: said.
+  const std::string four =
+      "joints: [{name: fl_left}, {name: rl_left}, {name: fr_right}, {name: rr_right}]\n";
+  const CalibrationConfig defaults = parseCalibrationConfig(four + "model: skid_steer\n", "c");
+  EXPECT_EQ(defaults.models.skid_steer.left_indices, (std::vector<int>{0, 1}));
+  EXPECT_EQ(defaults.models.skid_steer.right_indices, (std::vector<int>{2, 3}));
+  try {
+    parseCalibrationConfig("joints: [{name: a}, {name: b}]\nmodel: skid_steer\n", "c.yaml");
+    FAIL() << "skid_steer without sides was accepted";
+  } catch (const std::runtime_error& error) {
+    EXPECT_NE(std::string(error.what()).find("skid_steer"), std::string::npos) << error.what();
+    EXPECT_NE(std::string(error.what()).find("left_joints"), std::string::npos) << error.what();
+  }
+  EXPECT_THROW(parseCalibrationConfig(four + "model: skid_steer\nskid_steer: {left_joints: [x]}\n",
+                                      "c.yaml"),
+               std::runtime_error);
+}
+
 TEST(CalibrationConfig, ErrorsNameTheKey)
 {
   auto message = [](const std::string& text) -> std::string {

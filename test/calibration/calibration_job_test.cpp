@@ -136,7 +136,7 @@ TEST(CalibrationJob, EstimatesTheTimeOffsetAndFitsThePairsCutThere)
   EXPECT_FALSE(kept.time_offset);
 }
 
-TEST(CalibrationJob, ScoresTheModelFirstThenTheComparedOnes)
+TEST(CalibrationJob, ScoresTheModelFirstThenTheComparedOnesThenTheNominal)
 {
   const sim::GeneratedPairs data = simulatedPairs();
   CalibrationConfig config = diffDriveConfig(data.joints);
@@ -146,12 +146,47 @@ TEST(CalibrationJob, ScoresTheModelFirstThenTheComparedOnes)
   const CalibrationJobResult job = runCalibrationJob(config, data.pairs, {}, options);
   const std::vector<MotionPair> test(data.pairs.begin(), data.pairs.begin() + 60);
   const std::vector<ModelScore> scores = scoreModelsOnTest(config, job, test);
-  ASSERT_EQ(scores.size(), 2u);
+  ASSERT_EQ(scores.size(), 3u);
   EXPECT_EQ(scores[0].model, "diff_drive");
   EXPECT_EQ(scores[1].model, "linear");
+  EXPECT_EQ(scores[2].model, "nominal");
+  EXPECT_TRUE(scores[0].fitted);
+  EXPECT_FALSE(scores[2].fitted);
   EXPECT_EQ(scores[0].test_pairs, 60u);
-  // The right parametric model beats the linear one on its own robot.
+  EXPECT_EQ(scores[2].test_pairs, 60u);
+  // The right parametric model beats the linear one on its own robot...
   EXPECT_LT(scores[0].ate_m, scores[1].ate_m);
+  // ...and the nominal robot (radii 0.077 m for 0.0765 / 0.0775, separation 0.33 m for 0.32,
+  // sensor 5 cm off) is far worse than the fit: the sensor offset alone errs ~5 cm * turn.
+  EXPECT_GT(scores[2].rmse_xytheta(1), 3.0 * scores[0].rmse_xytheta(1));
+  // The nominal row shows no fit time or outliers.
+  const std::string table = formatComparisonTable(scores);
+  EXPECT_NE(table.find("the configured nominal model, not fitted"), std::string::npos) << table;
+}
+
+TEST(CalibrationJob, TestTableScoresTheNominalAtTimeOffsetZero)
+{
+  // A job at time offset 0.1 s (configured, not estimated): its test pairs are cut there, the
+  // nominal row uses the same pairs re-cut at 0 from the test history, as the report does.
+  const sim::GeneratedPairs data = simulatedPairs();
+  const std::vector<EncoderSample> history = encoderHistory(data.pairs);
+  CalibrationConfig config = diffDriveConfig(data.joints);
+  config.collector.time_offset_s = 0.1;
+  CalibrationJobOptions options;
+  options.compare_trajectories = false;
+  const std::vector<MotionPair> late = rewindowPairs(data.pairs, history, 0.1);
+  const CalibrationJobResult job = runCalibrationJob(config, late, history, options);
+  ASSERT_DOUBLE_EQ(job.time_offset_s, 0.1);
+  const std::vector<ModelScore> scores = scoreModelsOnTest(config, job, late, history);
+  ASSERT_EQ(scores.size(), 2u);
+  const std::unique_ptr<MotionModel> nominal = makeModel("diff_drive", config.models);
+  const ModelScore at_zero = scoreModel(*nominal, rewindowPairs(late, history, 0.0));
+  const ModelScore at_job = scoreModel(*nominal, late);
+  EXPECT_DOUBLE_EQ(scores[1].ate_m, at_zero.ate_m);
+  EXPECT_DOUBLE_EQ(scores[1].rmse_xytheta(2), at_zero.rmse_xytheta(2));
+  EXPECT_NE(at_zero.rmse_xytheta(2), at_job.rmse_xytheta(2));  // the re-cut matters
+  // Without a history the nominal row takes the pairs as they are.
+  EXPECT_DOUBLE_EQ(scoreModelsOnTest(config, job, late)[1].ate_m, at_job.ate_m);
 }
 
 TEST(CalibrationJob, ExitStatusFollowsConvergenceAndWarnings)
@@ -215,8 +250,9 @@ TEST(CalibrationJob, TestTableMarksAFitThatDidNotConverge)
   EXPECT_EQ(calibrationExitStatus(job.report), 3);
   const std::vector<MotionPair> test(data.pairs.begin(), data.pairs.begin() + 60);
   const std::vector<ModelScore> scores = scoreModelsOnTest(config, job, test);
-  ASSERT_EQ(scores.size(), 1u);
+  ASSERT_EQ(scores.size(), 2u);  // the model and the nominal row
   EXPECT_FALSE(scores[0].converged);
+  EXPECT_TRUE(scores[1].converged);
   EXPECT_NE(formatComparisonTable(scores).find("NOT converged"), std::string::npos);
 }
 

@@ -45,7 +45,7 @@ TEST(CalibrationResult, RoundTripPredictsIdentically)
     SCOPED_TRACE(name);
     auto model = makeModel(name, factoryOptions(data.joints));
     const ModelReport report = model->fit(data.pairs);
-    const std::string text = calibrationResultYaml(report, *model, "test", -0.125, 0.3);
+    const std::string text = calibrationResultYaml(report, *model, "test", -0.125, {}, 0.3);
     const CalibrationResult loaded = parseCalibrationResult(text, "result.yaml");
     ASSERT_TRUE(loaded.model);
     EXPECT_DOUBLE_EQ(loaded.fit_interval_s, 0.3);

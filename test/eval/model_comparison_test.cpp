@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include "odometry_calibration/models/diff_drive_model.h"
 #include "odometry_calibration/sim/pair_generator.h"
 
 namespace odometry_calibration {
@@ -77,6 +78,40 @@ TEST(ModelComparison, MarksAFitThatDidNotConvergeAndLeavesTheOthersAlone)
   const std::string linear_row = table.substr(table.find("\nlinear") + 1);
   EXPECT_EQ(linear_row.substr(0, linear_row.find('\n')).find("NOT converged"), std::string::npos);
   EXPECT_NE(table.find("NOT converged: diff_drive ("), std::string::npos);
+}
+
+TEST(ModelComparison, AddsTheUnfittedNominalRowLast)
+{
+  const sim::GeneratedPairs training = pairs(1), testing = pairs(2);
+  ModelFactoryOptions options;
+  options.joints = training.joints;
+  options.diff_drive.initial_left_radius_m = 0.077;
+  options.diff_drive.initial_right_radius_m = 0.077;
+  options.diff_drive.initial_separation_m = 0.33;
+  options.diff_drive.initial_T_base_sensor = Pose2(0.15, 0.0, 0.0);  // the true sensor pose
+  const DiffDriveModel nominal(options.diff_drive);
+  const std::vector<ModelScore> scores =
+      compareModels({"diff_drive"}, options, training.pairs, testing.pairs, &nominal);
+  ASSERT_EQ(scores.size(), 2u);
+  EXPECT_EQ(scores[1].model, "nominal");
+  EXPECT_FALSE(scores[1].fitted);
+  EXPECT_EQ(scores[1].test_pairs, testing.pairs.size());
+  // The nominal row is the start values' prediction, exactly: scoreModel of the same model.
+  const ModelScore direct = scoreModel(nominal, testing.pairs);
+  EXPECT_DOUBLE_EQ(scores[1].ate_m, direct.ate_m);
+  EXPECT_DOUBLE_EQ(scores[1].rmse_xytheta(2), direct.rmse_xytheta(2));
+  // 3 % too wide a separation and 1 % off radii: per pair (0.3 s) the heading error stands
+  // above the 2 mrad noise the fit reaches, and chained over the test drive it is far worse.
+  EXPECT_GT(scores[1].rmse_xytheta(2), 2.0 * scores[0].rmse_xytheta(2));
+  EXPECT_GT(scores[1].ate_m, 3.0 * scores[0].ate_m);
+  // Its fit time and outliers show "-", and the table says what the row is.
+  const std::string table = formatComparisonTable(scores);
+  const std::string row = table.substr(table.find("\nnominal") + 1);
+  EXPECT_NE(row.substr(0, row.find('\n')).find(" - "), std::string::npos) << table;
+  EXPECT_NE(table.find("nominal: the configured nominal model, not fitted (diff_drive at its "
+                       "start values)"),
+            std::string::npos)
+      << table;
 }
 
 }  // namespace

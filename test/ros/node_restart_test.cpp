@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <set>
 #include <string>
 
@@ -65,6 +67,12 @@ TEST(NodeRestart, KilledMidRunLosesNoPair)
   EXPECT_TRUE(std::filesystem::exists(output_directory + "/result.yaml"));
   EXPECT_TRUE(std::filesystem::exists(output_directory + "/laser_joint.urdf"));
   EXPECT_TRUE(std::filesystem::exists(output_directory + "/last_fit.yaml"));
+  // Issue 17: the diff_drive fit as diff_drive_controller takes it, beside result.yaml.
+  EXPECT_NE(save.response.message.find("controller.yaml"), std::string::npos);
+  std::ifstream controller(output_directory + "/controller.yaml");
+  const std::string controller_text((std::istreambuf_iterator<char>(controller)),
+                                    std::istreambuf_iterator<char>());
+  EXPECT_NE(controller_text.find("wheel_separation_multiplier: "), std::string::npos);
   const int pid = test::nodePid(kNode);
   ASSERT_GT(pid, 0);
   ASSERT_EQ(kill(pid, SIGKILL), 0);

@@ -104,6 +104,8 @@ TEST(ToolUsage, CompareModels)
                  "option --ticks-per-rev: expected a number >= 1, got '0'");
   expectBadUsage("compare_models", "--train a --test b --models linear,cubic",
                  "--models: unknown model 'cubic'");
+  expectBadUsage("compare_models", "--train a --test b --config c.yaml --left-joint l",
+                 "give either --config or the diff_drive and mecanum options");
 }
 
 TEST(ToolUsage, GeneratePairs)
@@ -130,6 +132,18 @@ TEST(ToolUsage, Simulate)
   expectBadUsage("simulate", "s.yaml --duration 0",
                  "option --duration: expected a number > 0, got '0'");
   expectBadUsage("simulate", "a.yaml b.yaml", "unexpected argument 'b.yaml'");
+}
+
+TEST(ToolUsage, ScoreCalibration)
+{
+  expectHelp("score_calibration");
+  expectBadUsage("score_calibration", "a.bag", "give --config and --result");
+  expectBadUsage("score_calibration", "--config c.yaml --result r.yaml",
+                 "give either bags or --pairs files");
+  expectBadUsage("score_calibration", "--config c.yaml --result r.yaml a.bag --pairs p.csv",
+                 "give either bags or --pairs files");
+  expectBadUsage("score_calibration", "--config c.yaml --result r.yaml a.bag --start 5 --end 2",
+                 "--end must come after --start");
 }
 
 TEST(ToolUsage, BadInputIsNotBadUsage)

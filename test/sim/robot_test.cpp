@@ -41,6 +41,29 @@ TEST(SimRobots, IdealDiffDriveRealisesTheCommandAndTurnsItsWheels)
   EXPECT_NEAR(joints(1), 0.1 * (0.3 + 0.2 * 0.5) / 0.08, 1e-12);
 }
 
+TEST(SimRobots, SkidSteerTurnsAsAWiderDiffDrive)
+{
+  const auto robot = makeRobot({"skid_steer",
+                                {{"wheel_radius_m", 0.1},
+                                 {"wheel_separation_m", 0.5},
+                                 {"effective_separation_factor", 1.5}}});
+  ASSERT_EQ(robot->joints().size(), 4u);
+  EXPECT_EQ(robot->joints()[1].name, "rear_left_wheel");
+  Eigen::VectorXd joints = robot->initialJoints();
+  // The controller commands the wheels for the geometric track width; the robot skids and
+  // turns 1.5 times slower, at the commanded forward speed.
+  const Twist2 twist = stepOnce(*robot, {0.3, 0.0, 0.6}, &joints, 0.1);
+  EXPECT_NEAR(twist.vx_mps, 0.3, 1e-12);
+  EXPECT_NEAR(twist.vy_mps, 0.0, 1e-12);
+  EXPECT_NEAR(twist.omega_radps, 0.6 / 1.5, 1e-12);
+  EXPECT_NEAR(joints(0), 0.1 * (0.3 - 0.25 * 0.6) / 0.1, 1e-12);  // front left [rad]
+  EXPECT_NEAR(joints(1), joints(0), 1e-12);                       // rear left, chained
+  EXPECT_NEAR(joints(2), 0.1 * (0.3 + 0.25 * 0.6) / 0.1, 1e-12);
+  EXPECT_NEAR(joints(3), joints(2), 1e-12);
+  EXPECT_THROW(makeRobot({"skid_steer", {{"effective_separation_factor", 0.8}}}),
+               std::invalid_argument);
+}
+
 TEST(SimRobots, SlipShrinksTheRadiusWithSpeed)
 {
   // 10 % less at 0.6 m/s of wheel surface speed.

@@ -65,7 +65,8 @@ struct CalibrationConfig
   std::vector<std::string> compare_models;  ///< further models fitted for the comparison table
   ModelFactoryOptions models;               ///< per-model options (joints filled in)
   /// Model used for the matcher's initial guess and the node's nominal odometry ("none", or a
-  /// parametric model with its start values: "diff_drive", "tricycle", "mecanum").
+  /// parametric model with its start values: "diff_drive", "tricycle", "mecanum",
+  /// "skid_steer"). Also the nominal row of the comparison tables.
   std::string prior_model = "diff_drive";
   std::string output_directory = "odometry_calibration_results";
 };
@@ -74,8 +75,8 @@ struct CalibrationConfig
 CalibrationConfig loadCalibrationConfig(const std::string& path);
 CalibrationConfig parseCalibrationConfig(const std::string& text, const std::string& source);
 
-/// `config_text` with the model sections (diff_drive, tricycle, mecanum, linear, gp, prior_model,
-/// model) replaced key by key by those of `override_yaml` (a YAML mapping, e.g.
+/// `config_text` with the model sections (diff_drive, tricycle, mecanum, skid_steer, linear, gp,
+/// prior_model, model) replaced key by key by those of `override_yaml` (a YAML mapping, e.g.
 /// "{gp: {kernel: linear}}"), then parsed and validated. Throws std::runtime_error naming a key
 /// that may not be overridden or an invalid value.
 CalibrationConfig overrideModelOptions(const std::string& config_text,
@@ -96,8 +97,8 @@ Eigen::VectorXd applySigns(const CalibrationConfig& config, const Eigen::VectorX
 /// The joints as the models see them.
 JointLayout jointLayout(const CalibrationConfig& config);
 
-/// The prior model (diff_drive or tricycle at the configuration's start values, unfitted: it
-/// predicts the nominal robot), or nullptr for "none".
+/// The prior model (diff_drive, tricycle or skid_steer at the configuration's start values,
+/// unfitted: it predicts the nominal robot), or nullptr for "none".
 std::shared_ptr<MotionModel> priorModel(const CalibrationConfig& config);
 
 /// The prior model's sensor pose in base_link (the configuration's start value), if any.

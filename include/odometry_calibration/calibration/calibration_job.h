@@ -56,10 +56,13 @@ CalibrationJobResult runCalibrationJob(const CalibrationConfig& config,
 
 /// The paper's comparison (Tables III/IV): the job's model and each of config.compare_models
 /// (fitted to the job's pairs) scored on `test_pairs`, which were collected at the job's time
-/// offset. The job's model comes first.
+/// offset. The job's model comes first; the nominal robot (the configuration's prior, unfitted:
+/// scoreNominal) comes last when there is one, at time offset 0 like the report's nominal (the
+/// test pairs re-cut from `test_history` when it is given and the job's offset is not 0).
 std::vector<ModelScore> scoreModelsOnTest(const CalibrationConfig& config,
                                           const CalibrationJobResult& job,
-                                          const std::vector<MotionPair>& test_pairs);
+                                          const std::vector<MotionPair>& test_pairs,
+                                          const std::vector<EncoderSample>& test_history = {});
 
 /// Held-out scores (scoreModel: ATE and RPE of the chained predictions, paper eqs. 10-11) of the
 /// job's model on `test_pairs` (collected at the configuration's time offset, re-cut at the

@@ -5,6 +5,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "odometry_calibration/geometry/se2.h"
 #include "odometry_calibration/models/model.h"
@@ -21,14 +22,17 @@ struct CalibrationResult
   /// Keyframe interval of the pairs the model was fitted on [s] (a GP predicts windows of this
   /// length); 0: not recorded (results written before issue 22: the configured interval_s).
   double fit_interval_s = 0.0;
+  /// The joints the model was fitted on, in EncoderSample order (empty: not recorded).
+  std::vector<std::string> joints;
 };
 
 /// result.yaml's text: the report's numbers, the fitted model (enough to predict again), the
-/// extrinsic, `time_offset_s` (to the microsecond) and, when > 0, `fit_interval_s` (the fitted
-/// pairs' keyframe interval). The one writer of result.yaml, for the node's ~save and
-/// calibrate_bag.
+/// extrinsic, `time_offset_s` (to the microsecond), `joints` (the joint names, in the model's
+/// order) when given and, when > 0, `fit_interval_s` (the fitted pairs' keyframe interval). The
+/// one writer of result.yaml, for the node's ~save and calibrate_bag.
 std::string calibrationResultYaml(const ModelReport& report, const MotionModel& model,
                                   const std::string& source, double time_offset_s,
+                                  const std::vector<std::string>& joints = {},
                                   double fit_interval_s = 0.0);
 
 /// Parses result.yaml's text. Throws std::runtime_error naming `source` and what is missing.

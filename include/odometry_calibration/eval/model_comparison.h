@@ -29,7 +29,15 @@ struct ModelScore
   /// `termination` (its scores are those of wherever the solver stopped).
   bool converged = true;
   std::string termination;
+  /// False for a row without a fit here (the nominal model, a saved calibration): its fit time
+  /// and outliers show "-"; a row named "nominal" is explained under the table.
+  bool fitted = true;
+  std::string nominal_model;  ///< the nominal row: which model at its start values
 };
+
+/// The paper's baseline row: `nominal` (a parametric model at its configured start values,
+/// unfitted) scored on the test pairs as scoreModel does, named "nominal", `fitted` false.
+ModelScore scoreNominal(const MotionModel& nominal, const std::vector<MotionPair>& test);
 
 /// `score` with the fit's time, outliers, warnings and convergence from `report`.
 ModelScore withFitReport(ModelScore score, const ModelReport& report);
@@ -44,12 +52,13 @@ ModelScore scoreModel(const MotionModel& model, const std::vector<MotionPair>& t
 std::string formatComparisonTable(const std::vector<ModelScore>& scores);
 
 /// Fits each model of `models` (makeModel with `options`, in order) on the training pairs and
-/// scores it on the test pairs (scoreModel, plus the fit's time, outliers and warnings). Throws
-/// std::invalid_argument "the training files hold no pair" without training pairs, or what
-/// makeModel and the fit throw.
+/// scores it on the test pairs (scoreModel, plus the fit's time, outliers and warnings), then
+/// adds the `nominal` row (scoreNominal) when given. Throws std::invalid_argument "the
+/// training files hold no pair" without training pairs, or what makeModel and the fit throw.
 std::vector<ModelScore> compareModels(const std::vector<std::string>& models,
                                       const ModelFactoryOptions& options,
                                       const std::vector<MotionPair>& training,
-                                      const std::vector<MotionPair>& testing);
+                                      const std::vector<MotionPair>& testing,
+                                      const MotionModel* nominal = nullptr);
 
 }  // namespace odometry_calibration

@@ -10,6 +10,7 @@
 #include "odometry_calibration/models/linear_model.h"
 #include "odometry_calibration/models/mecanum_model.h"
 #include "odometry_calibration/models/model.h"
+#include "odometry_calibration/models/skid_steer_model.h"
 #include "odometry_calibration/models/tricycle_model.h"
 
 namespace odometry_calibration {
@@ -24,6 +25,7 @@ struct ModelFactoryOptions
   GpOptions gp;
   TricycleModelOptions tricycle;
   MecanumOptions mecanum;
+  SkidSteerOptions skid_steer;
 };
 
 /// Names makeModel knows.

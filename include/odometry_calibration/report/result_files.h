@@ -20,12 +20,14 @@ extern const char* const kResultFileName;      ///< "result.yaml"
 extern const char* const kTextReportFileName;  ///< "report.txt"
 extern const char* const kReportFileName;      ///< "report.md"
 extern const char* const kPlotFolderName;      ///< "plots"
+extern const char* const kControllerFileName;  ///< "controller.yaml"
 
 /// What to write.
 struct ResultFiles
 {
   PairsFile pairs;
   std::string result_yaml;
+  std::string controller_yaml;  ///< controller_yaml.h; empty: no controller form, no file
   std::string text_report;
   ReportPlotInput plots;         ///< data of the report's plots
   MarkdownReportInput markdown;  ///< the report (plots, plot_folder and files are filled in)
@@ -33,7 +35,8 @@ struct ResultFiles
 };
 
 /// The files of one calibration job: its pairs, result.yaml (calibrationResultYaml, naming
-/// `source`), the plots' data and the report's fit, time offset and trajectories. The caller
+/// `source`), controller.yaml (controllerYaml, when the model has a controller form), the
+/// plots' data and the report's fit, time offset and trajectories. The caller
 /// adds what it knows of the collection (bags, statistics, notes), the text report, the test
 /// table and the plotting program.
 ResultFiles resultFilesForJob(const JointLayout& joints, const CalibrationJobResult& job,

@@ -123,8 +123,9 @@ private:
   std::string active_model_origin_;  ///< "nominal", "saved result.yaml", "fit at ..."
   std::shared_ptr<const MotionModel> fitted_model_;  ///< last successful fit (for ~save)
   std::string fitted_result_yaml_;                   ///< its result.yaml text
-  std::optional<Pose2> T_base_sensor_;               ///< learned (or saved) extrinsic
-  std::string scan_frame_;                           ///< from the scans' headers
+  std::string fitted_controller_yaml_;  ///< its controller.yaml text (empty: no controller form)
+  std::optional<Pose2> T_base_sensor_;  ///< learned (or saved) extrinsic
+  std::string scan_frame_;              ///< from the scans' headers
   nav_msgs::Path nominal_path_, corrected_path_, scan_matched_path_;
   std::vector<std::pair<double, Pose2>> scan_matched_sensor_poses_;
   double last_path_stamp_s_ = -1e300;

@@ -39,7 +39,7 @@ struct JointEncoderSpec
 /// makeRobot); unknown keys are rejected so typos do not go unnoticed.
 struct RobotOptions
 {
-  std::string type = "diff_drive";           ///< diff_drive | tricycle | mecanum
+  std::string type = "diff_drive";           ///< diff_drive | tricycle | mecanum | skid_steer
   std::map<std::string, double> parameters;  ///< overrides of the type's defaults
 };
 
@@ -94,6 +94,10 @@ public:
 ///    wheel_tilt_deg [0] (T2: the wheel tilted by this angle [deg]: effective radius
 ///    r cos(tilt), rollers seen from above at atan(cos(tilt)) instead of 45 deg); the robot
 ///    realises the least-squares twist of the four wheels' roller constraints
+///  skid_steer (joints front_left, rear_left, front_right, rear_right): wheel_radius_m [0.1] (or
+///    wheel_radius_left_m/_right_m), wheel_separation_m [0.5] (geometric track width),
+///    effective_separation_factor [1.45] (turns as a diff drive of that times the track width),
+///    encoder_ticks_per_rev [2000]
 /// Deformations, any type: slip_per_speed [0] (effective radius shrinks by this fraction per
 /// m/s of wheel speed), non_circular_amplitude [0] and non_circular_phase_rad [0] (the first
 /// wheel's radius varies as r (1 + A cos(angle + phase))), axis_misalignment_rad [0] (the

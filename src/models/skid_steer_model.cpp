@@ -1,0 +1,162 @@
+#include "odometry_calibration/models/skid_steer_model.h"
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+#include <yaml-cpp/yaml.h>
+
+namespace odometry_calibration {
+
+void validate(const SkidSteerOptions& o)
+{
+  if (o.left_indices.empty() || o.right_indices.empty()) {
+    throw std::invalid_argument("skid_steer needs at least one wheel joint on each side");
+  }
+  for (int left : o.left_indices) {
+    if (left < 0)
+      throw std::invalid_argument("skid_steer: negative joint index");
+    for (int right : o.right_indices) {
+      if (right < 0 || right == left) {
+        throw std::invalid_argument("skid_steer: a joint cannot be on both sides");
+      }
+    }
+  }
+  auto positive = [](double value, const char* name) {
+    if (!(value > 0.0) || !std::isfinite(value)) {
+      throw std::invalid_argument(std::string("skid_steer option '") + name + "' must be > 0");
+    }
+  };
+  positive(o.ticks_per_turn, "ticks_per_turn");
+  positive(o.wheel_radius_m, "wheel_radius_m");
+  positive(o.wheel_separation_m, "wheel_separation_m");
+  positive(o.huber_threshold, "huber_threshold");
+  if (o.max_iterations < 1)
+    throw std::invalid_argument("skid_steer option 'max_iterations' must be >= 1");
+  if (o.yaw_starts < 1 || o.yaw_starts > 360)
+    throw std::invalid_argument("skid_steer option 'yaw_starts' must be in [1, 360]");
+}
+
+std::vector<EncoderSample> averageSides(const std::vector<EncoderSample>& samples,
+                                        const std::vector<int>& left_indices,
+                                        const std::vector<int>& right_indices)
+{
+  std::vector<int> all = left_indices;
+  all.insert(all.end(), right_indices.begin(), right_indices.end());
+  requireJointIndices(samples, all, "skid_steer", "wheel joints");
+  auto mean = [](const Eigen::VectorXd& values, const std::vector<int>& indices) {
+    double sum = 0.0;
+    for (int index : indices)
+      sum += values(index);
+    return sum / static_cast<double>(indices.size());
+  };
+  std::vector<EncoderSample> sides;
+  sides.reserve(samples.size());
+  for (const EncoderSample& sample : samples) {
+    sides.push_back({sample.stamp_s, Eigen::Vector2d(mean(sample.values, left_indices),
+                                                     mean(sample.values, right_indices))});
+  }
+  return sides;
+}
+
+DiffDriveOptions SkidSteerModel::virtualWheels(const SkidSteerOptions& o)
+{
+  validate(o);
+  DiffDriveOptions wheels;
+  wheels.layout = {0, 1, o.ticks_per_turn};
+  wheels.initial_left_radius_m = wheels.initial_right_radius_m = o.wheel_radius_m;
+  wheels.initial_separation_m = o.wheel_separation_m;
+  wheels.initial_T_base_sensor = o.initial_T_base_sensor;
+  wheels.huber_threshold = o.huber_threshold;
+  wheels.max_iterations = o.max_iterations;
+  wheels.yaw_starts = o.yaw_starts;
+  return wheels;
+}
+
+SkidSteerModel::SkidSteerModel(SkidSteerOptions options)
+    : options_(std::move(options)), wheels_(virtualWheels(options_))
+{
+}
+
+SkidSteerModel::SkidSteerModel(SkidSteerOptions options, DiffDriveModel wheels)
+    : options_(std::move(options)), wheels_(std::move(wheels))
+{
+  validate(options_);
+}
+
+ModelReport SkidSteerModel::fit(const std::vector<MotionPair>& pairs)
+{
+  std::vector<MotionPair> sides = pairs;
+  for (MotionPair& pair : sides) {
+    if (pair.encoder_samples.size() < 2) {
+      throw std::invalid_argument("skid_steer: every pair needs two or more encoder samples");
+    }
+    pair.encoder_samples =
+        averageSides(pair.encoder_samples, options_.left_indices, options_.right_indices);
+  }
+  ModelReport report = wheels_.fit(sides);
+  report.model = name();
+  // The multipliers a diff_drive_controller applies to its geometric values: fitted /
+  // geometric, sigma scaled alike.
+  const double geometric[3] = {options_.wheel_radius_m, options_.wheel_radius_m,
+                               options_.wheel_separation_m};
+  const char* names[3] = {"left_wheel_radius_multiplier", "right_wheel_radius_multiplier",
+                          "wheel_separation_multiplier"};
+  const std::vector<ParameterEstimate> fitted(report.parameters.begin(),
+                                              report.parameters.begin() + 3);
+  for (int i : {2, 0, 1}) {
+    report.parameters.push_back({names[i], "-", fitted[i].initial / geometric[i],
+                                 fitted[i].value / geometric[i], fitted[i].sigma / geometric[i]});
+  }
+  return report;
+}
+
+MotionPrediction SkidSteerModel::predict(const std::vector<EncoderSample>& samples) const
+{
+  if (samples.size() < 2) {
+    throw std::invalid_argument("skid_steer prediction needs at least two encoder samples");
+  }
+  return wheels_.predict(averageSides(samples, options_.left_indices, options_.right_indices));
+}
+
+std::string SkidSteerModel::toYaml() const
+{
+  YAML::Emitter out;
+  out.SetDoublePrecision(17);
+  out << YAML::BeginMap;
+  out << YAML::Key << "model" << YAML::Value << name();
+  out << YAML::Key << "left_indices" << YAML::Value << YAML::Flow << options_.left_indices;
+  out << YAML::Key << "right_indices" << YAML::Value << YAML::Flow << options_.right_indices;
+  out << YAML::Key << "geometric_wheel_radius_m" << YAML::Value << options_.wheel_radius_m;
+  out << YAML::Key << "geometric_wheel_separation_m" << YAML::Value << options_.wheel_separation_m;
+  out << YAML::Key << "sides" << YAML::Value << YAML::Load(wheels_.toYaml());
+  out << YAML::EndMap;
+  return std::string(out.c_str()) + "\n";
+}
+
+SkidSteerModel SkidSteerModel::fromYaml(const std::string& text)
+{
+  try {
+    const YAML::Node node = YAML::Load(text);
+    if (node["model"].as<std::string>() != "skid_steer")
+      throw std::runtime_error("not a skid_steer model");
+    std::ostringstream sides;
+    sides << node["sides"];
+    DiffDriveModel wheels = DiffDriveModel::fromYaml(sides.str());
+    SkidSteerOptions options;
+    options.left_indices = node["left_indices"].as<std::vector<int>>();
+    options.right_indices = node["right_indices"].as<std::vector<int>>();
+    options.wheel_radius_m = node["geometric_wheel_radius_m"].as<double>();
+    options.wheel_separation_m = node["geometric_wheel_separation_m"].as<double>();
+    options.ticks_per_turn = YAML::Load(sides.str())["ticks_per_turn"].as<double>();
+    options.initial_T_base_sensor = wheels.T_base_sensor();
+    return SkidSteerModel(options, std::move(wheels));
+  } catch (const YAML::Exception& error) {
+    throw std::runtime_error(std::string("skid_steer model YAML: ") + error.what());
+  } catch (const std::invalid_argument& error) {
+    throw std::runtime_error(std::string("skid_steer model YAML: ") + error.what());
+  }
+}
+
+}  // namespace odometry_calibration

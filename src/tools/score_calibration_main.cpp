@@ -1,0 +1,141 @@
+// score_calibration: scores a saved calibration (result.yaml) on new bags or pairs files without
+// refitting, beside the configured nominal robot: the paper's comparison table for last month's
+// calibration on today's drive.
+#include <unistd.h>
+
+#include <cstdio>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include <glog/logging.h>
+
+#include "odometry_calibration/calibration/saved_calibration_score.h"
+#include "odometry_calibration/common/arguments.h"
+#include "odometry_calibration/data/pairs_csv.h"
+#include "odometry_calibration/ros/bag_message_reader.h"
+#include "odometry_calibration/ros/bag_runner.h"
+
+namespace {
+
+using namespace odometry_calibration;
+
+const char* kUsage =
+    "usage: score_calibration --config CONFIG.yaml --result RESULT.yaml BAG [BAG ...] [options]\n"
+    "       score_calibration --config CONFIG.yaml --result RESULT.yaml --pairs PAIRS.csv\n"
+    "\n"
+    "Scores the calibration saved in RESULT.yaml (written by calibrate_bag or the node's\n"
+    "~save) on new data without refitting: pairs from the bags (paired as calibrate_bag does,\n"
+    "at the saved time offset) or from pairs files (as calibrate_bag writes them). Prints the\n"
+    "comparison table (ATE and RPE of the chained predictions, paper eqs. 10-11, and per-axis\n"
+    "RMSE) for the saved model and the nominal robot (the configuration's prior_model at its\n"
+    "start values, at time offset 0). The configuration must name the joints the calibration\n"
+    "was made with.\n"
+    "\n"
+    "options:\n"
+    "  --pairs FILE         score on this pairs file instead of bags (repeatable)\n"
+    "  --start S, --end S   use only [S, E] seconds after the bags' first message\n"
+    "  --quiet              no progress display\n"
+    "\n"
+    "exit status: 0 success; 1 bad input (message says what: a file that cannot be read, data\n"
+    "whose joints are not the calibration's, too few pairs); 2 bad usage\n";
+
+void showProgress(const BagProgress& p)
+{
+  std::fprintf(stderr, "\r%5.1f %%", 100.0 * p.fraction);
+  if (p.fraction >= 1.0)
+    std::fprintf(stderr, "\n");
+}
+
+std::string joinNames(const std::vector<std::string>& names)
+{
+  std::string text;
+  for (const std::string& name : names)
+    text += (text.empty() ? "" : ", ") + name;
+  return text;
+}
+
+}  // namespace
+
+int main(int argc, char** argv)
+{
+  google::InitGoogleLogging(argv[0]);
+  containBagReadFaults();
+  FLAGS_minloglevel = google::GLOG_FATAL;
+  std::string config_path, result_path;
+  std::vector<std::string> bags, pairs_files;
+  double start_s = 0.0, end_s = 0.0;
+  bool quiet = !isatty(STDERR_FILENO);
+  try {
+    ArgumentParser parser;
+    parser.option("--config", &config_path)
+        .option("--result", &result_path)
+        .repeatedOption("--pairs", &pairs_files)
+        .number("--start", &start_s, 0.0)
+        .number("--end", &end_s, 0.0)
+        .flag("--quiet", &quiet)
+        .positionals(&bags);
+    if (!parser.parse(argc, argv)) {
+      std::cout << kUsage;
+      return 0;
+    }
+    if (config_path.empty() || result_path.empty())
+      throw std::invalid_argument("give --config and --result");
+    if (bags.empty() == pairs_files.empty())
+      throw std::invalid_argument("give either bags or --pairs files");
+    if (end_s > 0.0 && end_s <= start_s)
+      throw std::invalid_argument("--end must come after --start");
+  } catch (const std::exception& error) {
+    std::cerr << "error: " << error.what() << "\n\n" << kUsage;
+    return 2;
+  }
+  try {
+    CalibrationConfig config = loadCalibrationConfig(config_path);
+    const CalibrationResult saved = readCalibrationResult(result_path);
+    const std::vector<std::string> joints = jointLayout(config).names;
+    requireCalibrationJoints(saved.joints, joints, "the configuration " + config_path);
+
+    std::vector<MotionPair> pairs;
+    std::vector<EncoderSample> history;
+    std::string data;
+    if (!bags.empty()) {
+      config.collector.time_offset_s = saved.time_offset_s;
+      BagRunResult run;
+      try {
+        run = runBags(bags, config, start_s, end_s,
+                      quiet ? nullptr : std::function<void(const BagProgress&)>(showProgress));
+      } catch (const std::runtime_error& error) {
+        const std::string what = error.what();
+        if (what.rfind("no usable JointState", 0) != 0)
+          throw;
+        throw std::runtime_error(
+            "the bags' JointState messages do not carry the calibration's "
+            "joints (" +
+            joinNames(joints) + "): " + what);
+      }
+      pairs = run.pairs;
+      history = run.encoder_history;
+      data =
+          std::to_string(pairs.size()) + " pairs from " + std::to_string(bags.size()) + " bag(s)";
+    } else {
+      const PairsFile file = readPairsCsvFiles(pairs_files);
+      requireCalibrationJoints(saved.joints.empty() ? joints : saved.joints, file.joints.names,
+                               "the pairs file " + pairs_files.front());
+      pairs = file.pairs;
+      data = std::to_string(pairs.size()) + " pairs from " + std::to_string(pairs_files.size()) +
+             " pairs file(s)";
+    }
+    const std::vector<ModelScore> scores = scoreSavedCalibration(config, saved, pairs, history);
+    std::printf("saved calibration: %s (model %s, time offset %.6f s)\nscored on: %s\n\n",
+                result_path.c_str(), saved.model->name().c_str(), saved.time_offset_s,
+                data.c_str());
+    std::cout << formatComparisonTable(scores);
+    std::cout << scores.front().model << ": the saved calibration, not refitted\n";
+    if (scores.size() == 1)
+      std::cout << "(no nominal row: the configuration's prior_model is none)\n";
+    return 0;
+  } catch (const std::exception& error) {
+    std::cerr << "error: " << error.what() << "\n";
+    return 1;
+  }
+}

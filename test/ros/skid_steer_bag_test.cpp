@@ -1,0 +1,130 @@
+// Issue 17 acceptance on simulated laser bags (pairs through PLICP, as users get them): a
+// skid-steer robot whose lateral slip makes it turn as a diff drive 1.45 times its track width.
+// calibrate_bag with config/skid_steer.yaml finds the multiplier within 2 %, writes it to
+// controller.yaml, and its --test table carries the nominal row; score_calibration scores the
+// saved result on the test bag with the same numbers, without refitting.
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
+
+#include "odometry_calibration/ros/sim_bag_writer.h"
+#include "odometry_calibration/sim/scenario.h"
+
+#include "support/files.h"
+
+namespace odometry_calibration {
+namespace {
+
+namespace fs = std::filesystem;
+using test_support::readFile;
+
+const std::string kConfig = ODOMETRY_CALIBRATION_CONFIG_DIR;
+constexpr double kTrueMultiplier = 1.45;  // config/sim/scenarios/skid_steer_office.yaml
+
+struct ToolResult
+{
+  int status = -1;
+  std::string out, err;
+};
+
+ToolResult run(const std::string& directory, const std::string& command)
+{
+  const std::string out = directory + "/out.txt", err = directory + "/err.txt";
+  const int status = std::system((command + " > " + out + " 2> " + err).c_str());
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, readFile(out), readFile(err)};
+}
+
+/// ATE, RPE, RMSE x, y, theta of a table row.
+std::vector<double> row(const std::string& table, const std::string& model)
+{
+  const std::size_t at = table.find("\n" + model + " ");
+  if (at == std::string::npos)
+    return {};
+  std::istringstream line(table.substr(at + 1 + model.size()));
+  std::vector<double> values(5);
+  for (double& value : values)
+    line >> value;
+  return values;
+}
+
+TEST(SkidSteerBag, MultiplierWithinTwoPercentNominalRowAndScoredAgain)
+{
+  char pattern[] = "/tmp/skid_steer_bag_test.XXXXXX";
+  const std::string directory = mkdtemp(pattern);
+  sim::Scenario scenario = sim::loadScenarioYaml(kConfig + "/sim/scenarios/skid_steer_office.yaml",
+                                                 kConfig + "/sim/worlds");
+  simulateToBag(scenario, directory + "/train.bag", "");
+  scenario.seed = 4;
+  scenario.duration_s = 60.0;
+  simulateToBag(scenario, directory + "/test.bag", "");
+
+  const ToolResult fit =
+      run(directory, std::string(CALIBRATE_BAG_PROGRAM) + " --config " + kConfig +
+                         "/skid_steer.yaml " + directory + "/train.bag --test " + directory +
+                         "/test.bag --quiet --output-dir " + directory + "/out");
+  ASSERT_EQ(fit.status, 0) << fit.out << fit.err;
+  const YAML::Node controller = YAML::LoadFile(directory + "/out/controller.yaml");
+  const double multiplier = controller["wheel_separation_multiplier"].as<double>();
+  EXPECT_NEAR(multiplier, kTrueMultiplier, 0.02 * kTrueMultiplier);
+  EXPECT_DOUBLE_EQ(controller["wheel_separation"].as<double>(), 0.5);  // the geometric value
+  EXPECT_NEAR(controller["left_wheel_radius_multiplier"].as<double>(), 1.0, 0.01);
+  EXPECT_NEAR(controller["right_wheel_radius_multiplier"].as<double>(), 1.01, 0.01);
+  const YAML::Node result = YAML::LoadFile(directory + "/out/result.yaml");
+  EXPECT_NEAR(result["parameters"]["wheel_separation_multiplier"]["value"].as<double>(), multiplier,
+              1e-6);
+  std::cout << "skid_steer_office: wheel_separation_multiplier " << multiplier << " (truth "
+            << kTrueMultiplier << ")\n";
+
+  // The --test table: the fitted model, then the nominal robot (the geometric values), far worse.
+  const std::vector<double> fitted = row(fit.out, "skid_steer"), nominal = row(fit.out, "nominal");
+  ASSERT_EQ(fitted.size(), 5u) << fit.out;
+  ASSERT_EQ(nominal.size(), 5u) << fit.out;
+  EXPECT_GT(nominal[4], 3.0 * fitted[4]) << fit.out;  // heading RMSE
+  EXPECT_GT(nominal[3], 3.0 * fitted[3]) << fit.out;  // lateral RMSE
+
+  // The saved result scored on the same test bag: the same rows, nothing refitted.
+  const ToolResult score =
+      run(directory, std::string(SCORE_CALIBRATION_PROGRAM) + " --config " + kConfig +
+                         "/skid_steer.yaml --result " + directory + "/out/result.yaml " +
+                         directory + "/test.bag --quiet");
+  ASSERT_EQ(score.status, 0) << score.out << score.err;
+  const std::vector<double> again = row(score.out, "skid_steer");
+  const std::vector<double> nominal_again = row(score.out, "nominal");
+  ASSERT_EQ(again.size(), 5u) << score.out;
+  ASSERT_EQ(nominal_again.size(), 5u) << score.out;
+  for (int i = 0; i < 5; ++i) {
+    EXPECT_NEAR(again[i], fitted[i], 1e-5) << i << "\n" << fit.out << score.out;
+    EXPECT_NEAR(nominal_again[i], nominal[i], 1e-5) << i;
+  }
+
+  // compare_models with the configuration: skid_steer's sides and the nominal row from it, on
+  // calibrate_bag's pairs (training on the first, testing on the second bag's).
+  const ToolResult test_pairs = run(
+      directory, std::string(CALIBRATE_BAG_PROGRAM) + " --config " + kConfig + "/skid_steer.yaml " +
+                     directory + "/test.bag --quiet --output-dir " + directory + "/test_out");
+  ASSERT_EQ(test_pairs.status, 0) << test_pairs.out << test_pairs.err;
+  const ToolResult compared =
+      run(directory, std::string(COMPARE_MODELS_PROGRAM) + " --config " + kConfig +
+                         "/skid_steer.yaml --models skid_steer --train " + directory +
+                         "/out/pairs.csv --test " + directory + "/test_out/pairs.csv");
+  ASSERT_EQ(compared.status, 0) << compared.out << compared.err;
+  const std::vector<double> model_row = row(compared.out, "skid_steer");
+  const std::vector<double> nominal_row = row(compared.out, "nominal");
+  ASSERT_EQ(model_row.size(), 5u) << compared.out;
+  ASSERT_EQ(nominal_row.size(), 5u) << compared.out;
+  // The same pairs and the same nominal robot as calibrate_bag --test: the same nominal row.
+  for (int i = 0; i < 5; ++i)
+    EXPECT_NEAR(nominal_row[i], nominal[i], 1e-5) << i << "\n" << compared.out;
+  EXPECT_GT(nominal_row[4], 3.0 * model_row[4]) << compared.out;
+  fs::remove_all(directory);
+}
+
+}  // namespace
+}  // namespace odometry_calibration
