@@ -58,6 +58,14 @@ void validate(const Scenario& s)
   require(s.tracker.translation_noise_m >= 0.0 && s.tracker.rotation_noise_rad >= 0.0,
           "tracker noise must be >= 0");
   validate(s.motion);
+  double previous_change_s = 0.0;
+  for (const ParameterChange& change : s.changes) {
+    require(change.at_s >= previous_change_s && std::isfinite(change.at_s),
+            "changes must be in time order at times >= 0 s");
+    require(std::abs(change.laser_yaw_change_rad) < M_PI,
+            "changes: laser_yaw_change_rad must be within pi");
+    previous_change_s = change.at_s;
+  }
 }
 
 Scenario loadScenarioYaml(const std::string& path, const std::string& worlds_directory)
