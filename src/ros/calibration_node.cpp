@@ -117,6 +117,8 @@ CalibrationNode::CalibrationNode(ros::NodeHandle handle, ros::NodeHandle private
         "saved calibration");
   }
 
+  setUpAssistant();  // issue 18: guidance and health monitor
+
   for (nav_msgs::Path* path : {&nominal_path_, &corrected_path_, &scan_matched_path_})
     path->header.frame_id = options_.odom_frame;
 
@@ -310,6 +312,7 @@ void CalibrationNode::handleEvents(const std::vector<CollectorEvent>& events, do
         pairs_publisher_.publish(
             ros_conversions::toPairMsg(event.pair, jointLayout(config_), sensorFrame()));
         addScanMatchedPose(event.pair);
+        assistantAddPair(event.pair);
         break;
       case CollectorEvent::Type::kRestarted:
         ROS_WARN(

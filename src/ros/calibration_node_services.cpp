@@ -36,10 +36,12 @@ bool CalibrationNode::onCalibrate(Calibrate::Request& request, Calibrate::Respon
   CalibrationConfig config;
   std::vector<MotionPair> pairs;
   double time_offset_s = 0.0;
+  std::string guidance;
   {
     std::lock_guard<std::mutex> lock(state_mutex_);
     config = config_;
     pairs = pairs_;
+    guidance = guidanceSummary();
     time_offset_s = config_.collector.time_offset_s;
   }
   const std::string name = request.model.empty() ? config.model : request.model;
@@ -61,7 +63,8 @@ bool CalibrationNode::onCalibrate(Calibrate::Request& request, Calibrate::Respon
   if (static_cast<int>(pairs.size()) < options_.min_pairs) {
     response.message = "only " + std::to_string(pairs.size()) + " pairs collected, " +
                        std::to_string(options_.min_pairs) +
-                       " needed (~min_pairs): drive more, straight and turning both ways";
+                       " needed (~min_pairs): drive more, straight and turning both ways" +
+                       guidance;
     return true;
   }
   std::shared_ptr<MotionModel> model;
@@ -136,6 +139,7 @@ bool CalibrationNode::onCalibrate(Calibrate::Request& request, Calibrate::Respon
     active_model_ = model;
     active_model_origin_ = "fit of " + std::to_string(pairs.size()) + " pairs";
     publishExtrinsic();
+    startHealthMonitor(model);
   } catch (const std::exception& error) {
     response.message = name + " fitted, but its odometry failed: " + error.what() +
                        "; the active model is unchanged";
@@ -150,6 +154,7 @@ bool CalibrationNode::onCalibrate(Calibrate::Request& request, Calibrate::Respon
                      " m. Now driving ~odom; call ~save to keep it.";
   for (const std::string& warning : report.warnings)
     response.message += " WARNING: " + warning;
+  response.message += guidance;
   if (report.warnings.empty())
     ROS_INFO("%s\n%s", response.message.c_str(), summary.c_str());
   else
@@ -210,6 +215,7 @@ bool CalibrationNode::onReset(std_srvs::Trigger::Request&, std_srvs::Trigger::Re
     pairs_file_problem_ = error.what();
   }
   restartOdometry();
+  resetAssistant();
   response.success = true;
   response.message = "collection restarted: " + std::to_string(dropped) + " pairs set aside" +
                      (archived.empty() ? std::string() : " in " + archived) +

@@ -1,0 +1,197 @@
+// The live node's assistant (issue 18): what to drive next before a fit (excitation guidance),
+// whether the active calibration still fits the robot after it (health monitor). Both are the
+// core's (models/excitation_guidance.h, models/health_monitor.h); this file only wires them to
+// ~parameters, /diagnostics, an rviz text marker and ~health_statistic.
+#include <cstdio>
+
+#include <std_msgs/Float64.h>
+#include <visualization_msgs/Marker.h>
+
+#include "odometry_calibration/ros/calibration_node.h"
+
+namespace odometry_calibration {
+
+AssistantOptions readAssistantOptions(const ros::NodeHandle& p)
+{
+  AssistantOptions o;
+  ExcitationGuidanceOptions& g = o.guidance_options;
+  HealthMonitorOptions& h = o.health_options;
+  p.param("guidance", o.guidance, o.guidance);
+  p.param("guidance_marker_height_m", o.marker_height_m, o.marker_height_m);
+  p.param("guidance_relative_target", g.relative_target, g.relative_target);
+  p.param("guidance_length_target_m", g.length_target_m, g.length_target_m);
+  p.param("guidance_angle_target_rad", g.angle_target_rad, g.angle_target_rad);
+  p.param("guidance_straight_distance_m", g.straight_distance_m, g.straight_distance_m);
+  p.param("guidance_spot_turn_rad", g.spot_turn_rad, g.spot_turn_rad);
+  p.param("guidance_turn_rad", g.turn_rad, g.turn_rad);
+  p.param("guidance_full_lock_rad", g.full_lock_rad, g.full_lock_rad);
+  p.param("guidance_full_lock_travel_m", g.full_lock_travel_m, g.full_lock_travel_m);
+  std::map<std::string, double> targets;
+  if (p.getParam("guidance_target_sigma", targets))
+    g.target_sigma = targets;
+  else if (p.hasParam("guidance_target_sigma"))
+    throw std::invalid_argument(
+        "~guidance_target_sigma must map parameter names to sigmas, e.g. {wheel_separation: "
+        "0.0005}");
+  p.param("health_monitor", o.health_monitor, o.health_monitor);
+  p.param("health_false_alarm_pairs", h.false_alarm_pairs, h.false_alarm_pairs);
+  p.param("health_design_shift_sigma", h.design_shift_sigma, h.design_shift_sigma);
+  p.param("health_burn_in_pairs", h.burn_in_pairs, h.burn_in_pairs);
+  try {
+    validate(g);
+    validate(h);
+  } catch (const std::invalid_argument& error) {
+    throw std::invalid_argument(std::string("~guidance_* / ~health_* parameters: ") + error.what());
+  }
+  if (!(o.marker_height_m >= 0.0))
+    throw std::invalid_argument("~guidance_marker_height_m must be >= 0 m");
+  return o;
+}
+
+void CalibrationNode::setUpAssistant()
+{
+  assistant_options_ = readAssistantOptions(private_handle_);
+  guidance_marker_publisher_ =
+      private_handle_.advertise<visualization_msgs::Marker>("guidance_marker", 1, true);
+  health_statistic_publisher_ =
+      private_handle_.advertise<std_msgs::Float64>("health_statistic", 10);
+  if (assistant_options_.guidance) {
+    // The fitted model's guidance, or the prior model's when the fitted one has none (gp).
+    const std::string name =
+        hasExcitationGuidance(config_.model) ? config_.model : config_.prior_model;
+    if (!hasExcitationGuidance(name)) {
+      ROS_INFO("no excitation guidance: it needs a diff_drive or tricycle model or prior_model");
+    } else {
+      try {
+        const CalibrationConfig for_model =
+            configForModel(config_text_, name, "", options_.config_path);
+        guidance_ =
+            makeExcitationGuidance(name, for_model.models, assistant_options_.guidance_options);
+        for (const MotionPair& pair : pairs_)
+          guidance_->addPair(pair);
+      } catch (const std::exception& error) {
+        ROS_WARN("no excitation guidance for %s: %s", name.c_str(), error.what());
+        guidance_.reset();
+      }
+    }
+  }
+  if (active_model_ && active_model_origin_.rfind("nominal", 0) != 0)
+    startHealthMonitor(active_model_);
+}
+
+void CalibrationNode::assistantAddPair(const MotionPair& pair)
+{
+  if (guidance_)
+    guidance_->addPair(pair);
+  if (health_monitor_ && health_monitor_->addPair(pair)) {
+    ROS_WARN("calibration health: %s", health_monitor_->status().message.c_str());
+  }
+}
+
+void CalibrationNode::startHealthMonitor(const std::shared_ptr<const MotionModel>& model)
+{
+  if (!assistant_options_.health_monitor || !model)
+    return;
+  health_monitor_ = std::make_unique<HealthMonitor>(model, assistant_options_.health_options);
+  health_model_origin_ = active_model_origin_;
+}
+
+void CalibrationNode::resetAssistant()
+{
+  if (guidance_)
+    guidance_->reset();
+}
+
+std::string CalibrationNode::guidanceSummary() const
+{
+  return guidance_ ? " Guidance: " + guidance_->status().summary() + "." : std::string();
+}
+
+void CalibrationNode::publishAssistant(std::vector<diagnostic_msgs::DiagnosticStatus>& statuses)
+{
+  std::string marker_text;
+  auto add = [](diagnostic_msgs::DiagnosticStatus& status, const std::string& key,
+                const std::string& value) {
+    diagnostic_msgs::KeyValue entry;
+    entry.key = key;
+    entry.value = value;
+    status.values.push_back(entry);
+  };
+  char number[64];
+  auto format = [&number](double value) {
+    std::snprintf(number, sizeof(number), "%.4g", value);
+    return std::string(number);
+  };
+  if (guidance_) {
+    const ExcitationStatus guidance = guidance_->status();
+    diagnostic_msgs::DiagnosticStatus status;
+    status.name = ros::this_node::getName() + ": excitation guidance";
+    status.hardware_id = sensorFrame();
+    status.level = diagnostic_msgs::DiagnosticStatus::OK;
+    status.message = guidance.summary();
+    add(status, "guidance model", guidance.model);
+    add(status, "ready to fit", guidance.ready_to_fit ? "true" : "false");
+    for (std::size_t i = 0; i < guidance.missing_motions.size(); ++i)
+      add(status, "missing motion " + std::to_string(i + 1), guidance.missing_motions[i]);
+    for (const ParameterGuidance& p : guidance.parameters) {
+      add(status, p.name + " [" + p.unit + "]",
+          (p.enough ? "enough: sigma " : "collecting: sigma ") + format(p.sigma) + " (target " +
+              format(p.target_sigma) + ")");
+    }
+    statuses.push_back(status);
+    marker_text = guidance.ready_to_fit
+                      ? "calibration: ready to fit (call ~calibrate)"
+                      : "calibration: collecting (" + std::to_string(guidance.pairs) + " pairs)";
+    for (std::size_t i = 0; i < guidance.missing_motions.size() && i < 3; ++i)
+      marker_text += "\n" + guidance.missing_motions[i];
+  }
+  bool alarm = false;
+  if (health_monitor_) {
+    const HealthStatus health = health_monitor_->status();
+    alarm = health.alarm;
+    diagnostic_msgs::DiagnosticStatus status;
+    status.name = ros::this_node::getName() + ": calibration health";
+    status.hardware_id = sensorFrame();
+    status.level = health.alarm ? diagnostic_msgs::DiagnosticStatus::WARN
+                                : diagnostic_msgs::DiagnosticStatus::OK;
+    status.message = health.message;
+    add(status, "watching", health_model_origin_);
+    add(status, "statistic (alarm at 1)", format(health.statistic));
+    add(status, "CUSUM threshold h [sigma]", format(health.threshold));
+    add(status, "pairs scored", std::to_string(health.pairs));
+    for (const HealthChart& chart : health.charts) {
+      add(status, "chart " + chart.name + " (" + chart.output + ")",
+          chart.calibrated ? "U " + format(chart.upper) + ", L " + format(chart.lower) +
+                                 ", recent mean " + format(chart.mean_recent) + " sigma"
+                           : "learning the noise (" + std::to_string(chart.count) + " pairs)");
+    }
+    statuses.push_back(status);
+    std_msgs::Float64 statistic;
+    statistic.data = health.statistic;
+    health_statistic_publisher_.publish(statistic);
+    marker_text += std::string(marker_text.empty() ? "" : "\n") +
+                   (health.alarm ? "CALIBRATION STALE: " + health.message
+                                 : "calibration health: " + health.message);
+  }
+  if (marker_text.empty())
+    return;
+  visualization_msgs::Marker marker;
+  marker.header.stamp = ros::Time::now();
+  marker.header.frame_id = options_.base_frame;
+  marker.ns = "odometry_calibration";
+  marker.id = 0;
+  marker.type = visualization_msgs::Marker::TEXT_VIEW_FACING;
+  marker.action = visualization_msgs::Marker::ADD;
+  marker.pose.position.z = assistant_options_.marker_height_m;
+  marker.pose.orientation.w = 1.0;
+  marker.scale.z = 0.12;  // text height [m]
+  const bool ready = guidance_ && guidance_->status().ready_to_fit;
+  marker.color.a = 1.0;
+  marker.color.r = alarm ? 1.0f : (ready ? 0.2f : 1.0f);
+  marker.color.g = alarm ? 0.2f : 1.0f;
+  marker.color.b = alarm ? 0.2f : (ready ? 0.2f : 1.0f);
+  marker.text = marker_text;
+  guidance_marker_publisher_.publish(marker);
+}
+
+}  // namespace odometry_calibration
