@@ -231,8 +231,10 @@ void CalibrationNode::onJointState(const sensor_msgs::JointState::ConstPtr& mess
     warnInput(error.what(), "JointState on " + joint_health_.topic + " rejected: " + error.what());
     return;
   }
-  if (accepted.size() > 0)  // empty for an encoder glitch: not motion
+  if (accepted.size() > 0) {  // empty for an encoder glitch: not motion
+    recordEncoderHistory(stamp_s, accepted);
     integrateOdometry(stamp_s, accepted);
+  }
 }
 
 void CalibrationNode::onScan(const sensor_msgs::LaserScan::ConstPtr& message)

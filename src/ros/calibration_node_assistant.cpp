@@ -2,11 +2,13 @@
 // whether the active calibration still fits the robot after it (health monitor). Both are the
 // core's (models/excitation_guidance.h, models/health_monitor.h); this file only wires them to
 // ~parameters, /diagnostics, an rviz text marker and ~health_statistic.
+#include <cmath>
 #include <cstdio>
 
 #include <std_msgs/Float64.h>
 #include <visualization_msgs/Marker.h>
 
+#include "odometry_calibration/calibration/calibration_job.h"
 #include "odometry_calibration/ros/calibration_node.h"
 
 namespace odometry_calibration {
@@ -79,6 +81,59 @@ void CalibrationNode::setUpAssistant()
     startHealthMonitor(active_model_);
 }
 
+void CalibrationNode::recordEncoderHistory(double stamp_s, const Eigen::VectorXd& accepted)
+{
+  if (!config_.estimate_time_offset)
+    return;
+  if (!history_decoder_)
+    history_decoder_ = std::make_unique<EncoderDecoder>(channels_);
+  if (!encoder_history_.empty() && stamp_s <= encoder_history_.back().stamp_s) {
+    if (stamp_s == encoder_history_.back().stamp_s)
+      return;  // a repeated stamp adds nothing
+    // Time went backwards (a restarted bag): the offset search needs one continuous stream.
+    encoder_history_.clear();
+    history_decoder_->reset();
+  }
+  encoder_history_.push_back({stamp_s, history_decoder_->decode(accepted)});
+}
+
+void CalibrationNode::applyTimeOffset(double time_offset_s)
+{
+  const double previous_s = config_.collector.time_offset_s;
+  if (std::abs(time_offset_s - previous_s) < 1e-6)
+    return;
+  config_.collector.time_offset_s = time_offset_s;
+  collector_ =
+      std::make_unique<PairCollector>(channels_, config_.collector, priorPredictor(config_));
+  restartOdometry();
+  ROS_INFO("time offset %.4f s -> %.4f s: new pairs and the odometry use it (both restarted)",
+           previous_s, time_offset_s);
+}
+
+std::string timeOffsetSentence(const CalibrationConfig& config, const CalibrationJobResult& job,
+                               bool no_history)
+{
+  if (!config.estimate_time_offset)
+    return "";
+  char text[200];
+  if (no_history) {
+    std::snprintf(text, sizeof(text),
+                  " Time offset: not estimated (no continuous encoder history since the start or "
+                  "the last ~reset), kept %.4f s.",
+                  job.time_offset_s);
+  } else if (!job.time_offset || job.time_offset->flat) {
+    std::snprintf(text, sizeof(text),
+                  " Time offset: not observable from this drive (flat cost), kept %.4f s.",
+                  job.time_offset_s);
+  } else {
+    std::snprintf(text, sizeof(text),
+                  " Time offset: tau = %.4f +- %.4f s (encoder values at scan time + tau), used "
+                  "for new pairs.",
+                  job.time_offset_s, job.time_offset->sigma_s);
+  }
+  return text;
+}
+
 void CalibrationNode::assistantAddPair(const MotionPair& pair)
 {
   if (guidance_)
@@ -100,6 +155,9 @@ void CalibrationNode::resetAssistant()
 {
   if (guidance_)
     guidance_->reset();
+  encoder_history_.clear();
+  if (history_decoder_)
+    history_decoder_->reset();
 }
 
 std::string CalibrationNode::guidanceSummary() const

@@ -37,11 +37,13 @@ bool CalibrationNode::onCalibrate(Calibrate::Request& request, Calibrate::Respon
   std::vector<MotionPair> pairs;
   double time_offset_s = 0.0;
   std::string guidance;
+  std::vector<EncoderSample> history;
   {
     std::lock_guard<std::mutex> lock(state_mutex_);
     config = config_;
     pairs = pairs_;
     guidance = guidanceSummary();
+    history = encoder_history_;
     time_offset_s = config_.collector.time_offset_s;
   }
   const std::string name = request.model.empty() ? config.model : request.model;
@@ -69,16 +71,20 @@ bool CalibrationNode::onCalibrate(Calibrate::Request& request, Calibrate::Respon
   }
   std::shared_ptr<MotionModel> model;
   ModelReport report;
+  std::string offset_text;
   try {
-    // The same job as calibrate_bag's; the node keeps no encoder history for a time-offset
-    // search and draws no report trajectories.
+    // The same job as calibrate_bag's, with the time-offset search on the encoder history the
+    // node keeps when the configuration asks for it (estimate_time_offset); no report
+    // trajectories.
     config.model = name;
     CalibrationJobOptions job_options;
-    job_options.allow_time_offset = false;
+    job_options.allow_time_offset = !history.empty();
     job_options.compare_trajectories = false;
-    CalibrationJobResult job = runCalibrationJob(config, pairs, {}, job_options);
+    CalibrationJobResult job = runCalibrationJob(config, pairs, history, job_options);
     model = job.model;
     report = std::move(job.report);
+    time_offset_s = job.time_offset_s;
+    offset_text = timeOffsetSentence(config, job, history.empty());
   } catch (const std::exception& error) {
     response.message = name + " fit failed: " + error.what();
     return true;
@@ -139,6 +145,7 @@ bool CalibrationNode::onCalibrate(Calibrate::Request& request, Calibrate::Respon
     active_model_ = model;
     active_model_origin_ = "fit of " + std::to_string(pairs.size()) + " pairs";
     publishExtrinsic();
+    applyTimeOffset(time_offset_s);
     startHealthMonitor(model);
   } catch (const std::exception& error) {
     response.message = name + " fitted, but its odometry failed: " + error.what() +
@@ -152,6 +159,7 @@ bool CalibrationNode::onCalibrate(Calibrate::Request& request, Calibrate::Respon
                                               : std::string()) +
                      std::to_string(report.after.translation_m) +
                      " m. Now driving ~odom; call ~save to keep it.";
+  response.message += offset_text;
   for (const std::string& warning : report.warnings)
     response.message += " WARNING: " + warning;
   response.message += guidance;

@@ -67,6 +67,13 @@ struct AssistantOptions
   HealthMonitorOptions health_options;  ///< ~health_*
 };
 
+struct CalibrationJobResult;
+
+/// The ~calibrate reply's sentence on the time offset: the estimate with sigma, or why there is
+/// none ("" when the configuration does not ask for it).
+std::string timeOffsetSentence(const CalibrationConfig& config, const CalibrationJobResult& job,
+                               bool no_history);
+
 /// Reads and checks the assistant's ~parameters. Throws std::invalid_argument naming a bad one.
 AssistantOptions readAssistantOptions(const ros::NodeHandle& private_handle);
 
@@ -116,6 +123,11 @@ private:
   /// Watches `model` from now on (a fitted or saved calibration).
   void startHealthMonitor(const std::shared_ptr<const MotionModel>& model);
   void resetAssistant();
+  /// Keeps the decoded encoder sample for the time-offset search (estimate_time_offset only;
+  /// time going backwards starts the history again).
+  void recordEncoderHistory(double stamp_s, const Eigen::VectorXd& accepted);
+  /// Pairs from now on at `time_offset_s` (a changed offset restarts pairing and odometry).
+  void applyTimeOffset(double time_offset_s);
   /// The guidance in one sentence for the ~calibrate reply ("" without guidance).
   std::string guidanceSummary() const;
   /// Adds the guidance's and the monitor's statuses; publishes the marker and the statistic.
@@ -186,6 +198,8 @@ private:
   ros::ServiceServer calibrate_service_, save_service_, reset_service_;
 
   AssistantOptions assistant_options_;
+  std::unique_ptr<EncoderDecoder> history_decoder_;
+  std::vector<EncoderSample> encoder_history_;  ///< encoder clock, as calibrate_bag's
   std::unique_ptr<ExcitationGuidance> guidance_;
   std::unique_ptr<HealthMonitor> health_monitor_;
   std::string health_model_origin_;  ///< what the monitor watches
