@@ -185,6 +185,48 @@ TEST(Simulator, EncoderReadingQuantisesAndWraps)
               1e-12);
 }
 
+TEST(Simulator, ParameterChangesTakeEffectAtTheirTime)
+{
+  // Straight ahead for 8 s; at 4 s the right wheel shrinks by 1 % and the laser yaws by 1 deg.
+  Scenario s = smallScenario("diff_drive");
+  s.duration_s = 8.0;
+  s.start_pose = Pose2(-3.0, 0.0, 0.0);
+  s.motion.type = "scripted";
+  s.motion.script = {{8.0, {0.5, 0.0, 0.0}}};
+  ParameterChange change;
+  change.at_s = 4.0;
+  change.robot_parameters["wheel_radius_right_m"] = 0.99 * 0.077;
+  change.laser_yaw_change_rad = M_PI / 180.0;
+  s.changes = {change};
+  const auto robot = makeRobot(s.robot);
+  Recorder recorder;
+  simulate(s, room(), *robot, recorder);
+  ASSERT_GT(recorder.truth.size(), 300u);
+  for (const TruthSample& t : recorder.truth) {
+    if (t.stamp_s < 4.0) {
+      // The unchanged robot drives straight; the laser keeps its mounting.
+      EXPECT_NEAR(t.T_world_base.theta(), 0.0, 1e-9) << t.stamp_s;
+      EXPECT_NEAR(t.T_base_laser.theta(), 0.0, 1e-12);
+    } else {
+      EXPECT_NEAR(t.T_base_laser.theta(), M_PI / 180.0, 1e-12) << t.stamp_s;
+    }
+  }
+  // The controller keeps the robot straight: the smaller right wheel turns faster, 1 / 0.99
+  // times the left one (encoders in ticks; samples at 50 Hz, so index 100 is 2 s).
+  auto ratio = [&](std::size_t from, std::size_t to) {
+    const auto& a = recorder.joints[from].positions;
+    const auto& b = recorder.joints[to].positions;
+    return (b[1] - a[1]) / (b[0] - a[0]);
+  };
+  EXPECT_NEAR(ratio(100, 195), 1.0, 1e-3);
+  EXPECT_NEAR(ratio(255, 395), 1.0 / 0.99, 1e-3);
+  EXPECT_NEAR(recorder.truth.back().T_world_base.theta(), 0.0, 1e-9);
+  // Not in time order: rejected.
+  s.changes = {change, change};
+  s.changes[1].at_s = 1.0;
+  EXPECT_THROW(simulate(s, room(), *robot, recorder), std::invalid_argument);
+}
+
 TEST(Simulator, RejectsAStartInsideTheFurnitureAndWrongJointNames)
 {
   Scenario s = smallScenario("diff_drive");
