@@ -20,6 +20,7 @@ AssistantOptions readAssistantOptions(const ros::NodeHandle& p)
   HealthMonitorOptions& h = o.health_options;
   p.param("guidance", o.guidance, o.guidance);
   p.param("guidance_marker_height_m", o.marker_height_m, o.marker_height_m);
+  p.param("guidance_marker_text_m", o.marker_text_height_m, o.marker_text_height_m);
   p.param("guidance_relative_target", g.relative_target, g.relative_target);
   p.param("guidance_length_target_m", g.length_target_m, g.length_target_m);
   p.param("guidance_angle_target_rad", g.angle_target_rad, g.angle_target_rad);
@@ -45,8 +46,9 @@ AssistantOptions readAssistantOptions(const ros::NodeHandle& p)
   } catch (const std::invalid_argument& error) {
     throw std::invalid_argument(std::string("~guidance_* / ~health_* parameters: ") + error.what());
   }
-  if (!(o.marker_height_m >= 0.0))
-    throw std::invalid_argument("~guidance_marker_height_m must be >= 0 m");
+  if (!(o.marker_height_m >= 0.0) || !(o.marker_text_height_m > 0.0))
+    throw std::invalid_argument(
+        "~guidance_marker_height_m must be >= 0 m and ~guidance_marker_text_m > 0 m");
   return o;
 }
 
@@ -227,9 +229,11 @@ void CalibrationNode::publishAssistant(std::vector<diagnostic_msgs::DiagnosticSt
     std_msgs::Float64 statistic;
     statistic.data = health.statistic;
     health_statistic_publisher_.publish(statistic);
+    char line[80];
+    std::snprintf(line, sizeof(line), "calibration health: ok (statistic %.2f of 1)",
+                  health.statistic);
     marker_text += std::string(marker_text.empty() ? "" : "\n") +
-                   (health.alarm ? "CALIBRATION STALE: " + health.message
-                                 : "calibration health: " + health.message);
+                   (health.alarm ? "CALIBRATION STALE: " + health.message : std::string(line));
   }
   if (marker_text.empty())
     return;
@@ -242,12 +246,14 @@ void CalibrationNode::publishAssistant(std::vector<diagnostic_msgs::DiagnosticSt
   marker.action = visualization_msgs::Marker::ADD;
   marker.pose.position.z = assistant_options_.marker_height_m;
   marker.pose.orientation.w = 1.0;
-  marker.scale.z = 0.12;  // text height [m]
+  marker.scale.z = assistant_options_.marker_text_height_m;
+  // Dark colours (rviz/calibration.rviz has a white background): red for a stale calibration,
+  // green when ready to fit, orange while collecting.
   const bool ready = guidance_ && guidance_->status().ready_to_fit;
   marker.color.a = 1.0;
-  marker.color.r = alarm ? 1.0f : (ready ? 0.2f : 1.0f);
-  marker.color.g = alarm ? 0.2f : 1.0f;
-  marker.color.b = alarm ? 0.2f : (ready ? 0.2f : 1.0f);
+  marker.color.r = alarm ? 0.85f : (ready ? 0.0f : 0.8f);
+  marker.color.g = alarm ? 0.0f : (ready ? 0.5f : 0.4f);
+  marker.color.b = 0.0f;
   marker.text = marker_text;
   guidance_marker_publisher_.publish(marker);
 }

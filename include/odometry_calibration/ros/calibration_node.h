@@ -60,8 +60,9 @@ NodeOptions readNodeOptions(const ros::NodeHandle& private_handle);
 /// The live assistant's ~parameters (issue 18; calibration_node_assistant.cpp).
 struct AssistantOptions
 {
-  bool guidance = true;          ///< ~guidance: excitation guidance for diff_drive / tricycle
-  double marker_height_m = 1.0;  ///< ~guidance_marker_height_m: text above base_frame [m]
+  bool guidance = true;                ///< ~guidance: excitation guidance for diff_drive / tricycle
+  double marker_height_m = 1.0;        ///< ~guidance_marker_height_m: text above base_frame [m]
+  double marker_text_height_m = 0.25;  ///< ~guidance_marker_text_m: height of a letter [m]
   ExcitationGuidanceOptions guidance_options;  ///< ~guidance_* and ~guidance_target_sigma/<name>
   bool health_monitor = true;           ///< ~health_monitor: watch a fitted or saved calibration
   HealthMonitorOptions health_options;  ///< ~health_*
