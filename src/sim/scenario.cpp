@@ -77,7 +77,7 @@ Scenario loadScenarioYaml(const std::string& path, const std::string& worlds_dir
     checkYamlKeys(
         root,
         {"name", "seed", "duration_s", "start_time_s", "world", "start_pose", "robot", "laser",
-         "encoders", "motion", "tracker", "ground_truth_topic", "ground_truth_frame"},
+         "encoders", "motion", "tracker", "changes", "ground_truth_topic", "ground_truth_frame"},
         path);
     readYaml(root, "name", &s.name);
     readYaml(root, "seed", &s.seed);
@@ -187,6 +187,31 @@ Scenario loadScenarioYaml(const std::string& path, const std::string& worlds_dir
         s.motion.script.push_back(scripted);
       }
     }
+    if (const YAML::Node changes = root["changes"]) {
+      std::size_t index = 0;
+      for (const YAML::Node& entry : changes) {
+        where = path + ": changes[" + std::to_string(index++) + "]";
+        checkYamlKeys(entry, {"at_s", "robot", "laser_yaw_change_rad"}, where);
+        ParameterChange change;
+        readYaml(entry, "at_s", &change.at_s);
+        readYaml(entry, "laser_yaw_change_rad", &change.laser_yaw_change_rad);
+        if (const YAML::Node robot_change = entry["robot"]) {
+          if (!robot_change.IsMap())
+            throw std::runtime_error("robot: expected a map of robot keys to new values");
+          for (const auto& parameter : robot_change)
+            change.robot_parameters[parameter.first.as<std::string>()] =
+                parameter.second.as<double>();
+        }
+        s.changes.push_back(change);
+      }
+      // Every change must make a valid robot (unknown keys named now, not mid-run).
+      RobotOptions changed = s.robot;
+      for (const ParameterChange& change : s.changes) {
+        for (const auto& [key, value] : change.robot_parameters)
+          changed.parameters[key] = value;
+        makeRobot(changed);
+      }
+    }
     where = path;
     validate(s);
   } catch (...) {
@@ -253,6 +278,23 @@ std::string scenarioTruthYaml(const Scenario& s, const Robot& robot)
   out << YAML::EndMap;
   out << YAML::Key << "ground_truth_topic" << YAML::Value << s.ground_truth_topic;
   out << YAML::Key << "ground_truth_frame" << YAML::Value << s.ground_truth_frame;
+  if (!s.changes.empty()) {
+    // The robot and laser change mid-run: the parameters above hold until the first change.
+    out << YAML::Key << "changes" << YAML::Value << YAML::BeginSeq;
+    for (const ParameterChange& change : s.changes) {
+      out << YAML::BeginMap;
+      out << YAML::Key << "at_s" << YAML::Value << change.at_s;
+      if (!change.robot_parameters.empty()) {
+        out << YAML::Key << "robot" << YAML::Value << YAML::BeginMap;
+        for (const auto& [key, value] : change.robot_parameters)
+          out << YAML::Key << key << YAML::Value << value;
+        out << YAML::EndMap;
+      }
+      out << YAML::Key << "laser_yaw_change_rad" << YAML::Value << change.laser_yaw_change_rad;
+      out << YAML::EndMap;
+    }
+    out << YAML::EndSeq;
+  }
   out << YAML::EndMap;
   return "# odometry_calibration simulator: true parameters of this run\n" +
          std::string(out.c_str()) + "\n";
