@@ -391,14 +391,48 @@ bool hasExcitationGuidance(const std::string& model)
   return model == "diff_drive" || model == "tricycle";
 }
 
-std::unique_ptr<ExcitationGuidance> makeExcitationGuidance(const std::string& model,
-                                                           const ModelFactoryOptions& factory,
-                                                           const ExcitationGuidanceOptions& options)
+std::unique_ptr<ExcitationGuidance> makeExcitationGuidance(
+    const std::string& model, const ModelFactoryOptions& factory,
+    const ExcitationGuidanceOptions& options, const std::vector<ParameterEstimate>& linearise_at)
 {
+  ModelFactoryOptions at = factory;
+  DiffDriveOptions& d = at.diff_drive;
+  TricycleParameters& t = at.tricycle.initial;
+  Pose2& sensor = model == "tricycle" ? t.T_base_sensor : d.initial_T_base_sensor;
+  for (const ParameterEstimate& estimate : linearise_at) {
+    const std::string& n = estimate.name;
+    const double v = estimate.value;
+    if (!std::isfinite(v))
+      throw std::invalid_argument("excitation guidance: " + n + " is not finite");
+    if (n == "sensor_x") {
+      sensor = Pose2(v, sensor.y(), sensor.theta());
+    } else if (n == "sensor_y") {
+      sensor = Pose2(sensor.x(), v, sensor.theta());
+    } else if (n == "sensor_theta") {
+      sensor = Pose2(sensor.x(), sensor.y(), v);
+    } else if (model == "diff_drive" && n == "left_wheel_radius") {
+      d.initial_left_radius_m = v;
+    } else if (model == "diff_drive" && n == "right_wheel_radius") {
+      d.initial_right_radius_m = v;
+    } else if (model == "diff_drive" && n == "wheel_separation") {
+      d.initial_separation_m = v;
+    } else if (model == "tricycle" && n == "steering_scale") {
+      t.steering_scale = v;
+    } else if (model == "tricycle" && n == "traction_scale") {
+      t.traction_scale_m_per_turn = v;
+    } else if (model == "tricycle" && n == "axis_length") {
+      t.axis_length_m = v;
+    } else if (model == "tricycle" && n == "steering_offset") {
+      t.steering_offset_rad = v;
+    } else {
+      throw std::invalid_argument("excitation guidance: " + model + " has no parameter '" + n +
+                                  "'");
+    }
+  }
   if (model == "diff_drive")
-    return diffDriveGuidance(factory.diff_drive, options);
+    return diffDriveGuidance(at.diff_drive, options);
   if (model == "tricycle")
-    return tricycleGuidance(factory.tricycle, options);
+    return tricycleGuidance(at.tricycle, options);
   throw std::invalid_argument("excitation guidance: model '" + model +
                               "' has none (diff_drive and tricycle have)");
 }

@@ -71,6 +71,8 @@ void CalibrationNode::setUpAssistant()
             configForModel(config_text_, name, "", options_.config_path);
         guidance_ =
             makeExcitationGuidance(name, for_model.models, assistant_options_.guidance_options);
+        guidance_model_ = name;
+        guidance_factory_ = for_model.models;
         for (const MotionPair& pair : pairs_)
           guidance_->addPair(pair);
       } catch (const std::exception& error) {
@@ -151,6 +153,21 @@ void CalibrationNode::startHealthMonitor(const std::shared_ptr<const MotionModel
     return;
   health_monitor_ = std::make_unique<HealthMonitor>(model, assistant_options_.health_options);
   health_model_origin_ = active_model_origin_;
+}
+
+void CalibrationNode::recentreGuidance(const std::string& model, const ModelReport& report)
+{
+  if (!guidance_ || model != guidance_model_)
+    return;
+  try {
+    auto recentred = makeExcitationGuidance(model, guidance_factory_,
+                                            assistant_options_.guidance_options, report.parameters);
+    for (const MotionPair& pair : pairs_)
+      recentred->addPair(pair);
+    guidance_ = std::move(recentred);
+  } catch (const std::exception& error) {
+    ROS_WARN("the guidance stays at its previous values: %s", error.what());
+  }
 }
 
 void CalibrationNode::resetAssistant()

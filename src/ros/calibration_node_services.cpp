@@ -147,6 +147,7 @@ bool CalibrationNode::onCalibrate(Calibrate::Request& request, Calibrate::Respon
     publishExtrinsic();
     applyTimeOffset(time_offset_s);
     startHealthMonitor(model);
+    recentreGuidance(name, report);
   } catch (const std::exception& error) {
     response.message = name + " fitted, but its odometry failed: " + error.what() +
                        "; the active model is unchanged";

@@ -293,6 +293,34 @@ TEST(ExcitationGuidance, TricycleWithoutFullLockAsksForIt)
   EXPECT_TRUE(find(status, "traction_scale").enough) << status.summary();
 }
 
+TEST(ExcitationGuidance, SigmasAtTheFittedValuesMatchTheFitsOwn)
+{
+  // The guidance's sigma is the Cramer-Rao bound of the fit: at the fitted values, on the same
+  // pairs (noise as stated), it agrees with the fit's covariance.
+  const auto data = sim::generatePairs(diffDriveRun(script(kAllDiffDrive, 6, false)));
+  ModelFactoryOptions factory = diffDriveNominal();
+  factory.joints = data.joints;
+  std::unique_ptr<MotionModel> model = makeModel("diff_drive", factory);
+  const ModelReport report = model->fit(data.pairs);
+  ASSERT_TRUE(report.converged);
+  auto guidance =
+      makeExcitationGuidance("diff_drive", factory, ExcitationGuidanceOptions(), report.parameters);
+  for (const MotionPair& pair : data.pairs)
+    guidance->addPair(pair);
+  const ExcitationStatus status = guidance->status();
+  for (const ParameterEstimate& estimate : report.parameters) {
+    const ParameterGuidance& p = find(status, estimate.name);
+    EXPECT_DOUBLE_EQ(p.value, estimate.value) << estimate.name;
+    std::printf("%s: guidance sigma / fit sigma = %.3f\n", estimate.name.c_str(),
+                p.sigma / estimate.sigma);
+    EXPECT_NEAR(p.sigma / estimate.sigma, 1.0, 0.25)
+        << estimate.name << ": guidance " << p.sigma << ", fit " << estimate.sigma;
+  }
+  EXPECT_THROW(makeExcitationGuidance("diff_drive", factory, ExcitationGuidanceOptions(),
+                                      {{"axis_length", "m", 1.0, 1.0, 0.1}}),
+               std::invalid_argument);
+}
+
 TEST(ExcitationGuidance, NoPairsMeansEverythingCollecting)
 {
   auto guidance =

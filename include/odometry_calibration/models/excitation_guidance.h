@@ -88,10 +88,12 @@ public:
 bool hasExcitationGuidance(const std::string& model);
 
 /// Guidance for `model` linearised at the model options' start values (`factory.diff_drive` or
-/// `factory.tricycle`: layout, initial intrinsics and sensor pose). Throws
-/// std::invalid_argument for a model without guidance or invalid options.
+/// `factory.tricycle`: layout, initial intrinsics and sensor pose), or, for the parameters named
+/// in `linearise_at` (e.g. a fit's report), at those values. Throws std::invalid_argument for a
+/// model without guidance, invalid options or a name in `linearise_at` the model does not have.
 std::unique_ptr<ExcitationGuidance> makeExcitationGuidance(
     const std::string& model, const ModelFactoryOptions& factory,
-    const ExcitationGuidanceOptions& options);
+    const ExcitationGuidanceOptions& options,
+    const std::vector<ParameterEstimate>& linearise_at = {});
 
 }  // namespace odometry_calibration

@@ -124,6 +124,8 @@ private:
   /// Watches `model` from now on (a fitted or saved calibration).
   void startHealthMonitor(const std::shared_ptr<const MotionModel>& model);
   void resetAssistant();
+  /// After a fit of the guidance's model: the guidance linearised at the fitted values.
+  void recentreGuidance(const std::string& model, const ModelReport& report);
   /// Keeps the decoded encoder sample for the time-offset search (estimate_time_offset only;
   /// time going backwards starts the history again).
   void recordEncoderHistory(double stamp_s, const Eigen::VectorXd& accepted);
@@ -202,6 +204,8 @@ private:
   std::unique_ptr<EncoderDecoder> history_decoder_;
   std::vector<EncoderSample> encoder_history_;  ///< encoder clock, as calibrate_bag's
   std::unique_ptr<ExcitationGuidance> guidance_;
+  std::string guidance_model_;            ///< the model the guidance is for
+  ModelFactoryOptions guidance_factory_;  ///< its options (joints resolved)
   std::unique_ptr<HealthMonitor> health_monitor_;
   std::string health_model_origin_;  ///< what the monitor watches
   ros::Publisher guidance_marker_publisher_, health_statistic_publisher_;
