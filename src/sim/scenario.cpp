@@ -160,11 +160,12 @@ Scenario loadScenarioYaml(const std::string& path, const std::string& worlds_dir
 
     where = path + ": motion";
     const YAML::Node motion = root["motion"];
-    checkYamlKeys(motion,
-                  {"type", "max_speed_mps", "max_turn_rate_radps", "min_segment_s", "max_segment_s",
-                   "clearance_m", "lookahead_s", "max_acceleration_mps2",
-                   "max_angular_acceleration_radps2", "script"},
-                  where);
+    checkYamlKeys(
+        motion,
+        {"type", "max_speed_mps", "max_turn_rate_radps", "min_segment_s", "max_segment_s",
+         "clearance_m", "lookahead_s", "max_acceleration_mps2", "max_angular_acceleration_radps2",
+         "script", "left_turns", "right_turns", "turning_in_place"},
+        where);
     readYaml(motion, "type", &s.motion.type);
     readYaml(motion, "max_speed_mps", &s.motion.max_speed_mps);
     readYaml(motion, "max_turn_rate_radps", &s.motion.max_turn_rate_radps);
@@ -174,6 +175,9 @@ Scenario loadScenarioYaml(const std::string& path, const std::string& worlds_dir
     readYaml(motion, "lookahead_s", &s.motion.lookahead_s);
     readYaml(motion, "max_acceleration_mps2", &s.motion.max_acceleration_mps2);
     readYaml(motion, "max_angular_acceleration_radps2", &s.motion.max_angular_acceleration_radps2);
+    readYaml(motion, "left_turns", &s.motion.left_turns);
+    readYaml(motion, "right_turns", &s.motion.right_turns);
+    readYaml(motion, "turning_in_place", &s.motion.turning_in_place);
     if (motion && motion["script"]) {
       std::size_t index = 0;
       for (const YAML::Node& step : motion["script"]) {

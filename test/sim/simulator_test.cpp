@@ -1,3 +1,5 @@
+#include <algorithm>
+#include <array>
 #include <cmath>
 
 #include <gtest/gtest.h>
@@ -183,6 +185,43 @@ TEST(Simulator, EncoderReadingQuantisesAndWraps)
   options.output_ticks = false;
   EXPECT_NEAR(encoderReading(steering, options, -0.1 * 2.0 * M_PI), -819.0 * 2.0 * M_PI / 8192,
               1e-12);
+}
+
+TEST(Simulator, RandomDriveLeavesOutTheMotionsAskedFor)
+{
+  // The default random drive turns both ways and on the spot; each option removes its motion.
+  auto run = [](bool left, bool right, bool in_place) {
+    Scenario s = smallScenario("diff_drive");
+    s.duration_s = 120.0;
+    s.motion.left_turns = left;
+    s.motion.right_turns = right;
+    s.motion.turning_in_place = in_place;
+    const auto robot = makeRobot(s.robot);
+    Recorder recorder;
+    simulate(s, room(), *robot, recorder);
+    double most_left = 0.0, most_right = 0.0, spot = 0.0;
+    for (const TruthSample& t : recorder.truth) {
+      most_left = std::max(most_left, t.twist.omega_radps);
+      most_right = std::min(most_right, t.twist.omega_radps);
+      if (std::abs(t.twist.vx_mps) < 0.01 && std::abs(t.twist.omega_radps) > 0.3)
+        spot += 1.0;
+    }
+    return std::array<double, 3>{most_left, most_right, spot};
+  };
+  const auto all = run(true, true, true);
+  EXPECT_GT(all[0], 0.3);
+  EXPECT_LT(all[1], -0.3);
+  EXPECT_GT(all[2], 50.0);  // samples turning on the spot
+  const auto no_left = run(false, true, true);
+  EXPECT_LE(no_left[0], 1e-9);
+  EXPECT_LT(no_left[1], -0.3);
+  const auto no_right = run(true, false, true);
+  EXPECT_GE(no_right[1], -1e-9);
+  EXPECT_GT(no_right[0], 0.3);
+  const auto no_spot = run(true, true, false);
+  // (only the instants an arc reverses through zero speed remain)
+  EXPECT_LT(no_spot[2], 0.05 * all[2]) << no_spot[2] << " of " << all[2];
+  EXPECT_GT(no_spot[0], 0.3);
 }
 
 TEST(Simulator, ParameterChangesTakeEffectAtTheirTime)
