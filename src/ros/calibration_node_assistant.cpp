@@ -109,6 +109,15 @@ void CalibrationNode::applyTimeOffset(double time_offset_s)
   config_.collector.time_offset_s = time_offset_s;
   collector_ =
       std::make_unique<PairCollector>(channels_, config_.collector, priorPredictor(config_));
+  if (candidates_) {  // the fit-interval candidates pair at the new offset too
+    std::vector<double> other_intervals;
+    for (const double interval : config_.fit_intervals_s) {
+      if (std::abs(interval - config_.collector.keyframe_interval_s) > 1e-9)
+        other_intervals.push_back(interval);
+    }
+    candidates_ = std::make_unique<CandidateCollectors>(channels_, config_.collector,
+                                                        priorPredictor(config_), other_intervals);
+  }
   restartOdometry();
   ROS_INFO("time offset %.4f s -> %.4f s: new pairs and the odometry use it (both restarted)",
            previous_s, time_offset_s);
