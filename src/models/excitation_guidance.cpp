@@ -11,13 +11,14 @@
 #include <Eigen/Cholesky>
 
 #include "odometry_calibration/models/diff_drive_kinematics.h"
+#include "odometry_calibration/models/mecanum_kinematics.h"
 #include "odometry_calibration/models/sensor_motion_fit.h"
 #include "odometry_calibration/models/tricycle_residual.h"
 
 namespace odometry_calibration {
 namespace {
 
-/// Kinds of motion the guidance counts (amounts in m or rad, see kMotionUnits).
+/// Kinds of motion the guidance counts (amounts in m or rad, as noted).
 enum Motion
 {
   kStraight = 0,  ///< straight driving, either direction [m]
@@ -27,6 +28,8 @@ enum Motion
   kTurnRight,     ///< heading change to the right, any way [rad]
   kFullLeft,      ///< travel with the steering beyond the full-lock fraction, left [m]
   kFullRight,     ///< the same, right [m]
+  kStrafeLeft,    ///< mecanum: sideways travel to the left [m]
+  kStrafeRight,   ///< mecanum: sideways travel to the right [m]
   kMotionCount
 };
 
@@ -65,6 +68,10 @@ std::string motionWords(Motion motion, bool turns_in_place, double driven, doubl
       return format("steer full left while driving (%.1f of %.1f m)", driven, needed);
     case kFullRight:
       return format("steer full right while driving (%.1f of %.1f m)", driven, needed);
+    case kStrafeLeft:
+      return format("strafe to the left (%.1f of %.1f m)", driven, needed);
+    case kStrafeRight:
+      return format("strafe to the right (%.1f of %.1f m)", driven, needed);
     default:
       return "?";
   }
@@ -222,6 +229,9 @@ private:
       case kTurnLeft:
       case kTurnRight:
         return options_.turn_rad;
+      case kStrafeLeft:
+      case kStrafeRight:
+        return options_.strafe_distance_m;
       default:
         return options_.full_lock_travel_m;
     }
@@ -338,6 +348,65 @@ std::unique_ptr<ExcitationGuidance> tricycleGuidance(const TricycleModelOptions&
       traits, layout, kinematic, factory.initial.T_base_sensor, options, classify);
 }
 
+std::unique_ptr<ExcitationGuidance> mecanumGuidance(const MecanumOptions& factory,
+                                                    const ExcitationGuidanceOptions& options)
+{
+  ModelTraits traits;
+  traits.model = "mecanum";
+  traits.names = {"wheel_radius_front_left",
+                  "wheel_radius_front_right",
+                  "wheel_radius_rear_left",
+                  "wheel_radius_rear_right",
+                  "lx_plus_ly",
+                  "sensor_x",
+                  "sensor_y",
+                  "sensor_theta"};
+  traits.units = {"m", "m", "m", "m", "m", "m", "m", "rad"};
+  traits.relative = {"wheel_radius_front_left", "wheel_radius_front_right",
+                     "wheel_radius_rear_left", "wheel_radius_rear_right", "lx_plus_ly"};
+  // Each radius enters forward travel, strafing and rotation with its own signs: all three
+  // (both ways) separate the four; lx + ly needs rotation; the sensor as for the diff drive.
+  const std::vector<Motion> radius = {kStraight, kStrafeLeft, kStrafeRight, kTurnLeft, kTurnRight};
+  traits.needs = {radius,
+                  radius,
+                  radius,
+                  radius,
+                  {kTurnLeft, kTurnRight},
+                  {kSpotLeft, kSpotRight},
+                  {kSpotLeft, kSpotRight},
+                  {kStraight}};
+  Eigen::Matrix<double, kMecanumParameterCount, 1> intrinsic;
+  intrinsic << factory.initial_radius_m[0], factory.initial_radius_m[1],
+      factory.initial_radius_m[2], factory.initial_radius_m[3], factory.initial_lx_plus_ly_m;
+  const MecanumEncoderLayout layout = factory.layout;
+  auto classify = [intrinsic, layout](const MotionPair& pair, MotionAmounts& driven) {
+    // Per encoder step (mecanum_kinematics.h): turning, strafing or straight, by what dominates.
+    const int index[4] = {layout.front_left_index, layout.front_right_index, layout.rear_left_index,
+                          layout.rear_right_index};
+    for (std::size_t k = 1; k < pair.encoder_samples.size(); ++k) {
+      double ticks[4];
+      for (int i = 0; i < 4; ++i) {
+        ticks[i] =
+            pair.encoder_samples[k].values(index[i]) - pair.encoder_samples[k - 1].values(index[i]);
+      }
+      const Pose2 step = mecanumStep<double>(intrinsic.data(), ticks, layout.ticks_per_turn);
+      const double distance = std::hypot(step.x(), step.y());
+      const double dtheta = step.theta();
+      if (std::abs(dtheta) > 0.1 * distance) {
+        addTurn(dtheta, driven);
+        if (distance < 0.05 * std::abs(dtheta))
+          driven[dtheta > 0.0 ? kSpotLeft : kSpotRight] += std::abs(dtheta);
+      } else if (std::abs(step.y()) > std::abs(step.x())) {
+        driven[step.y() > 0.0 ? kStrafeLeft : kStrafeRight] += std::abs(step.y());
+      } else {
+        driven[kStraight] += std::abs(step.x());
+      }
+    }
+  };
+  return std::make_unique<Guidance<MecanumKinematics>>(
+      traits, layout, intrinsic, factory.initial_T_base_sensor, options, classify);
+}
+
 }  // namespace
 
 void validate(const ExcitationGuidanceOptions& options)
@@ -352,6 +421,7 @@ void validate(const ExcitationGuidanceOptions& options)
   positive(options.straight_distance_m, "straight_distance_m");
   positive(options.spot_turn_rad, "spot_turn_rad");
   positive(options.turn_rad, "turn_rad");
+  positive(options.strafe_distance_m, "strafe_distance_m");
   positive(options.full_lock_rad, "full_lock_rad");
   positive(options.full_lock_travel_m, "full_lock_travel_m");
   positive(options.prior_factor, "prior_factor");
@@ -388,7 +458,7 @@ std::string ExcitationStatus::summary() const
 
 bool hasExcitationGuidance(const std::string& model)
 {
-  return model == "diff_drive" || model == "tricycle";
+  return model == "diff_drive" || model == "tricycle" || model == "mecanum";
 }
 
 std::unique_ptr<ExcitationGuidance> makeExcitationGuidance(
@@ -398,7 +468,9 @@ std::unique_ptr<ExcitationGuidance> makeExcitationGuidance(
   ModelFactoryOptions at = factory;
   DiffDriveOptions& d = at.diff_drive;
   TricycleParameters& t = at.tricycle.initial;
-  Pose2& sensor = model == "tricycle" ? t.T_base_sensor : d.initial_T_base_sensor;
+  Pose2& sensor = model == "tricycle"  ? t.T_base_sensor
+                  : model == "mecanum" ? at.mecanum.initial_T_base_sensor
+                                       : d.initial_T_base_sensor;
   for (const ParameterEstimate& estimate : linearise_at) {
     const std::string& n = estimate.name;
     const double v = estimate.value;
@@ -416,6 +488,16 @@ std::unique_ptr<ExcitationGuidance> makeExcitationGuidance(
       d.initial_right_radius_m = v;
     } else if (model == "diff_drive" && n == "wheel_separation") {
       d.initial_separation_m = v;
+    } else if (model == "mecanum" &&
+               (n == "wheel_radius_front_left" || n == "wheel_radius_front_right" ||
+                n == "wheel_radius_rear_left" || n == "wheel_radius_rear_right")) {
+      const int i = n == "wheel_radius_front_left"    ? 0
+                    : n == "wheel_radius_front_right" ? 1
+                    : n == "wheel_radius_rear_left"   ? 2
+                                                      : 3;
+      at.mecanum.initial_radius_m[static_cast<std::size_t>(i)] = v;
+    } else if (model == "mecanum" && n == "lx_plus_ly") {
+      at.mecanum.initial_lx_plus_ly_m = v;
     } else if (model == "tricycle" && n == "steering_scale") {
       t.steering_scale = v;
     } else if (model == "tricycle" && n == "traction_scale") {
@@ -433,8 +515,10 @@ std::unique_ptr<ExcitationGuidance> makeExcitationGuidance(
     return diffDriveGuidance(at.diff_drive, options);
   if (model == "tricycle")
     return tricycleGuidance(at.tricycle, options);
+  if (model == "mecanum")
+    return mecanumGuidance(at.mecanum, options);
   throw std::invalid_argument("excitation guidance: model '" + model +
-                              "' has none (diff_drive and tricycle have)");
+                              "' has none (diff_drive, tricycle and mecanum have)");
 }
 
 }  // namespace odometry_calibration

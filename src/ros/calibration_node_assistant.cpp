@@ -27,6 +27,7 @@ AssistantOptions readAssistantOptions(const ros::NodeHandle& p)
   p.param("guidance_straight_distance_m", g.straight_distance_m, g.straight_distance_m);
   p.param("guidance_spot_turn_rad", g.spot_turn_rad, g.spot_turn_rad);
   p.param("guidance_turn_rad", g.turn_rad, g.turn_rad);
+  p.param("guidance_strafe_distance_m", g.strafe_distance_m, g.strafe_distance_m);
   p.param("guidance_full_lock_rad", g.full_lock_rad, g.full_lock_rad);
   p.param("guidance_full_lock_travel_m", g.full_lock_travel_m, g.full_lock_travel_m);
   std::map<std::string, double> targets;
@@ -64,7 +65,9 @@ void CalibrationNode::setUpAssistant()
     const std::string name =
         hasExcitationGuidance(config_.model) ? config_.model : config_.prior_model;
     if (!hasExcitationGuidance(name)) {
-      ROS_INFO("no excitation guidance: it needs a diff_drive or tricycle model or prior_model");
+      ROS_INFO(
+          "no excitation guidance: it needs a diff_drive, tricycle or mecanum model or "
+          "prior_model");
     } else {
       try {
         const CalibrationConfig for_model =

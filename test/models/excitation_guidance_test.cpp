@@ -25,6 +25,8 @@ enum class Drive
   kArcRight,
   kFullLeft,  ///< tricycle: a tight arc that saturates the steering
   kFullRight,
+  kStrafeLeft,  ///< mecanum: sideways
+  kStrafeRight,
 };
 
 sim::ScriptedMotion motion(Drive drive, bool tricycle)
@@ -59,6 +61,12 @@ sim::ScriptedMotion motion(Drive drive, bool tricycle)
     case Drive::kFullRight:
       m.twist.vx_mps = 0.3;
       m.twist.omega_radps = -0.6;
+      break;
+    case Drive::kStrafeLeft:
+      m.twist.vy_mps = 0.3;
+      break;
+    case Drive::kStrafeRight:
+      m.twist.vy_mps = -0.3;
       break;
   }
   return m;
@@ -319,6 +327,65 @@ TEST(ExcitationGuidance, SigmasAtTheFittedValuesMatchTheFitsOwn)
   EXPECT_THROW(makeExcitationGuidance("diff_drive", factory, ExcitationGuidanceOptions(),
                                       {{"axis_length", "m", 1.0, 1.0, 0.1}}),
                std::invalid_argument);
+}
+
+const std::map<std::string, double> kMecanumTruth = {{"wheel_radius_front_left", 0.05},
+                                                     {"wheel_radius_front_right", 0.05},
+                                                     {"wheel_radius_rear_left", 0.05},
+                                                     {"wheel_radius_rear_right", 0.05},
+                                                     {"lx_plus_ly", 0.35},
+                                                     {"sensor_x", 0.2},
+                                                     {"sensor_y", 0.05},
+                                                     {"sensor_theta", 0.1}};
+
+sim::PairGeneratorOptions mecanumRun(const sim::DrivePlanOptions& plan)
+{
+  sim::PairGeneratorOptions options;
+  options.robot = {"mecanum", {}};  // radii 0.05 m, lx + ly = 0.35 m
+  options.T_base_sensor = Pose2(0.2, 0.05, 0.1);
+  options.motion = plan;
+  options.duration_s = scriptDuration(plan);
+  options.interval_s = 0.3;
+  return options;
+}
+
+ModelFactoryOptions mecanumNominal()
+{
+  ModelFactoryOptions factory;
+  factory.mecanum.layout.ticks_per_turn = 1000.0;
+  factory.mecanum.initial_radius_m = {0.051, 0.049, 0.05, 0.0505};
+  factory.mecanum.initial_lx_plus_ly_m = 0.34;
+  factory.mecanum.initial_T_base_sensor = Pose2(0.15, 0.0, 0.0);
+  factory.mecanum.yaw_starts = 1;
+  return factory;
+}
+
+TEST(ExcitationGuidance, MecanumWithAllMotionsReachesEnoughAndWithoutStrafingAsksForIt)
+{
+  const std::vector<Drive> all = {Drive::kStraight,  Drive::kStrafeLeft, Drive::kSpotLeft,
+                                  Drive::kArcLeft,   Drive::kReverse,    Drive::kStrafeRight,
+                                  Drive::kSpotRight, Drive::kArcRight};
+  const auto data = sim::generatePairs(mecanumRun(script(all, 10, false)));
+  const ExcitationStatus status =
+      feedAndCheckNotPremature("mecanum", mecanumNominal(), data, kMecanumTruth);
+  EXPECT_TRUE(status.ready_to_fit) << status.summary();
+
+  const auto no_strafe =
+      sim::generatePairs(mecanumRun(script({Drive::kStraight, Drive::kSpotLeft, Drive::kArcLeft,
+                                            Drive::kReverse, Drive::kSpotRight, Drive::kArcRight},
+                                           14, false)));
+  const ExcitationStatus missing = feed("mecanum", mecanumNominal(), no_strafe.pairs);
+  std::printf("%s\n", missing.summary().c_str());
+  EXPECT_FALSE(missing.ready_to_fit);
+  EXPECT_TRUE(mentions(missing.missing_motions, "strafe to the left")) << missing.summary();
+  EXPECT_TRUE(mentions(missing.missing_motions, "strafe to the right"));
+  // Without sideways motion one combination of the radii is not seen at all: their sigma stays
+  // at the prior's scale, far above the target.
+  for (const char* name : {"wheel_radius_front_left", "wheel_radius_front_right",
+                           "wheel_radius_rear_left", "wheel_radius_rear_right"}) {
+    EXPECT_FALSE(find(missing, name).enough) << name;
+    EXPECT_GT(find(missing, name).sigma, 10.0 * find(missing, name).target_sigma) << name;
+  }
 }
 
 TEST(ExcitationGuidance, NoPairsMeansEverythingCollecting)

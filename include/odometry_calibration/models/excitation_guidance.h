@@ -31,6 +31,7 @@ struct ExcitationGuidanceOptions
   double straight_distance_m = 2.0;  ///< straight driving needed [m]
   double spot_turn_rad = 6.283185307179586;  ///< diff_drive: turning on the spot, each way [rad]
   double turn_rad = 3.141592653589793;       ///< turning while driving, each way [rad]
+  double strafe_distance_m = 1.0;            ///< mecanum: sideways travel, each way [m]
   /// tricycle: steering angle of full lock [rad] (the robot's maximum; the fit does not know it)
   double full_lock_rad = 1.2;
   /// tricycle: steering beyond this fraction of full_lock_rad counts as full lock [-]
@@ -84,13 +85,14 @@ public:
   virtual std::size_t skipped() const = 0;
 };
 
-/// Whether makeExcitationGuidance supports `model` (diff_drive, tricycle).
+/// Whether makeExcitationGuidance supports `model` (diff_drive, tricycle, mecanum).
 bool hasExcitationGuidance(const std::string& model);
 
-/// Guidance for `model` linearised at the model options' start values (`factory.diff_drive` or
-/// `factory.tricycle`: layout, initial intrinsics and sensor pose), or, for the parameters named
-/// in `linearise_at` (e.g. a fit's report), at those values. Throws std::invalid_argument for a
-/// model without guidance, invalid options or a name in `linearise_at` the model does not have.
+/// Guidance for `model` linearised at the model options' start values (`factory.diff_drive`,
+/// `factory.tricycle` or `factory.mecanum`: layout, initial intrinsics and sensor pose), or, for
+/// the parameters named in `linearise_at` (e.g. a fit's report), at those values. Throws
+/// std::invalid_argument for a model without guidance, invalid options or a name in `linearise_at`
+/// the model does not have.
 std::unique_ptr<ExcitationGuidance> makeExcitationGuidance(
     const std::string& model, const ModelFactoryOptions& factory,
     const ExcitationGuidanceOptions& options,
