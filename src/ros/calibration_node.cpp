@@ -132,6 +132,8 @@ CalibrationNode::CalibrationNode(ros::NodeHandle handle, ros::NodeHandle private
         "saved calibration");
   }
 
+  setUpAssistant();  // issue 18: guidance and health monitor
+
   for (nav_msgs::Path* path : {&nominal_path_, &corrected_path_, &scan_matched_path_})
     path->header.frame_id = options_.odom_frame;
 
@@ -246,8 +248,10 @@ void CalibrationNode::onJointState(const sensor_msgs::JointState::ConstPtr& mess
     warnInput(error.what(), "JointState on " + joint_health_.topic + " rejected: " + error.what());
     return;
   }
-  if (accepted.size() > 0)  // empty for an encoder glitch: not motion
+  if (accepted.size() > 0) {  // empty for an encoder glitch: not motion
+    recordEncoderHistory(stamp_s, accepted);
     integrateOdometry(stamp_s, accepted);
+  }
 }
 
 void CalibrationNode::onScan(const sensor_msgs::LaserScan::ConstPtr& message)
@@ -331,6 +335,7 @@ void CalibrationNode::handleEvents(const std::vector<CollectorEvent>& events, do
         pairs_publisher_.publish(
             ros_conversions::toPairMsg(event.pair, jointLayout(config_), sensorFrame()));
         addScanMatchedPose(event.pair);
+        assistantAddPair(event.pair);
         break;
       case CollectorEvent::Type::kRestarted:
         ROS_WARN(

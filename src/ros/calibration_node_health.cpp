@@ -130,6 +130,7 @@ void CalibrationNode::publishDiagnostics(double period_s)
     status.message = std::to_string(pairs_.size()) + " pairs";
   }
   array.status.push_back(status);
+  publishAssistant(array.status);
   diagnostics_publisher_.publish(array);
 }
 

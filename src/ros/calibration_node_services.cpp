@@ -39,10 +39,14 @@ bool CalibrationNode::onCalibrate(Calibrate::Request& request, Calibrate::Respon
   std::vector<MotionPair> pairs;
   std::vector<IntervalPairs> candidates;
   double time_offset_s = 0.0;
+  std::string guidance;
+  std::vector<EncoderSample> history;
   {
     std::lock_guard<std::mutex> lock(state_mutex_);
     config = config_;
     pairs = pairs_;
+    guidance = guidanceSummary();
+    history = encoder_history_;
     if (candidates_)
       candidates = candidates_->pairs();
     time_offset_s = config_.collector.time_offset_s;
@@ -66,7 +70,8 @@ bool CalibrationNode::onCalibrate(Calibrate::Request& request, Calibrate::Respon
   if (static_cast<int>(pairs.size()) < options_.min_pairs) {
     response.message = "only " + std::to_string(pairs.size()) + " pairs collected, " +
                        std::to_string(options_.min_pairs) +
-                       " needed (~min_pairs): drive more, straight and turning both ways";
+                       " needed (~min_pairs): drive more, straight and turning both ways" +
+                       guidance;
     return true;
   }
   // With keyframes.fit_intervals_s: the fit interval chosen by cross-validation on the
@@ -99,16 +104,20 @@ bool CalibrationNode::onCalibrate(Calibrate::Request& request, Calibrate::Respon
   }
   std::shared_ptr<MotionModel> model;
   ModelReport report;
+  std::string offset_text;
   try {
-    // The same job as calibrate_bag's; the node keeps no encoder history for a time-offset
-    // search and draws no report trajectories.
+    // The same job as calibrate_bag's, with the time-offset search on the encoder history the
+    // node keeps when the configuration asks for it (estimate_time_offset); no report
+    // trajectories.
     config.model = name;
     CalibrationJobOptions job_options;
-    job_options.allow_time_offset = false;
+    job_options.allow_time_offset = !history.empty();
     job_options.compare_trajectories = false;
-    CalibrationJobResult job = runCalibrationJob(config, fit_pairs, {}, job_options);
+    CalibrationJobResult job = runCalibrationJob(config, fit_pairs, history, job_options);
     model = job.model;
     report = std::move(job.report);
+    time_offset_s = job.time_offset_s;
+    offset_text = timeOffsetSentence(config, job, history.empty());
   } catch (const std::exception& error) {
     response.message = name + " fit failed: " + error.what();
     return true;
@@ -171,6 +180,9 @@ bool CalibrationNode::onCalibrate(Calibrate::Request& request, Calibrate::Respon
     active_model_ = model;
     active_model_origin_ = "fit of " + std::to_string(fit_pairs.size()) + " pairs";
     publishExtrinsic();
+    applyTimeOffset(time_offset_s);
+    startHealthMonitor(model);
+    recentreGuidance(name, report);
   } catch (const std::exception& error) {
     response.message = name + " fitted, but its odometry failed: " + error.what() +
                        "; the active model is unchanged";
@@ -185,8 +197,10 @@ bool CalibrationNode::onCalibrate(Calibrate::Request& request, Calibrate::Respon
                      " m. Now driving ~odom; call ~save to keep it.";
   if (!interval_text.empty())
     response.message += " " + interval_text + ".";
+  response.message += offset_text;
   for (const std::string& warning : report.warnings)
     response.message += " WARNING: " + warning;
+  response.message += guidance;
   if (report.warnings.empty())
     ROS_INFO("%s\n%s", response.message.c_str(), summary.c_str());
   else
@@ -258,6 +272,7 @@ bool CalibrationNode::onReset(std_srvs::Trigger::Request&, std_srvs::Trigger::Re
     pairs_file_problem_ = error.what();
   }
   restartOdometry();
+  resetAssistant();
   response.success = true;
   response.message = "collection restarted: " + std::to_string(dropped) + " pairs set aside" +
                      (archived.empty() ? std::string() : " in " + archived) +

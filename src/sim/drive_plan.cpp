@@ -68,22 +68,34 @@ Twist2 DrivePlanner::randomMotion()
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   const double v_max = options_.max_speed_mps;
   const double w_max = options_.max_turn_rate_radps;
-  const double sign = unit(rng_) < 0.5 ? -1.0 : 1.0;
+  double sign = unit(rng_) < 0.5 ? -1.0 : 1.0;
+  if (!options_.left_turns)
+    sign = -1.0;
+  if (!options_.right_turns)
+    sign = 1.0;
+  const bool turns = options_.left_turns || options_.right_turns;
+  const bool spot_turns = robot_.canTurnInPlace() && options_.turning_in_place && turns;
   Twist2 twist;
-  // Weights: forward straight, reverse, arcs, turning on the spot, sideways.
+  auto arc = [&]() {
+    twist.vx_mps = v_max * (0.2 + 0.8 * unit(rng_)) * (unit(rng_) < 0.8 ? 1.0 : -1.0);
+    twist.omega_radps = turns ? sign * w_max * (0.2 + 0.8 * unit(rng_)) : 0.0;
+  };
+  // Weights: forward straight, reverse, arcs, turning on the spot, sideways (a motion the robot
+  // cannot do or the options leave out becomes an arc).
   const double pick = unit(rng_);
   if (pick < 0.2) {
     twist.vx_mps = v_max * (0.3 + 0.7 * unit(rng_));
   } else if (pick < 0.35) {
     twist.vx_mps = -v_max * (0.2 + 0.5 * unit(rng_));
-  } else if (pick < 0.75 || !robot_.canTurnInPlace()) {
-    twist.vx_mps = v_max * (0.2 + 0.8 * unit(rng_)) * (unit(rng_) < 0.8 ? 1.0 : -1.0);
-    twist.omega_radps = sign * w_max * (0.2 + 0.8 * unit(rng_));
-  } else if (pick < 0.9 || !robot_.canDriveSideways()) {
+  } else if (pick < 0.75 || (pick < 0.9 && !spot_turns)) {
+    arc();
+  } else if (pick < 0.9 || (!robot_.canDriveSideways() && spot_turns)) {
     twist.omega_radps = sign * w_max * (0.3 + 0.7 * unit(rng_));
-  } else {
+  } else if (robot_.canDriveSideways()) {
     twist.vy_mps = sign * v_max * (0.2 + 0.6 * unit(rng_));
     twist.vx_mps = v_max * 0.3 * (2.0 * unit(rng_) - 1.0);
+  } else {
+    arc();
   }
   return twist;
 }

@@ -16,10 +16,13 @@ namespace {
 struct Collector : SimulationSink
 {
   std::vector<JointStateSample> joints;
-  std::vector<Pose2> T_world_base;
+  std::vector<Pose2> T_world_sensor;
   void onJointState(const JointStateSample& s) override { joints.push_back(s); }
   void onScan(const ScanSample&) override {}
-  void onTruth(const TruthSample& s) override { T_world_base.push_back(s.T_world_base); }
+  void onTruth(const TruthSample& s) override
+  {
+    T_world_sensor.push_back(s.T_world_base * s.T_base_laser);
+  }
 };
 
 }  // namespace
@@ -36,6 +39,7 @@ GeneratedPairs generatePairs(const PairGeneratorOptions& options)
   scenario.robot = options.robot;
   scenario.motion = options.motion;
   scenario.encoders.rate_hz = options.encoder_rate_hz;
+  scenario.changes = options.changes;
   scenario.laser.T_base_laser = options.T_base_sensor;
   scenario.laser.rays = 2;  // scans are not used here: keep them cheap
   scenario.laser.rate_hz = 1.0 / options.duration_s;
@@ -74,8 +78,8 @@ GeneratedPairs generatePairs(const PairGeneratorOptions& options)
     pair.end_stamp_s = stamps[window.last];
     pair.encoder_samples.assign(samples.begin() + static_cast<std::ptrdiff_t>(window.first),
                                 samples.begin() + static_cast<std::ptrdiff_t>(window.last) + 1);
-    const Pose2 truth = between(collector.T_world_base[window.first] * options.T_base_sensor,
-                                collector.T_world_base[window.last] * options.T_base_sensor);
+    const Pose2 truth =
+        between(collector.T_world_sensor[window.first], collector.T_world_sensor[window.last]);
     const double nx = options.translation_noise_m * normal(rng);
     const double ny = options.translation_noise_m * normal(rng);
     const double nt = options.rotation_noise_rad * normal(rng);
@@ -95,6 +99,7 @@ PairGeneratorOptions pairGeneratorOptions(const Scenario& scenario, PairGenerato
   options.encoder_rate_hz = scenario.encoders.rate_hz;
   options.duration_s = scenario.duration_s;
   options.seed = scenario.seed;
+  options.changes = scenario.changes;
   return options;
 }
 }  // namespace sim

@@ -58,6 +58,14 @@ void validate(const Scenario& s)
   require(s.tracker.translation_noise_m >= 0.0 && s.tracker.rotation_noise_rad >= 0.0,
           "tracker noise must be >= 0");
   validate(s.motion);
+  double previous_change_s = 0.0;
+  for (const ParameterChange& change : s.changes) {
+    require(change.at_s >= previous_change_s && std::isfinite(change.at_s),
+            "changes must be in time order at times >= 0 s");
+    require(std::abs(change.laser_yaw_change_rad) < M_PI,
+            "changes: laser_yaw_change_rad must be within pi");
+    previous_change_s = change.at_s;
+  }
 }
 
 Scenario loadScenarioYaml(const std::string& path, const std::string& worlds_directory)
@@ -69,7 +77,7 @@ Scenario loadScenarioYaml(const std::string& path, const std::string& worlds_dir
     checkYamlKeys(
         root,
         {"name", "seed", "duration_s", "start_time_s", "world", "start_pose", "robot", "laser",
-         "encoders", "motion", "tracker", "ground_truth_topic", "ground_truth_frame"},
+         "encoders", "motion", "tracker", "changes", "ground_truth_topic", "ground_truth_frame"},
         path);
     readYaml(root, "name", &s.name);
     readYaml(root, "seed", &s.seed);
@@ -152,11 +160,12 @@ Scenario loadScenarioYaml(const std::string& path, const std::string& worlds_dir
 
     where = path + ": motion";
     const YAML::Node motion = root["motion"];
-    checkYamlKeys(motion,
-                  {"type", "max_speed_mps", "max_turn_rate_radps", "min_segment_s", "max_segment_s",
-                   "clearance_m", "lookahead_s", "max_acceleration_mps2",
-                   "max_angular_acceleration_radps2", "script"},
-                  where);
+    checkYamlKeys(
+        motion,
+        {"type", "max_speed_mps", "max_turn_rate_radps", "min_segment_s", "max_segment_s",
+         "clearance_m", "lookahead_s", "max_acceleration_mps2", "max_angular_acceleration_radps2",
+         "script", "left_turns", "right_turns", "turning_in_place"},
+        where);
     readYaml(motion, "type", &s.motion.type);
     readYaml(motion, "max_speed_mps", &s.motion.max_speed_mps);
     readYaml(motion, "max_turn_rate_radps", &s.motion.max_turn_rate_radps);
@@ -166,6 +175,9 @@ Scenario loadScenarioYaml(const std::string& path, const std::string& worlds_dir
     readYaml(motion, "lookahead_s", &s.motion.lookahead_s);
     readYaml(motion, "max_acceleration_mps2", &s.motion.max_acceleration_mps2);
     readYaml(motion, "max_angular_acceleration_radps2", &s.motion.max_angular_acceleration_radps2);
+    readYaml(motion, "left_turns", &s.motion.left_turns);
+    readYaml(motion, "right_turns", &s.motion.right_turns);
+    readYaml(motion, "turning_in_place", &s.motion.turning_in_place);
     if (motion && motion["script"]) {
       std::size_t index = 0;
       for (const YAML::Node& step : motion["script"]) {
@@ -177,6 +189,31 @@ Scenario loadScenarioYaml(const std::string& path, const std::string& worlds_dir
         readYaml(step, "vy_mps", &scripted.twist.vy_mps);
         readYaml(step, "omega_radps", &scripted.twist.omega_radps);
         s.motion.script.push_back(scripted);
+      }
+    }
+    if (const YAML::Node changes = root["changes"]) {
+      std::size_t index = 0;
+      for (const YAML::Node& entry : changes) {
+        where = path + ": changes[" + std::to_string(index++) + "]";
+        checkYamlKeys(entry, {"at_s", "robot", "laser_yaw_change_rad"}, where);
+        ParameterChange change;
+        readYaml(entry, "at_s", &change.at_s);
+        readYaml(entry, "laser_yaw_change_rad", &change.laser_yaw_change_rad);
+        if (const YAML::Node robot_change = entry["robot"]) {
+          if (!robot_change.IsMap())
+            throw std::runtime_error("robot: expected a map of robot keys to new values");
+          for (const auto& parameter : robot_change)
+            change.robot_parameters[parameter.first.as<std::string>()] =
+                parameter.second.as<double>();
+        }
+        s.changes.push_back(change);
+      }
+      // Every change must make a valid robot (unknown keys named now, not mid-run).
+      RobotOptions changed = s.robot;
+      for (const ParameterChange& change : s.changes) {
+        for (const auto& [key, value] : change.robot_parameters)
+          changed.parameters[key] = value;
+        makeRobot(changed);
       }
     }
     where = path;
@@ -245,6 +282,23 @@ std::string scenarioTruthYaml(const Scenario& s, const Robot& robot)
   out << YAML::EndMap;
   out << YAML::Key << "ground_truth_topic" << YAML::Value << s.ground_truth_topic;
   out << YAML::Key << "ground_truth_frame" << YAML::Value << s.ground_truth_frame;
+  if (!s.changes.empty()) {
+    // The robot and laser change mid-run: the parameters above hold until the first change.
+    out << YAML::Key << "changes" << YAML::Value << YAML::BeginSeq;
+    for (const ParameterChange& change : s.changes) {
+      out << YAML::BeginMap;
+      out << YAML::Key << "at_s" << YAML::Value << change.at_s;
+      if (!change.robot_parameters.empty()) {
+        out << YAML::Key << "robot" << YAML::Value << YAML::BeginMap;
+        for (const auto& [key, value] : change.robot_parameters)
+          out << YAML::Key << key << YAML::Value << value;
+        out << YAML::EndMap;
+      }
+      out << YAML::Key << "laser_yaw_change_rad" << YAML::Value << change.laser_yaw_change_rad;
+      out << YAML::EndMap;
+    }
+    out << YAML::EndSeq;
+  }
   out << YAML::EndMap;
   return "# odometry_calibration simulator: true parameters of this run\n" +
          std::string(out.c_str()) + "\n";

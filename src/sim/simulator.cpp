@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <random>
 #include <stdexcept>
 
@@ -102,6 +103,29 @@ SimulationSummary simulate(const Scenario& scenario, const World& world, const R
 
   Pose2 T_world_base = scenario.start_pose;
   Eigen::VectorXd joints = robot.initialJoints();
+  // The robots after each change (cumulative parameters) and the laser's pose now.
+  std::vector<std::unique_ptr<Robot>> changed_robots;
+  RobotOptions changed_options = scenario.robot;
+  for (const ParameterChange& change : scenario.changes) {
+    for (const auto& [key, value] : change.robot_parameters)
+      changed_options.parameters[key] = value;
+    changed_robots.push_back(makeRobot(changed_options));
+    if (changed_robots.back()->joints().size() != specs.size())
+      throw std::invalid_argument("changes: a change may not change the robot's joints");
+  }
+  std::size_t next_change = 0;
+  const Robot* current_robot = &robot;
+  Pose2 T_base_laser = laser.T_base_laser;
+  auto applyChanges = [&]() {
+    while (next_change < scenario.changes.size() &&
+           now >= std::llround(scenario.changes[next_change].at_s * 1e9)) {
+      current_robot = changed_robots[next_change].get();
+      T_base_laser = Pose2(T_base_laser.x(), T_base_laser.y(),
+                           normalizeAngle(T_base_laser.theta() +
+                                          scenario.changes[next_change].laser_yaw_change_rad));
+      ++next_change;
+    }
+  };
   Twist2 target, command, realised;
   // Ramp the command towards the planner's target with bounded accelerations.
   auto ramp = [&](double dt) {
@@ -138,14 +162,16 @@ SimulationSummary simulate(const Scenario& scenario, const World& world, const R
     while (now < next_event) {
       const std::int64_t step = std::min(kMaxSubstepNs, next_event - now);
       const double dt = static_cast<double>(step) / kNanoseconds;
+      applyChanges();
       ramp(dt);
-      realised = robot.step(command, dt, &joints);
+      realised = current_robot->step(command, dt, &joints);
       const Pose2 motion = integrateTwist(realised, dt);
       summary.distance_m += std::hypot(motion.x(), motion.y());
       summary.rotation_rad += std::abs(motion.theta());
       T_world_base = T_world_base * motion;
       now += step;
     }
+    applyChanges();
     const double t = static_cast<double>(now) / kNanoseconds;
     if (now == next_control) {
       target = planner.command(t, T_world_base);
@@ -154,7 +180,7 @@ SimulationSummary simulate(const Scenario& scenario, const World& world, const R
     if (now == next_encoder) {
       JointStateSample sample;
       sample.stamp_s = t + scenario.encoders.time_offset_s;
-      const Eigen::VectorXd shaft = robot.encoderAngles(joints);
+      const Eigen::VectorXd shaft = current_robot->encoderAngles(joints);
       for (std::size_t j = 0; j < specs.size(); ++j) {
         const double reading = encoderReading(specs[j], scenario.encoders, shaft(j));
         if (specs[j].kind == EncoderKind::kIncremental && wrap_period[j] > 0.0 &&
@@ -166,14 +192,14 @@ SimulationSummary simulate(const Scenario& scenario, const World& world, const R
       }
       sink.onJointState(sample);
       ++summary.joint_states;
-      sink.onTruth({t, T_world_base, realised});
+      sink.onTruth({t, T_world_base, realised, T_base_laser});
       ++summary.truth_samples;
       if (scenario.tracker.enabled) {
         const double noise_x = scenario.tracker.translation_noise_m * unit_normal(tracker_rng);
         const double noise_y = scenario.tracker.translation_noise_m * unit_normal(tracker_rng);
         const double noise_theta = scenario.tracker.rotation_noise_rad * unit_normal(tracker_rng);
         const Pose2 noise(noise_x, noise_y, noise_theta);
-        sink.onTracker({t, T_world_base * laser.T_base_laser * noise});
+        sink.onTracker({t, T_world_base * T_base_laser * noise});
       }
       next_encoder += encoder_period;
     }
@@ -185,7 +211,7 @@ SimulationSummary simulate(const Scenario& scenario, const World& world, const R
       scan.range_min_m = static_cast<float>(laser.min_range_m);
       scan.range_max_m = static_cast<float>(laser.max_range_m);
       scan.ranges.resize(static_cast<std::size_t>(laser.rays));
-      const Pose2 T_world_laser = T_world_base * laser.T_base_laser;
+      const Pose2 T_world_laser = T_world_base * T_base_laser;
       const Eigen::Vector2d origin(T_world_laser.x(), T_world_laser.y());
       for (int i = 0; i < laser.rays; ++i) {
         const double angle =

@@ -8,11 +8,13 @@
 #include <fstream>
 #include <map>
 
+#include <diagnostic_msgs/DiagnosticArray.h>
 #include <gtest/gtest.h>
 #include <nav_msgs/Odometry.h>
 #include <nav_msgs/Path.h>
 #include <ros/ros.h>
 #include <tf2_ros/transform_listener.h>
+#include <visualization_msgs/Marker.h>
 #include <yaml-cpp/yaml.h>
 
 #include "node_test_support.h"
@@ -84,6 +86,22 @@ TEST(NodeReplay, FitsMidRunPublishesCorrectedOdometryAndMatchesTheBagTool)
   ros::Subscriber s3 = handle.subscribe<nav_msgs::Path>(kNode + "/path/nominal", 1, on_nominal);
   ros::Subscriber s4 =
       handle.subscribe<odometry_calibration::CalibrationPair>(kNode + "/pairs", 1000, on_pair);
+  // The live assistant (issue 18): guidance and health on /diagnostics, the rviz marker.
+  diagnostic_msgs::DiagnosticStatus guidance_status, health_status;
+  auto on_diagnostics = [&](const diagnostic_msgs::DiagnosticArray::ConstPtr& m) {
+    for (const auto& status : m->status) {
+      if (status.name == kNode + ": excitation guidance")
+        guidance_status = status;
+      if (status.name == kNode + ": calibration health")
+        health_status = status;
+    }
+  };
+  visualization_msgs::Marker marker;
+  auto on_marker = [&](const visualization_msgs::Marker::ConstPtr& m) { marker = *m; };
+  ros::Subscriber s5 =
+      handle.subscribe<diagnostic_msgs::DiagnosticArray>("/diagnostics", 100, on_diagnostics);
+  ros::Subscriber s6 =
+      handle.subscribe<visualization_msgs::Marker>(kNode + "/guidance_marker", 10, on_marker);
   tf2_ros::Buffer tf_buffer;
   tf2_ros::TransformListener tf_listener(tf_buffer);
 
@@ -94,6 +112,7 @@ TEST(NodeReplay, FitsMidRunPublishesCorrectedOdometryAndMatchesTheBagTool)
   fit.request.model = "diff_drive";
   ASSERT_TRUE(ros::service::call(kNode + "/calibrate", fit));
   ASSERT_TRUE(fit.response.success) << fit.response.message;
+  EXPECT_NE(fit.response.message.find("Guidance: "), std::string::npos) << fit.response.message;
   ros::spinOnce();
   const double fit_stamp_s = odometry.empty() ? 0.0 : odometry.back().stamp_s + 0.5;
 
@@ -165,6 +184,22 @@ TEST(NodeReplay, FitsMidRunPublishesCorrectedOdometryAndMatchesTheBagTool)
   EXPECT_GT(distance, 10.0);
   EXPECT_LT(corrected_error, 0.005 * distance);
   EXPECT_LT(corrected_error, 0.1 * nominal_error);
+
+  // The guidance names every diff_drive parameter with its sigma and target; the health
+  // monitor watches the fit and, the robot being unchanged, raises no alarm.
+  ASSERT_FALSE(guidance_status.name.empty()) << "no guidance on /diagnostics";
+  std::map<std::string, std::string> guidance_values;
+  for (const auto& entry : guidance_status.values)
+    guidance_values[entry.key] = entry.value;
+  EXPECT_EQ(guidance_values["guidance model"], "diff_drive");
+  EXPECT_EQ(guidance_values.count("ready to fit"), 1u);
+  EXPECT_NE(guidance_values["wheel_separation [m]"].find("sigma"), std::string::npos);
+  EXPECT_NE(guidance_status.message.find("pairs"), std::string::npos);
+  ASSERT_FALSE(health_status.name.empty()) << "no health monitor on /diagnostics";
+  EXPECT_EQ(health_status.level, diagnostic_msgs::DiagnosticStatus::OK) << health_status.message;
+  EXPECT_EQ(marker.header.frame_id, "base_link");
+  EXPECT_EQ(marker.type, visualization_msgs::Marker::TEXT_VIEW_FACING);
+  EXPECT_NE(marker.text.find("calibration"), std::string::npos) << marker.text;
 
   // Same bag, same configuration: calibrate_bag's pairs and parameters.
   const std::string bag_output = output_directory + "/calibrate_bag";

@@ -1,6 +1,8 @@
 #include "odometry_calibration/sim/scenario.h"
 
+#include <cstdio>
 #include <filesystem>
+#include <fstream>
 
 #include <gtest/gtest.h>
 
@@ -60,6 +62,35 @@ TEST(SimScenario, PairGeneratorTakesTheScenariosRobotAndRun)
   EXPECT_EQ(options.interval_s, 0.7);
   EXPECT_EQ(options.translation_noise_m, 0.01);
   EXPECT_EQ(options.rotation_noise_rad, 0.02);
+}
+
+TEST(SimScenario, ChangesAreReadCheckedAndWrittenToTheTruth)
+{
+  const std::string path = "/tmp/odometry_calibration_scenario_changes_test.yaml";
+  auto load = [&](const std::string& changes) {
+    std::ofstream(path) << "robot: {type: diff_drive}\nchanges:\n" << changes;
+    return loadScenarioYaml(path, shippedWorldsDirectory());
+  };
+  const Scenario s = load(
+      "  - {at_s: 600, robot: {wheel_radius_right_m: 0.07623}}\n"
+      "  - {at_s: 900, laser_yaw_change_rad: 0.01745}\n");
+  ASSERT_EQ(s.changes.size(), 2u);
+  EXPECT_DOUBLE_EQ(s.changes[0].at_s, 600.0);
+  EXPECT_DOUBLE_EQ(s.changes[0].robot_parameters.at("wheel_radius_right_m"), 0.07623);
+  EXPECT_DOUBLE_EQ(s.changes[1].laser_yaw_change_rad, 0.01745);
+  const auto robot = makeRobot(s.robot);
+  const std::string truth = scenarioTruthYaml(s, *robot);
+  EXPECT_NE(truth.find("changes"), std::string::npos);
+  EXPECT_NE(truth.find("0.07623"), std::string::npos);
+  // An unknown robot key, a change out of time order: refused, naming where.
+  try {
+    load("  - {at_s: 10, robot: {wheel_radius_middle_m: 0.1}}\n");
+    ADD_FAILURE() << "an unknown key was accepted";
+  } catch (const std::exception& error) {
+    EXPECT_NE(std::string(error.what()).find("changes[0]"), std::string::npos) << error.what();
+  }
+  EXPECT_THROW(load("  - {at_s: 10}\n  - {at_s: 5}\n"), std::exception);
+  std::remove(path.c_str());
 }
 
 TEST(SimScenario, ARunThatBarelyMovedIsTooLittle)

@@ -1,3 +1,5 @@
+#include <algorithm>
+#include <array>
 #include <cmath>
 
 #include <gtest/gtest.h>
@@ -183,6 +185,85 @@ TEST(Simulator, EncoderReadingQuantisesAndWraps)
   options.output_ticks = false;
   EXPECT_NEAR(encoderReading(steering, options, -0.1 * 2.0 * M_PI), -819.0 * 2.0 * M_PI / 8192,
               1e-12);
+}
+
+TEST(Simulator, RandomDriveLeavesOutTheMotionsAskedFor)
+{
+  // The default random drive turns both ways and on the spot; each option removes its motion.
+  auto run = [](bool left, bool right, bool in_place) {
+    Scenario s = smallScenario("diff_drive");
+    s.duration_s = 120.0;
+    s.motion.left_turns = left;
+    s.motion.right_turns = right;
+    s.motion.turning_in_place = in_place;
+    const auto robot = makeRobot(s.robot);
+    Recorder recorder;
+    simulate(s, room(), *robot, recorder);
+    double most_left = 0.0, most_right = 0.0, spot = 0.0;
+    for (const TruthSample& t : recorder.truth) {
+      most_left = std::max(most_left, t.twist.omega_radps);
+      most_right = std::min(most_right, t.twist.omega_radps);
+      if (std::abs(t.twist.vx_mps) < 0.01 && std::abs(t.twist.omega_radps) > 0.3)
+        spot += 1.0;
+    }
+    return std::array<double, 3>{most_left, most_right, spot};
+  };
+  const auto all = run(true, true, true);
+  EXPECT_GT(all[0], 0.3);
+  EXPECT_LT(all[1], -0.3);
+  EXPECT_GT(all[2], 50.0);  // samples turning on the spot
+  const auto no_left = run(false, true, true);
+  EXPECT_LE(no_left[0], 1e-9);
+  EXPECT_LT(no_left[1], -0.3);
+  const auto no_right = run(true, false, true);
+  EXPECT_GE(no_right[1], -1e-9);
+  EXPECT_GT(no_right[0], 0.3);
+  const auto no_spot = run(true, true, false);
+  // (only the instants an arc reverses through zero speed remain)
+  EXPECT_LT(no_spot[2], 0.05 * all[2]) << no_spot[2] << " of " << all[2];
+  EXPECT_GT(no_spot[0], 0.3);
+}
+
+TEST(Simulator, ParameterChangesTakeEffectAtTheirTime)
+{
+  // Straight ahead for 8 s; at 4 s the right wheel shrinks by 1 % and the laser yaws by 1 deg.
+  Scenario s = smallScenario("diff_drive");
+  s.duration_s = 8.0;
+  s.start_pose = Pose2(-3.0, 0.0, 0.0);
+  s.motion.type = "scripted";
+  s.motion.script = {{8.0, {0.5, 0.0, 0.0}}};
+  ParameterChange change;
+  change.at_s = 4.0;
+  change.robot_parameters["wheel_radius_right_m"] = 0.99 * 0.077;
+  change.laser_yaw_change_rad = M_PI / 180.0;
+  s.changes = {change};
+  const auto robot = makeRobot(s.robot);
+  Recorder recorder;
+  simulate(s, room(), *robot, recorder);
+  ASSERT_GT(recorder.truth.size(), 300u);
+  for (const TruthSample& t : recorder.truth) {
+    if (t.stamp_s < 4.0) {
+      // The unchanged robot drives straight; the laser keeps its mounting.
+      EXPECT_NEAR(t.T_world_base.theta(), 0.0, 1e-9) << t.stamp_s;
+      EXPECT_NEAR(t.T_base_laser.theta(), 0.0, 1e-12);
+    } else {
+      EXPECT_NEAR(t.T_base_laser.theta(), M_PI / 180.0, 1e-12) << t.stamp_s;
+    }
+  }
+  // The controller keeps the robot straight: the smaller right wheel turns faster, 1 / 0.99
+  // times the left one (encoders in ticks; samples at 50 Hz, so index 100 is 2 s).
+  auto ratio = [&](std::size_t from, std::size_t to) {
+    const auto& a = recorder.joints[from].positions;
+    const auto& b = recorder.joints[to].positions;
+    return (b[1] - a[1]) / (b[0] - a[0]);
+  };
+  EXPECT_NEAR(ratio(100, 195), 1.0, 1e-3);
+  EXPECT_NEAR(ratio(255, 395), 1.0 / 0.99, 1e-3);
+  EXPECT_NEAR(recorder.truth.back().T_world_base.theta(), 0.0, 1e-9);
+  // Not in time order: rejected.
+  s.changes = {change, change};
+  s.changes[1].at_s = 1.0;
+  EXPECT_THROW(simulate(s, room(), *robot, recorder), std::invalid_argument);
 }
 
 TEST(Simulator, RejectsAStartInsideTheFurnitureAndWrongJointNames)

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include <diagnostic_msgs/DiagnosticStatus.h>
 #include <geometry_msgs/PoseStamped.h>
 #include <nav_msgs/Odometry.h>
 #include <nav_msgs/Path.h>
@@ -29,6 +30,8 @@
 #include "odometry_calibration/calibration/candidate_collectors.h"
 #include "odometry_calibration/calibration/odometry_integrator.h"
 #include "odometry_calibration/data/pairs_csv.h"
+#include "odometry_calibration/models/excitation_guidance.h"
+#include "odometry_calibration/models/health_monitor.h"
 #include "odometry_calibration/pairing/pair_collector.h"
 
 namespace odometry_calibration {
@@ -54,6 +57,27 @@ struct NodeOptions
 
 /// Reads and checks ~parameters. Throws std::invalid_argument naming a bad parameter.
 NodeOptions readNodeOptions(const ros::NodeHandle& private_handle);
+
+/// The live assistant's ~parameters (issue 18; calibration_node_assistant.cpp).
+struct AssistantOptions
+{
+  bool guidance = true;                ///< ~guidance: excitation guidance for diff_drive / tricycle
+  double marker_height_m = 1.0;        ///< ~guidance_marker_height_m: text above base_frame [m]
+  double marker_text_height_m = 0.25;  ///< ~guidance_marker_text_m: height of a letter [m]
+  ExcitationGuidanceOptions guidance_options;  ///< ~guidance_* and ~guidance_target_sigma/<name>
+  bool health_monitor = true;           ///< ~health_monitor: watch a fitted or saved calibration
+  HealthMonitorOptions health_options;  ///< ~health_*
+};
+
+struct CalibrationJobResult;
+
+/// The ~calibrate reply's sentence on the time offset: the estimate with sigma, or why there is
+/// none ("" when the configuration does not ask for it).
+std::string timeOffsetSentence(const CalibrationConfig& config, const CalibrationJobResult& job,
+                               bool no_history);
+
+/// Reads and checks the assistant's ~parameters. Throws std::invalid_argument naming a bad one.
+AssistantOptions readAssistantOptions(const ros::NodeHandle& private_handle);
 
 class CalibrationNode
 {
@@ -92,6 +116,26 @@ private:
   /// Moves the pairs file aside (pairs-<time>.csv); returns the new name.
   std::string archivePairsFile(const std::string& why);
   std::string sensorFrame() const;
+
+  // The live assistant (issue 18, calibration_node_assistant.cpp): excitation guidance while
+  // collecting, a health monitor of the active calibration. With state_mutex_ held, except
+  // setUpAssistant (constructor).
+  void setUpAssistant();
+  void assistantAddPair(const MotionPair& pair);
+  /// Watches `model` from now on (a fitted or saved calibration).
+  void startHealthMonitor(const std::shared_ptr<const MotionModel>& model);
+  void resetAssistant();
+  /// After a fit of the guidance's model: the guidance linearised at the fitted values.
+  void recentreGuidance(const std::string& model, const ModelReport& report);
+  /// Keeps the decoded encoder sample for the time-offset search (estimate_time_offset only;
+  /// time going backwards starts the history again).
+  void recordEncoderHistory(double stamp_s, const Eigen::VectorXd& accepted);
+  /// Pairs from now on at `time_offset_s` (a changed offset restarts pairing and odometry).
+  void applyTimeOffset(double time_offset_s);
+  /// The guidance in one sentence for the ~calibrate reply ("" without guidance).
+  std::string guidanceSummary() const;
+  /// Adds the guidance's and the monitor's statuses; publishes the marker and the statistic.
+  void publishAssistant(std::vector<diagnostic_msgs::DiagnosticStatus>& statuses);
 
   /// Declared first, destroyed last: the services and the timer are registered on it.
   ros::CallbackQueue service_queue_;
@@ -162,6 +206,16 @@ private:
   ros::WallTimer timer_;
   std::unique_ptr<ros::AsyncSpinner> service_spinner_;
   ros::ServiceServer calibrate_service_, save_service_, reset_service_;
+
+  AssistantOptions assistant_options_;
+  std::unique_ptr<EncoderDecoder> history_decoder_;
+  std::vector<EncoderSample> encoder_history_;  ///< encoder clock, as calibrate_bag's
+  std::unique_ptr<ExcitationGuidance> guidance_;
+  std::string guidance_model_;            ///< the model the guidance is for
+  ModelFactoryOptions guidance_factory_;  ///< its options (joints resolved)
+  std::unique_ptr<HealthMonitor> health_monitor_;
+  std::string health_model_origin_;  ///< what the monitor watches
+  ros::Publisher guidance_marker_publisher_, health_statistic_publisher_;
 };
 
 }  // namespace odometry_calibration

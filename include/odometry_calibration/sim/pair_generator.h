@@ -26,6 +26,8 @@ struct PairGeneratorOptions
   double translation_noise_m = 0.002;   ///< sigma of the added x, y noise [m]
   double rotation_noise_rad = 0.002;    ///< sigma of the added heading noise [rad]
   unsigned seed = 1;
+  /// The true robot or laser changing during the run (Scenario::changes); the truth follows.
+  std::vector<ParameterChange> changes;
 };
 
 /// The pairs, the joints they carry (ticks), and the noise-free displacements.
@@ -41,7 +43,7 @@ struct GeneratedPairs
 GeneratedPairs generatePairs(const PairGeneratorOptions& options);
 
 /// `options` with the scenario's robot, laser pose (as the sensor), motion, encoder rate,
-/// duration and seed; the keyframe interval and the noise stay `options`'.
+/// duration, seed and changes; the keyframe interval and the noise stay `options`'.
 PairGeneratorOptions pairGeneratorOptions(const Scenario& scenario, PairGeneratorOptions options);
 
 }  // namespace sim

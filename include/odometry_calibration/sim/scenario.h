@@ -2,6 +2,7 @@
 // Read from YAML (see config/sim/scenarios/*.yaml, which document every key).
 #pragma once
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -52,6 +53,16 @@ struct TrackerOptions
   std::string frame_id = "tracker";     ///< header frame of the tracker poses
 };
 
+/// The true robot changing at a given time (issue 18: a worn tyre, a new load, a knocked laser):
+/// from `at_s` on, the robot has these parameters and the laser this extra yaw. The encoders and
+/// the drive carry on; only the physics (and the laser's pose) change.
+struct ParameterChange
+{
+  double at_s = 0.0;                               ///< simulated time of the change [s]
+  std::map<std::string, double> robot_parameters;  ///< new values of robot keys (makeRobot)
+  double laser_yaw_change_rad = 0.0;               ///< added to the laser's mounting yaw [rad]
+};
+
 /// Everything one simulation run needs.
 struct Scenario
 {
@@ -66,6 +77,7 @@ struct Scenario
   EncoderOptions encoders;
   DrivePlanOptions motion;
   TrackerOptions tracker;
+  std::vector<ParameterChange> changes;  ///< in time order; empty: the robot never changes
   std::string ground_truth_topic = "/ground_truth/odom";  ///< nav_msgs/Odometry of the truth
   std::string ground_truth_frame = "sim_world";           ///< truth tree root (separate)
 };

@@ -38,6 +38,7 @@ struct TruthSample
   double stamp_s = 0.0;  ///< true time [s since start]
   Pose2 T_world_base;    ///< robot pose
   Twist2 twist;          ///< body velocity
+  Pose2 T_base_laser;    ///< the laser's true mounting pose now (scenario.changes)
 };
 
 /// One pose of the external tracker: the laser's world pose with tracker noise.

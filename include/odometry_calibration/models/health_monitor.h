@@ -1,0 +1,120 @@
+// Health monitor of an active calibration (issue 18): scores each new pair against the model's
+// prediction and raises an alarm when the calibration no longer fits the robot (tyre wear, a new
+// load, a knocked laser).
+//
+// Per pair, the residual r = measured - predicted sensor motion is standardised per output by the
+// predictive covariance (model covariance + the pair's own), z_k = r_k / sqrt(S_kk). A
+// calibration error shifts r in a direction that follows the motion (a shrunk wheel shortens the
+// rotation of a left and a right spot turn alike, but with opposite signs of r_theta), so each
+// monitored signal multiplies z by the sign of the predicted motion it scales:
+//   travel:        sign(dx) z_x          (pairs that travel)
+//   sideways:      sign(dx) z_y          (pairs that travel: a yawed laser sees sideways motion)
+//   rotation:      sign(dtheta) z_theta  (pairs that turn)
+//   heading drift: sign(dx) z_theta      (pairs that travel straight: unequal wheel radii)
+// Each signal is then robustly standardised on its first burn_in_pairs values (median and
+// 1.4826 MAD, so a mis-scaled covariance does not matter), clipped, and fed to a two-sided
+// tabular CUSUM (Page 1954; Montgomery, "Introduction to Statistical Quality Control", 9.1):
+//   U = max(0, U + z - k),  L = max(0, L - z - k),  alarm when U or L exceeds h,
+// with k = delta / 2 for a design shift delta and h chosen so that Siegmund's approximation of
+// the in-control average run length, ARL0 = (exp(2 k b) - 2 k b - 1) / (2 k^2), b = h + 1.166,
+// meets the configured false-alarm rate.
+#pragma once
+
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "odometry_calibration/data/motion_pair.h"
+#include "odometry_calibration/models/model.h"
+
+namespace odometry_calibration {
+
+/// Options of the monitor.
+struct HealthMonitorOptions
+{
+  /// Mean number of scored pairs between false alarms, over all signals together [pairs]
+  /// (at 2 pairs/s, 1e6 pairs is about 140 h of driving).
+  double false_alarm_pairs = 1e6;
+  double design_shift_sigma = 1.0;  ///< shift the CUSUM is tuned for, delta [sigma]; k = delta/2
+  int burn_in_pairs = 100;          ///< per signal: values for its robust centre and scale
+  double clip_sigma = 4.0;          ///< standardised values are clipped to +-this [sigma]
+  double min_travel_m = 0.02;       ///< a pair "travels" beyond this predicted |x| [m]
+  double min_rotation_rad = 0.02;   ///< a pair "turns" beyond this predicted |theta| [rad]
+};
+
+/// Throws std::invalid_argument naming the first invalid option.
+void validate(const HealthMonitorOptions& options);
+
+/// The CUSUM threshold h for a one-sided chart with reference k whose in-control average run
+/// length is `arl0` (Siegmund's approximation, solved by bisection).
+double cusumThreshold(double k, double arl0);
+
+/// The monitored signals.
+enum HealthSignal
+{
+  kTravelSignal = 0,
+  kSidewaysSignal,
+  kRotationSignal,
+  kHeadingDriftSignal,
+  kHealthSignalCount
+};
+
+/// One signal's state.
+struct HealthChart
+{
+  std::string name;          ///< "travel", "sideways", "rotation", "heading drift"
+  std::string output;        ///< the output it watches: "x", "y" or "theta"
+  std::size_t count = 0;     ///< pairs that fed it
+  bool calibrated = false;   ///< burn-in done
+  double centre = 0.0;       ///< robust centre of the burn-in values [sigma]
+  double scale = 1.0;        ///< robust spread of the burn-in values [sigma]
+  double upper = 0.0;        ///< CUSUM of upward shifts, U
+  double lower = 0.0;        ///< CUSUM of downward shifts, L
+  double mean_recent = 0.0;  ///< exponential mean of the standardised values (20 pairs)
+};
+
+/// The monitor's verdict at one moment.
+struct HealthStatus
+{
+  bool active = false;     ///< a model is being watched
+  bool alarm = false;      ///< a sustained shift was found (latched until reset)
+  std::size_t pairs = 0;   ///< pairs scored
+  double threshold = 0.0;  ///< h [sigma]
+  /// max over the charts of max(U, L) / h: the published statistic (alarm at 1).
+  double statistic = 0.0;
+  std::vector<HealthChart> charts;
+  std::string alarm_output;    ///< "x", "y" or "theta" of the chart that fired
+  double alarm_stamp_s = 0.0;  ///< end stamp of the pair that raised the alarm [s]
+  /// In words: "ok" or what drifted, the likely cause and "refit (call ~calibrate)".
+  std::string message;
+};
+
+/// Watches one fitted model. Not thread-safe.
+class HealthMonitor
+{
+public:
+  /// Throws std::invalid_argument for a null model or invalid options.
+  HealthMonitor(std::shared_ptr<const MotionModel> model, HealthMonitorOptions options);
+
+  /// Scores one pair; returns true when this pair raised the alarm. Pairs the model cannot
+  /// predict (too few samples, bad joints) or with a non-finite residual are skipped.
+  bool addPair(const MotionPair& pair);
+  HealthStatus status() const;
+  std::size_t skipped() const { return skipped_; }
+
+private:
+  void feed(HealthSignal signal, double value, double stamp_s);
+
+  std::shared_ptr<const MotionModel> model_;
+  HealthMonitorOptions options_;
+  double k_ = 0.5, h_ = 0.0;
+  std::array<HealthChart, kHealthSignalCount> charts_;
+  std::array<std::vector<double>, kHealthSignalCount> burn_in_;
+  std::size_t pairs_ = 0, skipped_ = 0;
+  bool alarm_ = false;
+  std::string alarm_message_, alarm_output_;
+  double alarm_stamp_s_ = 0.0;
+};
+
+}  // namespace odometry_calibration
