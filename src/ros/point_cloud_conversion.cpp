@@ -112,43 +112,62 @@ void checkLayout(const sensor_msgs::PointCloud2& message)
 LidarCloud fromPointCloud2Msg(const sensor_msgs::PointCloud2& message)
 {
   checkLayout(message);
-  pcl::PCLPointCloud2 pcl_message;
-  pcl_conversions::toPCL(message, pcl_message);
-  pcl::PointCloud<pcl::PointXYZ> xyz;
-  pcl::fromPCLPointCloud2(pcl_message, xyz);
-
-  LidarCloud result;
-  result.cloud.resize(xyz.size());
-  result.cloud.width = xyz.width;
-  result.cloud.height = xyz.height;
-  result.cloud.is_dense = xyz.is_dense;
-  for (std::size_t i = 0; i < xyz.size(); ++i) {
-    auto& point = result.cloud[i];
-    point.x = xyz[i].x;
-    point.y = xyz[i].y;
-    point.z = xyz[i].z;
-    point.intensity = 0.0f;
-  }
   const Field* time = findField(message, "time");
   if (!time)
     time = findField(message, "t");
-  if (time && (time->datatype == Field::FLOAT32 || time->datatype == Field::FLOAT64 ||
-               time->datatype == Field::UINT32 || time->datatype == Field::INT32)) {
-    result.has_times = true;
+  const bool float_time = time && time->datatype == Field::FLOAT32;
+  // PCL fills PointXYZI's fields by name: the cloud's own intensity is set aside and a FLOAT32
+  // time (the usual case) is read as the intensity in the same pass; otherwise x stands in (so
+  // that PCL finds every field) and the intensities are overwritten below.
+  pcl::PCLPointCloud2 pcl_message;
+  pcl_conversions::toPCL(message, pcl_message);
+  for (auto& field : pcl_message.fields) {
+    if (field.name == "intensity")
+      field.name = "intensity_of_the_cloud";
+  }
+  if (float_time) {
+    for (auto& field : pcl_message.fields) {
+      if (field.name == time->name)
+        field.name = "intensity";
+    }
+  } else {
+    pcl::PCLPointField stand_in;
+    stand_in.name = "intensity";
+    stand_in.offset = findField(message, "x")->offset;
+    stand_in.datatype = pcl::PCLPointField::FLOAT32;
+    stand_in.count = 1;
+    pcl_message.fields.push_back(stand_in);
+  }
+  LidarCloud result;
+  result.cloud = std::make_shared<TimedCloud>();
+  pcl::fromPCLPointCloud2(pcl_message, *result.cloud);
+  TimedCloud& cloud = *result.cloud;
+
+  const bool other_time =
+      time && (time->datatype == Field::FLOAT64 || time->datatype == Field::UINT32 ||
+               time->datatype == Field::INT32);
+  result.has_times = float_time || other_time;
+  if (other_time) {
     std::size_t i = 0;
     for (std::uint32_t row = 0; row < message.height; ++row) {
       const std::uint8_t* row_data = message.data.data() + row * message.row_step;
       for (std::uint32_t column = 0; column < message.width; ++column, ++i) {
-        const double t =
-            readTime(row_data + column * message.point_step + time->offset, time->datatype);
-        result.has_times = result.has_times && std::isfinite(t);
-        result.cloud[i].intensity = static_cast<float>(t);
+        cloud[i].intensity = static_cast<float>(
+            readTime(row_data + column * message.point_step + time->offset, time->datatype));
       }
     }
-    if (!result.has_times) {  // a NaN time: the times are not to be trusted
-      for (auto& point : result.cloud.points)
-        point.intensity = 0.0f;
+  }
+  if (result.has_times) {
+    for (const auto& point : cloud.points) {
+      if (!std::isfinite(point.intensity)) {
+        result.has_times = false;  // a NaN time: the times are not to be trusted
+        break;
+      }
     }
+  }
+  if (!result.has_times) {
+    for (auto& point : cloud.points)
+      point.intensity = 0.0f;
   }
   return result;
 }

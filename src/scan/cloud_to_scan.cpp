@@ -12,8 +12,8 @@
 #include <Eigen/Geometry>
 
 namespace odometry_calibration {
-Scan cloudToScan(const TimedCloud& cloud, bool has_times, const CloudToScanOptions& options,
-                 CloudToScanCounts* counts_out)
+Scan cloudToScan(const TimedCloud::ConstPtr& input, bool has_times,
+                 const CloudToScanOptions& options, CloudToScanCounts* counts_out)
 {
   validate(options);
   CloudToScanCounts counts;
@@ -21,25 +21,35 @@ Scan cloudToScan(const TimedCloud& cloud, bool has_times, const CloudToScanOptio
     if (counts_out)
       *counts_out = counts;
   };
+  const TimedCloud& cloud = *input;
   counts.input = cloud.size();
   if (cloud.empty()) {
     report();
     throw std::invalid_argument("the cloud is empty");
   }
 
-  // Finite points only, levelled (R_y(pitch) R_x(roll): the plane becomes z = 0).
-  auto points = std::make_shared<TimedCloud>();
-  points->reserve(cloud.size());
-  for (const auto& p : cloud.points) {
-    if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z))
-      points->push_back(p);
+  // Finite points only (copied only when some are not), levelled (R_y(pitch) R_x(roll): the
+  // plane becomes z = 0).
+  TimedCloud::ConstPtr points = input;
+  counts.finite = 0;
+  for (const auto& p : cloud.points)
+    counts.finite += std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) ? 1 : 0;
+  if (counts.finite < counts.input) {
+    auto finite = std::make_shared<TimedCloud>();
+    finite->reserve(counts.finite);
+    for (const auto& p : cloud.points) {
+      if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z))
+        finite->push_back(p);
+    }
+    points = finite;
   }
-  counts.finite = points->size();
   if (options.roll_rad != 0.0 || options.pitch_rad != 0.0) {
     const Eigen::Affine3f level(
         Eigen::AngleAxisf(static_cast<float>(options.pitch_rad), Eigen::Vector3f::UnitY()) *
         Eigen::AngleAxisf(static_cast<float>(options.roll_rad), Eigen::Vector3f::UnitX()));
-    pcl::transformPointCloud(*points, *points, level);
+    auto levelled = std::make_shared<TimedCloud>();
+    pcl::transformPointCloud(*points, *levelled, level);
+    points = levelled;
   }
 
   // The height band, and the range limits as a box (the exact circle comes with the binning).

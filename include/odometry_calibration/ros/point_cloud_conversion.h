@@ -12,7 +12,8 @@ namespace ros_conversions {
 /// A lidar cloud as the core takes it.
 struct LidarCloud
 {
-  TimedCloud cloud;        ///< x, y, z in the message's frame; intensity = time after the stamp [s]
+  /// x, y, z in the message's frame; intensity = time after the stamp [s] (0 without times)
+  TimedCloud::Ptr cloud;
   bool has_times = false;  ///< the message had a `time` or `t` field
 };
 

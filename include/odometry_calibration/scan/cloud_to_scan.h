@@ -46,7 +46,7 @@ struct CloudToScanCounts
 /// Throws std::invalid_argument for an empty cloud, and for one with fewer than min_points rays
 /// left, naming the band and how many points remained after each stage. `counts`, if given,
 /// receives the counts (also when it throws).
-Scan cloudToScan(const TimedCloud& cloud, bool has_times, const CloudToScanOptions& options,
-                 CloudToScanCounts* counts = nullptr);
+Scan cloudToScan(const TimedCloud::ConstPtr& cloud, bool has_times,
+                 const CloudToScanOptions& options, CloudToScanCounts* counts = nullptr);
 
 }  // namespace odometry_calibration
