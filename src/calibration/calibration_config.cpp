@@ -117,28 +117,30 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
       throw std::runtime_error("source '" + kind + "' needs 'topic'");
     }
     where = source + ": ego_motion.cloud";
-    const YAML::Node cloud = ego["cloud"];
-    checkYamlKeys(cloud,
-                  {"band_m", "roll_rad", "pitch_rad", "voxel_size_m", "outlier_neighbours",
-                   "outlier_stddev", "angular_resolution_rad", "range_min_m", "range_max_m"},
-                  where);
-    CloudToScanOptions& o = c.cloud;
-    if (cloud && cloud["band_m"]) {
-      std::vector<double> band;
-      readYaml(cloud, "band_m", &band);
-      if (band.size() != 2)
-        throw std::runtime_error("band_m must be [min, max] in metres");
-      o.band_min_m = band[0];
-      o.band_max_m = band[1];
+    if (ego && ego["cloud"]) {
+      const YAML::Node cloud = ego["cloud"];
+      checkYamlKeys(cloud,
+                    {"band_m", "roll_rad", "pitch_rad", "voxel_size_m", "outlier_neighbours",
+                     "outlier_stddev", "angular_resolution_rad", "range_min_m", "range_max_m"},
+                    where);
+      CloudToScanOptions& o = c.cloud;
+      if (cloud["band_m"]) {
+        std::vector<double> band;
+        readYaml(cloud, "band_m", &band);
+        if (band.size() != 2)
+          throw std::runtime_error("band_m must be [min, max] in metres");
+        o.band_min_m = band[0];
+        o.band_max_m = band[1];
+      }
+      readYaml(cloud, "roll_rad", &o.roll_rad);
+      readYaml(cloud, "pitch_rad", &o.pitch_rad);
+      readYaml(cloud, "voxel_size_m", &o.voxel_size_m);
+      readYaml(cloud, "outlier_neighbours", &o.outlier_neighbours);
+      readYaml(cloud, "outlier_stddev", &o.outlier_stddev);
+      readYaml(cloud, "angular_resolution_rad", &o.angular_resolution_rad);
+      readYaml(cloud, "range_min_m", &o.range_min_m);
+      readYaml(cloud, "range_max_m", &o.range_max_m);
     }
-    readYaml(cloud, "roll_rad", &o.roll_rad);
-    readYaml(cloud, "pitch_rad", &o.pitch_rad);
-    readYaml(cloud, "voxel_size_m", &o.voxel_size_m);
-    readYaml(cloud, "outlier_neighbours", &o.outlier_neighbours);
-    readYaml(cloud, "outlier_stddev", &o.outlier_stddev);
-    readYaml(cloud, "angular_resolution_rad", &o.angular_resolution_rad);
-    readYaml(cloud, "range_min_m", &o.range_min_m);
-    readYaml(cloud, "range_max_m", &o.range_max_m);
 
     where = source + ": keyframes";
     const YAML::Node keyframes = root["keyframes"];
