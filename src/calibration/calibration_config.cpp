@@ -1,6 +1,7 @@
 #include "odometry_calibration/calibration/calibration_config.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <fstream>
 #include <set>
@@ -47,7 +48,7 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
     checkYamlKeys(root,
                   {"joints", "joint_state_topic", "ego_motion", "keyframes", "scan_matching",
                    "model", "compare_models", "prior_model", "diff_drive", "linear", "gp",
-                   "tricycle", "output_directory"},
+                   "tricycle", "mecanum", "output_directory"},
                   source);
     where = source + ": joints";
     if (!root["joints"] || !root["joints"].IsSequence() || root["joints"].size() == 0) {
@@ -88,8 +89,8 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
     readYaml(root, "model", &c.model);
     readYaml(root, "compare_models", &c.compare_models);
     // The matcher's guesses come from the fitted model's own start values when it has some.
-    if (c.model == "tricycle")
-      c.prior_model = "tricycle";
+    if (c.model == "tricycle" || c.model == "mecanum")
+      c.prior_model = c.model;
     readYaml(root, "prior_model", &c.prior_model);
     readYaml(root, "output_directory", &c.output_directory);
 
@@ -147,7 +148,8 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
     checkYamlKeys(keyframes,
                   {"interval_s", "min_translation_m", "min_rotation_rad", "time_offset_s",
                    "max_encoder_gap_s", "check_consistency", "consistency_translation_m",
-                   "consistency_rotation_rad", "estimate_time_offset", "time_offset_search_s"},
+                   "consistency_rotation_rad", "estimate_time_offset", "time_offset_search_s",
+                   "fit_intervals_s"},
                   where);
     CollectorOptions& k = c.collector;
     readYaml(keyframes, "interval_s", &k.keyframe_interval_s);
@@ -166,6 +168,17 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
       }
       c.time_offset_search_min_s = range[0];
       c.time_offset_search_max_s = range[1];
+    }
+    if (keyframes && keyframes["fit_intervals_s"]) {
+      c.fit_intervals_s = keyframes["fit_intervals_s"].as<std::vector<double>>();
+      for (std::size_t i = 0; i < c.fit_intervals_s.size(); ++i) {
+        const double interval = c.fit_intervals_s[i];
+        if (!(interval > 0.0) || !(interval <= 60.0) ||
+            (i > 0 && !(interval > c.fit_intervals_s[i - 1]))) {
+          throw std::runtime_error(
+              "fit_intervals_s: candidate intervals must increase, each in (0, 60] s");
+        }
+      }
     }
 
     where = source + ": scan_matching";
@@ -266,6 +279,55 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
       validateStartValues(t.initial);
     }
 
+    where = source + ": mecanum";
+    const YAML::Node mec = root["mecanum"];
+    checkYamlKeys(mec,
+                  {"front_left_joint", "front_right_joint", "rear_left_joint", "rear_right_joint",
+                   "wheel_radius_m", "wheel_radii_m", "lx_plus_ly_m", "sensor_pose",
+                   "huber_threshold", "max_iterations", "yaw_starts"},
+                  where);
+    MecanumOptions& m = c.models.mecanum;
+    std::array<std::string, 4> wheels;
+    const char* wheel_keys[4] = {"front_left_joint", "front_right_joint", "rear_left_joint",
+                                 "rear_right_joint"};
+    for (std::size_t i = 0; i < 4; ++i) {
+      wheels[i] = i < c.joints.size() ? c.joints[i].name : "";
+      readYaml(mec, wheel_keys[i], &wheels[i]);
+    }
+    double mecanum_radius = 0.05;
+    readYaml(mec, "wheel_radius_m", &mecanum_radius);
+    m.initial_radius_m.fill(mecanum_radius);
+    if (mec && mec["wheel_radii_m"]) {
+      const auto radii = mec["wheel_radii_m"].as<std::vector<double>>();
+      if (radii.size() != 4)
+        throw std::runtime_error(
+            "wheel_radii_m needs [front_left, front_right, rear_left, "
+            "rear_right] in m");
+      std::copy(radii.begin(), radii.end(), m.initial_radius_m.begin());
+    }
+    readYaml(mec, "lx_plus_ly_m", &m.initial_lx_plus_ly_m);
+    readYaml(mec, "huber_threshold", &m.huber_threshold);
+    readYaml(mec, "max_iterations", &m.max_iterations);
+    readYaml(mec, "yaw_starts", &m.yaw_starts);
+    m.initial_T_base_sensor = readSensorPose(mec);
+    if (uses("mecanum")) {
+      if (c.joints.size() < 4)
+        throw std::runtime_error("mecanum needs four wheel joints among 'joints'");
+      int* index[4] = {&m.layout.front_left_index, &m.layout.front_right_index,
+                       &m.layout.rear_left_index, &m.layout.rear_right_index};
+      for (std::size_t i = 0; i < 4; ++i) {
+        *index[i] = jointIndex(c, wheels[i], where + "." + wheel_keys[i]);
+        const JointConfig& joint = c.joints[static_cast<std::size_t>(*index[i])];
+        if (joint.kind != EncoderKind::kIncremental)
+          throw std::runtime_error(std::string(wheel_keys[i]) + ": '" + joint.name +
+                                   "' must be kind: incremental");
+        if (joint.units_per_turn != c.joints[static_cast<std::size_t>(*index[0])].units_per_turn)
+          throw std::runtime_error("the four wheels need the same units_per_turn");
+      }
+      m.layout.ticks_per_turn = c.joints[static_cast<std::size_t>(*index[0])].units_per_turn;
+      validate(m);
+    }
+
     where = source + ": linear";
     const YAML::Node linear = root["linear"];
     checkYamlKeys(linear, {"huber_threshold", "outlier_threshold"}, where);
@@ -289,9 +351,11 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
     validate(c.models.gp);
 
     where = source;
-    if (c.prior_model != "none" && c.prior_model != "diff_drive" && c.prior_model != "tricycle") {
-      throw std::runtime_error("prior_model must be 'none', 'diff_drive' or 'tricycle', got '" +
-                               c.prior_model + "'");
+    if (c.prior_model != "none" && c.prior_model != "diff_drive" && c.prior_model != "tricycle" &&
+        c.prior_model != "mecanum") {
+      throw std::runtime_error(
+          "prior_model must be 'none', 'diff_drive', 'tricycle' or 'mecanum', got '" +
+          c.prior_model + "'");
     }
     requireKnownModel(c.model, "model");
     for (const std::string& name : c.compare_models)
@@ -315,8 +379,7 @@ std::vector<EncoderChannelOptions> encoderChannels(const CalibrationConfig& conf
     channels.push_back(
         {joint.name, joint.kind,
          incremental && joint.counter_bits > 0 ? std::ldexp(1.0, joint.counter_bits) : 0.0,
-         incremental ? 0.0 : joint.units_per_turn,
-         incremental ? joint.max_turns_per_s * joint.units_per_turn : 0.0});
+         incremental ? 0.0 : joint.units_per_turn, joint.max_turns_per_s * joint.units_per_turn});
   }
   return channels;
 }
@@ -353,6 +416,8 @@ std::optional<Pose2> priorSensorPose(const CalibrationConfig& config)
     return config.models.diff_drive.initial_T_base_sensor;
   if (config.prior_model == "tricycle")
     return config.models.tricycle.initial.T_base_sensor;
+  if (config.prior_model == "mecanum")
+    return config.models.mecanum.initial_T_base_sensor;
   return std::nullopt;
 }
 
@@ -362,6 +427,13 @@ MotionPredictor priorPredictor(const CalibrationConfig& config)
     const TricycleModelOptions options = config.models.tricycle;
     return [options](const std::vector<EncoderSample>& samples) {
       return predictTricycleSensorMotion(options.initial, options.layout, samples);
+    };
+  }
+  if (config.prior_model == "mecanum") {
+    // The unfitted model predicts with its start values: the nominal robot.
+    const std::shared_ptr<MotionModel> nominal = makeModel("mecanum", config.models);
+    return [nominal](const std::vector<EncoderSample>& samples) {
+      return nominal->predict(samples).mean;
     };
   }
   if (config.prior_model != "diff_drive")

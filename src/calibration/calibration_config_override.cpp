@@ -43,14 +43,14 @@ std::pair<YAML::Node, YAML::Node> loadBoth(const std::string& config_text,
 /// `root` with the allowed sections of `overrides` merged in, parsed and validated.
 CalibrationConfig merged(YAML::Node root, const YAML::Node& overrides, const std::string& source)
 {
-  static const std::set<std::string> allowed = {"diff_drive", "linear", "gp",
-                                                "tricycle",   "model",  "prior_model"};
+  static const std::set<std::string> allowed = {"diff_drive", "linear", "gp",         "tricycle",
+                                                "mecanum",    "model",  "prior_model"};
   for (const auto& entry : overrides) {
     const std::string key = entry.first.as<std::string>();
     if (allowed.count(key) == 0) {
       throw std::runtime_error("options: '" + key +
                                "' cannot be changed per call (allowed: diff_drive, tricycle, "
-                               "linear, gp, model, prior_model)");
+                               "mecanum, linear, gp, model, prior_model)");
     }
   }
   mergeInto(root, overrides);

@@ -34,6 +34,7 @@ CalibrationJobResult runCalibrationJob(const CalibrationConfig& config,
     ModelFactoryOptions search_models = config.models;
     search_models.diff_drive.yaw_starts = 1;
     search_models.tricycle.calibration.yaw_starts = 1;
+    search_models.mecanum.yaw_starts = 1;
     job.time_offset = estimateTimeOffset(
         pairs, encoder_history, [&]() { return makeModel(config.model, search_models); }, search);
     const TimeOffsetResult& offset = *job.time_offset;

@@ -14,11 +14,15 @@
 namespace odometry_calibration {
 
 std::string calibrationResultYaml(const ModelReport& report, const MotionModel& model,
-                                  const std::string& source, double time_offset_s)
+                                  const std::string& source, double time_offset_s,
+                                  double fit_interval_s)
 {
   char offset[64];
   std::snprintf(offset, sizeof(offset), "time_offset_s: %.6f\n", time_offset_s);
-  return modelResultYaml(report, model.toYaml(), source) + offset;
+  char interval[64] = "";
+  if (fit_interval_s > 0.0)
+    std::snprintf(interval, sizeof(interval), "fit_interval_s: %.4f\n", fit_interval_s);
+  return modelResultYaml(report, model.toYaml(), source) + offset + interval;
 }
 
 CalibrationResult parseCalibrationResult(const std::string& text, const std::string& source)
@@ -36,6 +40,11 @@ CalibrationResult parseCalibrationResult(const std::string& text, const std::str
   std::ostringstream model_yaml;
   model_yaml << root["model"];
   try {
+    if (const YAML::Node interval = root["fit_interval_s"]) {
+      result.fit_interval_s = interval.as<double>();
+      if (!(result.fit_interval_s > 0.0) || !(result.fit_interval_s <= 3600.0))
+        throw std::runtime_error("fit_interval_s must be in (0, 3600] s");
+    }
     result.model = loadModel(model_yaml.str());
     if (const YAML::Node pose = root["T_base_sensor"]) {
       result.T_base_sensor =
@@ -44,6 +53,7 @@ CalibrationResult parseCalibrationResult(const std::string& text, const std::str
     }
     if (const YAML::Node offset = root["time_offset_s"])
       result.time_offset_s = offset.as<double>();
+
   } catch (const YAML::Exception& error) {
     throw std::runtime_error(source + ": " + error.what());
   } catch (const std::exception& error) {

@@ -20,10 +20,12 @@ bool EncoderGlitchFilter::sane(const Eigen::VectorXd& from, const Eigen::VectorX
 {
   const double interval_s = std::max(dt_s, kMinInterval_s);
   for (std::size_t i = 0; i < channels_.size(); ++i) {
-    if (channels_[i].kind != EncoderKind::kIncremental || channels_[i].max_rate_per_s <= 0.0)
+    if (channels_[i].max_rate_per_s <= 0.0)
       continue;
     const auto k = static_cast<Eigen::Index>(i);
-    const double period = channels_[i].wrap_period;
+    // An absolute reading with a full range wraps there (359 deg -> 1 deg is a 2 deg step).
+    const double period = channels_[i].kind == EncoderKind::kIncremental ? channels_[i].wrap_period
+                                                                         : channels_[i].full_range;
     if (period > 0.0 && (!(std::abs(from(k)) < period) || !(std::abs(to(k)) < period))) {
       // Beyond the counter's range (differences of such numbers lose every digit).
       *channel = i;
@@ -65,7 +67,7 @@ EncoderGlitchFilter::Result EncoderGlitchFilter::filter(double stamp_s, const Ei
     if (glitch_stamp_s_ && stamp_s >= *glitch_stamp_s_ &&
         sane(glitch_raw_, raw, stamp_s - *glitch_stamp_s_, &ignored_channel, &ignored_increment)) {
       // The counter jumped and stayed: continue from the jumped value, counting no motion
-      // across the jump.
+      // across the jump. An absolute reading that stays is simply where the joint is now.
       for (Eigen::Index i = 0; i < raw.size(); ++i) {
         const auto& options = channels_[static_cast<std::size_t>(i)];
         if (options.kind == EncoderKind::kIncremental)

@@ -77,30 +77,8 @@ ResidualRms residualRms(const std::vector<MotionPair>& pairs, const DiffDriveEnc
                         const std::vector<bool>* keep, Eigen::Vector3d* per_axis,
                         Eigen::Matrix3d* spread)
 {
-  ResidualRms rms;
-  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-  Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
-  for (std::size_t i = 0; i < pairs.size(); ++i) {
-    if (keep && !(*keep)[i])
-      continue;
-    const Pose2 base =
-        integrateDiffDriveMotion(intrinsics.data(), layout, pairs[i].encoder_samples);
-    const Eigen::Vector3d e =
-        boxMinus(sensorMotionFromBodyMotion(T_base_sensor, base), pairs[i].sensor_motion);
-    sum += e.cwiseProduct(e);
-    outer += e * e.transpose();
-    ++rms.count;
-  }
-  if (rms.count > 0) {
-    const double n = static_cast<double>(rms.count);
-    rms.translation_m = std::sqrt((sum(0) + sum(1)) / n);
-    rms.rotation_rad = std::sqrt(sum(2) / n);
-    if (per_axis)
-      *per_axis = (sum / n).cwiseSqrt();
-    if (spread)
-      *spread = outer / n;
-  }
-  return rms;
+  return sensorMotionResidualRms<DiffDriveKinematics>(pairs, layout, intrinsics.data(),
+                                                      T_base_sensor, keep, per_axis, spread);
 }
 
 }  // namespace

@@ -11,7 +11,7 @@ namespace odometry_calibration {
 
 std::vector<std::string> knownModelNames()
 {
-  return {"linear", "diff_drive", "gp", "tricycle"};
+  return {"linear", "diff_drive", "gp", "tricycle", "mecanum"};
 }
 
 bool isKnownModel(const std::string& name)
@@ -60,6 +60,18 @@ std::unique_ptr<MotionModel> makeModel(const std::string& name, const ModelFacto
     }
     return std::make_unique<TricycleModel>(options.tricycle);
   }
+  if (name == "mecanum") {
+    const int joints = static_cast<int>(options.joints.names.size());
+    const MecanumEncoderLayout& layout = options.mecanum.layout;
+    for (int index : {layout.front_left_index, layout.front_right_index, layout.rear_left_index,
+                      layout.rear_right_index}) {
+      if (index >= joints) {
+        throw std::invalid_argument("mecanum: the four wheel joints are not among the pairs' " +
+                                    std::to_string(joints) + " joints");
+      }
+    }
+    return std::make_unique<MecanumModel>(options.mecanum);
+  }
   requireKnownModel(name, "makeModel");
   throw std::logic_error("makeModel: model '" + name + "' is known but not made");
 }
@@ -80,6 +92,8 @@ std::unique_ptr<MotionModel> loadModel(const std::string& model_yaml)
     return GaussianProcessModel::fromYaml(model_yaml);
   if (name == "tricycle")
     return std::make_unique<TricycleModel>(TricycleModel::fromYaml(model_yaml));
+  if (name == "mecanum")
+    return std::make_unique<MecanumModel>(MecanumModel::fromYaml(model_yaml));
   throw std::runtime_error("model YAML: unknown or missing 'model' ('" + name + "')");
 }
 

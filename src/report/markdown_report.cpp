@@ -225,6 +225,10 @@ std::string markdownReport(const MarkdownReportInput& input)
   residuals(out, input);
   trajectories(out, input);
   collection(out, input);
+  if (!input.fit_interval_note.empty()) {
+    out << "\n## Fit interval\n\n" << input.fit_interval_note << "\n";
+    image(out, input, kFitIntervalPlot, "validation curve of the fit interval");
+  }
   if (!input.test_table.empty()) {
     out << "\n## Test bags\n\n"
         << input.test_pairs

@@ -13,6 +13,7 @@ namespace odometry_calibration {
 const char* const kTrajectoryPlot = "trajectories.png";
 const char* const kResidualPlot = "residuals.png";
 const char* const kTimeOffsetPlot = "time_offset.png";
+const char* const kFitIntervalPlot = "fit_interval.png";
 
 namespace {
 
@@ -186,6 +187,37 @@ std::string timeOffsetScript(const ReportPlotInput& input, const std::string& di
   return "time_offset.gp";
 }
 
+/// fit_interval.dat/.gp: the validation RPE against the candidate fit interval, the choice marked.
+std::string fitIntervalScript(const ReportPlotInput& input, const std::string& directory)
+{
+  std::ostringstream data;
+  data << "# interval_s validation_rpe_m (time-blocked cross-validation)\n";
+  for (const auto& [interval, rpe] : input.fit_interval_curve) {
+    if (std::isfinite(rpe))
+      data << number(interval) << ' ' << number(rpe) << '\n';
+  }
+  writeText(directory + "/fit_interval.dat", data.str());
+  char title[160];
+  std::snprintf(title, sizeof(title),
+                "Fit interval: validation RPE of %.2f s pairs on held-out time blocks",
+                input.fit_interval_evaluation_s);
+  std::ostringstream script;
+  script << "reset\n"
+         << kTerminal << "900,500\n"
+         << "set output '" << kFitIntervalPlot << "'\n"
+         << "set title '" << title << "'\n"
+         << "set xlabel 'keyframe interval T of the fitted pairs [s]'\n"
+         << "set ylabel 'validation RPE [m]'\nset grid\nset key top center\n"
+         << "set arrow from " << number(input.fit_interval_s) << ", graph 0 to "
+         << number(input.fit_interval_s) << ", graph 1 nohead dt 2 lw 1.5 lc rgb '#1f77b4'\n"
+         << "set label \"chosen T = " << number(input.fit_interval_s) << " s\" at "
+         << number(input.fit_interval_s) << ", graph 0.92 offset 0.8,0 tc rgb '#1f77b4'\n"
+         << "plot 'fit_interval.dat' using 1:2 with linespoints pt 7 ps 0.9 lw 1.5 "
+            "lc rgb '#222222' title 'validation RPE'\n";
+  writeText(directory + "/fit_interval.gp", script.str());
+  return "fit_interval.gp";
+}
+
 }  // namespace
 
 bool ReportPlots::has(const std::string& image) const
@@ -219,6 +251,10 @@ ReportPlots writeReportPlots(const ReportPlotInput& input, const std::string& di
     if (!input.time_offset_curve.empty()) {
       scripts.push_back(timeOffsetScript(input, directory));
       images.push_back(kTimeOffsetPlot);
+    }
+    if (!input.fit_interval_curve.empty()) {
+      scripts.push_back(fitIntervalScript(input, directory));
+      images.push_back(kFitIntervalPlot);
     }
   } catch (const std::exception& error) {
     plots.problem = std::string("the plot data could not be written: ") + error.what();

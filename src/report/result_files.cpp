@@ -5,6 +5,7 @@
 
 #include "odometry_calibration/calibration/calibration_result.h"
 #include "odometry_calibration/common/atomic_file.h"
+#include "odometry_calibration/common/median.h"
 #include "odometry_calibration/common/staged_directory.h"
 
 namespace odometry_calibration {
@@ -20,7 +21,11 @@ ResultFiles resultFilesForJob(const JointLayout& joints, const CalibrationJobRes
 {
   ResultFiles files;
   files.pairs = {joints, job.pairs};
-  files.result_yaml = calibrationResultYaml(job.report, *job.model, source, job.time_offset_s);
+  std::vector<double> durations_s;
+  for (const MotionPair& pair : job.pairs)
+    durations_s.push_back(pair.end_stamp_s - pair.start_stamp_s);
+  files.result_yaml =
+      calibrationResultYaml(job.report, *job.model, source, job.time_offset_s, median(durations_s));
   files.plots.trajectories = job.trajectories;
   files.plots.calibrated_label = job.report.model;
   if (job.time_offset) {

@@ -47,6 +47,7 @@ CalibrationNode::CalibrationNode(ros::NodeHandle handle, ros::NodeHandle private
 {
   if (options_.output_directory.empty())
     options_.output_directory = config_.output_directory;
+  model_interval_s_ = config_.collector.keyframe_interval_s;
   fs::create_directories(options_.output_directory);
   started_ = ros::WallTime::now();
 
@@ -65,6 +66,8 @@ CalibrationNode::CalibrationNode(ros::NodeHandle handle, ros::NodeHandle private
       if (saved.has_extrinsic)
         T_base_sensor_ = saved.T_base_sensor;
       config_.collector.time_offset_s = saved.time_offset_s;
+      if (saved.fit_interval_s > 0.0)
+        model_interval_s_ = saved.fit_interval_s;
       ROS_INFO("loaded the saved calibration %s (model %s, time offset %.3f s)",
                result_path.c_str(), saved.model->name().c_str(), saved.time_offset_s);
     } catch (const std::exception& error) {
@@ -75,6 +78,15 @@ CalibrationNode::CalibrationNode(ros::NodeHandle handle, ros::NodeHandle private
 
   collector_ =
       std::make_unique<PairCollector>(channels_, config_.collector, priorPredictor(config_));
+  std::vector<double> other_intervals;
+  for (const double interval : config_.fit_intervals_s) {
+    if (std::abs(interval - config_.collector.keyframe_interval_s) > 1e-9)
+      other_intervals.push_back(interval);
+  }
+  if (!other_intervals.empty()) {
+    candidates_ = std::make_unique<CandidateCollectors>(channels_, config_.collector,
+                                                        priorPredictor(config_), other_intervals);
+  }
   const std::string pairs_path = options_.output_directory + "/pairs.csv";
   if (!options_.resume_pairs && fs::exists(pairs_path))
     archivePairsFile("~resume_pairs is false");
@@ -108,7 +120,7 @@ CalibrationNode::CalibrationNode(ros::NodeHandle handle, ros::NodeHandle private
     const bool nominal = !T_base_sensor_ && active_model_origin_.rfind("nominal", 0) == 0;
     corrected_odometry_ = std::make_unique<OdometryIntegrator>(
         active_model_, nominal ? priorSensorPose(config_) : T_base_sensor_,
-        config_.collector.keyframe_interval_s);
+        nominal ? config_.collector.keyframe_interval_s : model_interval_s_);
     // The nominal robot reports no uncertainty of its own: assume 1 cm and 0.01 rad per
     // keyframe interval until a fit replaces it with the residual spread.
     if (nominal)
@@ -230,6 +242,8 @@ void CalibrationNode::onJointState(const sensor_msgs::JointState::ConstPtr& mess
   Eigen::VectorXd accepted;
   try {
     handleEvents(collector_->addEncoders(stamp_s, raw, &accepted), stamp_s);
+    if (candidates_)
+      candidates_->addEncoders(stamp_s, raw);
   } catch (const std::invalid_argument& error) {
     ++bad_joint_states_;
     last_problem_ = "JointState rejected: " + std::string(error.what());
@@ -265,6 +279,8 @@ void CalibrationNode::onScan(const sensor_msgs::LaserScan::ConstPtr& message)
           std::to_string(config_.collector.plicp.min_points));
     }
     handleEvents(collector_->addScan(stamp_s, scan), stamp_s);
+    if (candidates_)
+      candidates_->addScan(stamp_s, scan);
   } catch (const std::invalid_argument& error) {
     ++bad_scans_;
     last_problem_ = "LaserScan skipped: " + std::string(error.what());
@@ -340,8 +356,10 @@ void CalibrationNode::onSensorPose(double stamp_s, const geometry_msgs::Pose& po
   const Eigen::Matrix3d covariance =
       Eigen::Vector3d(sigma_m * sigma_m, sigma_m * sigma_m, sigma_rad * sigma_rad).asDiagonal();
   try {
-    handleEvents(collector_->addSensorPose(stamp_s, ros_conversions::fromPoseMsg(pose), covariance),
-                 stamp_s);
+    const Pose2 T_world_sensor = ros_conversions::fromPoseMsg(pose);
+    handleEvents(collector_->addSensorPose(stamp_s, T_world_sensor, covariance), stamp_s);
+    if (candidates_)
+      candidates_->addSensorPose(stamp_s, T_world_sensor, covariance);
   } catch (const std::invalid_argument& error) {
     ++bad_scans_;
     last_problem_ = "sensor pose skipped: " + std::string(error.what());
@@ -432,8 +450,8 @@ void CalibrationNode::integrateOdometry(double encoder_stamp_s, const Eigen::Vec
   msg.twist.twist.linear.x = odometry.velocity()(0);
   msg.twist.twist.linear.y = odometry.velocity()(1);
   msg.twist.twist.angular.z = odometry.velocity()(2);
-  // The velocity's spread: the odometry's growth over one keyframe interval, per second.
-  const double interval_s = config_.collector.keyframe_interval_s;
+  // The velocity's spread: the odometry's growth over one window of its model, per second.
+  const double interval_s = odometry.segmentLength();
   const Eigen::Matrix3d per_interval = odometry.windowCovariance() / (interval_s * interval_s);
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c)

@@ -5,6 +5,7 @@
 
 #include "odometry_calibration/calibration/calibration_job.h"
 #include "odometry_calibration/calibration/calibration_result.h"
+#include "odometry_calibration/calibration/fit_interval.h"
 #include "odometry_calibration/common/atomic_file.h"
 #include "odometry_calibration/eval/model_report.h"
 #include "odometry_calibration/models/model_factory.h"
@@ -35,11 +36,14 @@ bool CalibrationNode::onCalibrate(Calibrate::Request& request, Calibrate::Respon
   response.success = false;
   CalibrationConfig config;
   std::vector<MotionPair> pairs;
+  std::vector<IntervalPairs> candidates;
   double time_offset_s = 0.0;
   {
     std::lock_guard<std::mutex> lock(state_mutex_);
     config = config_;
     pairs = pairs_;
+    if (candidates_)
+      candidates = candidates_->pairs();
     time_offset_s = config_.collector.time_offset_s;
   }
   const std::string name = request.model.empty() ? config.model : request.model;
@@ -64,6 +68,34 @@ bool CalibrationNode::onCalibrate(Calibrate::Request& request, Calibrate::Respon
                        " needed (~min_pairs): drive more, straight and turning both ways";
     return true;
   }
+  // With keyframes.fit_intervals_s: the fit interval chosen by cross-validation on the
+  // interval_s pairs (calibration/fit_interval.h); without, or when it cannot run, interval_s.
+  double fit_interval_s = config.collector.keyframe_interval_s;
+  std::vector<MotionPair> fit_pairs = pairs;
+  std::string interval_text;
+  if (!candidates.empty()) {
+    candidates.push_back({config.collector.keyframe_interval_s, pairs});
+    std::sort(
+        candidates.begin(), candidates.end(),
+        [](const IntervalPairs& a, const IntervalPairs& b) { return a.interval_s < b.interval_s; });
+    CalibrationConfig choosing = config;
+    choosing.model = name;
+    try {
+      const FitIntervalChoice choice = chooseFitInterval(choosing, candidates, pairs);
+      for (IntervalPairs& candidate : candidates) {
+        if (candidate.interval_s == choice.interval_s) {
+          fit_interval_s = candidate.interval_s;
+          fit_pairs = std::move(candidate.pairs);
+        }
+      }
+      interval_text = formatFitIntervalChoice(choice, config.collector.keyframe_interval_s);
+    } catch (const std::exception& error) {
+      interval_text = "fit interval: kept keyframes.interval_s (" + std::string(error.what()) + ")";
+    }
+    if (!interval_text.empty() && interval_text.back() == '\n')
+      interval_text.pop_back();
+    ROS_INFO("%s", interval_text.c_str());
+  }
   std::shared_ptr<MotionModel> model;
   ModelReport report;
   try {
@@ -73,7 +105,7 @@ bool CalibrationNode::onCalibrate(Calibrate::Request& request, Calibrate::Respon
     CalibrationJobOptions job_options;
     job_options.allow_time_offset = false;
     job_options.compare_trajectories = false;
-    CalibrationJobResult job = runCalibrationJob(config, pairs, {}, job_options);
+    CalibrationJobResult job = runCalibrationJob(config, fit_pairs, {}, job_options);
     model = job.model;
     report = std::move(job.report);
   } catch (const std::exception& error) {
@@ -90,7 +122,7 @@ bool CalibrationNode::onCalibrate(Calibrate::Request& request, Calibrate::Respon
     return true;
   }
   const std::string result_yaml = calibrationResultYaml(
-      report, *model, "live node " + ros::this_node::getName(), time_offset_s);
+      report, *model, "live node " + ros::this_node::getName(), time_offset_s, fit_interval_s);
   try {
     // Every fit is kept (last_fit.yaml); ~save makes it the calibration loaded on start.
     writeFileAtomically(options_.output_directory + "/last_fit.yaml", result_yaml);
@@ -109,8 +141,7 @@ bool CalibrationNode::onCalibrate(Calibrate::Request& request, Calibrate::Respon
     T_base_sensor =
         report.has_extrinsic ? std::optional<Pose2>(report.T_base_sensor) : T_base_sensor_;
   }
-  auto replay = std::make_unique<OdometryIntegrator>(model, T_base_sensor,
-                                                     config.collector.keyframe_interval_s);
+  auto replay = std::make_unique<OdometryIntegrator>(model, T_base_sensor, fit_interval_s);
   replay->setWindowCovarianceFloor(config.collector.covariance_floor.asDiagonal());
   replay->restartAt(path_start);
   std::vector<geometry_msgs::PoseStamped> path;
@@ -132,9 +163,10 @@ bool CalibrationNode::onCalibrate(Calibrate::Request& request, Calibrate::Respon
     fitted_model_ = model;
     fitted_result_yaml_ = result_yaml;
     corrected_odometry_ = std::move(replay);
+    model_interval_s_ = fit_interval_s;
     corrected_path_.poses = std::move(path);
     active_model_ = model;
-    active_model_origin_ = "fit of " + std::to_string(pairs.size()) + " pairs";
+    active_model_origin_ = "fit of " + std::to_string(fit_pairs.size()) + " pairs";
     publishExtrinsic();
   } catch (const std::exception& error) {
     response.message = name + " fitted, but its odometry failed: " + error.what() +
@@ -148,6 +180,8 @@ bool CalibrationNode::onCalibrate(Calibrate::Request& request, Calibrate::Respon
                                               : std::string()) +
                      std::to_string(report.after.translation_m) +
                      " m. Now driving ~odom; call ~save to keep it.";
+  if (!interval_text.empty())
+    response.message += " " + interval_text + ".";
   for (const std::string& warning : report.warnings)
     response.message += " WARNING: " + warning;
   if (report.warnings.empty())
@@ -191,6 +225,8 @@ bool CalibrationNode::onReset(std_srvs::Trigger::Request&, std_srvs::Trigger::Re
   std::lock_guard<std::mutex> lock(state_mutex_);
   const std::size_t dropped = pairs_.size();
   collector_->reset();
+  if (candidates_)
+    candidates_->clear();
   appender_.reset();
   const std::string pairs_path = options_.output_directory + "/pairs.csv";
   std::string archived;

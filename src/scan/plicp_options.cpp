@@ -55,6 +55,12 @@ void validate(const PlicpOptions& options)
   require(positive(options.range_sigma_m), "range_sigma_m must be a positive number of metres");
   require(positive(options.min_information_ratio) && options.min_information_ratio < 1.0,
           "min_information_ratio must be in (0, 1)");
+  require(options.ambiguity_max_correspondences >= 0,
+          "ambiguity_max_correspondences must be >= 0 (0: never checked)");
+  require(positive(options.ambiguity_sigma_m) && positive(options.ambiguity_sigma_rad) &&
+              positive(options.ambiguity_offset_m) && positive(options.ambiguity_offset_rad),
+          "ambiguity_sigma_m, ambiguity_sigma_rad, ambiguity_offset_m and ambiguity_offset_rad "
+          "must be > 0");
   validate(options.line_fit, "line_fit.");
 }
 

@@ -2,6 +2,8 @@
 #include <set>
 #include <stdexcept>
 
+#include <Eigen/Geometry>
+
 #include "odometry_calibration/sim/robot.h"
 
 namespace odometry_calibration {
@@ -208,6 +210,21 @@ private:
   double steering_scale_, traction_scale_, axis_length_, max_steering_, steering_rate_;
 };
 
+/// The four-wheel mecanum robot in the X roller configuration (mecanum_kinematics.h), with the
+/// GP paper's deformations of one wheel (Sec. IV, Fig. 1): T1, its axis yawed (the wheel and its
+/// rollers turned about the vertical by `axis_yaw_deg`), and T2, the wheel tilted (cambered by
+/// `wheel_tilt_deg` about its rolling direction: its effective radius becomes r cos(tilt) and
+/// its rollers' axis, seen from above, turns from 45 deg to atan(cos(tilt))).
+///
+/// Each wheel i at p_i = (+-lx, +-ly), rolling along d_i, with rollers whose axis points along
+/// n_i on the ground (scaled so that d_i . n_i = 1; nominal n = (1, -1) for front left and rear
+/// right, (1, 1) for front right and rear left) allows only body twists t = (vx, vy, omega) with
+///   n_i . (v + omega x p_i) = s_i,  s_i = r_eff,i * wheel rate_i   (rollers slide along the rest).
+/// Four such rows overdetermine the three twist components; the robot realises their
+/// least-squares solution (the wheels slip against each other in proportion). Undeformed, the
+/// rows are those of the inverse kinematics and the solution is the forward kinematics of [16].
+/// The controller commands wheel rates through the nominal inverse kinematics (it knows neither
+/// deformation).
 class Mecanum : public Robot
 {
 public:
@@ -219,7 +236,10 @@ public:
                      {"wheel_radius_rr_m", 0.0},
                      {"half_length_m", 0.15},
                      {"half_width_m", 0.2},
-                     {"encoder_ticks_per_rev", 1000}}),
+                     {"encoder_ticks_per_rev", 1000},
+                     {"deformed_wheel", 0},
+                     {"axis_yaw_deg", 0.0},
+                     {"wheel_tilt_deg", 0.0}}),
         deformation_(p_),
         lever_(p_.positive("half_length_m") + p_.positive("half_width_m"))
   {
@@ -229,8 +249,37 @@ public:
       radius_[i] = p_[keys[i]] > 0.0 ? p_[keys[i]] : p_.positive("wheel_radius_m");
     }
     if (deformation_.axis_misalignment_rad != 0.0) {
-      throw std::invalid_argument("axis_misalignment_rad is not modelled for mecanum");
+      throw std::invalid_argument(
+          "axis_misalignment_rad is not modelled for mecanum: use axis_yaw_deg (deformation T1)");
     }
+    const double wheel = p_["deformed_wheel"];
+    if (wheel != 0.0 && wheel != 1.0 && wheel != 2.0 && wheel != 3.0) {
+      throw std::invalid_argument(
+          "robot parameter 'deformed_wheel' must be 0 (front left), 1 (front right), 2 (rear "
+          "left) or 3 (rear right)");
+    }
+    const double yaw = p_["axis_yaw_deg"] * M_PI / 180.0;
+    const double tilt = p_["wheel_tilt_deg"] * M_PI / 180.0;
+    if (std::abs(yaw) >= M_PI / 4.0 || std::abs(tilt) >= M_PI / 3.0) {
+      throw std::invalid_argument(
+          "robot parameters 'axis_yaw_deg' must be within +-45 and 'wheel_tilt_deg' within +-60");
+    }
+    deformed_ = yaw != 0.0 || tilt != 0.0;
+    const double lx = p_["half_length_m"], ly = p_["half_width_m"];
+    const double x[4] = {lx, lx, -lx, -lx}, y[4] = {ly, -ly, ly, -ly};
+    const double roller_y[4] = {-1.0, 1.0, 1.0, -1.0};
+    const int k = static_cast<int>(wheel);
+    for (int i = 0; i < 4; ++i) {
+      Eigen::Vector2d n(1.0, roller_y[i]);
+      radius_scale_[i] = 1.0;
+      if (i == k) {
+        n.y() *= std::cos(tilt);
+        n = Eigen::Rotation2Dd(yaw) * n;
+        radius_scale_[i] = std::cos(tilt);
+      }
+      rows_.row(i) << n.x(), n.y(), x[i] * n.y() - y[i] * n.x();
+    }
+    solver_ = (rows_.transpose() * rows_).inverse() * rows_.transpose();
   }
 
   std::vector<JointEncoderSpec> joints() const override
@@ -246,15 +295,22 @@ public:
   {
     const double vx = command.vx_mps, vy = command.vy_mps, w = lever_ * command.omega_radps;
     const double surface[4] = {vx - vy - w, vx + vy + w, vx + vy - w, vx - vy + w};
-    double speed[4];
+    Eigen::Vector4d speed;
     for (int i = 0; i < 4; ++i) {
       const double rate = surface[i] / radius_[i];
-      speed[i] = deformation_.effectiveRadius(i, radius_[i], (*joint_rad)(i), rate) * rate;
+      speed(i) =
+          deformation_.effectiveRadius(i, radius_[i] * radius_scale_[i], (*joint_rad)(i), rate) *
+          rate;
       (*joint_rad)(i) += rate * dt_s;
     }
-    return {0.25 * (speed[0] + speed[1] + speed[2] + speed[3]),
-            0.25 * (-speed[0] + speed[1] + speed[2] - speed[3]),
-            0.25 * (-speed[0] + speed[1] - speed[2] + speed[3]) / lever_};
+    if (deformed_) {
+      const Eigen::Vector3d twist = solver_ * speed;
+      return {twist(0), twist(1), twist(2)};
+    }
+    // The least-squares solution of the undeformed rows in closed form ([16]).
+    return {0.25 * (speed(0) + speed(1) + speed(2) + speed(3)),
+            0.25 * (-speed(0) + speed(1) + speed(2) - speed(3)),
+            0.25 * (-speed(0) + speed(1) - speed(2) + speed(3)) / lever_};
   }
 
   bool canTurnInPlace() const override { return true; }
@@ -270,6 +326,10 @@ private:
   Deformation deformation_;
   double lever_;
   double radius_[4];
+  double radius_scale_[4];              ///< r_eff / r: cos(tilt) for the tilted wheel (T2), else 1
+  bool deformed_ = false;               ///< T1 or T2 set: solve the rows, else the closed form
+  Eigen::Matrix<double, 4, 3> rows_;    ///< the constraints' rows (n_i, p_i x n_i)
+  Eigen::Matrix<double, 3, 4> solver_;  ///< their least-squares pseudo-inverse
 };
 
 }  // namespace

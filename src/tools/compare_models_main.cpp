@@ -1,5 +1,7 @@
 // compare_models: trains several models on some pairs files and scores them on others
 // (the paper's Tables III/IV).
+#include <algorithm>
+#include <array>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -16,7 +18,7 @@ using namespace odometry_calibration;
 const char* kUsage =
     "usage: compare_models --train PAIRS.csv [--train ...] --test PAIRS.csv [--test ...]\n"
     "                      [--models linear,diff_drive,gp (default: all three)]\n"
-    "                      [diff_drive options]\n"
+    "                      [diff_drive options] [mecanum options]\n"
     "\n"
     "Fits each model on the training pairs and prints, per model, the ATE and RPE of the\n"
     "test trajectory integrated from its predictions (paper eqs. 10-11, against the chain of\n"
@@ -29,6 +31,12 @@ const char* kUsage =
     "  --start R_L,R_R,B,X,Y,THETA  start values [m, m, m, m, m, rad]\n"
     "                         (default 0.077,0.077,0.33,0.15,0,0)\n"
     "\n"
+    "mecanum options (--ticks-per-rev as above):\n"
+    "  --wheel-joints FL,FR,RL,RR  the front-left, front-right, rear-left, rear-right wheel\n"
+    "                         joints (default: the first four incremental joints)\n"
+    "  --mecanum-start R,LXLY,X,Y,THETA  start values: radius of all four wheels, lx + ly,\n"
+    "                         sensor pose [m, m, m, m, rad] (default 0.05,0.35,0.15,0,0)\n"
+    "\n"
     "Exit status: 0 success; 1 bad input; 2 bad usage; 3 a model's fit did not converge (its\n"
     "row is marked NOT converged: its scores are not those of a calibration).\n";
 
@@ -40,6 +48,8 @@ int main(int argc, char** argv)
   std::string left, right;
   double ticks_per_rev = 2000.0;
   std::vector<double> start = {0.077, 0.077, 0.33, 0.15, 0.0, 0.0};
+  std::vector<std::string> wheel_joints;
+  std::vector<double> mecanum_start = {0.05, 0.35, 0.15, 0.0, 0.0};
   bool all_converged = true;
   try {
     ArgumentParser parser;
@@ -49,13 +59,18 @@ int main(int argc, char** argv)
         .option("--left-joint", &left)
         .option("--right-joint", &right)
         .number("--ticks-per-rev", &ticks_per_rev, 1.0)
-        .numberList("--start", &start, 6);
+        .numberList("--start", &start, 6)
+        .listOption("--wheel-joints", &wheel_joints)
+        .numberList("--mecanum-start", &mecanum_start, 5);
     if (!parser.parse(argc, argv)) {
       std::cout << kUsage;
       return 0;
     }
     for (const std::string& name : models)
       requireKnownModel(name, "--models");
+    if (!wheel_joints.empty() && wheel_joints.size() != 4) {
+      throw std::invalid_argument("--wheel-joints needs four joint names: FL,FR,RL,RR");
+    }
     if (train.empty() || test.empty()) {
       throw std::invalid_argument("give at least one --train and one --test pairs file");
     }
@@ -75,6 +90,15 @@ int main(int argc, char** argv)
     options.diff_drive.initial_right_radius_m = start[1];
     options.diff_drive.initial_separation_m = start[2];
     options.diff_drive.initial_T_base_sensor = Pose2(start[3], start[4], start[5]);
+    if (std::find(models.begin(), models.end(), "mecanum") != models.end()) {
+      std::array<std::string, 4> wheels;
+      std::copy(wheel_joints.begin(), wheel_joints.end(), wheels.begin());
+      options.mecanum.layout = mecanumLayoutForJoints(training.joints, wheels, ticks_per_rev);
+      options.mecanum.initial_radius_m.fill(mecanum_start[0]);
+      options.mecanum.initial_lx_plus_ly_m = mecanum_start[1];
+      options.mecanum.initial_T_base_sensor =
+          Pose2(mecanum_start[2], mecanum_start[3], mecanum_start[4]);
+    }
     std::cout << "training pairs: " << training.pairs.size()
               << ", test pairs: " << testing.pairs.size() << "\n\n";
     const std::vector<ModelScore> scores =

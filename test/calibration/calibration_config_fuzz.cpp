@@ -25,7 +25,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   } catch (const YAML::Exception&) {
   }
   if (!options.empty()) {
-    for (const char* model : {"", "diff_drive", "tricycle", "linear", "gp"}) {
+    for (const char* model : {"", "diff_drive", "tricycle", "mecanum", "linear", "gp"}) {
       try {
         if (*model == '\0')
           overrideModelOptions(config_text, options, "fuzz.yaml");

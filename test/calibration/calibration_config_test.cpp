@@ -1,3 +1,5 @@
+#include <cmath>
+
 #include <gtest/gtest.h>
 
 #include "odometry_calibration/calibration/calibration_config.h"
@@ -19,6 +21,26 @@ TEST(CalibrationConfig, ShippedConfigParses)
   const auto channels = encoderChannels(config);
   EXPECT_EQ(channels[0].wrap_period, 4294967296.0);
   EXPECT_EQ(config.models.joints.names.size(), 2u);
+  // 50 turns/s of 2000 ticks: the glitch limit in ticks per second.
+  EXPECT_DOUBLE_EQ(channels[0].max_rate_per_s, 1e5);
+}
+
+TEST(CalibrationConfig, AbsoluteJointsGetAGlitchLimitToo)
+{
+  const CalibrationConfig config = loadCalibrationConfig(kConfig + "/tricycle.yaml");
+  const auto channels = encoderChannels(config);
+  bool has_absolute = false;
+  for (std::size_t i = 0; i < channels.size(); ++i) {
+    if (channels[i].kind != EncoderKind::kAbsolute)
+      continue;
+    has_absolute = true;
+    // A steering angle in radians: max_turns_per_s (default 50) turns of units_per_turn (2 pi).
+    EXPECT_DOUBLE_EQ(channels[i].max_rate_per_s,
+                     config.joints[i].max_turns_per_s * config.joints[i].units_per_turn)
+        << channels[i].name;
+    EXPECT_GT(channels[i].max_rate_per_s, 0.0) << channels[i].name;
+  }
+  EXPECT_TRUE(has_absolute);
 }
 
 TEST(CalibrationConfig, TheLidarTemplateReadsItsCloudOptions)
@@ -68,9 +90,66 @@ TEST(CalibrationConfig, ErrorsNameTheKey)
   EXPECT_EQ(message(joints + "model: gp\ncompare_models: [linear, diff_drive]\n"), "");
   EXPECT_NE(message(joints + "compare_models: [linear, gpp]\n").find("compare_models"),
             std::string::npos);
+  EXPECT_EQ(message(joints + "keyframes: {fit_intervals_s: [0.3, 0.5, 1.0]}\n"), "");
+  EXPECT_NE(message(joints + "keyframes: {fit_intervals_s: [0.5, 0.3]}\n").find("must increase"),
+            std::string::npos);
+  EXPECT_NE(message(joints + "keyframes: {fit_intervals_s: [0, 1]}\n").find("fit_intervals_s"),
+            std::string::npos);
   // Wheels in different units cannot share one diff-drive model.
   EXPECT_NE(message("joints: [{name: l, units_per_turn: 100}, {name: r}]\n").find("units_per_turn"),
             std::string::npos);
+}
+
+TEST(CalibrationConfig, MecanumTemplateParsesAndNamesItsWheels)
+{
+  const CalibrationConfig config = loadCalibrationConfig(kConfig + "/mecanum.yaml");
+  EXPECT_EQ(config.model, "mecanum");
+  EXPECT_EQ(config.prior_model, "mecanum");
+  const MecanumOptions& m = config.models.mecanum;
+  EXPECT_EQ(m.layout.rear_right_index, 3);
+  EXPECT_EQ(m.layout.ticks_per_turn, 1000.0);
+  EXPECT_DOUBLE_EQ(m.initial_lx_plus_ly_m, 0.35);
+  EXPECT_DOUBLE_EQ(priorSensorPose(config)->x(), 0.2);
+  // The nominal model drives the matcher's guesses: 1000 ticks on every wheel is one wheel
+  // turn forward, 2 pi r.
+  const MotionPredictor guess = priorPredictor(config);
+  ASSERT_TRUE(guess);
+  EncoderSample a, b;
+  a.values = Eigen::Vector4d::Zero();
+  b.values = Eigen::Vector4d::Constant(1000.0);
+  EXPECT_NEAR(guess({a, b}).x(), 2 * M_PI * 0.05, 1e-12);
+  EXPECT_EQ(priorModel(config)->name(), "mecanum");
+
+  // Joints by name in another order; errors name the key.
+  auto message = [](const std::string& text) -> std::string {
+    try {
+      parseCalibrationConfig(text, "m.yaml");
+    } catch (const std::runtime_error& error) {
+      return error.what();
+    }
+    return "";
+  };
+  const std::string joints = "joints: [{name: rr}, {name: fl}, {name: fr}, {name: rl}]\n";
+  const CalibrationConfig named = parseCalibrationConfig(
+      joints +
+          "model: mecanum\nmecanum: {front_left_joint: fl, front_right_joint: fr, "
+          "rear_left_joint: rl, rear_right_joint: rr, wheel_radii_m: [0.05, 0.05, 0.051, 0.05]}\n",
+      "m.yaml");
+  EXPECT_EQ(named.models.mecanum.layout.front_left_index, 1);
+  EXPECT_EQ(named.models.mecanum.layout.rear_right_index, 0);
+  EXPECT_DOUBLE_EQ(named.models.mecanum.initial_radius_m[2], 0.051);
+  EXPECT_NE(message(joints + "model: mecanum\nmecanum: {rear_left_joint: back}\n")
+                .find("mecanum.rear_left_joint"),
+            std::string::npos);
+  EXPECT_NE(
+      message(joints + "model: mecanum\nmecanum: {wheel_radii_m: [0.05]}\n").find("wheel_radii_m"),
+      std::string::npos);
+  EXPECT_NE(message("joints: [{name: a}, {name: b}]\nmodel: mecanum\n").find("four wheel"),
+            std::string::npos);
+  EXPECT_NE(message(joints + "model: mecanum\nmecanum: {lx_plus_ly_m: 0}\n").find("lx_plus_ly"),
+            std::string::npos);
+  // A gp fitted on a mecanum robot may take the mecanum model as its nominal one.
+  EXPECT_EQ(message(joints + "model: gp\nprior_model: mecanum\n"), "");
 }
 
 }  // namespace

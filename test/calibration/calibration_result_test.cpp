@@ -45,9 +45,14 @@ TEST(CalibrationResult, RoundTripPredictsIdentically)
     SCOPED_TRACE(name);
     auto model = makeModel(name, factoryOptions(data.joints));
     const ModelReport report = model->fit(data.pairs);
-    const std::string text = calibrationResultYaml(report, *model, "test", -0.125);
+    const std::string text = calibrationResultYaml(report, *model, "test", -0.125, 0.3);
     const CalibrationResult loaded = parseCalibrationResult(text, "result.yaml");
     ASSERT_TRUE(loaded.model);
+    EXPECT_DOUBLE_EQ(loaded.fit_interval_s, 0.3);
+    // Written without an interval (results before issue 22): not recorded.
+    EXPECT_EQ(parseCalibrationResult(calibrationResultYaml(report, *model, "test", 0.0), "old")
+                  .fit_interval_s,
+              0.0);
     EXPECT_EQ(loaded.model->name(), name);
     EXPECT_EQ(loaded.has_extrinsic, report.has_extrinsic);
     EXPECT_DOUBLE_EQ(loaded.time_offset_s, -0.125);
@@ -81,6 +86,14 @@ TEST(CalibrationResult, BadFilesNameTheProblem)
     EXPECT_NE(std::string(error.what()).find("unicycle"), std::string::npos);
   }
   EXPECT_THROW(parseCalibrationResult("model: [unclosed\n", "r.yaml"), std::runtime_error);
+  try {
+    parseCalibrationResult("model: {model: linear}\nfit_interval_s: -1\n", "r.yaml");
+    FAIL() << "a negative fit interval accepted";
+  } catch (const std::runtime_error& error) {
+    EXPECT_NE(std::string(error.what()).find("r.yaml: fit_interval_s must be in (0, 3600] s"),
+              std::string::npos)
+        << error.what();
+  }
   EXPECT_THROW(readCalibrationResult("/nonexistent/result.yaml"), std::runtime_error);
 }
 

@@ -92,6 +92,53 @@ TEST(EncoderGlitchFilter, TimeGoingBackwardsStartsOver)
   EXPECT_FALSE(filter.filter(5.01, reading(9e8 + 10.0)).glitch);
 }
 
+// A steering encoder: absolute, 4096 counts per turn (readings above 2048 are negative), at
+// most one turn per second.
+EncoderGlitchFilter makeSteeringFilter()
+{
+  return EncoderGlitchFilter({{"steering", EncoderKind::kAbsolute, 0.0, 4096.0, 4096.0}});
+}
+
+Eigen::VectorXd steering(double counts)
+{
+  return Eigen::VectorXd::Constant(1, counts);
+}
+
+TEST(EncoderGlitchFilter, AbsoluteJointSpikeIsSkipped)
+{
+  EncoderGlitchFilter filter = makeSteeringFilter();
+  EXPECT_FALSE(filter.filter(0.0, steering(100.0)).glitch);
+  EXPECT_FALSE(filter.filter(0.1, steering(400.0)).glitch);  // 3000 counts/s: allowed
+  const auto spike = filter.filter(0.2, steering(1e300));
+  EXPECT_TRUE(spike.glitch);
+  EXPECT_EQ(spike.channel, 0u);
+  EXPECT_TRUE(filter.filter(0.3, steering(3000.0)).glitch);  // 2600 counts in 0.1 s: too fast
+  // The next sane reading passes as it is (an absolute reading is never offset).
+  const auto next = filter.filter(0.4, steering(500.0));
+  ASSERT_FALSE(next.glitch);
+  EXPECT_DOUBLE_EQ(next.corrected(0), 500.0);
+}
+
+TEST(EncoderGlitchFilter, AbsoluteJointWrapsAtItsFullRange)
+{
+  EncoderGlitchFilter filter = makeSteeringFilter();
+  EXPECT_FALSE(filter.filter(0.00, steering(4090.0)).glitch);
+  const auto across = filter.filter(0.01, steering(10.0));  // 16 counts through zero
+  ASSERT_FALSE(across.glitch);
+  EXPECT_DOUBLE_EQ(across.corrected(0), 10.0);
+  EXPECT_TRUE(filter.filter(0.02, steering(4096.0 * 3)).glitch);  // beyond the range
+}
+
+TEST(EncoderGlitchFilter, AbsoluteJointThatJumpsAndStaysIsTakenAsItIs)
+{
+  EncoderGlitchFilter filter = makeSteeringFilter();
+  EXPECT_FALSE(filter.filter(0.00, steering(0.0)).glitch);
+  EXPECT_TRUE(filter.filter(0.01, steering(1500.0)).glitch);
+  const auto after = filter.filter(0.02, steering(1510.0));
+  ASSERT_FALSE(after.glitch);
+  EXPECT_DOUBLE_EQ(after.corrected(0), 1510.0);  // where the joint is, no offset
+}
+
 TEST(EncoderGlitchFilter, ZeroRateChecksNothing)
 {
   EncoderGlitchFilter filter({{"wheel", EncoderKind::kIncremental, 0.0, 0.0, 0.0}});

@@ -189,7 +189,8 @@ TEST_F(CalibrateBagReport, HoldsOutTheLastPairsAndScoresCalibratedAndNominalOnTh
   ASSERT_NE(at, std::string::npos);
   std::size_t test_pairs = 0;
   double border_s = 0.0;
-  std::sscanf(report.c_str() + at, "held out: the %zu pairs after %lf s", &test_pairs, &border_s);
+  std::sscanf(report.c_str() + at, "held out: the %zu pairs (T = %*f s) after %lf s", &test_pairs,
+              &border_s);
   EXPECT_NEAR(border_s, 36.0, 1.5);
   EXPECT_GT(test_pairs, 40u);
   // Fitted + held out < collected: the pair across the border is in neither.
@@ -200,6 +201,56 @@ TEST_F(CalibrateBagReport, HoldsOutTheLastPairsAndScoresCalibratedAndNominalOnTh
   const YAML::Node result = YAML::LoadFile(directory_ + "/holdout/result.yaml");
   EXPECT_LT(result["fit"]["pairs"].as<std::size_t>() + test_pairs, collected);
   EXPECT_GE(result["fit"]["pairs"].as<std::size_t>() + test_pairs + 3, collected);
+}
+
+/// The "held out: the N pairs" count of a report (0 if none).
+std::size_t heldOutPairs(const std::string& report)
+{
+  const std::size_t at = report.find("held out: the ");
+  std::size_t pairs = 0;
+  if (at != std::string::npos)
+    std::sscanf(report.c_str() + at, "held out: the %zu pairs", &pairs);
+  return pairs;
+}
+
+TEST_F(CalibrateBagReport, FitIntervalGivenOrChosenByCrossValidation)
+{
+  // A given interval: the fit uses 1 s pairs (about 36 over the 36 s before the border), the
+  // held-out yardstick stays the configured 0.5 s pairs.
+  ASSERT_EQ(run("interval_fixed", "--holdout 0.4 --interval 1.0"), 0) << output("stderr");
+  const std::string fixed = readFile(directory_ + "/interval_fixed/report.md");
+  EXPECT_NE(fixed.find("fit interval T = 1.00 s (--interval)"), std::string::npos) << fixed;
+  const std::size_t fitted_1s =
+      YAML::LoadFile(directory_ + "/interval_fixed/result.yaml")["fit"]["pairs"].as<std::size_t>();
+  EXPECT_GE(fitted_1s, 28u);
+  EXPECT_LE(fitted_1s, 37u);
+  const std::size_t yardstick = heldOutPairs(fixed);
+  EXPECT_GT(yardstick, 40u);
+
+  // auto: three candidates scored, one chosen, its curve plotted; same held-out pairs.
+  ASSERT_EQ(run("interval_auto", "--holdout 0.4 --interval auto"), 0) << output("stderr");
+  const std::string report = readFile(directory_ + "/interval_auto/report.md");
+  EXPECT_EQ(count(report, "## Fit interval\n"), 1u);
+  double chosen = 0.0;
+  const std::size_t at = report.find("fit interval T = ");
+  ASSERT_NE(at, std::string::npos) << report;
+  std::sscanf(report.c_str() + at, "fit interval T = %lf s", &chosen);
+  EXPECT_TRUE(chosen == 0.3 || chosen == 0.5 || chosen == 1.0) << chosen;
+  EXPECT_EQ(count(report, " m (chosen)"), 1u) << report;
+  for (const char* candidate : {"0.30 s 0.", "0.50 s 0.", "1.00 s 0."})
+    EXPECT_NE(report.find(candidate), std::string::npos) << candidate << "\n" << report;
+  EXPECT_TRUE(isPngFile(directory_ + "/interval_auto/plots/" + kFitIntervalPlot));
+  EXPECT_NE(report.find("](plots/fit_interval.png)"), std::string::npos);
+  EXPECT_EQ(heldOutPairs(report), yardstick);
+  const std::size_t fitted =
+      YAML::LoadFile(directory_ + "/interval_auto/result.yaml")["fit"]["pairs"].as<std::size_t>();
+  EXPECT_NEAR(static_cast<double>(fitted), 36.0 / chosen, 0.25 * 36.0 / chosen);
+
+  EXPECT_EQ(run("interval_bad", "--interval often"), 2);
+  EXPECT_NE(output("stderr").find("option --interval: expected 'auto' or a number of seconds"),
+            std::string::npos)
+      << output("stderr");
+  EXPECT_FALSE(fs::exists(directory_ + "/interval_bad"));
 }
 
 TEST_F(CalibrateBagReport, WithoutGnuplotTheReportSaysWhatIsMissing)

@@ -45,6 +45,16 @@ TEST(NodeTracker, FitsTheTricycleFromTrackerPoses)
   fit.request.model = "tricycle";
   ASSERT_TRUE(ros::service::call(kNode + "/calibrate", fit));
   ASSERT_TRUE(fit.response.success) << fit.response.message;
+  // keyframes.fit_intervals_s: the fit interval was chosen among three candidates and is kept
+  // with the fit (a model predicts windows of the length it was fitted on).
+  const std::string& message = fit.response.message;
+  const std::size_t chosen_at = message.find("fit interval T = ");
+  ASSERT_NE(chosen_at, std::string::npos) << message;
+  const double chosen = std::stod(message.substr(chosen_at + 17));
+  EXPECT_TRUE(chosen == 0.3 || chosen == 0.5 || chosen == 1.0) << message;
+  EXPECT_NE(message.find(" m (chosen)"), std::string::npos) << message;
+  const YAML::Node last_fit = YAML::LoadFile(output_directory + "/last_fit.yaml");
+  EXPECT_NEAR(last_fit["fit_interval_s"].as<double>(), chosen, 1e-6);
   std::map<std::string, double> p;
   for (const auto& parameter : fit.response.report.parameters)
     p[parameter.name] = parameter.value;

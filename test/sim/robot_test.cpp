@@ -1,6 +1,7 @@
 #include <cmath>
 
 #include <gtest/gtest.h>
+#include <Eigen/SVD>
 
 #include "odometry_calibration/sim/robot.h"
 
@@ -100,6 +101,77 @@ TEST(SimRobots, MecanumDrivesSideways)
   EXPECT_EQ(robot->joints().size(), 4u);
 }
 
+/// The twist a mecanum robot realises from wheel surface speeds `s` (FL, FR, RL, RR) when wheel
+/// `k` is yawed by `yaw` and tilted by `tilt` [rad], built here from the description (contact
+/// constraints n_i . (v + w x p_i) = s_i, n_i the roller axis on the ground) and solved by SVD.
+Eigen::Vector3d leastSquaresTwist(const Eigen::Vector4d& s, int k, double yaw, double tilt)
+{
+  const double lx = 0.15, ly = 0.2;
+  const Eigen::Vector2d p[4] = {{lx, ly}, {lx, -ly}, {-lx, ly}, {-lx, -ly}};
+  const Eigen::Vector2d n0[4] = {{1, -1}, {1, 1}, {1, 1}, {1, -1}};
+  Eigen::Matrix<double, 4, 3> a;
+  Eigen::Vector4d b = s;
+  for (int i = 0; i < 4; ++i) {
+    Eigen::Vector2d n = n0[i];
+    if (i == k) {
+      n.y() *= std::cos(tilt);
+      n = Eigen::Vector2d(std::cos(yaw) * n.x() - std::sin(yaw) * n.y(),
+                          std::sin(yaw) * n.x() + std::cos(yaw) * n.y());
+      b(i) *= std::cos(tilt);
+    }
+    a.row(i) << n.x(), n.y(), p[i].x() * n.y() - p[i].y() * n.x();
+  }
+  return a.jacobiSvd(Eigen::ComputeThinU | Eigen::ComputeThinV).solve(b);
+}
+
+TEST(SimRobots, MecanumDeformationsT1AndT2RealiseTheLeastSquaresTwist)
+{
+  const Twist2 command{0.3, 0.1, 0.4};
+  const double w = 0.35 * command.omega_radps;
+  // Surface speeds of the nominal inverse kinematics (the controller knows no deformation).
+  const Eigen::Vector4d s(command.vx_mps - command.vy_mps - w, command.vx_mps + command.vy_mps + w,
+                          command.vx_mps + command.vy_mps - w, command.vx_mps - command.vy_mps + w);
+  for (int wheel = 0; wheel < 4; ++wheel) {
+    const auto yawed = makeRobot(
+        {"mecanum", {{"axis_yaw_deg", 6.0}, {"deformed_wheel", static_cast<double>(wheel)}}});
+    Eigen::VectorXd joints = yawed->initialJoints();
+    const Twist2 t1 = stepOnce(*yawed, command, &joints);
+    const Eigen::Vector3d expected1 = leastSquaresTwist(s, wheel, 6.0 * M_PI / 180, 0.0);
+    EXPECT_NEAR(t1.vx_mps, expected1(0), 1e-12);
+    EXPECT_NEAR(t1.vy_mps, expected1(1), 1e-12);
+    EXPECT_NEAR(t1.omega_radps, expected1(2), 1e-12);
+    const auto tilted = makeRobot(
+        {"mecanum", {{"wheel_tilt_deg", 20.0}, {"deformed_wheel", static_cast<double>(wheel)}}});
+    joints = tilted->initialJoints();
+    const Twist2 t2 = stepOnce(*tilted, command, &joints);
+    const Eigen::Vector3d expected2 = leastSquaresTwist(s, wheel, 0.0, 20.0 * M_PI / 180);
+    EXPECT_NEAR(t2.vx_mps, expected2(0), 1e-12);
+    EXPECT_NEAR(t2.vy_mps, expected2(1), 1e-12);
+    EXPECT_NEAR(t2.omega_radps, expected2(2), 1e-12);
+    // The wheels turn as commanded: the deformation is in the motion, not in the encoders.
+    EXPECT_NEAR(joints(wheel), 0.01 * s(wheel) / 0.05, 1e-12);
+  }
+  // The deformation matters: 6 deg of yaw moves the twist by more than 1 % of the speed ...
+  const auto yawed = makeRobot({"mecanum", {{"axis_yaw_deg", 6.0}}});
+  Eigen::VectorXd joints = yawed->initialJoints();
+  const Twist2 t1 = stepOnce(*yawed, {0.3, 0.0, 0.0}, &joints);
+  EXPECT_GT(std::abs(t1.vy_mps) + 0.35 * std::abs(t1.omega_radps), 0.003);
+  // ... and a slower tilted front-left wheel turns the robot to the left, drifting left.
+  const auto tilted = makeRobot({"mecanum", {{"wheel_tilt_deg", 20.0}}});
+  joints = tilted->initialJoints();
+  const Twist2 t2 = stepOnce(*tilted, {0.3, 0.0, 0.0}, &joints);
+  EXPECT_GT(t2.omega_radps, 0.01);
+  EXPECT_GT(t2.vy_mps, 0.0);
+  // Vanishing deformations give the undeformed robot's twist.
+  const auto ideal = makeRobot({"mecanum", {}});
+  const auto tiny = makeRobot({"mecanum", {{"axis_yaw_deg", 1e-9}}});
+  Eigen::VectorXd a = ideal->initialJoints(), b = tiny->initialJoints();
+  const Twist2 ta = stepOnce(*ideal, command, &a), tb = stepOnce(*tiny, command, &b);
+  EXPECT_NEAR(ta.vx_mps, tb.vx_mps, 1e-9);
+  EXPECT_NEAR(ta.vy_mps, tb.vy_mps, 1e-9);
+  EXPECT_NEAR(ta.omega_radps, tb.omega_radps, 1e-9);
+}
+
 TEST(SimRobots, BadParametersAreNamed)
 {
   auto message = [](const RobotOptions& options) -> std::string {
@@ -116,6 +188,11 @@ TEST(SimRobots, BadParametersAreNamed)
   EXPECT_NE(message({"diff_drive", {{"wheel_separation_m", -0.3}}}).find("wheel_separation_m"),
             std::string::npos);
   EXPECT_NE(message({"tricycle", {{"max_steering_rad", 2.0}}}).find("max_steering_rad"),
+            std::string::npos);
+  EXPECT_NE(message({"mecanum", {{"deformed_wheel", 4.0}}}).find("deformed_wheel"),
+            std::string::npos);
+  EXPECT_NE(message({"mecanum", {{"axis_yaw_deg", 50.0}}}).find("axis_yaw_deg"), std::string::npos);
+  EXPECT_NE(message({"mecanum", {{"axis_misalignment_rad", 0.1}}}).find("axis_yaw_deg"),
             std::string::npos);
 }
 

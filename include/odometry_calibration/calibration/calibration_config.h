@@ -65,11 +65,16 @@ struct CalibrationConfig
   bool estimate_time_offset = false;
   double time_offset_search_min_s = -0.4;
   double time_offset_search_max_s = 0.4;
+  /// Candidate keyframe intervals of the fitted pairs [s], increasing
+  /// (`keyframes.fit_intervals_s`): the node and calibrate_bag collect pairs at each and choose one
+  /// by time-blocked cross-validation on the interval_s pairs (calibration/fit_interval.h); empty:
+  /// fit the interval_s pairs.
+  std::vector<double> fit_intervals_s;
   std::string model = "diff_drive";         ///< model fitted by default
   std::vector<std::string> compare_models;  ///< further models fitted for the comparison table
   ModelFactoryOptions models;               ///< per-model options (joints filled in)
   /// Model used for the matcher's initial guess and the node's nominal odometry ("none", or a
-  /// parametric model with its start values: "diff_drive", "tricycle").
+  /// parametric model with its start values: "diff_drive", "tricycle", "mecanum").
   std::string prior_model = "diff_drive";
   std::string output_directory = "odometry_calibration_results";
 };
@@ -78,11 +83,10 @@ struct CalibrationConfig
 CalibrationConfig loadCalibrationConfig(const std::string& path);
 CalibrationConfig parseCalibrationConfig(const std::string& text, const std::string& source);
 
-/// `config_text` with the model sections (diff_drive, tricycle, linear, gp, prior_model, model)
-/// replaced
-/// key by key by those of `override_yaml` (a YAML mapping, e.g. "{gp: {kernel: linear}}"), then
-/// parsed and validated. Throws std::runtime_error naming a key that may not be overridden or
-/// an invalid value.
+/// `config_text` with the model sections (diff_drive, tricycle, mecanum, linear, gp, prior_model,
+/// model) replaced key by key by those of `override_yaml` (a YAML mapping, e.g.
+/// "{gp: {kernel: linear}}"), then parsed and validated. Throws std::runtime_error naming a key
+/// that may not be overridden or an invalid value.
 CalibrationConfig overrideModelOptions(const std::string& config_text,
                                        const std::string& override_yaml, const std::string& source);
 

@@ -18,13 +18,18 @@ struct CalibrationResult
   bool has_extrinsic = false;          ///< whether T_base_sensor was estimated
   Pose2 T_base_sensor;                 ///< the sensor's pose in base_link [m, m, rad]
   double time_offset_s = 0.0;          ///< encoder values at scan time + offset [s]
+  /// Keyframe interval of the pairs the model was fitted on [s] (a GP predicts windows of this
+  /// length); 0: not recorded (results written before issue 22: the configured interval_s).
+  double fit_interval_s = 0.0;
 };
 
 /// result.yaml's text: the report's numbers, the fitted model (enough to predict again), the
-/// extrinsic and `time_offset_s` (to the microsecond). The one writer of result.yaml, for the
-/// node's ~save and calibrate_bag.
+/// extrinsic, `time_offset_s` (to the microsecond) and, when > 0, `fit_interval_s` (the fitted
+/// pairs' keyframe interval). The one writer of result.yaml, for the node's ~save and
+/// calibrate_bag.
 std::string calibrationResultYaml(const ModelReport& report, const MotionModel& model,
-                                  const std::string& source, double time_offset_s);
+                                  const std::string& source, double time_offset_s,
+                                  double fit_interval_s = 0.0);
 
 /// Parses result.yaml's text. Throws std::runtime_error naming `source` and what is missing.
 CalibrationResult parseCalibrationResult(const std::string& text, const std::string& source);

@@ -65,6 +65,8 @@ public:
   const Eigen::Matrix3d& windowCovariance() const { return window_covariance_; }
   /// Time of the last sample [s]; NaN before the first.
   double stamp() const;
+  /// The longest window given to the model [s] (the constructor's segment_s).
+  double segmentLength() const { return segment_s_; }
 
 private:
   std::shared_ptr<const MotionModel> model_;

@@ -43,8 +43,8 @@ struct EncoderChannelOptions
   double wrap_period = 0.0;
   /// Absolute: readings per full turn; readings above half of it are negative. 0 = use as is.
   double full_range = 0.0;
-  /// Incremental: the largest plausible speed [raw units / s]; a larger increment is a glitch
-  /// (encoder_glitch_filter.h). 0 = unchecked.
+  /// The largest plausible speed [raw units / s] (a wheel's, or an absolute joint's slew rate);
+  /// a larger step between readings is a glitch (encoder_glitch_filter.h). 0 = unchecked.
   double max_rate_per_s = 0.0;
 };
 

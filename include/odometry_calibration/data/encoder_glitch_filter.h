@@ -14,8 +14,10 @@
 
 namespace odometry_calibration {
 
-/// Looks at successive raw readings of the channels and tells glitches from motion. Only
-/// incremental channels with a `max_rate_per_s` (> 0) are checked; absolute ones pass unchanged.
+/// Looks at successive raw readings of the channels and tells glitches from motion. Channels
+/// with a `max_rate_per_s` (> 0) are checked: incremental wheels and absolute joints (a steering
+/// angle that leaps by more than the joint can turn is a glitch too; its step wraps at the
+/// channel's full_range, if any).
 ///
 /// A reading is sane when every checked channel's increment (wrap-safe) since the last accepted
 /// reading is at most max_rate_per_s * max(dt, kMinInterval_s) (stamps jitter, so at least 0.1 s of
@@ -23,8 +25,9 @@ namespace odometry_calibration {
 /// (-wrap_period, wrap_period). A reading that is not sane is a glitch and is skipped. The next
 /// reading is accepted when it is sane against the last accepted reading (a one-message spike)
 /// or against the glitch reading itself (the counter jumped and stays there, e.g. a driver
-/// restart): then the jump is absorbed into an offset and the counts go on from where they
-/// were (the motion during the jump is lost; the pairing drops the interval around it).
+/// restart): then, for an incremental channel, the jump is absorbed into an offset and the
+/// counts go on from where they were (the motion during the jump is lost; the pairing drops the
+/// interval around it); an absolute channel's new reading is taken as it is.
 class EncoderGlitchFilter
 {
 public:

@@ -8,6 +8,7 @@
 #include "odometry_calibration/models/diff_drive_model.h"
 #include "odometry_calibration/models/gp_options.h"
 #include "odometry_calibration/models/linear_model.h"
+#include "odometry_calibration/models/mecanum_model.h"
 #include "odometry_calibration/models/model.h"
 #include "odometry_calibration/models/tricycle_model.h"
 
@@ -22,6 +23,7 @@ struct ModelFactoryOptions
   DiffDriveOptions diff_drive;
   GpOptions gp;
   TricycleModelOptions tricycle;
+  MecanumOptions mecanum;
 };
 
 /// Names makeModel knows.

@@ -145,6 +145,42 @@ void addSensorMotionResiduals(ceres::Problem& problem, const std::vector<MotionP
   problem.SetManifold(sensor_pose, newSe2Manifold());
 }
 
+/// RMS of the SE(2) errors of the model's predictions over `pairs` (those with `keep[i]` when
+/// `keep` is given); per axis into `per_axis` and the errors' second moment (the per-pair
+/// spread a prediction's covariance reports) into `spread`, when given.
+template <class Kinematics>
+ResidualRms sensorMotionResidualRms(const std::vector<MotionPair>& pairs,
+                                    const typename Kinematics::Layout& layout,
+                                    const double* intrinsic, const Pose2& T_base_sensor,
+                                    const std::vector<bool>* keep = nullptr,
+                                    Eigen::Vector3d* per_axis = nullptr,
+                                    Eigen::Matrix3d* spread = nullptr)
+{
+  ResidualRms rms;
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
+  for (std::size_t i = 0; i < pairs.size(); ++i) {
+    if (keep && !(*keep)[i])
+      continue;
+    const Pose2 base = Kinematics::integrate(intrinsic, layout, pairs[i].encoder_samples);
+    const Eigen::Vector3d e =
+        boxMinus(sensorMotionFromBodyMotion(T_base_sensor, base), pairs[i].sensor_motion);
+    sum += e.cwiseProduct(e);
+    outer += e * e.transpose();
+    ++rms.count;
+  }
+  if (rms.count > 0) {
+    const double n = static_cast<double>(rms.count);
+    rms.translation_m = std::sqrt((sum(0) + sum(1)) / n);
+    rms.rotation_rad = std::sqrt(sum(2) / n);
+    if (per_axis)
+      *per_axis = (sum / n).cwiseSqrt();
+    if (spread)
+      *spread = outer / n;
+  }
+  return rms;
+}
+
 /// Fits the intrinsics and the sensor pose from one start (no global starts).
 template <class Kinematics>
 SensorMotionFit<Kinematics::kIntrinsics> fitSensorMotionFrom(

@@ -36,6 +36,7 @@ struct MarkdownReportInput
   std::size_t test_pairs = 0;
   std::string holdout_table;       ///< calibrated and nominal on the held-out pairs (empty: none)
   std::string holdout_note;        ///< which pairs were held out, in words
+  std::string fit_interval_note;   ///< how the fit interval was chosen, in words (empty: fixed)
   ReportPlots plots;               ///< images made, or why not
   std::string plot_folder;         ///< folder of the images, relative to the report
   std::vector<std::string> files;  ///< the other files written, for the list at the end

@@ -14,9 +14,10 @@
 namespace odometry_calibration {
 
 /// File names of the images, inside the plot folder.
-extern const char* const kTrajectoryPlot;  ///< "trajectories.png"
-extern const char* const kResidualPlot;    ///< "residuals.png"
-extern const char* const kTimeOffsetPlot;  ///< "time_offset.png"
+extern const char* const kTrajectoryPlot;   ///< "trajectories.png"
+extern const char* const kResidualPlot;     ///< "residuals.png"
+extern const char* const kTimeOffsetPlot;   ///< "time_offset.png"
+extern const char* const kFitIntervalPlot;  ///< "fit_interval.png"
 
 /// What to plot.
 struct ReportPlotInput
@@ -27,6 +28,11 @@ struct ReportPlotInput
   std::vector<std::pair<double, double>> time_offset_curve;
   double time_offset_s = 0.0;        ///< the estimate, marked on the curve [s]
   double time_offset_sigma_s = 0.0;  ///< its sigma [s] (NaN: not determined)
+  /// Validation curve of the fit interval (T [s], validation RPE [m]; calibration/fit_interval.h);
+  /// empty: not chosen by the data, no plot. Unscored candidates (infinite) are left out.
+  std::vector<std::pair<double, double>> fit_interval_curve;
+  double fit_interval_s = 0.0;             ///< the chosen T, marked on the curve [s]
+  double fit_interval_evaluation_s = 0.0;  ///< the evaluation pairs' interval [s]
 };
 
 /// What was drawn.

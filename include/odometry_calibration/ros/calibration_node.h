@@ -27,6 +27,7 @@
 
 #include "odometry_calibration/Calibrate.h"
 #include "odometry_calibration/calibration/calibration_config.h"
+#include "odometry_calibration/calibration/candidate_collectors.h"
 #include "odometry_calibration/calibration/odometry_integrator.h"
 #include "odometry_calibration/data/pairs_csv.h"
 #include "odometry_calibration/pairing/pair_collector.h"
@@ -107,6 +108,11 @@ private:
 
   std::mutex state_mutex_;
   std::unique_ptr<PairCollector> collector_;
+  /// Pairs at the other keyframes.fit_intervals_s, for ~calibrate's choice of the fit interval
+  /// (none when the configuration lists no candidates).
+  std::unique_ptr<CandidateCollectors> candidates_;
+  /// Window of the active model's predictions [s]: the interval its pairs spanned.
+  double model_interval_s_ = 0.5;
   std::unique_ptr<PairsCsvAppender> appender_;
   std::vector<MotionPair> pairs_;
   std::size_t pairs_resumed_ = 0;

@@ -68,6 +68,21 @@ struct PlicpOptions
   double min_information_ratio = 0.02;
   /// Compute the covariance (Censi ICRA 2007); without it the result's covariance is zero.
   bool compute_covariance = true;
+  /// Ambiguity check of weak matches (needs the covariance): a valid match with fewer than
+  /// ambiguity_max_correspondences correspondences whose weakest translation sigma exceeds
+  /// ambiguity_sigma_m or whose heading sigma exceeds ambiguity_sigma_rad is matched again from
+  /// four starts (the solution moved by +-ambiguity_offset_m along its weakest direction, and
+  /// turned by +-ambiguity_offset_rad). A start that finds the scene degenerate with a clearly
+  /// better fit (2 % more inliers) makes the match degenerate; starts that fit as well but lie
+  /// beyond 3 sigma widen the covariance to cover them (+ d d^T): the Censi covariance measures
+  /// the noise, not which of two equally good solutions is right. Off in rich scenes (more
+  /// correspondences, small sigmas), where it would cost time and find nothing.
+  bool check_ambiguity = true;
+  int ambiguity_max_correspondences = 150;
+  double ambiguity_sigma_m = 0.002;
+  double ambiguity_sigma_rad = 0.001;
+  double ambiguity_offset_m = 0.1;
+  double ambiguity_offset_rad = 0.1;
   /// Correspondence search.
   CorrespondenceSearch correspondence_search = CorrespondenceSearch::kAngularOrder;
   /// Local line fits of both scans.

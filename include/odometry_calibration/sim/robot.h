@@ -88,11 +88,16 @@ public:
 ///    steering_offset_rad [-0.06], max_steering_rad [1.2], steering_rate_radps [1.5],
 ///    steering_ticks_per_rev [8192], traction_ticks_per_rev [5000]
 ///  mecanum: wheel_radius_m [0.05] (or wheel_radius_fl_m/_fr_m/_rl_m/_rr_m), half_length_m
-///    [0.15], half_width_m [0.2], encoder_ticks_per_rev [1000]
+///    [0.15], half_width_m [0.2], encoder_ticks_per_rev [1000]; the GP paper's deformations of
+///    wheel deformed_wheel [0] (0 front left, 1 front right, 2 rear left, 3 rear right):
+///    axis_yaw_deg [0] (T1: the wheel's axis and rollers yawed by this angle [deg]) and
+///    wheel_tilt_deg [0] (T2: the wheel tilted by this angle [deg]: effective radius
+///    r cos(tilt), rollers seen from above at atan(cos(tilt)) instead of 45 deg); the robot
+///    realises the least-squares twist of the four wheels' roller constraints
 /// Deformations, any type: slip_per_speed [0] (effective radius shrinks by this fraction per
 /// m/s of wheel speed), non_circular_amplitude [0] and non_circular_phase_rad [0] (the first
 /// wheel's radius varies as r (1 + A cos(angle + phase))), axis_misalignment_rad [0] (the
-/// first wheel rolls in a direction turned by this angle; diff_drive and mecanum).
+/// first wheel rolls in a direction turned by this angle; diff_drive; mecanum: axis_yaw_deg).
 /// Throws std::invalid_argument naming an unknown type, unknown key or invalid value.
 std::unique_ptr<Robot> makeRobot(const RobotOptions& options);
 
