@@ -154,7 +154,7 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
 
     where = source + ": ego_motion";
     const YAML::Node ego = root["ego_motion"];
-    checkYamlKeys(ego, {"source", "scan_topic", "topic", "sigma_m", "sigma_rad"}, where);
+    checkYamlKeys(ego, {"source", "scan_topic", "topic", "sigma_m", "sigma_rad", "cloud"}, where);
     std::string kind = "scan";
     readYaml(ego, "source", &kind);
     if (kind == "scan") {
@@ -163,8 +163,10 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
       c.ego_motion = EgoMotionSource::kOdometry;
     } else if (kind == "pose") {
       c.ego_motion = EgoMotionSource::kPose;
+    } else if (kind == "cloud") {
+      c.ego_motion = EgoMotionSource::kCloud;
     } else {
-      throw std::runtime_error("source must be scan, odometry or pose, got '" + kind + "'");
+      throw std::runtime_error("source must be scan, cloud, odometry or pose, got '" + kind + "'");
     }
     readYaml(ego, "scan_topic", &c.scan_topic);
     readYaml(ego, "topic", &c.ego_motion_topic);
@@ -172,6 +174,31 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
     readYaml(ego, "sigma_rad", &c.ego_motion_sigma_rad);
     if (c.ego_motion != EgoMotionSource::kScan && c.ego_motion_topic.empty()) {
       throw std::runtime_error("source '" + kind + "' needs 'topic'");
+    }
+    where = source + ": ego_motion.cloud";
+    if (ego && ego["cloud"]) {
+      const YAML::Node cloud = ego["cloud"];
+      checkYamlKeys(cloud,
+                    {"band_m", "roll_rad", "pitch_rad", "voxel_size_m", "outlier_neighbours",
+                     "outlier_stddev", "angular_resolution_rad", "range_min_m", "range_max_m"},
+                    where);
+      CloudToScanOptions& o = c.cloud;
+      if (cloud["band_m"]) {
+        std::vector<double> band;
+        readYaml(cloud, "band_m", &band);
+        if (band.size() != 2)
+          throw std::runtime_error("band_m must be [min, max] in metres");
+        o.band_min_m = band[0];
+        o.band_max_m = band[1];
+      }
+      readYaml(cloud, "roll_rad", &o.roll_rad);
+      readYaml(cloud, "pitch_rad", &o.pitch_rad);
+      readYaml(cloud, "voxel_size_m", &o.voxel_size_m);
+      readYaml(cloud, "outlier_neighbours", &o.outlier_neighbours);
+      readYaml(cloud, "outlier_stddev", &o.outlier_stddev);
+      readYaml(cloud, "angular_resolution_rad", &o.angular_resolution_rad);
+      readYaml(cloud, "range_min_m", &o.range_min_m);
+      readYaml(cloud, "range_max_m", &o.range_max_m);
     }
 
     where = source + ": keyframes";
@@ -228,6 +255,10 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
     readYaml(matching, "min_points", &p.min_points);
     readYaml(matching, "compensate_sweep", &k.compensate_sweep);
     validate(k);
+    // A cloud is rejected where its scan would be: with fewer rays than the matcher needs.
+    c.cloud.min_points = static_cast<std::size_t>(std::max(1, p.min_points));
+    where = source + ": ego_motion.cloud";
+    validate(c.cloud);
 
     where = source + ": diff_drive";
     const YAML::Node diff = root["diff_drive"];

@@ -9,6 +9,8 @@ LazyPreparedScan::LazyPreparedScan(Scan scan, const LineFitOptions& options)
 {
   validate(scan_);
   validate(options_);
+  has_ray_times_ = odometry_calibration::hasRayTimes(scan_);
+  sweep_duration_s_ = odometry_calibration::sweepDuration(scan_);
 }
 
 const PreparedScan& LazyPreparedScan::get() const

@@ -13,8 +13,11 @@
 #include <nav_msgs/Odometry.h>
 #include <sensor_msgs/JointState.h>
 #include <sensor_msgs/LaserScan.h>
+#include <sensor_msgs/PointCloud2.h>
 
 #include "odometry_calibration/ros/conversions.h"
+#include "odometry_calibration/ros/point_cloud_conversion.h"
+#include "odometry_calibration/scan/cloud_to_scan.h"
 
 namespace odometry_calibration {
 namespace {
@@ -129,7 +132,7 @@ void BagMessageReader::read(rosbag::View& view, const CalibrationConfig& config)
   const std::vector<EncoderChannelOptions> channels = encoderChannels(config);
   const double begin_s = view.getBeginTime().toSec();
   const double span_s = std::max(1e-9, (view.getEndTime() - view.getBeginTime()).toSec());
-  Clock::duration reading{}, converting{};
+  Clock::duration reading{}, converting{}, filtering{};
   std::vector<BagInput> batch;
   auto start = Clock::now();
   for (const rosbag::MessageInstance& message : view) {
@@ -166,6 +169,43 @@ void BagMessageReader::read(rosbag::View& view, const CalibrationConfig& config)
       input.scan = ros_conversions::fromLaserScanMsg(*scan);
       start = Clock::now();
       converting += start - converted;
+    } else if (config.ego_motion == EgoMotionSource::kCloud) {
+      const auto cloud = message.instantiate<sensor_msgs::PointCloud2>();
+      if (!cloud)
+        continue;
+      const auto converted = Clock::now();
+      reading += converted - start;
+      input.stamp_s = cloud->header.stamp.toSec();
+      input.kind = BagInput::Kind::kBadScan;
+      if (cloud->header.frame_id.empty()) {
+        input.problem = "PointCloud2 names no frame (header.frame_id is empty)";
+      } else if (!cloud_frame_.empty() && cloud->header.frame_id != cloud_frame_) {
+        input.problem = "PointCloud2 in frame '" + cloud->header.frame_id +
+                        "', not the sensor's frame '" + cloud_frame_ + "' (the first cloud's)";
+      }
+      if (input.problem.empty()) {
+        cloud_frame_ = cloud->header.frame_id;
+        try {
+          const auto lidar = ros_conversions::fromPointCloud2Msg(*cloud);
+          const auto filtered = Clock::now();
+          converting += filtered - converted;
+          try {
+            input.scan = cloudToScan(lidar.cloud, lidar.has_times, config.cloud);
+            input.kind = BagInput::Kind::kScan;
+          } catch (const std::invalid_argument& error) {
+            input.problem = "PointCloud2 skipped: " + std::string(error.what());
+          }
+          start = Clock::now();
+          filtering += start - filtered;
+        } catch (const std::invalid_argument& error) {
+          input.problem = "PointCloud2 skipped: " + std::string(error.what());
+          start = Clock::now();
+          converting += start - converted;
+        }
+      } else {
+        start = Clock::now();
+        converting += start - converted;
+      }
     } else {
       input.kind = BagInput::Kind::kPose;
       if (const auto odometry = message.instantiate<nav_msgs::Odometry>()) {
@@ -191,6 +231,7 @@ void BagMessageReader::read(rosbag::View& view, const CalibrationConfig& config)
     push(std::move(batch));
   read_time_s_ = seconds(reading);
   conversion_time_s_ = seconds(converting);
+  filtering_time_s_ = seconds(filtering);
 }
 
 }  // namespace odometry_calibration

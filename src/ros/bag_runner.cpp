@@ -129,6 +129,11 @@ BagRunResult runBagsUnchecked(const std::vector<std::string>& bag_paths,
               result.first_bad_joint_state = error.what();
           }
           break;
+        case BagInput::Kind::kBadScan:
+          ++result.ego_motion_messages;
+          if (result.bad_clouds++ == 0)
+            result.first_bad_cloud = input.problem;
+          break;
         case BagInput::Kind::kScan:
           ++result.ego_motion_messages;
           take(collector.addScan(input.stamp_s, input.scan), input.stamp_s);
@@ -153,6 +158,10 @@ BagRunResult runBagsUnchecked(const std::vector<std::string>& bag_paths,
   if (result.ego_motion_messages == 0) {
     throw std::runtime_error("no ego-motion message (" + ego_topic + ") in the bags");
   }
+  if (result.bad_clouds > 0 && result.bad_clouds == result.ego_motion_messages) {
+    throw std::runtime_error("no usable PointCloud2 on '" + ego_topic +
+                             "': all were skipped, first: " + result.first_bad_cloud);
+  }
   if (result.bad_joint_states == result.joint_state_messages) {
     throw std::runtime_error("no usable JointState: " + result.first_bad_joint_state);
   }
@@ -162,6 +171,7 @@ BagRunResult runBagsUnchecked(const std::vector<std::string>& bag_paths,
   result.wall_time_s = seconds(Clock::now() - run_start);
   result.pairing_time_s = seconds(pairing);
   result.conversion_time_s = reader.conversionTime();
+  result.filtering_time_s = reader.filteringTime();
   result.read_time_s = reader.readTime();
   return result;
 }
@@ -199,6 +209,10 @@ std::vector<std::string> bagRunNotes(const BagRunResult& run)
     notes.push_back("skipped " + std::to_string(run.bad_joint_states) +
                     " JointState messages, first: " + run.first_bad_joint_state);
   }
+  if (run.bad_clouds > 0) {
+    notes.push_back("skipped " + std::to_string(run.bad_clouds) +
+                    " PointCloud2 messages, first: " + run.first_bad_cloud);
+  }
   for (const auto& [joint, count] : run.statistics.glitches) {
     notes.push_back("skipped " + std::to_string(count) + " encoder glitches on joint '" + joint +
                     "' (increments beyond its max_turns_per_s)");
@@ -213,8 +227,10 @@ std::string formatBagRunSummary(const BagRunResult& run)
   std::ostringstream text;
   text << "bags: " << run.bag_span_s << " s of data in " << run.wall_time_s << " s ("
        << (run.wall_time_s > 0 ? run.bag_span_s / run.wall_time_s : 0.0) << "x real time; reading "
-       << run.read_time_s << " s, conversion " << run.conversion_time_s << " s, pairing "
-       << run.pairing_time_s << " s)\n";
+       << run.read_time_s << " s, conversion " << run.conversion_time_s << " s, ";
+  if (run.filtering_time_s > 0.0)
+    text << "cloud filtering " << run.filtering_time_s << " s, ";
+  text << "pairing " << run.pairing_time_s << " s)\n";
   const CollectorStatistics& s = run.statistics;
   text << "keyframe pairs: " << s.pairs << " from " << s.scans << " scans, " << s.keyframes
        << " keyframes";

@@ -11,7 +11,9 @@
 #include "odometry_calibration/calibration/saved_calibration_score.h"
 #include "odometry_calibration/common/text_file.h"
 #include "odometry_calibration/ros/conversions.h"
+#include "odometry_calibration/ros/point_cloud_conversion.h"
 #include "odometry_calibration/ros/report_messages.h"
+#include "odometry_calibration/scan/cloud_to_scan.h"
 
 namespace odometry_calibration {
 namespace {
@@ -146,6 +148,11 @@ CalibrationNode::CalibrationNode(ros::NodeHandle handle, ros::NodeHandle private
       ego_health_.topic = handle_.resolveName(config_.scan_topic);
       ego_subscriber_ = handle_.subscribe(config_.scan_topic, 400, &CalibrationNode::onScan, this,
                                           ros::TransportHints().tcpNoDelay());
+      break;
+    case EgoMotionSource::kCloud:
+      ego_health_.topic = handle_.resolveName(config_.ego_motion_topic);
+      ego_subscriber_ = handle_.subscribe(config_.ego_motion_topic, 50, &CalibrationNode::onCloud,
+                                          this, ros::TransportHints().tcpNoDelay());
       break;
     case EgoMotionSource::kOdometry:
       ego_health_.topic = handle_.resolveName(config_.ego_motion_topic);
@@ -285,6 +292,49 @@ void CalibrationNode::onScan(const sensor_msgs::LaserScan::ConstPtr& message)
     ++bad_scans_;
     last_problem_ = "LaserScan skipped: " + std::string(error.what());
     warnInput(error.what(), "LaserScan on " + ego_health_.topic + " skipped (" +
+                                std::to_string(bad_scans_) + " so far): " + error.what());
+  }
+}
+
+void CalibrationNode::onCloud(const sensor_msgs::PointCloud2::ConstPtr& message)
+{
+  // The conversion and filtering run before the lock: the encoders keep flowing meanwhile.
+  const std::string& frame = message->header.frame_id;
+  std::string problem;
+  Scan scan;
+  try {
+    const auto lidar = ros_conversions::fromPointCloud2Msg(*message);
+    scan = cloudToScan(lidar.cloud, lidar.has_times, config_.cloud);
+  } catch (const std::invalid_argument& error) {
+    problem = error.what();
+  }
+  std::lock_guard<std::mutex> lock(state_mutex_);
+  ++ego_health_.messages;
+  ego_health_.last_message = ros::WallTime::now();
+  if (frame.empty()) {
+    problem = "PointCloud2 names no frame (header.frame_id is empty)";
+  } else if (!cloud_frame_.empty() && frame != cloud_frame_) {
+    problem = "PointCloud2 in frame '" + frame + "', not the sensor's frame '" + cloud_frame_ +
+              "' (the first cloud's)";
+  } else if (cloud_frame_.empty()) {
+    cloud_frame_ = frame;
+    scan_frame_ = frame;
+    publishExtrinsic();
+  }
+  if (!problem.empty()) {
+    ++bad_scans_;
+    last_problem_ = "PointCloud2 skipped: " + problem;
+    warnInput(problem, "PointCloud2 on " + ego_health_.topic + " skipped (" +
+                           std::to_string(bad_scans_) + " so far): " + problem);
+    return;
+  }
+  const double stamp_s = message->header.stamp.toSec();
+  try {
+    handleEvents(collector_->addScan(stamp_s, scan), stamp_s);
+  } catch (const std::invalid_argument& error) {
+    ++bad_scans_;
+    last_problem_ = "PointCloud2 skipped: " + std::string(error.what());
+    warnInput(error.what(), "PointCloud2 on " + ego_health_.topic + " skipped (" +
                                 std::to_string(bad_scans_) + " so far): " + error.what());
   }
 }

@@ -1,6 +1,7 @@
 #include "odometry_calibration/ros/sim_bag_writer.h"
 
 #include <cstdio>
+#include <cstring>
 #include <stdexcept>
 
 #include <geometry_msgs/PoseStamped.h>
@@ -9,6 +10,7 @@
 #include <rosbag/bag.h>
 #include <sensor_msgs/JointState.h>
 #include <sensor_msgs/LaserScan.h>
+#include <sensor_msgs/PointCloud2.h>
 #include <tf2_msgs/TFMessage.h>
 
 #include "odometry_calibration/common/atomic_file.h"
@@ -72,6 +74,49 @@ void SimBagWriter::onScan(const sim::ScanSample& sample)
   message.range_max = sample.range_max_m;
   message.ranges = sample.ranges;
   bag_->write(scenario_.laser.topic, message.header.stamp, message);
+}
+
+void SimBagWriter::onCloud(const sim::CloudSample& sample)
+{
+  // The layout lidar drivers write (e.g. velodyne_pointcloud's): x, y, z, intensity, ring, time
+  // (seconds after the stamp), packed.
+  sensor_msgs::PointCloud2 message;
+  message.header.seq = scan_seq_++;
+  message.header.stamp = rosTime(scenario_.start_time_s, sample.stamp_s);
+  message.header.frame_id = scenario_.laser.frame_id;
+  auto field = [&](const char* name, std::uint32_t offset, std::uint8_t datatype) {
+    sensor_msgs::PointField f;
+    f.name = name;
+    f.offset = offset;
+    f.datatype = datatype;
+    f.count = 1;
+    message.fields.push_back(f);
+  };
+  field("x", 0, sensor_msgs::PointField::FLOAT32);
+  field("y", 4, sensor_msgs::PointField::FLOAT32);
+  field("z", 8, sensor_msgs::PointField::FLOAT32);
+  field("intensity", 12, sensor_msgs::PointField::FLOAT32);
+  field("ring", 16, sensor_msgs::PointField::UINT16);
+  field("time", 18, sensor_msgs::PointField::FLOAT32);
+  const std::size_t n = sample.size();
+  message.height = 1;
+  message.width = static_cast<std::uint32_t>(n);
+  message.is_bigendian = false;
+  message.point_step = 22;
+  message.row_step = message.point_step * message.width;
+  message.is_dense = true;
+  message.data.resize(message.row_step);
+  std::uint8_t* out = message.data.data();
+  for (std::size_t i = 0; i < n; ++i, out += message.point_step) {
+    std::memcpy(out, &sample.xyz[3 * i], 12);
+    std::memcpy(out + 12, &sample.intensity[i], 4);
+    std::memcpy(out + 16, &sample.ring[i], 2);
+    std::memcpy(out + 18, &sample.time_s[i], 4);
+  }
+  // Bag time: when the sweep is complete and the driver publishes it.
+  const ros::Time published =
+      rosTime(scenario_.start_time_s, sample.stamp_s + 1.0 / scenario_.laser.rate_hz);
+  bag_->write(scenario_.laser.topic, published, message);
 }
 
 void SimBagWriter::onTruth(const sim::TruthSample& sample)

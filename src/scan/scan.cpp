@@ -24,7 +24,9 @@ void compensateSweep(const Scan& scan, const SensorVelocity& velocity, ScanPoint
 {
   const std::size_t n = points.size();
   for (std::size_t k = 0; k < n; ++k) {
-    const double tau_s = static_cast<double>(points.ray_indices[k]) * scan.time_increment_s;
+    const std::size_t ray = static_cast<std::size_t>(points.ray_indices[k]);
+    const double tau_s = scan.ray_times_s.empty() ? static_cast<double>(ray) * scan.time_increment_s
+                                                  : scan.ray_times_s[ray];
     const Pose2 T_stamp_ray = poseAfter(velocity, tau_s);
     const Eigen::Vector2d& p = points.points_m[k];
     const double c = std::cos(T_stamp_ray.theta());
@@ -85,11 +87,36 @@ void validate(const Scan& scan)
   if (!std::isfinite(scan.time_increment_s)) {
     throw std::invalid_argument("scan time_increment_s must be a finite number of seconds");
   }
+  if (!scan.ray_times_s.empty()) {
+    if (scan.ray_times_s.size() != scan.ranges_m.size()) {
+      throw std::invalid_argument(
+          "scan ray_times_s has " + std::to_string(scan.ray_times_s.size()) + " entries for " +
+          std::to_string(scan.ranges_m.size()) + " rays: give one per ray, or leave it empty");
+    }
+    for (const double t : scan.ray_times_s) {
+      if (!std::isfinite(t))
+        throw std::invalid_argument("scan ray_times_s must be finite numbers of seconds");
+    }
+  }
   if (!scan.valid.empty() && scan.valid.size() != scan.ranges_m.size()) {
     throw std::invalid_argument("scan valid mask has " + std::to_string(scan.valid.size()) +
                                 " entries for " + std::to_string(scan.ranges_m.size()) +
                                 " rays: give one per ray, or leave it empty");
   }
+}
+
+bool hasRayTimes(const Scan& scan)
+{
+  return scan.time_increment_s != 0.0 || !scan.ray_times_s.empty();
+}
+
+double sweepDuration(const Scan& scan)
+{
+  if (!scan.ray_times_s.empty())
+    return std::max(0.0, *std::max_element(scan.ray_times_s.begin(), scan.ray_times_s.end()));
+  if (scan.ranges_m.empty())
+    return 0.0;
+  return std::max(0.0, static_cast<double>(scan.ranges_m.size() - 1) * scan.time_increment_s);
 }
 
 bool isUsableReading(const Scan& scan, std::size_t i)
@@ -137,7 +164,7 @@ ScanPoints scanToPoints(const Scan& scan, const SensorVelocity& velocity)
     result.ranges_m.push_back(range_m);
     result.ray_indices.push_back(static_cast<int>(i));
   }
-  if (!velocity.isZero() && scan.time_increment_s != 0.0) {
+  if (!velocity.isZero() && hasRayTimes(scan)) {
     compensateSweep(scan, velocity, result);
   }
   return result;

@@ -50,6 +50,18 @@ void validate(const Scenario& s)
   require(s.laser.dropout_probability >= 0.0 && s.laser.dropout_probability < 1.0,
           "laser.dropout_probability must be in [0, 1)");
   require(!s.laser.frame_id.empty() && !s.laser.topic.empty(), "laser frame_id/topic are empty");
+  require(s.laser.type == "planar" || s.laser.type == "multibeam",
+          "laser.type must be planar or multibeam");
+  require(s.laser.rings >= 1 && s.laser.rings <= 256, "laser.rings must be in [1, 256]");
+  require(s.laser.elevation_min_rad <= s.laser.elevation_max_rad &&
+              std::abs(s.laser.elevation_min_rad) < 1.5 &&
+              std::abs(s.laser.elevation_max_rad) < 1.5,
+          "laser elevations: need min <= max within (-1.5, 1.5) rad");
+  require(s.laser.horizontal_step_rad >= 1e-4 && s.laser.horizontal_step_rad <= 0.1,
+          "laser.horizontal_step_rad must be in [1e-4, 0.1] rad");
+  require(s.laser.height_m > 0.0 && std::isfinite(s.laser.height_m), "laser.height_m must be > 0");
+  require(std::abs(s.laser.roll_rad) < 0.5 && std::abs(s.laser.pitch_rad) < 0.5,
+          "laser roll_rad and pitch_rad must be within 0.5 rad");
   require(s.encoders.rate_hz > 0.0, "encoders.rate_hz must be > 0");
   require(s.encoders.counter_bits >= 0 && s.encoders.counter_bits <= 52,
           "encoders.counter_bits must be in [0, 52]");
@@ -111,10 +123,12 @@ Scenario loadScenarioYaml(const std::string& path, const std::string& worlds_dir
 
     where = path + ": laser";
     const YAML::Node laser = root["laser"];
-    checkYamlKeys(laser,
-                  {"pose", "rays", "fov_rad", "rate_hz", "range_noise_m", "min_range_m",
-                   "max_range_m", "dropout_probability", "frame_id", "topic"},
-                  where);
+    checkYamlKeys(
+        laser,
+        {"pose", "rays", "fov_rad", "rate_hz", "range_noise_m", "min_range_m", "max_range_m",
+         "dropout_probability", "frame_id", "topic", "type", "rings", "elevation_min_rad",
+         "elevation_max_rad", "horizontal_step_rad", "height_m", "roll_rad", "pitch_rad"},
+        where);
     if (laser) {
       s.laser.T_base_laser = readPose(laser["pose"], where + ".pose", s.laser.T_base_laser);
     }
@@ -127,6 +141,14 @@ Scenario loadScenarioYaml(const std::string& path, const std::string& worlds_dir
     readYaml(laser, "dropout_probability", &s.laser.dropout_probability);
     readYaml(laser, "frame_id", &s.laser.frame_id);
     readYaml(laser, "topic", &s.laser.topic);
+    readYaml(laser, "type", &s.laser.type);
+    readYaml(laser, "rings", &s.laser.rings);
+    readYaml(laser, "elevation_min_rad", &s.laser.elevation_min_rad);
+    readYaml(laser, "elevation_max_rad", &s.laser.elevation_max_rad);
+    readYaml(laser, "horizontal_step_rad", &s.laser.horizontal_step_rad);
+    readYaml(laser, "height_m", &s.laser.height_m);
+    readYaml(laser, "roll_rad", &s.laser.roll_rad);
+    readYaml(laser, "pitch_rad", &s.laser.pitch_rad);
 
     where = path + ": encoders";
     const YAML::Node encoders = root["encoders"];
@@ -265,6 +287,16 @@ std::string scenarioTruthYaml(const Scenario& s, const Robot& robot)
   out << YAML::Key << "dropout_probability" << YAML::Value << s.laser.dropout_probability;
   out << YAML::Key << "frame_id" << YAML::Value << s.laser.frame_id;
   out << YAML::Key << "topic" << YAML::Value << s.laser.topic;
+  out << YAML::Key << "type" << YAML::Value << s.laser.type;
+  if (s.laser.type == "multibeam") {
+    out << YAML::Key << "rings" << YAML::Value << s.laser.rings;
+    out << YAML::Key << "elevation_min_rad" << YAML::Value << s.laser.elevation_min_rad;
+    out << YAML::Key << "elevation_max_rad" << YAML::Value << s.laser.elevation_max_rad;
+    out << YAML::Key << "horizontal_step_rad" << YAML::Value << s.laser.horizontal_step_rad;
+    out << YAML::Key << "height_m" << YAML::Value << s.laser.height_m;
+    out << YAML::Key << "roll_rad" << YAML::Value << s.laser.roll_rad;
+    out << YAML::Key << "pitch_rad" << YAML::Value << s.laser.pitch_rad;
+  }
   out << YAML::EndMap;
   out << YAML::Key << "encoders" << YAML::Value << YAML::BeginMap;
   out << YAML::Key << "rate_hz" << YAML::Value << s.encoders.rate_hz;

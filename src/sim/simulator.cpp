@@ -3,10 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <deque>
 #include <limits>
 #include <memory>
 #include <random>
 #include <stdexcept>
+
+#include <Eigen/Geometry>
 
 #include "odometry_calibration/sim/drive_plan.h"
 
@@ -63,6 +66,86 @@ constexpr std::int64_t kControlPeriodNs = 100000000;  // planner: 10 Hz
 std::int64_t periodNs(double rate_hz)
 {
   return std::llround(1e9 / rate_hz);
+}
+
+/// The robot's poses at the integration steps of the last sweep, to place each firing.
+struct PoseHistory
+{
+  std::deque<std::pair<std::int64_t, Pose2>> poses;  ///< (time [ns], T_world_base)
+
+  void add(std::int64_t t_ns, const Pose2& pose, std::int64_t keep_ns)
+  {
+    poses.emplace_back(t_ns, pose);
+    while (poses.size() > 2 && poses.front().first < t_ns - keep_ns)
+      poses.pop_front();
+  }
+
+  /// The pose at t_ns, interpolated on SE(2) between the neighbouring steps.
+  Pose2 at(double t_ns) const
+  {
+    auto after = std::lower_bound(
+        poses.begin(), poses.end(), t_ns,
+        [](const std::pair<std::int64_t, Pose2>& p, double t) { return p.first < t; });
+    if (after == poses.begin())
+      return poses.front().second;
+    if (after == poses.end())
+      return poses.back().second;
+    const auto before = std::prev(after);
+    const double alpha = (t_ns - before->first) / static_cast<double>(after->first - before->first);
+    return before->second * se2Exp(alpha * se2Log(between(before->second, after->second)));
+  }
+};
+
+/// One sweep of the multi-beam lidar over [end - period, end], from the poses of `history`.
+CloudSample castSweep(const LaserOptions& laser, const World& world, const PoseHistory& history,
+                      std::int64_t end_ns, std::int64_t period_ns, std::mt19937_64& rng,
+                      std::normal_distribution<double>& range_noise,
+                      std::uniform_real_distribution<double>& unit)
+{
+  CloudSample cloud;
+  const std::int64_t start_ns = end_ns - period_ns;
+  cloud.stamp_s = static_cast<double>(start_ns) / 1e9;
+  const int columns = static_cast<int>(std::lround(2.0 * M_PI / laser.horizontal_step_rad));
+  // The mounting tilt: directions in the laser frame to the level frame (R_y(pitch) R_x(roll),
+  // the convention of ego_motion.cloud).
+  const Eigen::Matrix3d R_level_laser =
+      (Eigen::AngleAxisd(laser.pitch_rad, Eigen::Vector3d::UnitY()) *
+       Eigen::AngleAxisd(laser.roll_rad, Eigen::Vector3d::UnitX()))
+          .toRotationMatrix();
+  std::vector<Eigen::Vector3d> ring_directions(static_cast<std::size_t>(laser.rings));
+  for (int c = 0; c < columns; ++c) {
+    const double tau_s = static_cast<double>(period_ns) * c / columns / 1e9;
+    const Pose2 T_world_laser =
+        history.at(static_cast<double>(start_ns) + tau_s * 1e9) * laser.T_base_laser;
+    const Eigen::Vector2d origin(T_world_laser.x(), T_world_laser.y());
+    const double azimuth = -M_PI + 2.0 * M_PI * c / columns;
+    for (int r = 0; r < laser.rings; ++r) {
+      const double elevation =
+          laser.rings == 1
+              ? laser.elevation_min_rad
+              : laser.elevation_min_rad +
+                    (laser.elevation_max_rad - laser.elevation_min_rad) * r / (laser.rings - 1);
+      const Eigen::Vector3d direction(std::cos(elevation) * std::cos(azimuth),
+                                      std::cos(elevation) * std::sin(azimuth), std::sin(elevation));
+      const Eigen::Vector3d level = R_level_laser * direction;
+      double range = world.castRay3d(
+          origin, laser.height_m, T_world_laser.theta() + std::atan2(level.y(), level.x()),
+          std::asin(std::clamp(level.z(), -1.0, 1.0)), laser.max_range_m);
+      if (std::isfinite(range) && laser.range_noise_m > 0.0)
+        range += range_noise(rng);
+      const bool dropped = laser.dropout_probability > 0.0 && unit(rng) < laser.dropout_probability;
+      if (dropped || !(range >= laser.min_range_m && range <= laser.max_range_m))
+        continue;
+      const Eigen::Vector3d point = range * direction;
+      cloud.xyz.insert(cloud.xyz.end(),
+                       {static_cast<float>(point.x()), static_cast<float>(point.y()),
+                        static_cast<float>(point.z())});
+      cloud.intensity.push_back(static_cast<float>(100.0 / (1.0 + range)));
+      cloud.ring.push_back(static_cast<std::uint16_t>(r));
+      cloud.time_s.push_back(static_cast<float>(tau_s));
+    }
+  }
+  return cloud;
 }
 
 }  // namespace
@@ -151,6 +234,10 @@ SimulationSummary simulate(const Scenario& scenario, const World& world, const R
     }
   }
 
+  const bool multibeam = laser.type == "multibeam";
+  PoseHistory history;
+  if (multibeam)
+    history.add(0, T_world_base, 2 * scan_period);
   const float angle_min = static_cast<float>(-0.5 * laser.fov_rad);
   const float angle_increment = static_cast<float>(laser.fov_rad / (laser.rays - 1));
 
@@ -170,6 +257,8 @@ SimulationSummary simulate(const Scenario& scenario, const World& world, const R
       summary.rotation_rad += std::abs(motion.theta());
       T_world_base = T_world_base * motion;
       now += step;
+      if (multibeam)
+        history.add(now, T_world_base, 2 * scan_period);
     }
     applyChanges();
     const double t = static_cast<double>(now) / kNanoseconds;
@@ -203,7 +292,13 @@ SimulationSummary simulate(const Scenario& scenario, const World& world, const R
       }
       next_encoder += encoder_period;
     }
-    if (now == next_scan) {
+    if (now == next_scan && multibeam) {
+      if (now >= scan_period) {  // a sweep that began at the start or later
+        sink.onCloud(castSweep(laser, world, history, now, scan_period, rng, range_noise, unit));
+        ++summary.scans;
+      }
+      next_scan += scan_period;
+    } else if (now == next_scan) {
       ScanSample scan;
       scan.stamp_s = t;
       scan.angle_min_rad = angle_min;

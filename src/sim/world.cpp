@@ -26,20 +26,21 @@ void World::addSegment(const Segment& segment)
   ay_.push_back(segment.a.y());
   dx_.push_back(segment.b.x() - segment.a.x());
   dy_.push_back(segment.b.y() - segment.a.y());
+  height_.push_back(segment.height_m);
 }
 
-void World::addOutline(const std::vector<Eigen::Vector2d>& corners)
+void World::addOutline(const std::vector<Eigen::Vector2d>& corners, double height_m)
 {
   for (std::size_t i = 0; i < corners.size(); ++i) {
-    addSegment({corners[i], corners[(i + 1) % corners.size()]});
+    addSegment({corners[i], corners[(i + 1) % corners.size()], height_m});
   }
   outlines_.push_back(corners);
 }
 
-void World::addSolid(const std::vector<Eigen::Vector2d>& corners)
+void World::addSolid(const std::vector<Eigen::Vector2d>& corners, double height_m)
 {
   for (std::size_t i = 0; i < corners.size(); ++i) {
-    addSegment({corners[i], corners[(i + 1) % corners.size()]});
+    addSegment({corners[i], corners[(i + 1) % corners.size()], height_m});
   }
   solids_.push_back(corners);
 }
@@ -104,6 +105,42 @@ double World::castRay(const Eigen::Vector2d& origin, double angle_rad, double ma
   return hit ? best : std::numeric_limits<double>::infinity();
 }
 
+double World::castRay3d(const Eigen::Vector2d& origin, double origin_z_m, double angle_rad,
+                        double elevation_rad, double max_range_m) const
+{
+  // The same 2D intersection as castRay, t being the horizontal distance; the ray is at height
+  // z(t) = origin_z + t tan(elevation) there, and hits the wall only below its top.
+  const double ux = std::cos(angle_rad);
+  const double uy = std::sin(angle_rad);
+  const double slope = std::tan(elevation_rad);
+  const double horizontal_max = max_range_m * std::cos(elevation_rad);
+  double best = horizontal_max;
+  bool hit = false;
+  if (slope < 0.0 && origin_z_m / -slope <= best) {  // the floor
+    best = origin_z_m / -slope;
+    hit = true;
+  }
+  const std::size_t n = ax_.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const double denominator = ux * dy_[i] - uy * dx_[i];
+    if (std::abs(denominator) < 1e-15) {
+      continue;  // parallel
+    }
+    const double wx = ax_[i] - origin.x();
+    const double wy = ay_[i] - origin.y();
+    const double t = (wx * dy_[i] - wy * dx_[i]) / denominator;
+    const double s = (wx * uy - wy * ux) / denominator;
+    if (t > 0.0 && t <= best && s >= 0.0 && s <= 1.0) {
+      const double z = origin_z_m + t * slope;
+      if (z >= 0.0 && z <= height_[i]) {
+        best = t;
+        hit = true;
+      }
+    }
+  }
+  return hit ? best / std::cos(elevation_rad) : std::numeric_limits<double>::infinity();
+}
+
 double World::clearance(const Eigen::Vector2d& point) const
 {
   double best = std::numeric_limits<double>::infinity();
@@ -140,11 +177,28 @@ World parseWorldYaml(const std::string& text, const std::string& source)
     for (const auto& key : root) {
       const std::string name = key.first.as<std::string>();
       if (name != "segments" && name != "polygons" && name != "boxes" && name != "circles" &&
-          name != "description") {
-        throw std::runtime_error("unknown key '" + name +
-                                 "' (expected segments, polygons, boxes, circles, description)");
+          name != "description" && name != "wall_height_m") {
+        throw std::runtime_error(
+            "unknown key '" + name +
+            "' (expected segments, polygons, boxes, circles, wall_height_m, description)");
       }
     }
+    double wall_height_m = std::numeric_limits<double>::infinity();
+    if (root["wall_height_m"]) {
+      entry = "wall_height_m";
+      wall_height_m = root["wall_height_m"].as<double>();
+      if (!(wall_height_m > 0.0))
+        throw std::runtime_error("must be a positive number of metres");
+    }
+    // An entry's own height, default wall_height_m.
+    auto heightOf = [&](const YAML::Node& node) {
+      if (!node["height"])
+        return wall_height_m;
+      const double height = node["height"].as<double>();
+      if (!(height > 0.0))
+        throw std::runtime_error("height must be a positive number of metres");
+      return height;
+    };
     std::size_t index = 0;
     for (const YAML::Node& node : root["segments"]) {
       entry = "segments[" + std::to_string(index++) + "]";
@@ -152,7 +206,8 @@ World parseWorldYaml(const std::string& text, const std::string& source)
         throw std::runtime_error("expected [x0, y0, x1, y1]");
       }
       world.addSegment({Eigen::Vector2d(node[0].as<double>(), node[1].as<double>()),
-                        Eigen::Vector2d(node[2].as<double>(), node[3].as<double>())});
+                        Eigen::Vector2d(node[2].as<double>(), node[3].as<double>()),
+                        wall_height_m});
     }
     index = 0;
     for (const YAML::Node& node : root["polygons"]) {
@@ -164,7 +219,7 @@ World parseWorldYaml(const std::string& text, const std::string& source)
       if (corners.size() < 3) {
         throw std::runtime_error("a polygon needs at least 3 corners");
       }
-      world.addOutline(corners);
+      world.addOutline(corners, wall_height_m);
     }
     index = 0;
     for (const YAML::Node& node : root["boxes"]) {
@@ -181,7 +236,7 @@ World parseWorldYaml(const std::string& text, const std::string& source)
                                Eigen::Vector2d(1, 1), Eigen::Vector2d(-1, 1)}) {
         corners.push_back(center + rotation * (0.5 * size.cwiseProduct(sign)));
       }
-      world.addSolid(corners);
+      world.addSolid(corners, heightOf(node));
     }
     index = 0;
     for (const YAML::Node& node : root["circles"]) {
@@ -197,7 +252,7 @@ World parseWorldYaml(const std::string& text, const std::string& source)
         const double angle = 2.0 * M_PI * k / sides;
         corners.push_back(center + radius * Eigen::Vector2d(std::cos(angle), std::sin(angle)));
       }
-      world.addSolid(corners);
+      world.addSolid(corners, heightOf(node));
     }
   } catch (const YAML::Exception& error) {
     throw std::runtime_error(source + ": " + entry + ": " + error.what());

@@ -82,6 +82,20 @@ TEST(CalibrationConfig, SkidSteerConfigResolvesBothSidesAndIsTheNominal)
                std::runtime_error);
 }
 
+TEST(CalibrationConfig, TheLidarTemplateReadsItsCloudOptions)
+{
+  const CalibrationConfig config = loadCalibrationConfig(
+      std::string(ODOMETRY_CALIBRATION_CONFIG_DIR) + "/diff_drive_lidar3d.yaml");
+  EXPECT_EQ(config.ego_motion, EgoMotionSource::kCloud);
+  EXPECT_TRUE(matchesScans(config.ego_motion));
+  EXPECT_EQ(config.ego_motion_topic, "/points");
+  EXPECT_EQ(config.cloud.band_min_m, -0.3);
+  EXPECT_EQ(config.cloud.band_max_m, 0.3);
+  EXPECT_EQ(config.cloud.angular_resolution_rad, 0.00698);
+  EXPECT_EQ(config.cloud.range_max_m, 40.0);
+  EXPECT_EQ(config.cloud.min_points, 20u);  // scan_matching.min_points
+}
+
 TEST(CalibrationConfig, ErrorsNameTheKey)
 {
   auto message = [](const std::string& text) -> std::string {
@@ -103,6 +117,14 @@ TEST(CalibrationConfig, ErrorsNameTheKey)
   EXPECT_NE(message("joints: [{name: l, kind: sideways}]\n").find("joints[0]"), std::string::npos);
   EXPECT_NE(message(joints + "diff_drive: {left_joint: front}\n").find("front"), std::string::npos);
   EXPECT_NE(message(joints + "ego_motion: {source: pose}\n").find("topic"), std::string::npos);
+  EXPECT_NE(message(joints + "ego_motion: {source: cloud}\n").find("needs 'topic'"),
+            std::string::npos);
+  EXPECT_NE(message(joints + "ego_motion: {source: cloud, topic: /p, cloud: {band: 1}}\n")
+                .find("ego_motion.cloud: unknown key 'band'"),
+            std::string::npos);
+  EXPECT_NE(message(joints + "ego_motion: {source: cloud, topic: /p, cloud: {band_m: [1, 0]}}\n")
+                .find("band_min_m < band_max_m"),
+            std::string::npos);
   EXPECT_NE(message(joints + "model: magic\n").find("magic"), std::string::npos);
   EXPECT_EQ(message(joints + "model: gp\ncompare_models: [linear, diff_drive]\n"), "");
   EXPECT_NE(message(joints + "compare_models: [linear, gpp]\n").find("compare_models"),

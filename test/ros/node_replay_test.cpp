@@ -1,7 +1,9 @@
 // rostest (test/node_replay.test): a simulated bag played through the live node by
 // replay.launch. A fit in the middle of the run recovers the true geometry; ~odom then follows
 // the ground truth much better than the nominal odometry; tf carries the learned extrinsic; and
-// the node's pairs and parameters equal calibrate_bag's on the same bag (issue #10).
+// the node's pairs and parameters equal calibrate_bag's on the same bag (issue #10). Also run
+// on a 16-beam lidar bag (node_replay_lidar3d.test: PointCloud2, issue 19), with the private
+// parameters sensor_frame (the extrinsic's child frame, "laser") and fit_after_pairs (80).
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -62,6 +64,8 @@ TEST(NodeReplay, FitsMidRunPublishesCorrectedOdometryAndMatchesTheBagTool)
   ASSERT_TRUE(private_handle.getParam("bag", bag));
   ASSERT_TRUE(private_handle.getParam("config", config));
   ASSERT_TRUE(private_handle.getParam("output_directory", output_directory));
+  const std::string sensor_frame = private_handle.param<std::string>("sensor_frame", "laser");
+  const int fit_after_pairs = private_handle.param("fit_after_pairs", 80);
   truth_path = bag.substr(0, bag.size() - 4) + "_truth.yaml";
   const YAML::Node truth = YAML::LoadFile(truth_path);
 
@@ -107,7 +111,8 @@ TEST(NodeReplay, FitsMidRunPublishesCorrectedOdometryAndMatchesTheBagTool)
 
   ASSERT_TRUE(ros::service::waitForService(kNode + "/calibrate", ros::Duration(60)));
   // Half of the run: fit, then watch the corrected odometry over the other half.
-  ASSERT_TRUE(waitFor([&] { return pairs_seen >= 80; }, 120)) << pairs_seen << " pairs";
+  ASSERT_TRUE(waitFor([&] { return pairs_seen >= static_cast<std::size_t>(fit_after_pairs); }, 120))
+      << pairs_seen << " pairs";
   odometry_calibration::Calibrate fit;
   fit.request.model = "diff_drive";
   ASSERT_TRUE(ros::service::call(kNode + "/calibrate", fit));
@@ -131,7 +136,7 @@ TEST(NodeReplay, FitsMidRunPublishesCorrectedOdometryAndMatchesTheBagTool)
   ASSERT_TRUE(waitFor(
       [&] {
         try {
-          transform = tf_buffer.lookupTransform("base_link", "laser", ros::Time(0));
+          transform = tf_buffer.lookupTransform("base_link", sensor_frame, ros::Time(0));
           return std::abs(transform.transform.translation.x - p["sensor_x"]) < 1e-9;
         } catch (const tf2::TransformException&) {
           return false;

@@ -28,6 +28,30 @@ TEST(SimWorld, RayCastHitsTheRightWallAtTheRightDistance)
   EXPECT_NEAR(room.castRay(origin, M_PI / 6, 20.0), 2.5 / std::cos(M_PI / 6), 1e-12);
 }
 
+TEST(SimWorld, ThreeDimensionalRaysPassOverLowWallsAndHitTheFloor)
+{
+  // A 2.5 m room (x = 3 is the east wall, 2.5 m from the origin) with a 0.75 m desk whose west
+  // face is at x = 1.5 (1 m away); the lidar is 0.5 m above the floor.
+  const World world = parseWorldYaml(
+      "wall_height_m: 2.5\n"
+      "polygons:\n  - [[-2, -1], [3, -1], [3, 4], [-2, 4]]\n"
+      "boxes:\n  - {center: [2.0, 0.25], size: [1.0, 0.5], height: 0.75}\n",
+      "room");
+  const Eigen::Vector2d origin(0.5, 0.25);
+  // Level: the desk's face at 1 m.
+  EXPECT_NEAR(world.castRay3d(origin, 0.5, 0.0, 0.0, 20.0), 1.0, 1e-12);
+  // Rising 20 deg: at 1 m the ray is 0.86 m high, over the desk, and meets the wall at 2.5 m.
+  const double up = 20.0 * M_PI / 180.0;
+  EXPECT_NEAR(world.castRay3d(origin, 0.5, 0.0, up, 20.0), 2.5 / std::cos(up), 1e-12);
+  // Falling 15 deg towards the north wall (3.75 m away): the floor comes first, 1.87 m out.
+  const double down = -15.0 * M_PI / 180.0;
+  EXPECT_NEAR(world.castRay3d(origin, 0.5, M_PI / 2, down, 20.0), 0.5 / std::sin(-down), 1e-12);
+  // Rising 45 deg: 2.5 m high 2 m out, before any wall: nothing.
+  EXPECT_TRUE(std::isinf(world.castRay3d(origin, 0.5, M_PI / 2, M_PI / 4, 20.0)));
+  // The planar cast ignores heights: the desk.
+  EXPECT_NEAR(world.castRay(origin, 0.0, 20.0), 1.0, 1e-12);
+}
+
 TEST(SimWorld, NothingWithinRangeIsInfinity)
 {
   const World room = squareRoom();

@@ -12,6 +12,7 @@
 #include "odometry_calibration/models/model.h"
 #include "odometry_calibration/models/model_factory.h"
 #include "odometry_calibration/pairing/pair_collector.h"
+#include "odometry_calibration/scan/cloud_to_scan_options.h"
 
 namespace odometry_calibration {
 
@@ -38,7 +39,14 @@ enum class EgoMotionSource
   kScan,      ///< sensor_msgs/LaserScan matched with PLICP
   kOdometry,  ///< nav_msgs/Odometry of the sensor (visual odometry, another matcher)
   kPose,      ///< geometry_msgs/PoseStamped of the sensor (external tracker)
+  kCloud,     ///< sensor_msgs/PointCloud2 of a 3D lidar, turned into scans (cloud_to_scan.h)
 };
+
+/// Whether the source's messages become scans matched with PLICP (scan, cloud).
+inline bool matchesScans(EgoMotionSource source)
+{
+  return source == EgoMotionSource::kScan || source == EgoMotionSource::kCloud;
+}
 
 /// Everything a calibration run needs.
 struct CalibrationConfig
@@ -47,7 +55,8 @@ struct CalibrationConfig
   std::string joint_state_topic = "/joint_states";
   EgoMotionSource ego_motion = EgoMotionSource::kScan;
   std::string scan_topic = "/scan";
-  std::string ego_motion_topic;         ///< odometry / pose source topic
+  std::string ego_motion_topic;         ///< odometry / pose / cloud source topic
+  CloudToScanOptions cloud;             ///< cloud source: how a cloud becomes a scan
   double ego_motion_sigma_m = 0.005;    ///< pose source: sigma of a displacement's x, y [m]
   double ego_motion_sigma_rad = 0.002;  ///< pose source: sigma of its heading [rad]
   CollectorOptions collector;           ///< keyframes, time offset, PLICP

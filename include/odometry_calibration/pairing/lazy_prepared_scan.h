@@ -20,9 +20,12 @@ public:
   LazyPreparedScan(const LazyPreparedScan&) = delete;
   LazyPreparedScan& operator=(const LazyPreparedScan&) = delete;
 
-  /// Whether the scan has per-ray times (time_increment_s), so that its sweep can be
-  /// compensated with setSweepVelocity.
-  bool hasRayTimes() const { return scan_.time_increment_s != 0.0; }
+  /// Whether the scan has per-ray times (time_increment_s or ray_times_s), so that its sweep
+  /// can be compensated with setSweepVelocity.
+  bool hasRayTimes() const { return has_ray_times_; }
+
+  /// The scan's sweep duration (sweepDuration, scan.h) [s].
+  double sweepDuration() const { return sweep_duration_s_; }
 
   /// The sensor's velocity during the sweep, used by the preparation (motion compensation,
   /// scan.h). Call before the first get().
@@ -34,6 +37,8 @@ public:
 private:
   mutable std::once_flag once_;
   mutable Scan scan_;  ///< released once prepared
+  bool has_ray_times_ = false;
+  double sweep_duration_s_ = 0.0;
   LineFitOptions options_;
   SensorVelocity velocity_;
   mutable PreparedScan prepared_;

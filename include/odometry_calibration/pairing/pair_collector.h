@@ -43,8 +43,10 @@ struct CollectorOptions
   /// 0 = off. Needs a predictor. [m], [rad]
   double min_translation_m = 0.0;
   double min_rotation_rad = 0.0;
-  /// Compensate the motion during each scan's sweep (scans with a time_increment_s), with the
-  /// sensor velocity the prior model predicts over the interval since the previous scan.
+  /// Compensate the motion during each scan's sweep (scans with ray times: time_increment_s or
+  /// ray_times_s), with the sensor velocity the prior model predicts over the sweep itself (a
+  /// scan waits for its sweep's encoders; without them, over the interval since the previous
+  /// scan).
   bool compensate_sweep = true;
   /// Encoder values are taken at scan time + time_offset_s [s] (clock offset between streams).
   double time_offset_s = 0.0;

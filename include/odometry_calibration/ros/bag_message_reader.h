@@ -28,7 +28,8 @@ struct BagInput
   {
     kJoints,     ///< `raw`: the configured joints' positions, signs applied
     kBadJoints,  ///< a JointState that could not be used (`problem` says why)
-    kScan,       ///< `scan`
+    kScan,       ///< `scan` (from a LaserScan, or a PointCloud2 of the cloud source)
+    kBadScan,    ///< a PointCloud2 that gave no scan (`problem` says why)
     kPose,       ///< `pose`: the sensor's pose from an odometry or pose message
   };
   Kind kind = Kind::kJoints;
@@ -73,10 +74,11 @@ public:
   /// a LaserScan with an unusable geometry, a bag read error).
   std::vector<BagInput> next();
 
-  /// Time the reading thread spent reading and deserialising, and converting [s] (final once
-  /// next() returned an empty batch).
+  /// Time the reading thread spent reading and deserialising, converting, and filtering clouds
+  /// into scans (cloud source) [s] (final once next() returned an empty batch).
   double readTime() const { return read_time_s_; }
   double conversionTime() const { return conversion_time_s_; }
+  double filteringTime() const { return filtering_time_s_; }
 
 private:
   void read(rosbag::View& view, const CalibrationConfig& config);
@@ -90,6 +92,8 @@ private:
   std::exception_ptr error_;
   double read_time_s_ = 0.0;
   double conversion_time_s_ = 0.0;
+  double filtering_time_s_ = 0.0;
+  std::string cloud_frame_;  ///< the first cloud's frame: the sensor's
   std::thread thread_;
 };
 

@@ -31,12 +31,15 @@ struct BagRunResult
   std::size_t ego_motion_messages = 0;
   std::size_t bad_joint_states = 0;   ///< skipped: missing joints, mismatched arrays, NaN
   std::string first_bad_joint_state;  ///< the first such problem, in words
+  std::size_t bad_clouds = 0;         ///< skipped PointCloud2 (cloud source): layout, band, frame
+  std::string first_bad_cloud;        ///< the first such problem, in words
   std::vector<std::string> restarts;  ///< time going backwards, in words
   double bag_span_s = 0.0;            ///< time covered by the bags [s]
   double wall_time_s = 0.0;           ///< total wall time [s]
   double read_time_s = 0.0;           ///< reading and deserialising messages (reading thread) [s]
   double conversion_time_s = 0.0;     ///< messages to the core's types (reading thread) [s]
-  double pairing_time_s = 0.0;        ///< scan preparation, matching, pairing [s]
+  double filtering_time_s = 0.0;  ///< clouds to scans: band, voxels, binning (reading thread) [s]
+  double pairing_time_s = 0.0;    ///< scan preparation, matching, pairing [s]
 };
 
 /// Runs the bags through a collector. Only messages within [start_offset_s, end_offset_s]
@@ -47,8 +50,8 @@ BagRunResult runBags(const std::vector<std::string>& bag_paths, const Calibratio
                      double start_offset_s = 0.0, double end_offset_s = 0.0,
                      const std::function<void(const BagProgress&)>& progress = nullptr);
 
-/// What went wrong while reading, in words: skipped JointState messages (how many, the first
-/// reason) and restarts after time went backwards; empty for a clean run.
+/// What went wrong while reading, in words: skipped JointState and PointCloud2 messages (how
+/// many, the first reason) and restarts after time went backwards; empty for a clean run.
 std::vector<std::string> bagRunNotes(const BagRunResult& run);
 
 /// The run in a few lines: data span and speed (reading, conversion, pairing times), pairs,

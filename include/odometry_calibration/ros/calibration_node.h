@@ -21,6 +21,7 @@
 #include <ros/ros.h>
 #include <sensor_msgs/JointState.h>
 #include <sensor_msgs/LaserScan.h>
+#include <sensor_msgs/PointCloud2.h>
 #include <std_srvs/Trigger.h>
 #include <tf2_ros/static_transform_broadcaster.h>
 #include <tf2_ros/transform_broadcaster.h>
@@ -90,6 +91,10 @@ public:
 private:
   void onJointState(const sensor_msgs::JointState::ConstPtr& message);
   void onScan(const sensor_msgs::LaserScan::ConstPtr& message);
+  /// A 3D lidar's cloud (ego_motion.source: cloud): turned into a scan (cloud_to_scan.h) and
+  /// paired like a LaserScan; the first cloud's frame is the sensor's, a cloud in another (or
+  /// none) is skipped and counted, as is one the conversion rejects.
+  void onCloud(const sensor_msgs::PointCloud2::ConstPtr& message);
   void onOdometry(const nav_msgs::Odometry::ConstPtr& message);
   void onPose(const geometry_msgs::PoseStamped::ConstPtr& message);
   void onSensorPose(double stamp_s, const geometry_msgs::Pose& pose, const std::string& frame);
@@ -170,6 +175,7 @@ private:
   std::string fitted_controller_yaml_;  ///< its controller.yaml text (empty: no controller form)
   std::optional<Pose2> T_base_sensor_;  ///< learned (or saved) extrinsic
   std::string scan_frame_;              ///< from the scans' headers
+  std::string cloud_frame_;             ///< the first cloud's frame (cloud source)
   nav_msgs::Path nominal_path_, corrected_path_, scan_matched_path_;
   std::vector<std::pair<double, Pose2>> scan_matched_sensor_poses_;
   double last_path_stamp_s_ = -1e300;

@@ -1,4 +1,5 @@
-// Writes the simulator's streams into a rosbag: sensor_msgs/JointState, sensor_msgs/LaserScan,
+// Writes the simulator's streams into a rosbag: sensor_msgs/JointState, sensor_msgs/LaserScan
+// (or sensor_msgs/PointCloud2 of the multi-beam lidar: x, y, z, intensity, ring, time),
 // and the ground truth as nav_msgs/Odometry plus its own tf tree (sim_world -> sim_base_link
 // -> sim_<laser frame>), kept apart from the frames a calibration uses (odom, base_link,
 // laser) so that it never leaks into calibration inputs.
@@ -33,6 +34,7 @@ public:
   void onScan(const sim::ScanSample& sample) override;
   void onTruth(const sim::TruthSample& sample) override;
   void onTracker(const sim::TrackerSample& sample) override;
+  void onCloud(const sim::CloudSample& sample) override;
 
   /// Writes the index and closes the file.
   void close();

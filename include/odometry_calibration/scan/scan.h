@@ -35,6 +35,10 @@ struct Scan
   /// Time between consecutive rays [s] (sensor_msgs/LaserScan time_increment): ray i is measured
   /// i * time_increment_s after the stamp. 0 means all rays at the stamp (no motion compensation).
   double time_increment_s = 0.0;
+  /// Optional per-ray times after the stamp [s], one per ray, replacing i * time_increment_s
+  /// (e.g. a scan made from a 3D lidar's cloud, cloud_to_scan.h, whose rays are not taken at
+  /// equal intervals). Empty: the times come from time_increment_s.
+  std::vector<double> ray_times_s;
 };
 
 /// Velocity of the sensor during a scan's sweep, in the sensor's frame at the stamp, assumed
@@ -51,8 +55,8 @@ struct SensorVelocity
 
 /// Throws std::invalid_argument naming the offending field when the scan's geometry is unusable
 /// (angle_increment_rad zero or not finite, range limits not 0 <= min < max, a validity mask of
-/// the wrong length, time_increment_s not finite). Readings themselves are never rejected: bad ones
-/// are dropped by scanToPoints().
+/// the wrong length, time_increment_s not finite, ray_times_s of the wrong length or not finite).
+/// Readings themselves are never rejected: bad ones are dropped by scanToPoints().
 void validate(const Scan& scan);
 
 /// The usable readings of a scan as points in the sensor frame, ordered by increasing ray angle
@@ -75,6 +79,13 @@ struct ScanPoints
   bool empty() const { return points_m.empty(); }
 };
 
+/// Whether the scan's rays carry times (time_increment_s or ray_times_s), so that the motion
+/// during its sweep can be compensated.
+bool hasRayTimes(const Scan& scan);
+
+/// How long the sweep lasts: the latest ray time after the stamp [s] (0 without ray times).
+double sweepDuration(const Scan& scan);
+
 /// Whether reading i is usable: finite, non-zero, within [range_min_m, range_max_m] and not
 /// masked out by `valid`. Expects a validated scan and i < ranges_m.size().
 bool isUsableReading(const Scan& scan, std::size_t i);
@@ -85,9 +96,9 @@ std::size_t countUsableReadings(const Scan& scan);
 /// Converts the usable readings of `scan` to points: drops NaN, +-inf, zero, below range_min_m,
 /// above range_max_m and masked-out readings. Throws std::invalid_argument (via validate) only
 /// for an unusable scan geometry; a scan with no usable reading gives an empty ScanPoints.
-/// When `velocity` is not zero and scan.time_increment_s is not 0, compensates the motion during
-/// the sweep: the point p of ray i becomes exp(tau_i xi) p, tau_i = i * time_increment_s,
-/// xi = velocity (the sensor's pose at tau_i in its pose at the stamp).
+/// When `velocity` is not zero and the rays carry times (hasRayTimes), compensates the motion
+/// during the sweep: the point p of ray i becomes exp(tau_i xi) p, tau_i = i * time_increment_s
+/// (or ray_times_s[i]), xi = velocity (the sensor's pose at tau_i in its pose at the stamp).
 ScanPoints scanToPoints(const Scan& scan, const SensorVelocity& velocity = {});
 
 }  // namespace odometry_calibration

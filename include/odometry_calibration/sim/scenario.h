@@ -13,9 +13,11 @@
 namespace odometry_calibration {
 namespace sim {
 
-/// The simulated 2D laser.
+/// The simulated laser: a planar 2D scanner (sensor_msgs/LaserScan), or a multi-beam 3D lidar
+/// (`type: multibeam`, sensor_msgs/PointCloud2, e.g. 16 rings over +-15 deg like a VLP-16).
 struct LaserOptions
 {
+  std::string type = "planar";         ///< planar | multibeam
   Pose2 T_base_laser{0.15, 0.0, 0.0};  ///< true mounting pose [m, m, rad]
   int rays = 720;                      ///< rays per scan
   double fov_rad = 4.71238898;         ///< field of view, centred on the laser's x axis [rad]
@@ -26,6 +28,16 @@ struct LaserOptions
   double dropout_probability = 0.0;    ///< chance a ray returns nothing (NaN)
   std::string frame_id = "laser";      ///< header frame of the scans
   std::string topic = "/scan";         ///< bag topic
+  // Multi-beam only: the rings' elevations are equally spaced over [min, max]; each sweep
+  // turns once counter-clockwise from -pi during the 1 / rate_hz before its cloud is
+  // published, the cloud stamped at the sweep's start, each point with its `time` after it.
+  int rings = 16;                           ///< beams
+  double elevation_min_rad = -0.261799;     ///< lowest ring (-15 deg) [rad]
+  double elevation_max_rad = 0.261799;      ///< highest ring (+15 deg) [rad]
+  double horizontal_step_rad = 0.00698132;  ///< azimuth between firings (0.4 deg) [rad]
+  double height_m = 0.5;                    ///< mounting height above the floor [m]
+  double roll_rad = 0.0;                    ///< mounting roll (about the laser's x) [rad]
+  double pitch_rad = 0.0;                   ///< mounting pitch (about its y; + nose down) [rad]
 };
 
 /// The wheel / joint encoders, published together as one sensor_msgs/JointState.

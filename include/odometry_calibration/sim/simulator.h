@@ -2,6 +2,7 @@
 // scans and ground truth, in time order, to a sink (the bag writer, or a test).
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -32,6 +33,20 @@ struct ScanSample
   std::vector<float> ranges;
 };
 
+/// One sweep of the multi-beam lidar: its points in the sensor's frame, in firing order
+/// (azimuth column by column, rings bottom up within a column). Rays without a return within
+/// range are left out (a dense cloud).
+struct CloudSample
+{
+  double stamp_s = 0.0;             ///< start of the sweep [s since start]
+  std::vector<float> xyz;           ///< x, y, z of each point [m], 3 per point
+  std::vector<float> intensity;     ///< per point, falling with range (synthetic)
+  std::vector<std::uint16_t> ring;  ///< per point: 0 = lowest beam
+  std::vector<float> time_s;        ///< per point: time after stamp_s [s]
+
+  std::size_t size() const { return ring.size(); }
+};
+
 /// The truth at one instant (never an input of the calibration).
 struct TruthSample
 {
@@ -49,7 +64,8 @@ struct TrackerSample
 };
 
 /// Receives the simulated streams in time order. At an encoder instant the order is
-/// onJointState, onTruth, then onTracker (if the tracker is enabled).
+/// onJointState, onTruth, then onTracker (if the tracker is enabled). A multi-beam sweep comes
+/// (onCloud) when it is complete, one sweep period after its stamp.
 class SimulationSink
 {
 public:
@@ -58,6 +74,7 @@ public:
   virtual void onScan(const ScanSample& sample) = 0;
   virtual void onTruth(const TruthSample& sample) = 0;
   virtual void onTracker(const TrackerSample& /*sample*/) {}
+  virtual void onCloud(const CloudSample& /*sample*/) {}
 };
 
 /// Forwards every sample to several sinks, in order.
@@ -72,6 +89,7 @@ public:
   void onScan(const ScanSample& s) override { forward(&SimulationSink::onScan, s); }
   void onTruth(const TruthSample& s) override { forward(&SimulationSink::onTruth, s); }
   void onTracker(const TrackerSample& s) override { forward(&SimulationSink::onTracker, s); }
+  void onCloud(const CloudSample& s) override { forward(&SimulationSink::onCloud, s); }
 
 private:
   /// Calls `receive` (one of the SimulationSink callbacks) with `sample` on every sink, in order.
@@ -89,7 +107,7 @@ private:
 struct SimulationSummary
 {
   std::size_t joint_states = 0;
-  std::size_t scans = 0;
+  std::size_t scans = 0;  ///< LaserScans or clouds
   std::size_t truth_samples = 0;
   double distance_m = 0.0;        ///< path length of base_link
   double rotation_rad = 0.0;      ///< summed |heading change|

@@ -10,11 +10,13 @@
 namespace odometry_calibration {
 namespace sim {
 
-/// A wall: the segment from a to b, in the world frame [m].
+/// A wall: the segment from a to b, in the world frame [m], standing on the floor (z = 0) up
+/// to `height_m` (seen by the multi-beam lidar; the planar laser sees every wall).
 struct Segment
 {
   Eigen::Vector2d a;
   Eigen::Vector2d b;
+  double height_m = std::numeric_limits<double>::infinity();
 };
 
 /// Walls, furniture and pillars as segments (circles are polygons of many sides).
@@ -30,8 +32,10 @@ public:
   /// Closed shapes: `outlines` enclose free space (rooms: the robot belongs inside an odd
   /// number of them, if there are any), `solids` are obstacles (the robot never belongs inside).
   /// Their edges are added to the segments.
-  void addOutline(const std::vector<Eigen::Vector2d>& corners);
-  void addSolid(const std::vector<Eigen::Vector2d>& corners);
+  void addOutline(const std::vector<Eigen::Vector2d>& corners,
+                  double height_m = std::numeric_limits<double>::infinity());
+  void addSolid(const std::vector<Eigen::Vector2d>& corners,
+                double height_m = std::numeric_limits<double>::infinity());
 
   /// Whether a point is in free space: inside no solid, and inside the outlines (odd count)
   /// when there are outlines.
@@ -40,6 +44,13 @@ public:
   /// Distance [m] from `origin` along the unit direction of `angle_rad` (world frame) to the
   /// nearest segment, or +infinity if no segment is hit within `max_range_m`.
   double castRay(const Eigen::Vector2d& origin, double angle_rad, double max_range_m) const;
+
+  /// The 3D ray from `origin` at `origin_z_m` above the floor, heading `angle_rad` (world
+  /// frame) and rising `elevation_rad` above the horizontal: its length [m] to the first
+  /// surface it meets, a wall's face (between the floor and the wall's height: a ray passes
+  /// over lower walls) or the floor (z = 0), or +infinity if none within `max_range_m`.
+  double castRay3d(const Eigen::Vector2d& origin, double origin_z_m, double angle_rad,
+                   double elevation_rad, double max_range_m) const;
 
   /// Distance [m] from a point to the nearest segment (+infinity in an empty world).
   double clearance(const Eigen::Vector2d& point) const;
@@ -51,7 +62,7 @@ private:
   std::vector<std::vector<Eigen::Vector2d>> outlines_;
   std::vector<std::vector<Eigen::Vector2d>> solids_;
   // Per segment: a and (b - a), stored flat for a tight ray-casting loop.
-  std::vector<double> ax_, ay_, dx_, dy_;
+  std::vector<double> ax_, ay_, dx_, dy_, height_;
 };
 
 /// Loads a world from YAML. Keys (all optional, all in metres):
@@ -59,6 +70,8 @@ private:
 ///   polygons: [[[x, y], [x, y], ...], ...]        closed outlines
 ///   boxes:    [{center: [x, y], size: [w, h], yaw: rad}, ...]
 ///   circles:  [{center: [x, y], radius: r, sides: 24}, ...]
+///   wall_height_m: h                             height of segments and polygons (default inf)
+/// Boxes and circles take an optional `height` [m] (default: wall_height_m).
 /// Throws std::runtime_error naming the file and the malformed entry.
 World loadWorldYaml(const std::string& path);
 

@@ -1,0 +1,176 @@
+#include "odometry_calibration/ros/point_cloud_conversion.h"
+
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+
+#include <pcl/PCLPointCloud2.h>
+#include <pcl/conversions.h>
+#include <pcl_conversions/pcl_conversions.h>
+
+namespace odometry_calibration {
+namespace ros_conversions {
+namespace {
+
+using Field = sensor_msgs::PointField;
+
+const Field* findField(const sensor_msgs::PointCloud2& message, const std::string& name)
+{
+  for (const Field& field : message.fields) {
+    if (field.name == name)
+      return &field;
+  }
+  return nullptr;
+}
+
+std::size_t fieldSize(std::uint8_t datatype)
+{
+  switch (datatype) {
+    case Field::INT8:
+    case Field::UINT8:
+      return 1;
+    case Field::INT16:
+    case Field::UINT16:
+      return 2;
+    case Field::INT32:
+    case Field::UINT32:
+    case Field::FLOAT32:
+      return 4;
+    case Field::FLOAT64:
+      return 8;
+    default:
+      return 0;
+  }
+}
+
+/// Reads one time value [s] of the given type at `data`.
+double readTime(const std::uint8_t* data, std::uint8_t datatype)
+{
+  switch (datatype) {
+    case Field::FLOAT32: {
+      float value;
+      std::memcpy(&value, data, sizeof value);
+      return value;
+    }
+    case Field::FLOAT64: {
+      double value;
+      std::memcpy(&value, data, sizeof value);
+      return value;
+    }
+    case Field::UINT32: {
+      std::uint32_t value;
+      std::memcpy(&value, data, sizeof value);
+      return 1e-9 * value;
+    }
+    default: {  // INT32
+      std::int32_t value;
+      std::memcpy(&value, data, sizeof value);
+      return 1e-9 * value;
+    }
+  }
+}
+
+void checkLayout(const sensor_msgs::PointCloud2& message)
+{
+  const std::size_t points = static_cast<std::size_t>(message.width) * message.height;
+  if (points > 0 &&
+      (static_cast<std::size_t>(message.point_step) * message.width > message.row_step ||
+       static_cast<std::size_t>(message.row_step) * message.height > message.data.size())) {
+    throw std::invalid_argument("PointCloud2 data holds " + std::to_string(message.data.size()) +
+                                " bytes, less than " + std::to_string(message.height) +
+                                " rows of " + std::to_string(message.width) + " points of " +
+                                std::to_string(message.point_step) + " bytes (row_step " +
+                                std::to_string(message.row_step) + ")");
+  }
+  for (const Field& field : message.fields) {
+    const std::size_t size = fieldSize(field.datatype);
+    if (size == 0 ||
+        static_cast<std::size_t>(field.offset) + size * std::max<std::uint32_t>(1, field.count) >
+            message.point_step) {
+      throw std::invalid_argument("PointCloud2 field '" + field.name +
+                                  "' has an unknown type or lies beyond point_step " +
+                                  std::to_string(message.point_step));
+    }
+  }
+  for (const char* name : {"x", "y", "z"}) {
+    const Field* field = findField(message, name);
+    if (!field) {
+      throw std::invalid_argument(std::string("PointCloud2 has no '") + name +
+                                  "' field: not a cloud of 3D points");
+    }
+    if (field->datatype != Field::FLOAT32) {
+      throw std::invalid_argument(std::string("PointCloud2 field '") + name +
+                                  "' is not FLOAT32 (datatype " + std::to_string(field->datatype) +
+                                  ")");
+    }
+  }
+}
+
+}  // namespace
+
+LidarCloud fromPointCloud2Msg(const sensor_msgs::PointCloud2& message)
+{
+  checkLayout(message);
+  const Field* time = findField(message, "time");
+  if (!time)
+    time = findField(message, "t");
+  const bool float_time = time && time->datatype == Field::FLOAT32;
+  // PCL fills PointXYZI's fields by name: the cloud's own intensity is set aside and a FLOAT32
+  // time (the usual case) is read as the intensity in the same pass; otherwise x stands in (so
+  // that PCL finds every field) and the intensities are overwritten below.
+  pcl::PCLPointCloud2 pcl_message;
+  pcl_conversions::toPCL(message, pcl_message);
+  for (auto& field : pcl_message.fields) {
+    if (field.name == "intensity")
+      field.name = "intensity_of_the_cloud";
+  }
+  if (float_time) {
+    for (auto& field : pcl_message.fields) {
+      if (field.name == time->name)
+        field.name = "intensity";
+    }
+  } else {
+    pcl::PCLPointField stand_in;
+    stand_in.name = "intensity";
+    stand_in.offset = findField(message, "x")->offset;
+    stand_in.datatype = pcl::PCLPointField::FLOAT32;
+    stand_in.count = 1;
+    pcl_message.fields.push_back(stand_in);
+  }
+  LidarCloud result;
+  result.cloud = std::make_shared<TimedCloud>();
+  pcl::fromPCLPointCloud2(pcl_message, *result.cloud);
+  TimedCloud& cloud = *result.cloud;
+
+  const bool other_time =
+      time && (time->datatype == Field::FLOAT64 || time->datatype == Field::UINT32 ||
+               time->datatype == Field::INT32);
+  result.has_times = float_time || other_time;
+  if (other_time) {
+    std::size_t i = 0;
+    for (std::uint32_t row = 0; row < message.height; ++row) {
+      const std::uint8_t* row_data = message.data.data() + row * message.row_step;
+      for (std::uint32_t column = 0; column < message.width; ++column, ++i) {
+        cloud[i].intensity = static_cast<float>(
+            readTime(row_data + column * message.point_step + time->offset, time->datatype));
+      }
+    }
+  }
+  if (result.has_times) {
+    for (const auto& point : cloud.points) {
+      if (!std::isfinite(point.intensity)) {
+        result.has_times = false;  // a NaN time: the times are not to be trusted
+        break;
+      }
+    }
+  }
+  if (!result.has_times) {
+    for (auto& point : cloud.points)
+      point.intensity = 0.0f;
+  }
+  return result;
+}
+
+}  // namespace ros_conversions
+}  // namespace odometry_calibration

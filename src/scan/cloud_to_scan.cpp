@@ -1,0 +1,129 @@
+#include "odometry_calibration/scan/cloud_to_scan.h"
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+#include <pcl/common/transforms.h>
+#include <pcl/filters/crop_box.h>
+#include <pcl/filters/statistical_outlier_removal.h>
+#include <pcl/filters/voxel_grid.h>
+#include <Eigen/Geometry>
+
+namespace odometry_calibration {
+Scan cloudToScan(const TimedCloud::ConstPtr& input, bool has_times,
+                 const CloudToScanOptions& options, CloudToScanCounts* counts_out)
+{
+  validate(options);
+  CloudToScanCounts counts;
+  auto report = [&] {
+    if (counts_out)
+      *counts_out = counts;
+  };
+  const TimedCloud& cloud = *input;
+  counts.input = cloud.size();
+  if (cloud.empty()) {
+    report();
+    throw std::invalid_argument("the cloud is empty");
+  }
+
+  // Finite points only (copied only when some are not), levelled (R_y(pitch) R_x(roll): the
+  // plane becomes z = 0).
+  TimedCloud::ConstPtr points = input;
+  counts.finite = 0;
+  for (const auto& p : cloud.points)
+    counts.finite += std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) ? 1 : 0;
+  if (counts.finite < counts.input) {
+    auto finite = std::make_shared<TimedCloud>();
+    finite->reserve(counts.finite);
+    for (const auto& p : cloud.points) {
+      if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z))
+        finite->push_back(p);
+    }
+    points = finite;
+  }
+  if (options.roll_rad != 0.0 || options.pitch_rad != 0.0) {
+    const Eigen::Affine3f level(
+        Eigen::AngleAxisf(static_cast<float>(options.pitch_rad), Eigen::Vector3f::UnitY()) *
+        Eigen::AngleAxisf(static_cast<float>(options.roll_rad), Eigen::Vector3f::UnitX()));
+    auto levelled = std::make_shared<TimedCloud>();
+    pcl::transformPointCloud(*points, *levelled, level);
+    points = levelled;
+  }
+
+  // The height band, and the range limits as a box (the exact circle comes with the binning).
+  auto band = std::make_shared<TimedCloud>();
+  pcl::CropBox<pcl::PointXYZI> crop;
+  const float r = static_cast<float>(options.range_max_m);
+  crop.setMin(Eigen::Vector4f(-r, -r, static_cast<float>(options.band_min_m), 1.0f));
+  crop.setMax(Eigen::Vector4f(r, r, static_cast<float>(options.band_max_m), 1.0f));
+  crop.setInputCloud(points);
+  crop.filter(*band);
+  counts.band = band->size();
+
+  auto thinned = band;
+  if (options.voxel_size_m > 0.0 && !band->empty()) {
+    thinned = std::make_shared<TimedCloud>();
+    pcl::VoxelGrid<pcl::PointXYZI> grid;
+    const float leaf = static_cast<float>(options.voxel_size_m);
+    grid.setLeafSize(leaf, leaf, leaf);
+    grid.setInputCloud(band);
+    grid.filter(*thinned);
+  }
+  counts.voxels = thinned->size();
+
+  auto kept = thinned;
+  if (options.outlier_neighbours > 0 &&
+      thinned->size() > static_cast<std::size_t>(options.outlier_neighbours)) {
+    kept = std::make_shared<TimedCloud>();
+    pcl::StatisticalOutlierRemoval<pcl::PointXYZI> outliers;
+    outliers.setMeanK(options.outlier_neighbours);
+    outliers.setStddevMulThresh(options.outlier_stddev);
+    outliers.setInputCloud(thinned);
+    outliers.filter(*kept);
+  }
+  counts.kept = kept->size();
+
+  // Projected onto the plane and binned by bearing; each bin keeps its nearest point.
+  Scan scan;
+  const std::size_t bins =
+      static_cast<std::size_t>(std::ceil(2.0 * M_PI / options.angular_resolution_rad));
+  scan.angle_increment_rad = 2.0 * M_PI / static_cast<double>(bins);
+  scan.angle_min_rad = -M_PI + 0.5 * scan.angle_increment_rad;  // bin centres
+  scan.range_min_m = options.range_min_m;
+  scan.range_max_m = options.range_max_m;
+  scan.ranges_m.assign(bins, std::numeric_limits<double>::quiet_NaN());
+  if (has_times)
+    scan.ray_times_s.assign(bins, 0.0);
+  for (const auto& p : kept->points) {
+    const double range = std::hypot(static_cast<double>(p.x), static_cast<double>(p.y));
+    if (!(range >= options.range_min_m && range <= options.range_max_m))
+      continue;
+    const double bearing = std::atan2(static_cast<double>(p.y), static_cast<double>(p.x));
+    std::size_t bin = static_cast<std::size_t>((bearing + M_PI) / scan.angle_increment_rad);
+    if (bin >= bins)
+      bin = bins - 1;  // bearing == pi
+    double& nearest = scan.ranges_m[bin];
+    if (std::isnan(nearest) || range < nearest) {
+      if (std::isnan(nearest))
+        ++counts.rays;
+      nearest = range;
+      if (has_times)
+        scan.ray_times_s[bin] = static_cast<double>(p.intensity);
+    }
+  }
+  report();
+  if (counts.rays < options.min_points) {
+    std::ostringstream text;
+    text << "too few points in the height band " << describeBand(options) << ": " << counts.rays
+         << " bearings left (" << options.min_points << " needed) of " << counts.input
+         << " points (" << counts.finite << " finite, " << counts.band << " in the band, "
+         << counts.voxels << " after the voxel grid, " << counts.kept
+         << " after the outlier removal)";
+    throw std::invalid_argument(text.str());
+  }
+  return scan;
+}
+
+}  // namespace odometry_calibration
