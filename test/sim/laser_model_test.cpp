@@ -121,7 +121,7 @@ TEST(LaserModel, SimulatedSweepStampsTheFirstRayAndFollowsTheTruth)
     const Pose2 at_ray = recorder.truth[k].T_world_base * s.laser.T_base_laser;
     const double angle = (i - 90) * M_PI / 180.0;
     EXPECT_NEAR(scan.ranges[static_cast<std::size_t>(i)],
-                world.castRay({at_ray.x(), at_ray.y()}, at_ray.theta() + angle, 20.0), 1e-4)
+                world.castRay({at_ray.x(), at_ray.y()}, at_ray.theta() + angle, 20.0), 2e-6)
         << "ray " << i;
     // Seen from the pose at the stamp instead, the later rays would read differently.
     const Pose2 at_stamp = recorder.truth[2050].T_world_base * s.laser.T_base_laser;
