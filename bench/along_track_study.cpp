@@ -16,6 +16,7 @@
 //   median / 95th percentile of |t_k - T_k| [mm] (guess too long);
 //   valid pairs / all pairs (guess too long).
 // Usage: study_along_track [--seeds N] [--duration S] [--worlds office,mines_like]
+//                          [--effects SETS]  (e.g. sweep+noise,all; default: each alone, all)
 //                          [--pairs-csv FILE]  (every pair's truth and results, guess too long)
 #include <algorithm>
 #include <cmath>
@@ -217,9 +218,11 @@ int main(int argc, char** argv)
   double duration_s = 60.0;
   std::string worlds = "office,mines_like";
   std::string pairs_csv_path;
+  std::string effects_list;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
-    if ((arg == "--seeds" || arg == "--duration" || arg == "--worlds" || arg == "--pairs-csv") &&
+    if ((arg == "--seeds" || arg == "--duration" || arg == "--worlds" || arg == "--pairs-csv" ||
+         arg == "--effects") &&
         i + 1 < argc) {
       const std::string value = argv[++i];
       if (arg == "--seeds")
@@ -228,11 +231,13 @@ int main(int argc, char** argv)
         duration_s = std::atof(value.c_str());
       else if (arg == "--worlds")
         worlds = value;
+      else if (arg == "--effects")
+        effects_list = value;
       else
         pairs_csv_path = value;
     } else {
       std::cerr << "usage: study_along_track [--seeds N] [--duration S] [--worlds a,b] "
-                   "[--pairs-csv FILE]\n";
+                   "[--effects sweep+noise,...] [--pairs-csv FILE]\n";
       return arg == "-h" || arg == "--help" ? 0 : 2;
     }
   }
@@ -256,13 +261,38 @@ int main(int argc, char** argv)
   const std::string config = ODOMETRY_CALIBRATION_CONFIG_DIR;
   const std::map<std::string, std::string> scenario_files = {{"office", "diff_drive_office.yaml"},
                                                              {"mines_like", "mines_like.yaml"}};
-  const std::vector<EffectSet> effect_sets = {{"none", false, false, false, false, false},
-                                              {"sweep", true, false, false, false, false},
-                                              {"noise a+br", false, true, false, false, false},
-                                              {"1 mm steps", false, false, true, false, false},
-                                              {"mixed pixels", false, false, false, true, false},
-                                              {"dark dropouts", false, false, false, false, true},
-                                              {"all", true, true, true, true, true}};
+  std::vector<EffectSet> effect_sets;
+  if (effects_list.empty()) {
+    effect_sets = {{"none", false, false, false, false, false},
+                   {"sweep", true, false, false, false, false},
+                   {"noise a+br", false, true, false, false, false},
+                   {"1 mm steps", false, false, true, false, false},
+                   {"mixed pixels", false, false, false, true, false},
+                   {"dark dropouts", false, false, false, false, true},
+                   {"all", true, true, true, true, true}};
+  } else {
+    // "sweep+noise,all,...": each entry a set of sweep, noise, steps, mixed, dark, all, none.
+    std::stringstream entries(effects_list);
+    for (std::string entry; std::getline(entries, entry, ',');) {
+      EffectSet set{entry};
+      std::stringstream parts(entry);
+      for (std::string part; std::getline(parts, part, '+');) {
+        const bool all = part == "all";
+        if (!all && part != "none" && part != "sweep" && part != "noise" && part != "steps" &&
+            part != "mixed" && part != "dark") {
+          std::cerr << "study_along_track: unknown effect '" << part
+                    << "' (sweep, noise, steps, mixed, dark, all, none)\n";
+          return 2;
+        }
+        set.sweep = set.sweep || all || part == "sweep";
+        set.noise = set.noise || all || part == "noise";
+        set.quantise = set.quantise || all || part == "steps";
+        set.mixed = set.mixed || all || part == "mixed";
+        set.dark = set.dark || all || part == "dark";
+      }
+      effect_sets.push_back(set);
+    }
+  }
   std::cout << "Along-track [%] with the guess +3 % / -3 %; median / p95 translation error [mm]; "
                "valid pairs. "
             << seeds << " seeds x " << duration_s << " s per world.\n\n"
