@@ -22,14 +22,7 @@
 #include "support/mines_log.h"
 #include "support/synthetic_scans.h"
 
-// CSM's C headers last: they define min and max as macros.
-#include <csm/csm_all.h>
-#include <options/options.h>
-#undef min
-#undef max
-
-// CSM's option table with its defaults (csm/sm_options.c; no header declares it).
-extern "C" void sm_options(struct sm_params* p, struct option* ops);
+#include "csm_matcher.h"
 
 namespace {
 
@@ -55,69 +48,11 @@ struct Outcome
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
 };
 
-/// CSM's laser_data for a scan: the same usable rays as ours (finite, within the scan's range
-/// limits), the others marked invalid.
-LDP toLaserData(const Scan& scan)
-{
-  const int n = static_cast<int>(scan.ranges_m.size());
-  LDP ld = ld_alloc_new(n);
-  for (int i = 0; i < n; ++i) {
-    const double range = scan.ranges_m[static_cast<std::size_t>(i)];
-    ld->theta[i] = scan.angle_min_rad + i * scan.angle_increment_rad;
-    const bool usable =
-        std::isfinite(range) && range >= scan.range_min_m && range <= scan.range_max_m;
-    ld->valid[i] = usable ? 1 : 0;
-    ld->readings[i] = usable ? range : std::numeric_limits<double>::quiet_NaN();
-  }
-  ld->min_theta = ld->theta[0];
-  ld->max_theta = ld->theta[n - 1];
-  return ld;
-}
-
-/// CSM's defaults (its sm_options), the scan's range limits, covariance as asked.
-sm_params csmDefaults(const Scan& scan, bool covariance)
-{
-  static const sm_params defaults = [] {
-    sm_params params{};
-    struct option* options = options_allocate(100);  // kept: CSM has no way to free it
-    sm_options(&params, options);
-    return params;
-  }();
-  sm_params params = defaults;
-  params.min_reading = scan.range_min_m;
-  params.max_reading = scan.range_max_m;
-  params.laser[0] = params.laser[1] = params.laser[2] = 0.0;
-  params.do_compute_covariance = covariance ? 1 : 0;
-  return params;
-}
-
 Outcome matchWithCsm(const MatchCase& pair, bool covariance)
 {
-  sm_params params = csmDefaults(pair.reference, covariance);
-  params.laser_ref = toLaserData(pair.reference);
-  params.laser_sens = toLaserData(pair.current);
-  params.first_guess[0] = pair.guess_ref_new.x();
-  params.first_guess[1] = pair.guess_ref_new.y();
-  params.first_guess[2] = pair.guess_ref_new.theta();
-  sm_result result{};
-  sm_icp(&params, &result);
-  Outcome outcome;
-  outcome.valid = result.valid != 0;
-  outcome.T_ref_new = Pose2(result.x[0], result.x[1], result.x[2]);
-  if (covariance && outcome.valid && result.cov_x_m) {
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c)
-        outcome.covariance(r, c) = gsl_matrix_get(result.cov_x_m, r, c);
-  }
-  if (result.cov_x_m)
-    gsl_matrix_free(result.cov_x_m);
-  if (result.dx_dy1_m)
-    gsl_matrix_free(result.dx_dy1_m);
-  if (result.dx_dy2_m)
-    gsl_matrix_free(result.dx_dy2_m);
-  ld_free(params.laser_ref);
-  ld_free(params.laser_sens);
-  return outcome;
+  const csm_reference::CsmOutcome outcome =
+      csm_reference::matchWithCsm(pair.reference, pair.current, pair.guess_ref_new, covariance);
+  return {outcome.valid, outcome.T_ref_new, outcome.covariance};
 }
 
 Outcome matchWithOurs(const MatchCase& pair, bool covariance)

@@ -68,12 +68,16 @@ void SimBagWriter::onScan(const sim::ScanSample& sample)
   message.angle_max = sample.angle_min_rad +
                       sample.angle_increment_rad * static_cast<float>(sample.ranges.size() - 1);
   message.angle_increment = sample.angle_increment_rad;
-  message.time_increment = 0.0f;  // the whole scan is taken at its stamp
+  // As a driver publishes it: stamped at the first ray, ray i taken i * time_increment later
+  // (0: the whole scan at its stamp), recorded when the sweep is over.
+  message.time_increment = static_cast<float>(sample.time_increment_s);
   message.scan_time = static_cast<float>(1.0 / scenario_.laser.rate_hz);
   message.range_min = sample.range_min_m;
   message.range_max = sample.range_max_m;
   message.ranges = sample.ranges;
-  bag_->write(scenario_.laser.topic, message.header.stamp, message);
+  const double sweep_s = sample.time_increment_s * static_cast<double>(sample.ranges.size() - 1);
+  bag_->write(scenario_.laser.topic, rosTime(scenario_.start_time_s, sample.stamp_s + sweep_s),
+              message);
 }
 
 void SimBagWriter::onCloud(const sim::CloudSample& sample)

@@ -49,6 +49,13 @@ void validate(const Scenario& s)
           "laser ranges: need 0 <= min_range_m < max_range_m");
   require(s.laser.dropout_probability >= 0.0 && s.laser.dropout_probability < 1.0,
           "laser.dropout_probability must be in [0, 1)");
+  require(s.laser.range_noise_per_m >= 0.0 && s.laser.range_resolution_m >= 0.0 &&
+              s.laser.beam_divergence_rad >= 0.0,
+          "laser.range_noise_per_m, range_resolution_m and beam_divergence_rad must be >= 0");
+  require(s.laser.mixed_pixel_probability >= 0.0 && s.laser.mixed_pixel_probability <= 1.0,
+          "laser.mixed_pixel_probability must be in [0, 1]");
+  require(s.laser.dark_dropout_probability >= 0.0 && s.laser.dark_dropout_probability <= 1.0,
+          "laser.dark_dropout_probability must be in [0, 1]");
   require(!s.laser.frame_id.empty() && !s.laser.topic.empty(), "laser frame_id/topic are empty");
   require(s.laser.type == "planar" || s.laser.type == "multibeam",
           "laser.type must be planar or multibeam");
@@ -126,8 +133,10 @@ Scenario loadScenarioYaml(const std::string& path, const std::string& worlds_dir
     checkYamlKeys(
         laser,
         {"pose", "rays", "fov_rad", "rate_hz", "range_noise_m", "min_range_m", "max_range_m",
-         "dropout_probability", "frame_id", "topic", "type", "rings", "elevation_min_rad",
-         "elevation_max_rad", "horizontal_step_rad", "height_m", "roll_rad", "pitch_rad"},
+         "dropout_probability", "sweep", "range_noise_per_m", "range_resolution_m",
+         "mixed_pixel_probability", "beam_divergence_rad", "dark_dropout_probability", "frame_id",
+         "topic", "type", "rings", "elevation_min_rad", "elevation_max_rad", "horizontal_step_rad",
+         "height_m", "roll_rad", "pitch_rad"},
         where);
     if (laser) {
       s.laser.T_base_laser = readPose(laser["pose"], where + ".pose", s.laser.T_base_laser);
@@ -139,6 +148,12 @@ Scenario loadScenarioYaml(const std::string& path, const std::string& worlds_dir
     readYaml(laser, "min_range_m", &s.laser.min_range_m);
     readYaml(laser, "max_range_m", &s.laser.max_range_m);
     readYaml(laser, "dropout_probability", &s.laser.dropout_probability);
+    readYaml(laser, "sweep", &s.laser.sweep);
+    readYaml(laser, "range_noise_per_m", &s.laser.range_noise_per_m);
+    readYaml(laser, "range_resolution_m", &s.laser.range_resolution_m);
+    readYaml(laser, "mixed_pixel_probability", &s.laser.mixed_pixel_probability);
+    readYaml(laser, "beam_divergence_rad", &s.laser.beam_divergence_rad);
+    readYaml(laser, "dark_dropout_probability", &s.laser.dark_dropout_probability);
     readYaml(laser, "frame_id", &s.laser.frame_id);
     readYaml(laser, "topic", &s.laser.topic);
     readYaml(laser, "type", &s.laser.type);
@@ -285,6 +300,12 @@ std::string scenarioTruthYaml(const Scenario& s, const Robot& robot)
   out << YAML::Key << "range_noise_m" << YAML::Value << s.laser.range_noise_m;
   out << YAML::Key << "max_range_m" << YAML::Value << s.laser.max_range_m;
   out << YAML::Key << "dropout_probability" << YAML::Value << s.laser.dropout_probability;
+  out << YAML::Key << "sweep" << YAML::Value << s.laser.sweep;
+  out << YAML::Key << "range_noise_per_m" << YAML::Value << s.laser.range_noise_per_m;
+  out << YAML::Key << "range_resolution_m" << YAML::Value << s.laser.range_resolution_m;
+  out << YAML::Key << "mixed_pixel_probability" << YAML::Value << s.laser.mixed_pixel_probability;
+  out << YAML::Key << "beam_divergence_rad" << YAML::Value << s.laser.beam_divergence_rad;
+  out << YAML::Key << "dark_dropout_probability" << YAML::Value << s.laser.dark_dropout_probability;
   out << YAML::Key << "frame_id" << YAML::Value << s.laser.frame_id;
   out << YAML::Key << "topic" << YAML::Value << s.laser.topic;
   out << YAML::Key << "type" << YAML::Value << s.laser.type;

@@ -12,6 +12,7 @@
 #include <Eigen/Geometry>
 
 #include "odometry_calibration/sim/drive_plan.h"
+#include "odometry_calibration/sim/laser_model.h"
 
 namespace odometry_calibration {
 namespace sim {
@@ -177,6 +178,9 @@ SimulationSummary simulate(const Scenario& scenario, const World& world, const R
   // A stream of its own, so that enabling the tracker leaves the scans unchanged.
   std::mt19937_64 tracker_rng(scenario.seed ^ 0x7ac4e7ULL);
   std::normal_distribution<double> unit_normal(0.0, 1.0);
+  // The planar laser's rays (and its realism effects, sim/laser_model.h); the multi-beam
+  // lidar draws from rng above.
+  LaserModel laser_model(laser, scenario.seed);
 
   const std::int64_t end_ns = std::llround(scenario.duration_s * 1e9);
   const std::int64_t encoder_period = periodNs(scenario.encoders.rate_hz);
@@ -238,8 +242,17 @@ SimulationSummary simulate(const Scenario& scenario, const World& world, const R
   PoseHistory history;
   if (multibeam)
     history.add(0, T_world_base, 2 * scan_period);
-  const float angle_min = static_cast<float>(-0.5 * laser.fov_rad);
-  const float angle_increment = static_cast<float>(laser.fov_rad / (laser.rays - 1));
+  // The motion over the last sweep of the planar laser, for the rays taken while the robot
+  // moves (laser.sweep): the pose and the (constant) body velocity at the start of each step.
+  struct Step
+  {
+    std::int64_t start_ns;
+    Pose2 T_world_base;
+    Twist2 twist;
+  };
+  std::deque<Step> recent_steps;
+  const std::int64_t sweep_ns =
+      multibeam ? 0 : std::llround(laser_model.sweepDuration() * 1e9);
 
   while (true) {
     const std::int64_t next_event = std::min({next_encoder, next_scan, next_control});
@@ -252,6 +265,11 @@ SimulationSummary simulate(const Scenario& scenario, const World& world, const R
       applyChanges();
       ramp(dt);
       realised = current_robot->step(command, dt, &joints);
+      if (sweep_ns > 0) {
+        recent_steps.push_back({now, T_world_base, realised});
+        while (recent_steps.size() > 1 && recent_steps[1].start_ns <= now - sweep_ns)
+          recent_steps.pop_front();
+      }
       const Pose2 motion = integrateTwist(realised, dt);
       summary.distance_m += std::hypot(motion.x(), motion.y());
       summary.rotation_rad += std::abs(motion.theta());
@@ -299,32 +317,33 @@ SimulationSummary simulate(const Scenario& scenario, const World& world, const R
       }
       next_scan += scan_period;
     } else if (now == next_scan) {
-      ScanSample scan;
-      scan.stamp_s = t;
-      scan.angle_min_rad = angle_min;
-      scan.angle_increment_rad = angle_increment;
-      scan.range_min_m = static_cast<float>(laser.min_range_m);
-      scan.range_max_m = static_cast<float>(laser.max_range_m);
-      scan.ranges.resize(static_cast<std::size_t>(laser.rays));
-      const Pose2 T_world_laser = T_world_base * T_base_laser;
-      const Eigen::Vector2d origin(T_world_laser.x(), T_world_laser.y());
-      for (int i = 0; i < laser.rays; ++i) {
-        const double angle =
-            T_world_laser.theta() + angle_min + i * laser.fov_rad / (laser.rays - 1);
-        double range = world.castRay(origin, angle, laser.max_range_m);
-        if (std::isfinite(range) && laser.range_noise_m > 0.0)
-          range += range_noise(rng);
-        if (laser.dropout_probability > 0.0 && unit(rng) < laser.dropout_probability) {
-          range = std::numeric_limits<double>::quiet_NaN();
-        } else if (range > laser.max_range_m) {
-          range = std::numeric_limits<double>::infinity();
-        } else if (range < laser.min_range_m) {
-          range = -std::numeric_limits<double>::infinity();
-        }
-        scan.ranges[static_cast<std::size_t>(i)] = static_cast<float>(range);
+      // The scan is complete now: its first ray was taken one sweep ago (a driver stamps the
+      // first ray). Before t = 0 the robot stood at its start pose; the first scan whose sweep
+      // would begin before then is not taken.
+      const std::int64_t first_ray_ns = now - sweep_ns;
+      auto T_world_laser_at = [&](double tau_s) {
+        if (sweep_ns == 0)
+          return T_world_base * T_base_laser;
+        const double at_ns = static_cast<double>(first_ray_ns) + tau_s * 1e9;
+        if (at_ns >= static_cast<double>(now))
+          return T_world_base * T_base_laser;
+        // The step the instant falls in: its start pose moved by its velocity for the rest.
+        auto step = std::upper_bound(
+            recent_steps.begin(), recent_steps.end(), at_ns,
+            [](double t, const Step& s) { return t < static_cast<double>(s.start_ns); });
+        if (step == recent_steps.begin())
+          return recent_steps.empty() ? T_world_base * T_base_laser
+                                      : recent_steps.front().T_world_base * T_base_laser;
+        --step;
+        const double into_s = (at_ns - static_cast<double>(step->start_ns)) / kNanoseconds;
+        return step->T_world_base * integrateTwist(step->twist, into_s) * T_base_laser;
+      };
+      if (first_ray_ns >= 0) {
+        const ScanSample scan = laser_model.measure(
+            world, static_cast<double>(first_ray_ns) / kNanoseconds, T_world_laser_at);
+        sink.onScan(scan);
+        ++summary.scans;
       }
-      sink.onScan(scan);
-      ++summary.scans;
       next_scan += scan_period;
     }
   }

@@ -81,12 +81,17 @@ bool World::isFree(const Eigen::Vector2d& point) const
 
 double World::castRay(const Eigen::Vector2d& origin, double angle_rad, double max_range_m) const
 {
+  return castRayHit(origin, angle_rad, max_range_m).range_m;
+}
+
+RayHit World::castRayHit(const Eigen::Vector2d& origin, double angle_rad, double max_range_m) const
+{
   // Ray o + t u (t >= 0) against segment a + s d (0 <= s <= 1): solve with 2D cross products,
   // t = ((a - o) x d) / (u x d), s = ((a - o) x u) / (u x d).
   const double ux = std::cos(angle_rad);
   const double uy = std::sin(angle_rad);
   double best = max_range_m;
-  bool hit = false;
+  int hit = -1;
   const std::size_t n = ax_.size();
   for (std::size_t i = 0; i < n; ++i) {
     const double denominator = ux * dy_[i] - uy * dx_[i];
@@ -99,10 +104,18 @@ double World::castRay(const Eigen::Vector2d& origin, double angle_rad, double ma
     const double s = (wx * uy - wy * ux) / denominator;
     if (t > 0.0 && t <= best && s >= 0.0 && s <= 1.0) {
       best = t;
-      hit = true;
+      hit = static_cast<int>(i);
     }
   }
-  return hit ? best : std::numeric_limits<double>::infinity();
+  RayHit result;
+  if (hit >= 0) {
+    const std::size_t i = static_cast<std::size_t>(hit);
+    result.range_m = best;
+    result.segment = hit;
+    // |u x d| / |d| = |sin| of the angle between ray and wall = |cos| of the incidence angle.
+    result.cos_incidence = std::abs(ux * dy_[i] - uy * dx_[i]) / std::hypot(dx_[i], dy_[i]);
+  }
+  return result;
 }
 
 double World::castRay3d(const Eigen::Vector2d& origin, double origin_z_m, double angle_rad,

@@ -26,6 +26,20 @@ struct LaserOptions
   double min_range_m = 0.05;           ///< closer returns are reported as invalid (NaN)
   double max_range_m = 20.0;           ///< no return beyond: +inf (REP 117)
   double dropout_probability = 0.0;    ///< chance a ray returns nothing (NaN)
+  // Sensor realism (sim/laser_model.h); every effect is off by default.
+  /// Rays taken one after the other over the sweep while the robot moves: ray i at
+  /// i * time_increment after the scan's stamp, time_increment = angle increment / (2 pi
+  /// rate_hz) (a mirror turning once per scan period, as a Hokuyo URG or a SICK LMS).
+  bool sweep = false;
+  double range_noise_per_m = 0.0;        ///< noise sigma = range_noise_m + this * range [m/m]
+  double range_resolution_m = 0.0;       ///< returns rounded to multiples of this; 0 = exact [m]
+  double mixed_pixel_probability = 0.0;  ///< chance a beam across a depth step mixes its ranges
+  /// Full angle of the beam [rad]: its footprint (at least one ray increment wide) is what can
+  /// straddle a depth discontinuity and give a mixed pixel.
+  double beam_divergence_rad = 0.0;
+  /// Dark surfaces: chance of losing a return from max_range_m at normal incidence; it scales
+  /// with (range / max_range_m)^2 / cos(incidence) (the echo's weakness), capped at 1.
+  double dark_dropout_probability = 0.0;
   std::string frame_id = "laser";      ///< header frame of the scans
   std::string topic = "/scan";         ///< bag topic
   // Multi-beam only: the rings' elevations are equally spaced over [min, max]; each sweep

@@ -24,11 +24,15 @@ struct JointStateSample
 /// One laser scan in the sensor's frame (angles counter-clockwise from its x axis).
 struct ScanSample
 {
-  double stamp_s = 0.0;  ///< time of the scan [s since start]
+  double stamp_s = 0.0;  ///< time of the scan's first ray [s since start]
   float angle_min_rad = 0.0f;
   float angle_increment_rad = 0.0f;
   float range_min_m = 0.0f;
   float range_max_m = 0.0f;
+  /// Time between rays [s]: ray i measured i * time_increment_s after the stamp (laser.sweep);
+  /// 0 = all rays at the stamp.
+  double time_increment_s = 0.0;
+  double scan_time_s = 0.0;  ///< time between scans [s] (sensor_msgs/LaserScan scan_time)
   /// Ranges [m]: +inf no return within range_max, -inf closer than range_min, NaN dropout.
   std::vector<float> ranges;
 };

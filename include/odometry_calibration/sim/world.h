@@ -19,6 +19,14 @@ struct Segment
   double height_m = std::numeric_limits<double>::infinity();
 };
 
+/// What a ray hits: its distance, the wall and the angle it meets the wall at.
+struct RayHit
+{
+  double range_m = std::numeric_limits<double>::infinity();  ///< +infinity: nothing in range
+  int segment = -1;            ///< index into World::segments(), -1 when nothing is hit
+  double cos_incidence = 0.0;  ///< |cos| of the angle between the ray and the wall's normal
+};
+
 /// Walls, furniture and pillars as segments (circles are polygons of many sides).
 class World
 {
@@ -51,6 +59,9 @@ public:
   /// over lower walls) or the floor (z = 0), or +infinity if none within `max_range_m`.
   double castRay3d(const Eigen::Vector2d& origin, double origin_z_m, double angle_rad,
                    double elevation_rad, double max_range_m) const;
+  /// castRay with which wall was hit and how obliquely (the laser model's mixed pixels and
+  /// dark-surface dropouts). Same range as castRay.
+  RayHit castRayHit(const Eigen::Vector2d& origin, double angle_rad, double max_range_m) const;
 
   /// Distance [m] from a point to the nearest segment (+infinity in an empty world).
   double clearance(const Eigen::Vector2d& point) const;
