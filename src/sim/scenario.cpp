@@ -130,14 +130,32 @@ Scenario loadScenarioYaml(const std::string& path, const std::string& worlds_dir
 
     where = path + ": laser";
     const YAML::Node laser = root["laser"];
-    checkYamlKeys(
-        laser,
-        {"pose", "rays", "fov_rad", "rate_hz", "range_noise_m", "min_range_m", "max_range_m",
-         "dropout_probability", "sweep", "range_noise_per_m", "range_resolution_m",
-         "mixed_pixel_probability", "beam_divergence_rad", "dark_dropout_probability", "frame_id",
-         "topic", "type", "rings", "elevation_min_rad", "elevation_max_rad", "horizontal_step_rad",
-         "height_m", "roll_rad", "pitch_rad"},
-        where);
+    checkYamlKeys(laser,
+                  {"pose",
+                   "rays",
+                   "fov_rad",
+                   "rate_hz",
+                   "range_noise_m",
+                   "min_range_m",
+                   "max_range_m",
+                   "dropout_probability",
+                   "sweep",
+                   "range_noise_per_m",
+                   "range_resolution_m",
+                   "mixed_pixel_probability",
+                   "beam_divergence_rad",
+                   "dark_dropout_probability",
+                   "frame_id",
+                   "topic",
+                   "type",
+                   "rings",
+                   "elevation_min_rad",
+                   "elevation_max_rad",
+                   "horizontal_step_rad",
+                   "height_m",
+                   "roll_rad",
+                   "pitch_rad"},
+                  where);
     if (laser) {
       s.laser.T_base_laser = readPose(laser["pose"], where + ".pose", s.laser.T_base_laser);
     }

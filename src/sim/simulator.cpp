@@ -251,8 +251,7 @@ SimulationSummary simulate(const Scenario& scenario, const World& world, const R
     Twist2 twist;
   };
   std::deque<Step> recent_steps;
-  const std::int64_t sweep_ns =
-      multibeam ? 0 : std::llround(laser_model.sweepDuration() * 1e9);
+  const std::int64_t sweep_ns = multibeam ? 0 : std::llround(laser_model.sweepDuration() * 1e9);
 
   while (true) {
     const std::int64_t next_event = std::min({next_encoder, next_scan, next_control});
