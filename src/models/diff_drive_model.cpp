@@ -7,6 +7,8 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "odometry_calibration/models/sensor_pose_yaml.h"
+
 #include "odometry_calibration/models/observability.h"
 #include "odometry_calibration/models/sensor_motion_fit.h"
 
@@ -189,12 +191,7 @@ std::string DiffDriveModel::toYaml() const
   out << YAML::Key << "left_wheel_radius_m" << YAML::Value << intrinsics_(kLeftRadius);
   out << YAML::Key << "right_wheel_radius_m" << YAML::Value << intrinsics_(kRightRadius);
   out << YAML::Key << "wheel_separation_m" << YAML::Value << intrinsics_(kWheelSeparation);
-  out << YAML::Key << "T_base_sensor" << YAML::Value << YAML::Flow << YAML::BeginSeq
-      << T_base_sensor_.x() << T_base_sensor_.y() << T_base_sensor_.theta() << YAML::EndSeq;
-  out << YAML::Key << "prediction_covariance" << YAML::Value << YAML::Flow << YAML::BeginSeq;
-  for (int i = 0; i < 9; ++i)
-    out << residual_covariance_(i / 3, i % 3);
-  out << YAML::EndSeq;
+  emitSensorPoseYaml(out, T_base_sensor_, residual_covariance_);
   out << YAML::EndMap;
   return std::string(out.c_str()) + "\n";
 }
@@ -213,14 +210,10 @@ DiffDriveModel DiffDriveModel::fromYaml(const std::string& text)
     options.initial_left_radius_m = node["left_wheel_radius_m"].as<double>();
     options.initial_right_radius_m = node["right_wheel_radius_m"].as<double>();
     options.initial_separation_m = node["wheel_separation_m"].as<double>();
-    const auto pose = node["T_base_sensor"].as<std::vector<double>>();
-    const auto spread = node["prediction_covariance"].as<std::vector<double>>();
-    if (pose.size() != 3 || spread.size() != 9) {
-      throw std::runtime_error("T_base_sensor needs 3 values, prediction_covariance 9");
-    }
-    options.initial_T_base_sensor = Pose2(pose[0], pose[1], pose[2]);
+    const SensorPoseYaml sensor = readSensorPoseYaml(node);
+    options.initial_T_base_sensor = sensor.T_base_sensor;
     DiffDriveModel model(options);
-    model.residual_covariance_ = Eigen::Map<const Eigen::Matrix3d>(spread.data()).transpose();
+    model.residual_covariance_ = sensor.prediction_covariance;
     return model;
   } catch (const YAML::Exception& error) {
     throw std::runtime_error(std::string("diff_drive model YAML: ") + error.what());

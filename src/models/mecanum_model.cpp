@@ -8,6 +8,8 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "odometry_calibration/models/sensor_pose_yaml.h"
+
 #include "odometry_calibration/models/observability.h"
 #include "odometry_calibration/models/sensor_motion_fit.h"
 
@@ -275,12 +277,7 @@ std::string MecanumModel::toYaml() const
     out << intrinsics_(i);
   out << YAML::EndSeq;
   out << YAML::Key << "lx_plus_ly_m" << YAML::Value << intrinsics_(kLxPlusLy);
-  out << YAML::Key << "T_base_sensor" << YAML::Value << YAML::Flow << YAML::BeginSeq
-      << T_base_sensor_.x() << T_base_sensor_.y() << T_base_sensor_.theta() << YAML::EndSeq;
-  out << YAML::Key << "prediction_covariance" << YAML::Value << YAML::Flow << YAML::BeginSeq;
-  for (int i = 0; i < 9; ++i)
-    out << residual_covariance_(i / 3, i % 3);
-  out << YAML::EndSeq;
+  emitSensorPoseYaml(out, T_base_sensor_, residual_covariance_);
   out << YAML::EndMap;
   return std::string(out.c_str()) + "\n";
 }
@@ -294,13 +291,9 @@ MecanumModel MecanumModel::fromYaml(const std::string& text)
     }
     const auto index = node["wheel_indices"].as<std::vector<int>>();
     const auto radii = node["wheel_radii_m"].as<std::vector<double>>();
-    const auto pose = node["T_base_sensor"].as<std::vector<double>>();
-    const auto spread = node["prediction_covariance"].as<std::vector<double>>();
-    if (index.size() != 4 || radii.size() != 4 || pose.size() != 3 || spread.size() != 9) {
-      throw std::runtime_error(
-          "wheel_indices and wheel_radii_m need 4 values, T_base_sensor 3, "
-          "prediction_covariance 9");
-    }
+    const SensorPoseYaml sensor = readSensorPoseYaml(node);
+    if (index.size() != 4 || radii.size() != 4)
+      throw std::runtime_error("wheel_indices and wheel_radii_m need 4 values");
     MecanumOptions options;
     options.layout.front_left_index = index[0];
     options.layout.front_right_index = index[1];
@@ -309,9 +302,9 @@ MecanumModel MecanumModel::fromYaml(const std::string& text)
     options.layout.ticks_per_turn = node["ticks_per_turn"].as<double>();
     std::copy(radii.begin(), radii.end(), options.initial_radius_m.begin());
     options.initial_lx_plus_ly_m = node["lx_plus_ly_m"].as<double>();
-    options.initial_T_base_sensor = Pose2(pose[0], pose[1], pose[2]);
+    options.initial_T_base_sensor = sensor.T_base_sensor;
     MecanumModel model(options);
-    model.residual_covariance_ = Eigen::Map<const Eigen::Matrix3d>(spread.data()).transpose();
+    model.residual_covariance_ = sensor.prediction_covariance;
     return model;
   } catch (const YAML::Exception& error) {
     throw std::runtime_error(std::string("mecanum model YAML: ") + error.what());

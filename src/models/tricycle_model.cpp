@@ -5,6 +5,8 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "odometry_calibration/models/sensor_pose_yaml.h"
+
 namespace odometry_calibration {
 
 TricycleModel::TricycleModel(TricycleModelOptions options)
@@ -91,12 +93,8 @@ std::string TricycleModel::toYaml() const
   out << YAML::Key << "traction_scale_m_per_turn" << YAML::Value << p.traction_scale_m_per_turn;
   out << YAML::Key << "axis_length_m" << YAML::Value << p.axis_length_m;
   out << YAML::Key << "steering_offset_rad" << YAML::Value << p.steering_offset_rad;
-  out << YAML::Key << "T_base_sensor" << YAML::Value << YAML::Flow << YAML::BeginSeq
-      << p.T_base_sensor.x() << p.T_base_sensor.y() << p.T_base_sensor.theta() << YAML::EndSeq;
-  out << YAML::Key << "prediction_covariance" << YAML::Value << YAML::Flow << YAML::BeginSeq;
-  for (int i = 0; i < 9; ++i)
-    out << residual_covariance_(i / 3, i % 3);
-  out << YAML::EndSeq << YAML::EndMap;
+  emitSensorPoseYaml(out, p.T_base_sensor, residual_covariance_);
+  out << YAML::EndMap;
   return std::string(out.c_str()) + "\n";
 }
 
@@ -116,13 +114,10 @@ TricycleModel TricycleModel::fromYaml(const std::string& text)
     p.traction_scale_m_per_turn = node["traction_scale_m_per_turn"].as<double>();
     p.axis_length_m = node["axis_length_m"].as<double>();
     p.steering_offset_rad = node["steering_offset_rad"].as<double>();
-    const auto pose = node["T_base_sensor"].as<std::vector<double>>();
-    const auto spread = node["prediction_covariance"].as<std::vector<double>>();
-    if (pose.size() != 3 || spread.size() != 9)
-      throw std::runtime_error("T_base_sensor needs 3 values, prediction_covariance 9");
-    p.T_base_sensor = Pose2(pose[0], pose[1], pose[2]);
+    const SensorPoseYaml sensor = readSensorPoseYaml(node);
+    p.T_base_sensor = sensor.T_base_sensor;
     TricycleModel model(options);
-    model.residual_covariance_ = Eigen::Map<const Eigen::Matrix3d>(spread.data()).transpose();
+    model.residual_covariance_ = sensor.prediction_covariance;
     return model;
   } catch (const YAML::Exception& error) {
     throw std::runtime_error(std::string("tricycle model YAML: ") + error.what());
