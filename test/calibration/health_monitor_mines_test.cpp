@@ -111,8 +111,9 @@ TEST(HealthMonitorMines, InjectedRightWheelChangeIsDetectedAndTheUnchangedLogIsQ
     std::printf("Mines, right wheel ticks x%.2f after %.1f s: alarm %s after %.1f s: %s\n", scale,
                 midpoint_s - records.front().stamp_s, changed.alarm ? "raised" : "NOT raised",
                 changed.delay_s, changed.message.c_str());
-    if (scale > 1.02)
+    if (scale > 1.02) {
       EXPECT_TRUE(changed.alarm) << changed.message;
+    }
   }
   CalibrationConfig uncompensated = config;
   uncompensated.collector.compensate_sweep = false;
