@@ -3,9 +3,14 @@
 #pragma once
 
 #include <cmath>
+#include <string>
 #include <vector>
 
+#include <gtest/gtest.h>
+#include <nav_msgs/Path.h>
+
 #include "odometry_calibration/geometry/se2.h"
+#include "odometry_calibration/ros/conversions.h"
 
 namespace odometry_calibration {
 namespace test {
@@ -56,6 +61,34 @@ inline EndErrors endErrors(const std::vector<Stamped>& corrected,
     result.distance_m += std::hypot(step.x(), step.y());
   }
   return result;
+}
+
+/// The check every replay test makes once the player has ended: ~odom after the fit (entries
+/// later than `fit_stamp_s`, integrated again from the start with the fitted model) ends within
+/// 0.5 % of the distance travelled (> 10 m) from the truth, and at most a tenth of the nominal
+/// odometry's (~path/nominal) end error. The three numbers are recorded as test properties.
+inline void expectCorrectedOdometryEndsNearTheTruth(const std::vector<Stamped>& odometry,
+                                                    double fit_stamp_s,
+                                                    const std::vector<Stamped>& ground_truth,
+                                                    const nav_msgs::Path& nominal_path)
+{
+  std::vector<Stamped> after;
+  for (const Stamped& entry : odometry)
+    if (entry.stamp_s > fit_stamp_s)
+      after.push_back(entry);
+  ASSERT_GT(after.size(), 500u);
+  ASSERT_FALSE(ground_truth.empty());
+  ASSERT_GT(nominal_path.poses.size(), 100u);
+  std::vector<Stamped> nominal;
+  for (const auto& pose : nominal_path.poses)
+    nominal.push_back({pose.header.stamp.toSec(), ros_conversions::fromPoseMsg(pose.pose)});
+  const EndErrors end = endErrors(after, ground_truth, nominal);
+  ::testing::Test::RecordProperty("distance_m", std::to_string(end.distance_m));
+  ::testing::Test::RecordProperty("corrected_end_error_m", std::to_string(end.corrected_error_m));
+  ::testing::Test::RecordProperty("nominal_end_error_m", std::to_string(end.nominal_error_m));
+  EXPECT_GT(end.distance_m, 10.0);
+  EXPECT_LT(end.corrected_error_m, 0.005 * end.distance_m);
+  EXPECT_LT(end.corrected_error_m, 0.1 * end.nominal_error_m);
 }
 
 }  // namespace test
