@@ -29,6 +29,7 @@ CalibrationJobResult runCalibrationJob(const CalibrationConfig& config,
     TimeOffsetOptions search;
     search.min_s = config.time_offset_search_min_s;
     search.max_s = config.time_offset_search_max_s;
+    search.interpolation = config.collector.encoder_interpolation;
     // The grid refits the model per offset from the configured start only: the global yaw
     // starts (issue 23) are for the final fit and would multiply the search's cost.
     ModelFactoryOptions search_models = config.models;
@@ -50,7 +51,8 @@ CalibrationJobResult runCalibrationJob(const CalibrationConfig& config,
                                   " s lies at the edge of time_offset_search_s: widen it");
       }
     }
-    job.pairs = rewindowPairs(pairs, encoder_history, job.time_offset_s);
+    job.pairs = rewindowPairs(pairs, encoder_history, job.time_offset_s,
+                              config.collector.encoder_interpolation);
   }
   job.model = makeModel(config.model, config.models);
   job.report = job.model->fit(job.pairs);
