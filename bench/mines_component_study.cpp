@@ -19,8 +19,15 @@
 // the mean radius against ours [%]; on the simulated bags also the mean radius error against the
 // truth [%] (per seed and the mean).
 //
+// With --leave-one-out also the CSM-like pipeline with one component at a time back to ours, and
+// ours and the CSM-like pipeline with the nominal radius (the matchers' guesses) 4 % off. The
+// bags are paired as calibrate_bag pairs them (again at the estimated time offset when the
+// configured one is off, ros/bag_runner.h); with --one-pass once at the configured offset, as
+// before issue 16's fix.
+//
 // Usage: study_mines_components [--log exp1.dat] [--seeds N] [--duration S] [--no-sim]
-//                               [--no-mines] [--only NAME[,NAME...]]
+//                               [--no-mines] [--leave-one-out] [--one-pass]
+//                               [--only NAME[,NAME...]]
 #include <unistd.h>
 
 #include <cmath>
@@ -76,7 +83,7 @@ void csmLike(CalibrationConfig& c)
 std::vector<Variant> variants()
 {
   return {
-      {"ours (config/mines.yaml)", [](CalibrationConfig&, double) {}},
+      {"ours (config/mines.yaml, calibrate_bag)", [](CalibrationConfig&, double) {}},
       {"matcher: CSM", [](CalibrationConfig& c, double) { useCsm(c); }},
       {"sweep compensation off",
        [](CalibrationConfig& c, double) { c.collector.compensate_sweep = false; }},
@@ -115,6 +122,57 @@ std::vector<Variant> variants()
   };
 }
 
+/// The CSM-like pipeline (time offset estimated, or fixed at 0) with one component back to ours:
+/// which of the CSM side's components make its result.
+std::vector<Variant> leaveOneOutVariants()
+{
+  const std::vector<std::pair<std::string, std::function<void(CalibrationConfig&)>>> ours_back = {
+      {"our matcher", [](CalibrationConfig& c) { c.collector.matcher = nullptr; }},
+      {"sweep compensation", [](CalibrationConfig& c) { c.collector.compensate_sweep = true; }},
+      {"consistency filter", [](CalibrationConfig& c) { c.collector.check_consistency = true; }},
+      {"linear interpolation",
+       [](CalibrationConfig& c) {
+         c.collector.encoder_interpolation = EncoderInterpolation::kLinear;
+       }},
+      {"Huber loss", [](CalibrationConfig& c) { c.models.diff_drive.huber_threshold = 3.0; }},
+  };
+  std::vector<Variant> result;
+  // The nominal radius (the matchers' guesses and the fit's start) 4 % smaller or larger.
+  for (const double radius : {0.074, 0.080}) {
+    const auto nominal = [radius](CalibrationConfig& c) {
+      c.models.diff_drive.initial_left_radius_m = radius;
+      c.models.diff_drive.initial_right_radius_m = radius;
+    };
+    const std::string text = ", nominal radius " + std::to_string(radius).substr(0, 5) + " m";
+    result.push_back({"ours" + text, [nominal](CalibrationConfig& c, double) { nominal(c); }});
+    result.push_back({"CSM-like" + text, [nominal](CalibrationConfig& c, double) {
+                        csmLike(c);
+                        nominal(c);
+                      }});
+    result.push_back({"CSM-like, time offset 0" + text, [nominal](CalibrationConfig& c, double) {
+                        csmLike(c);
+                        c.estimate_time_offset = false;
+                        c.collector.time_offset_s = 0.0;
+                        nominal(c);
+                      }});
+  }
+  for (const bool zero_offset : {false, true}) {
+    for (const auto& [name, back] : ours_back) {
+      result.push_back(
+          {std::string("CSM-like") + (zero_offset ? ", time offset 0" : "") + ", with " + name,
+           [zero_offset, back = back](CalibrationConfig& c, double) {
+             csmLike(c);
+             if (zero_offset) {
+               c.estimate_time_offset = false;
+               c.collector.time_offset_s = 0.0;
+             }
+             back(c);
+           }});
+    }
+  }
+  return result;
+}
+
 /// What one run of the pipeline gave.
 struct Outcome
 {
@@ -125,11 +183,15 @@ struct Outcome
   double left_m = NAN, right_m = NAN, separation_m = NAN, offset_s = NAN;
 };
 
-Outcome runPipeline(const std::string& bag, const CalibrationConfig& config)
+/// calibrate_bag's pairing (paired again at the estimated time offset when it differs from the
+/// configured one), or with `one_pass` the bags paired once at the configured offset (as before
+/// issue 16's fix), then the fit.
+Outcome runPipeline(const std::string& bag, CalibrationConfig config, bool one_pass)
 {
   Outcome outcome;
   try {
-    const BagRunResult run = runBags({bag}, config);
+    const BagRunResult run =
+        one_pass ? runBags({bag}, config) : runBagsAtEstimatedOffset({bag}, &config);
     CalibrationJobOptions options;
     options.compare_trajectories = false;
     const CalibrationJobResult job =
@@ -183,7 +245,7 @@ int main(int argc, char** argv)
   std::string log = std::string(ODOMETRY_CALIBRATION_SHARED_DATA_DIR) + "/mines/exp1.dat";
   int seeds = 2;
   double duration_s = 120.0;
-  bool sim = true, mines = true;
+  bool sim = true, mines = true, leave_one_out = false, one_pass = false;
   std::vector<std::string> only;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
@@ -196,13 +258,17 @@ int main(int argc, char** argv)
       duration_s = std::atof(argv[++i]);
     } else if (arg == "--no-sim") {
       sim = false;
+    } else if (arg == "--one-pass") {
+      one_pass = true;
+    } else if (arg == "--leave-one-out") {
+      leave_one_out = true;
     } else if (arg == "--no-mines") {
       mines = false;
     } else if (arg == "--only" && has_value) {
       only = splitList(argv[++i]);
     } else {
       std::cerr << "usage: study_mines_components [--log exp1.dat] [--seeds N] [--duration S] "
-                   "[--no-sim] [--no-mines] [--only NAME,...]\n";
+                   "[--no-sim] [--no-mines] [--leave-one-out] [--one-pass] [--only NAME,...]\n";
       return 2;
     }
   }
@@ -250,9 +316,14 @@ int main(int argc, char** argv)
   // CSM keeps global state (its matrix contexts): one matching thread for every configuration
   // (the pairs are the same either way, pair_collector.h).
   base.collector.background_matching = false;
+  std::vector<Variant> all = variants();
+  if (leave_one_out) {
+    for (Variant& variant : leaveOneOutVariants())
+      all.push_back(std::move(variant));
+  }
   std::vector<Variant> chosen;
-  for (const Variant& variant : variants()) {
-    bool wanted = only.empty() || variant.name.rfind("ours", 0) == 0;
+  for (const Variant& variant : all) {
+    bool wanted = only.empty() || &variant == &all.front();  // ours: the reference row
     for (const std::string& name : only)
       wanted = wanted || variant.name.find(name) != std::string::npos;
     if (wanted)
@@ -266,7 +337,7 @@ int main(int argc, char** argv)
     for (const Variant& variant : chosen) {
       CalibrationConfig config = base;
       variant.apply(config, our_offset_s);
-      results[d].push_back(runPipeline(data[d].bag, config));
+      results[d].push_back(runPipeline(data[d].bag, config, one_pass));
       const Outcome& o = results[d].back();
       if (&variant == &chosen.front() && o.ok)
         our_offset_s = o.offset_s;

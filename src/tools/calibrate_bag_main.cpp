@@ -228,10 +228,12 @@ int main(int argc, char** argv)
       }
     }
 
-    const BagRunResult run =
-        runBags(bags, config, start_s, end_s,
-                quiet ? nullptr : std::function<void(const BagProgress&)>(showProgress));
-    const std::string summary = formatBagRunSummary(run);
+    // Paired at the estimated time offset (a second pass when the configured one is off).
+    OffsetPairing offset_pairing;
+    const BagRunResult run = runBagsAtEstimatedOffset(
+        bags, &config, start_s, end_s,
+        quiet ? nullptr : std::function<void(const BagProgress&)>(showProgress), &offset_pairing);
+    const std::string summary = formatBagRunSummary(run) + offset_pairing.text;
     std::cout << summary;
 
     PairHoldout holdout_split;
