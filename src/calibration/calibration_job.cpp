@@ -36,8 +36,11 @@ CalibrationJobResult runCalibrationJob(const CalibrationConfig& config,
     search_models.diff_drive.yaw_starts = 1;
     search_models.tricycle.calibration.yaw_starts = 1;
     search_models.mecanum.yaw_starts = 1;
-    job.time_offset = estimateTimeOffset(
-        pairs, encoder_history, [&]() { return makeModel(config.model, search_models); }, search);
+    job.time_offset = options.time_offset_search
+                          ? *options.time_offset_search
+                          : estimateTimeOffset(
+                                pairs, encoder_history,
+                                [&]() { return makeModel(config.model, search_models); }, search);
     const TimeOffsetResult& offset = *job.time_offset;
     if (offset.flat) {
       offset_warnings.push_back(

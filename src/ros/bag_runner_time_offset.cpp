@@ -33,6 +33,7 @@ BagRunResult runBagsAtEstimatedOffset(const std::vector<std::string>& bag_paths,
                   "paired at the configured time offset %.3f s (estimated %.3f s, within %.3f s)\n",
                   result.configured_s, result.estimate_s, tolerance_s);
     result.text = text;
+    result.search = first.time_offset;
     return run;
   }
   config->collector.time_offset_s = result.estimate_s;

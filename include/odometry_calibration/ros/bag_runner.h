@@ -3,10 +3,12 @@
 #pragma once
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "odometry_calibration/calibration/calibration_config.h"
+#include "odometry_calibration/calibration/time_offset.h"
 #include "odometry_calibration/pairing/pair_collector.h"
 
 namespace odometry_calibration {
@@ -57,6 +59,9 @@ struct OffsetPairing
   double estimate_s = 0.0;    ///< the offset estimated on the first pass's pairs [s]
   bool paired_again = false;  ///< the bags were paired a second time, at estimate_s
   std::string text;           ///< what was done, in words (empty when nothing was estimated)
+  /// The search on the returned pairs when they were not paired again (for
+  /// CalibrationJobOptions::time_offset_search: the same search need not run twice).
+  std::optional<TimeOffsetResult> search;
 };
 
 /// runBags at the time offset the data supports. The pairing uses the encoders at scan time +
