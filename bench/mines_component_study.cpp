@@ -1,10 +1,11 @@
 // Which component of the calibration pipeline moves the Mines wheel radii (issue 16, "prove or
 // fix the scale"). Not a timing benchmark: a study printing a table.
 //
-// Our pipeline (the bag reader, PairCollector and calibration job that calibrate_bag runs, with
-// config/mines.yaml) is run on the real Mines log (exp1.dat, converted to a bag as mines_to_bag
-// does) and on simulated Mines-like bags with truth (config/sim/scenarios/mines_like.yaml, every
-// sensor effect on), once as it is and once per swapped component:
+// Our pipeline (runBagsAtEstimatedOffset's bag reading and PairCollector, and the calibration job,
+// as calibrate_bag runs them, with config/mines.yaml) is run on the real Mines log (exp1.dat,
+// converted to a bag as mines_to_bag does) and on simulated Mines-like bags with truth
+// (config/sim/scenarios/mines_like.yaml, every sensor effect on), once as it is and once per
+// swapped component:
 //   matcher: the reference PLICP (CSM, sm_icp with its defaults) in the pairing's matcher slot,
 //     for the consecutive and the keyframe matches, on the same (compensated) points;
 //   sweep compensation off;
