@@ -25,7 +25,20 @@ std::string formatNumber(double value)
   return buffer;
 }
 
-/// Everything one match needs, built once per call.
+/// The buffers of a Matcher, as long as the new scan. They live per thread and are reused by
+/// the next match: allocating them for every match and handing the memory back to the system
+/// afterwards (glibc trims the heap's top beyond 128 kB) costs up to a fifth of a 1081-ray
+/// match in page faults.
+struct MatcherBuffers
+{
+  std::vector<Correspondence> all;
+  std::vector<Correspondence> kept;
+  std::vector<double> magnitudes;
+  std::vector<NearestTrack> tracks;  // per new point: its last search
+};
+
+/// Everything one match needs, built once per call. At most one Matcher per thread exists at a
+/// time (it uses the thread's MatcherBuffers).
 class Matcher
 {
 public:
@@ -33,7 +46,11 @@ public:
       : reference_(reference),
         current_(current),
         options_(options),
-        cos_max_normal_angle_(std::cos(options.max_normal_angle_rad))
+        cos_max_normal_angle_(std::cos(options.max_normal_angle_rad)),
+        all_(buffers().all),
+        kept_(buffers().kept),
+        magnitudes_(buffers().magnitudes),
+        tracks_(buffers().tracks)
   {
     search_ = options.correspondence_search == CorrespondenceSearch::kKdTree
                   ? makeKdTreeSearch(reference.points, reference.lines)
@@ -45,15 +62,20 @@ public:
     rms_range_m_ = current.points.empty()
                        ? 0.0
                        : std::sqrt(range2_sum_m2 / static_cast<double>(current.points.size()));
+    all_.clear();
+    kept_.clear();
     all_.reserve(current.points.size());
     kept_.reserve(current.points.size());
     magnitudes_.reserve(current.points.size());
-    hints_.assign(current.points.size(), -1);
+    tracks_.assign(current.points.size(), NearestTrack());
   }
 
   /// Matches every new point, transformed by T_ref_new, to the nearest reference point with a
-  /// line whose direction is compatible; fills all_ with the residuals to those lines.
-  void findCorrespondences(const Pose2& T_ref_new)
+  /// line whose direction is compatible; fills all_ with the residuals to those lines. A point
+  /// whose last match provably still holds is not searched again (nearestTracked); a search
+  /// looks `margin_m` [m] beyond its answer so that the answer keeps holding while the pose
+  /// moves by less than about half of that.
+  void findCorrespondences(const Pose2& T_ref_new, double margin_m)
   {
     all_.clear();
     const Eigen::Matrix2d R = Eigen::Rotation2Dd(T_ref_new.theta()).toRotationMatrix();
@@ -61,19 +83,20 @@ public:
     const ScanPoints& points = current_.points;
     const ScanLines& lines = current_.lines;
     const ScanLines& reference_lines = reference_.lines;
+    int last_match = -1;  // a new point's first search starts at its predecessor's match
     for (std::size_t i = 0; i < points.size(); ++i) {
       const Eigen::Vector2d q = R * points.points_m[i] + t;
       // The new point's own line, if it has one, must face the same way as the reference's
       // (the same surface seen from the same side).
       const Eigen::Vector2d query_normal =
           lines.fitted[i] != 0 ? Eigen::Vector2d(R * lines.normals[i]) : Eigen::Vector2d::Zero();
-      // The previous iteration's match is near: it shortens the search.
-      const int j = search_->nearest(q, query_normal, cos_max_normal_angle_,
-                                     options_.max_correspondence_distance_m, nullptr, hints_[i]);
-      hints_[i] = j;
+      const int j = search_->nearestTracked(q, query_normal, cos_max_normal_angle_,
+                                            options_.max_correspondence_distance_m, margin_m,
+                                            tracks_[i], last_match);
       if (j < 0) {
         continue;
       }
+      last_match = j;
       const Eigen::Vector2d& normal = reference_lines.normals[j];
       const Eigen::Vector2d offset = q - reference_lines.centroids_m[j];
       const double along_m = normal.x() * offset.y() - normal.y() * offset.x();  // tangent . offset
@@ -174,15 +197,21 @@ public:
   const std::vector<Correspondence>& kept() const { return kept_; }
 
 private:
+  static MatcherBuffers& buffers()
+  {
+    thread_local MatcherBuffers thread_buffers;
+    return thread_buffers;
+  }
+
   const PreparedScan& reference_;
   const PreparedScan& current_;
   const PlicpOptions& options_;
   const double cos_max_normal_angle_;
   std::unique_ptr<NearestPointSearch> search_;
-  std::vector<Correspondence> all_;
-  std::vector<Correspondence> kept_;
-  std::vector<double> magnitudes_;
-  std::vector<int> hints_;  // per new point: its reference match of the last search, or -1
+  std::vector<Correspondence>& all_;
+  std::vector<Correspondence>& kept_;
+  std::vector<double>& magnitudes_;
+  std::vector<NearestTrack>& tracks_;
   PointToLineSystem system_;
   double lever_arm_m_ = 1.0;
   double rms_range_m_ = 0.0;
@@ -251,6 +280,10 @@ PreparedScan prepareScan(const Scan& scan, const LineFitOptions& options,
 
 namespace {
 
+/// Largest search margin (findCorrespondences), as a fraction of max_correspondence_distance_m:
+/// wider margins cost more visits than they save.
+constexpr double kMaxSearchMarginFraction = 0.04;
+
 /// One match from one initial guess (matchScans without the ambiguity check).
 PlicpResult matchOnce(const PreparedScan& reference, const PreparedScan& current,
                       const Pose2& T_ref_new_guess, const PlicpOptions& options)
@@ -282,7 +315,14 @@ PlicpResult matchOnce(const PreparedScan& reference, const PreparedScan& current
     if (iteration == options.max_iterations / 2 + 1) {
       matcher.freezeTrimThreshold();
     }
-    matcher.findCorrespondences(T_ref_new);
+    // The next steps move the points by about the last one's displacement in all (PLICP
+    // converges superlinearly): searches that look twice pose_uncertainty_m beyond their answer
+    // stay valid over them. The first step's size is unknown: no margin (it would rarely hold).
+    const double margin_m =
+        iteration == 1 ? 0.0
+                       : std::min(2.0 * pose_uncertainty_m,
+                                  kMaxSearchMarginFraction * options.max_correspondence_distance_m);
+    matcher.findCorrespondences(T_ref_new, margin_m);
     matcher.trim(pose_uncertainty_m);
     if (matcher.kept().size() < static_cast<std::size_t>(options.min_correspondences)) {
       return failure(result, PlicpStatus::kTooFewCorrespondences,
@@ -336,7 +376,7 @@ PlicpResult matchOnce(const PreparedScan& reference, const PreparedScan& current
   }
 
   // Statistics, degeneracy and covariance at the solution.
-  matcher.findCorrespondences(T_ref_new);
+  matcher.findCorrespondences(T_ref_new, 0.0);
   matcher.trim(0.0);
   const std::vector<Correspondence>& kept = matcher.kept();
   result.correspondence_count = static_cast<int>(kept.size());
