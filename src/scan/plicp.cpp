@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <memory>
 #include <optional>
 
@@ -119,37 +120,67 @@ public:
     if (n == 0) {
       return;
     }
-    magnitudes_.resize(n);
-    for (std::size_t k = 0; k < n; ++k) {
-      magnitudes_[k] = std::abs(all_[k].residual_m);
-    }
-    auto rankOf = [n](double fraction) {
-      return static_cast<std::size_t>(
-          std::clamp(std::ceil(fraction * static_cast<double>(n)) - 1.0, 0.0, n - 1.0));
-    };
-    // Fixed percentile (the largest residual still kept), then the adaptive threshold. The
-    // second selection only searches the side of the first one's rank that holds its rank.
-    const std::size_t fixed_rank = rankOf(options_.trim_keep_fraction);
-    const std::size_t adaptive_rank = rankOf(options_.adaptive_trim_quantile);
-    const auto begin = magnitudes_.begin();
-    std::nth_element(begin, begin + fixed_rank, magnitudes_.end());
-    if (adaptive_rank < fixed_rank) {
-      std::nth_element(begin, begin + adaptive_rank, begin + fixed_rank);
-    } else if (adaptive_rank > fixed_rank) {
-      std::nth_element(begin + fixed_rank + 1, begin + adaptive_rank, magnitudes_.end());
-    }
-    const double fixed_m = magnitudes_[fixed_rank];
-    const double adaptive_m =
-        std::max({options_.adaptive_trim_floor_m, pose_uncertainty_m,
-                  options_.adaptive_trim_multiplier * magnitudes_[adaptive_rank]});
     const double threshold_m =
-        frozen_threshold_m_ > 0.0 ? frozen_threshold_m_ : std::min(fixed_m, adaptive_m);
+        frozen_threshold_m_ > 0.0 ? frozen_threshold_m_ : trimThreshold(pose_uncertainty_m);
     last_threshold_m_ = threshold_m;
     for (const Correspondence& c : all_) {
       if (std::abs(c.residual_m) <= threshold_m) {
         kept_.push_back(c);
       }
     }
+  }
+
+  /// The trimming threshold of all_ [m]: the smaller of the fixed percentile (the largest
+  /// residual still kept) and the adaptive threshold.
+  double trimThreshold(double pose_uncertainty_m)
+  {
+    const std::size_t n = all_.size();
+    auto rankOf = [n](double fraction) {
+      return static_cast<std::size_t>(
+          std::clamp(std::ceil(fraction * static_cast<double>(n)) - 1.0, 0.0, n - 1.0));
+    };
+    const std::size_t fixed_rank = rankOf(options_.trim_keep_fraction);
+    const double fixed_m = rankedMagnitude(fixed_rank);
+    // The adaptive threshold matters only when it can fall below the fixed one: not when its
+    // floor already reaches it (then its quantile need not be selected at all).
+    const double floor_m = std::max(options_.adaptive_trim_floor_m, pose_uncertainty_m);
+    if (floor_m >= fixed_m) {
+      return fixed_m;
+    }
+    const std::size_t adaptive_rank = rankOf(options_.adaptive_trim_quantile);
+    const double adaptive_m =
+        std::max(floor_m, options_.adaptive_trim_multiplier * rankedMagnitude(adaptive_rank));
+    return std::min(fixed_m, adaptive_m);
+  }
+
+  /// The rank-th smallest |residual| of all_ (0-based) [m]. Ranks in the top quarter, as the
+  /// fixed percentile's, come from a min-heap of the largest ones (one pass, mostly
+  /// comparisons); others from a selection over all of them.
+  double rankedMagnitude(std::size_t rank)
+  {
+    const std::size_t n = all_.size();
+    const std::size_t from_top = n - rank;  // the answer is the from_top-th largest
+    if (4 * from_top <= n) {
+      magnitudes_.clear();
+      for (const Correspondence& c : all_) {
+        const double magnitude = std::abs(c.residual_m);
+        if (magnitudes_.size() < from_top) {
+          magnitudes_.push_back(magnitude);
+          std::push_heap(magnitudes_.begin(), magnitudes_.end(), std::greater<double>());
+        } else if (magnitude > magnitudes_.front()) {
+          std::pop_heap(magnitudes_.begin(), magnitudes_.end(), std::greater<double>());
+          magnitudes_.back() = magnitude;
+          std::push_heap(magnitudes_.begin(), magnitudes_.end(), std::greater<double>());
+        }
+      }
+      return magnitudes_.front();
+    }
+    magnitudes_.resize(n);
+    for (std::size_t k = 0; k < n; ++k) {
+      magnitudes_[k] = std::abs(all_[k].residual_m);
+    }
+    std::nth_element(magnitudes_.begin(), magnitudes_.begin() + rank, magnitudes_.end());
+    return magnitudes_[rank];
   }
 
   /// From now on trims at the last threshold: the trimmed set no longer follows the residual
