@@ -147,7 +147,17 @@ public:
     if (floor_m >= fixed_m) {
       return fixed_m;
     }
+    // Nor when multiplier times the quantile reaches it, i.e. when at most adaptive_rank
+    // residuals stay below it after multiplying (a count, no selection; exact, as multiplying
+    // by a positive number keeps the order).
     const std::size_t adaptive_rank = rankOf(options_.adaptive_trim_quantile);
+    std::size_t below = 0;
+    for (const Correspondence& c : all_) {
+      below += options_.adaptive_trim_multiplier * std::abs(c.residual_m) < fixed_m ? 1 : 0;
+    }
+    if (below <= adaptive_rank) {
+      return fixed_m;
+    }
     const double adaptive_m =
         std::max(floor_m, options_.adaptive_trim_multiplier * rankedMagnitude(adaptive_rank));
     return std::min(fixed_m, adaptive_m);
