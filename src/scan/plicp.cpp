@@ -39,23 +39,22 @@ struct MatcherBuffers
 };
 
 /// Everything one match needs, built once per call. At most one Matcher per thread exists at a
-/// time (it uses the thread's MatcherBuffers).
+/// time (it uses the thread's MatcherBuffers). `search` is over the reference scan's points.
 class Matcher
 {
 public:
-  Matcher(const PreparedScan& reference, const PreparedScan& current, const PlicpOptions& options)
+  Matcher(const PreparedScan& reference, const PreparedScan& current, const PlicpOptions& options,
+          const NearestPointSearch& search)
       : reference_(reference),
         current_(current),
         options_(options),
         cos_max_normal_angle_(std::cos(options.max_normal_angle_rad)),
+        search_(search),
         all_(buffers().all),
         kept_(buffers().kept),
         magnitudes_(buffers().magnitudes),
         tracks_(buffers().tracks)
   {
-    search_ = options.correspondence_search == CorrespondenceSearch::kKdTree
-                  ? makeKdTreeSearch(reference.points, reference.lines)
-                  : makeAngularSearch(reference.points, reference.lines);
     double range2_sum_m2 = 0.0;
     for (const double range_m : current.points.ranges_m) {
       range2_sum_m2 += range_m * range_m;
@@ -91,9 +90,9 @@ public:
       // (the same surface seen from the same side).
       const Eigen::Vector2d query_normal =
           lines.fitted[i] != 0 ? Eigen::Vector2d(R * lines.normals[i]) : Eigen::Vector2d::Zero();
-      const int j = search_->nearestTracked(q, query_normal, cos_max_normal_angle_,
-                                            options_.max_correspondence_distance_m, margin_m,
-                                            tracks_[i], last_match);
+      const int j = search_.nearestTracked(q, query_normal, cos_max_normal_angle_,
+                                           options_.max_correspondence_distance_m, margin_m,
+                                           tracks_[i], last_match);
       if (j < 0) {
         continue;
       }
@@ -248,7 +247,7 @@ private:
   const PreparedScan& current_;
   const PlicpOptions& options_;
   const double cos_max_normal_angle_;
-  std::unique_ptr<NearestPointSearch> search_;
+  const NearestPointSearch& search_;
   std::vector<Correspondence>& all_;
   std::vector<Correspondence>& kept_;
   std::vector<double>& magnitudes_;
@@ -325,9 +324,11 @@ namespace {
 /// wider margins cost more visits than they save.
 constexpr double kMaxSearchMarginFraction = 0.04;
 
-/// One match from one initial guess (matchScans without the ambiguity check).
+/// One match from one initial guess (matchScans without the ambiguity check). Builds the
+/// search over the reference scan into `search` unless an earlier match of the same scans did.
 PlicpResult matchOnce(const PreparedScan& reference, const PreparedScan& current,
-                      const Pose2& T_ref_new_guess, const PlicpOptions& options)
+                      const Pose2& T_ref_new_guess, const PlicpOptions& options,
+                      std::unique_ptr<NearestPointSearch>& search)
 {
   PlicpResult result;
   result.T_ref_new = T_ref_new_guess;
@@ -341,7 +342,12 @@ PlicpResult matchOnce(const PreparedScan& reference, const PreparedScan& current
                        std::to_string(options.min_points));
   }
 
-  Matcher matcher(reference, current, options);
+  if (!search) {
+    search = options.correspondence_search == CorrespondenceSearch::kKdTree
+                 ? makeKdTreeSearch(reference.points, reference.lines)
+                 : makeAngularSearch(reference.points, reference.lines);
+  }
+  Matcher matcher(reference, current, options, *search);
   Pose2 T_ref_new = T_ref_new_guess;
   // The last few iterates, for cycle detection.
   std::array<Pose2, 8> recent;
@@ -489,7 +495,8 @@ bool weakMatch(const PlicpResult& result, const PlicpOptions& options)
 /// solution; a clearly better fit replaces it, an equally good one elsewhere widens its
 /// covariance to cover both.
 PlicpResult checkAmbiguity(const PreparedScan& reference, const PreparedScan& current,
-                           PlicpResult best, const PlicpOptions& options)
+                           PlicpResult best, const PlicpOptions& options,
+                           std::unique_ptr<NearestPointSearch>& search)
 {
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(best.covariance.topLeftCorner<2, 2>());
   const Eigen::Vector2d weakest = eigen.eigenvectors().col(1);
@@ -504,7 +511,7 @@ PlicpResult checkAmbiguity(const PreparedScan& reference, const PreparedScan& cu
         Eigen::Vector3d(0.0, 0.0, -options.ambiguity_offset_rad)}) {
     const Pose2 start(solution.x() + offset.x(), solution.y() + offset.y(),
                       solution.theta() + offset.z());
-    PlicpResult other = matchOnce(reference, current, start, options);
+    PlicpResult other = matchOnce(reference, current, start, options, search);
     if (other.converged())
       others.push_back(std::move(other));
   }
@@ -535,9 +542,10 @@ PlicpResult matchScans(const PreparedScan& reference, const PreparedScan& curren
                        const Pose2& T_ref_new_guess, const PlicpOptions& options)
 {
   validate(options);
-  PlicpResult result = matchOnce(reference, current, T_ref_new_guess, options);
+  std::unique_ptr<NearestPointSearch> search;  // built once, shared by the ambiguity check
+  PlicpResult result = matchOnce(reference, current, T_ref_new_guess, options, search);
   if (weakMatch(result, options))
-    result = checkAmbiguity(reference, current, std::move(result), options);
+    result = checkAmbiguity(reference, current, std::move(result), options, search);
   return result;
 }
 
