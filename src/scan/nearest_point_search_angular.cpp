@@ -48,7 +48,8 @@ double approximateAtan2(double y, double x)
 class AngularSearch final : public NearestPointSearch
 {
 public:
-  AngularSearch(const ScanPoints& points, const ScanLines& lines) : position_(points.size(), -1)
+  AngularSearch(const ScanPoints& points, const ScanLines& lines)
+      : NearestPointSearch(points, lines), position_(points.size(), -1)
   {
     points_.reserve(lines.valid_count);
     angles_rad_.reserve(lines.valid_count);
@@ -73,23 +74,27 @@ public:
     buildJumpTables();
   }
 
-  int nearest(const Eigen::Vector2d& query_m, const Eigen::Vector2d& query_normal,
-              double min_cosine, double max_distance_m, double* distance_m, int hint) const override
+  NearestPoint find(const Eigen::Vector2d& query_m, const Eigen::Vector2d& query_normal,
+                    double min_cosine, double max_distance_m, int hint,
+                    double margin_m) const override
   {
     const int n = static_cast<int>(points_.size());
     if (n == 0) {
-      return -1;
+      return {};
     }
     // With a zero query normal every point passes (0 >= 0).
-    Search search{query_m.x(),
-                  query_m.y(),
-                  query_m.norm(),
-                  query_normal.x(),
-                  query_normal.y(),
-                  min_cosine * query_normal.norm(),
-                  max_distance_m * max_distance_m,
-                  -1,
-                  max_distance_m};
+    Search search;
+    search.qx = query_m.x();
+    search.qy = query_m.y();
+    search.query_norm_m = query_m.norm();
+    search.qnx = query_normal.x();
+    search.qny = query_normal.y();
+    search.min_dot = min_cosine * query_normal.norm();
+    search.best_distance2_m2 = max_distance_m * max_distance_m;
+    search.best_distance_m = max_distance_m;
+    search.margin_m = margin_m;
+    search.reach_m = max_distance_m + margin_m;
+    search.reach2_m2 = search.reach_m * search.reach_m;
     const int hint_position =
         hint >= 0 && hint < static_cast<int>(position_.size()) ? position_[hint] : -1;
     int start = -1;
@@ -103,13 +108,14 @@ public:
     }
     walk(search, start, +1);
     walk(search, start - 1, -1);
-    if (search.best < 0) {
-      return -1;
+    NearestPoint answer;
+    // Points not visited lie beyond the reach, visited ones at least at the runner-up's distance.
+    answer.isolation_m = std::min(std::sqrt(search.runner_up2_m2), search.reach_m);
+    if (search.best >= 0) {
+      answer.index = indices_[search.best];
+      answer.distance_m = search.best_distance_m;
     }
-    if (distance_m != nullptr) {
-      *distance_m = std::sqrt(search.best_distance2_m2);
-    }
-    return indices_[search.best];
+    return answer;
   }
 
 private:
@@ -165,8 +171,14 @@ private:
     double qnx, qny;           // query normal; zero: no compatibility test
     double min_dot;            // a point's normal . query normal must reach this
     double best_distance2_m2;  // starts at the squared limit
-    int best;
+    int best = -1;
     double best_distance_m;  // its square root
+    // How far the walks look: the best distance plus the margin (and its square) [m], [m^2].
+    double margin_m;
+    double reach_m;
+    double reach2_m2;
+    // Smallest squared distance of a visited point other than the best [m^2].
+    double runner_up2_m2 = std::numeric_limits<double>::infinity();
     // The query's bearing unwrapped into [first, first + 2 pi) like the sorted ray angles,
     // computed once when needed (NaN until then).
     double bearing_rad = std::numeric_limits<double>::quiet_NaN();
@@ -262,9 +274,16 @@ private:
     const double distance2_m2 = ex * ex + ey * ey;
     if (distance2_m2 < search.best_distance2_m2 &&
         (!p.fitted || p.nx * search.qnx + p.ny * search.qny >= search.min_dot)) {
+      if (search.best >= 0) {
+        search.runner_up2_m2 = std::min(search.runner_up2_m2, search.best_distance2_m2);
+      }
       search.best_distance2_m2 = distance2_m2;
       search.best_distance_m = std::sqrt(distance2_m2);
       search.best = k;
+      search.reach_m = search.best_distance_m + search.margin_m;
+      search.reach2_m2 = search.reach_m * search.reach_m;
+    } else if (k != search.best) {
+      search.runner_up2_m2 = std::min(search.runner_up2_m2, distance2_m2);
     }
   }
 
@@ -298,9 +317,9 @@ private:
     while (k >= 0 && k < n && !angularBoundReached(search, k)) {
       consider(search, k);
       const double range_m = points_[k].range_m;
-      if (range_m > search.query_norm_m + search.best_distance_m) {
+      if (range_m > search.query_norm_m + search.reach_m) {
         k = smaller[k];  // everything up to there is even farther out
-      } else if (range_m < search.query_norm_m - search.best_distance_m) {
+      } else if (range_m < search.query_norm_m - search.reach_m) {
         k = bigger[k];  // everything up to there is even farther in
       } else {
         k += step;
@@ -308,7 +327,8 @@ private:
     }
   }
 
-  /// Whether no point from k on (away from the query's bearing) can beat the best distance:
+  /// Whether no point from k on (away from the query's bearing) lies within the reach (the best
+  /// distance plus the margin):
   /// the distance from the query to the ray through point k bounds the distance of every point
   /// whose bearing differs more: |q| sin(d) below 90 degrees, |q| beyond.
   bool angularBoundReached(const Search& search, int k) const
@@ -317,7 +337,7 @@ private:
     const double along = search.qx * p.dx + search.qy * p.dy;
     const double bound_m =
         along > 0.0 ? std::abs(search.qx * p.dy - search.qy * p.dx) : search.query_norm_m;
-    return bound_m * bound_m >= search.best_distance2_m2;
+    return bound_m * bound_m >= search.reach2_m2;
   }
 
   std::vector<Point> points_;

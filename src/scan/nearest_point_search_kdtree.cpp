@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -13,7 +14,7 @@ namespace {
 class KdTreeSearch final : public NearestPointSearch
 {
 public:
-  KdTreeSearch(const ScanPoints& points, const ScanLines& lines)
+  KdTreeSearch(const ScanPoints& points, const ScanLines& lines) : NearestPointSearch(points, lines)
   {
     auto cloud = std::make_shared<pcl::PointCloud<pcl::PointXY>>();
     for (std::size_t i = 0; i < points.size(); ++i) {
@@ -33,12 +34,13 @@ public:
     }
   }
 
-  int nearest(const Eigen::Vector2d& query_m, const Eigen::Vector2d& query_normal,
-              double min_cosine, double max_distance_m, double* distance_m,
-              int /*hint*/) const override
+  NearestPoint find(const Eigen::Vector2d& query_m, const Eigen::Vector2d& query_normal,
+                    double min_cosine, double max_distance_m, int /*hint*/,
+                    double margin_m) const override
   {
+    NearestPoint answer;
     if (indices_.empty()) {
-      return -1;
+      return answer;
     }
     pcl::PointXY query;
     query.x = static_cast<float>(query_m.x());
@@ -46,24 +48,27 @@ public:
     // Scratch buffers per thread: the search is const and PCL resizes them.
     thread_local std::vector<int> found;
     thread_local std::vector<float> found_distance2;
-    // Sorted by distance: the first compatible one is the answer. The radius is widened by a
-    // float rounding margin and the distances re-checked in double.
-    const double radius_m = max_distance_m * (1.0 + 1e-6) + 1e-6;
+    // Sorted by distance: the first compatible one is the answer. The radius is widened by
+    // 0.1 mm, more than the float rounding of coordinates within 100 m, and the distances
+    // re-checked in double: a point it misses lies beyond reach_m, which bounds the isolation.
+    const double reach_m = max_distance_m + margin_m;
+    const double radius_m = reach_m + 1e-4;
+    answer.isolation_m = reach_m;
     if (tree_.radiusSearch(query, radius_m, found, found_distance2) <= 0) {
-      return -1;
+      return answer;
     }
     const double min_dot = min_cosine * query_normal.norm();
     for (const int k : found) {
       const double distance = (points_m_[k] - query_m).norm();
-      if (distance <= max_distance_m &&
+      if (answer.index < 0 && distance <= max_distance_m &&
           (fitted_[k] == 0 || normals_[k].dot(query_normal) >= min_dot)) {
-        if (distance_m != nullptr) {
-          *distance_m = distance;
-        }
-        return indices_[k];
+        answer.index = indices_[k];
+        answer.distance_m = distance;
+      } else {
+        answer.isolation_m = std::min(answer.isolation_m, distance);
       }
     }
-    return -1;
+    return answer;
   }
 
 private:

@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <memory>
 #include <optional>
 
@@ -25,19 +26,35 @@ std::string formatNumber(double value)
   return buffer;
 }
 
-/// Everything one match needs, built once per call.
+/// The buffers of a Matcher, as long as the new scan. They live per thread and are reused by
+/// the next match: allocating them for every match and handing the memory back to the system
+/// afterwards (glibc trims the heap's top beyond 128 kB) costs up to a fifth of a 1081-ray
+/// match in page faults.
+struct MatcherBuffers
+{
+  std::vector<Correspondence> all;
+  std::vector<Correspondence> kept;
+  std::vector<double> magnitudes;
+  std::vector<NearestTrack> tracks;  // per new point: its last search
+};
+
+/// Everything one match needs, built once per call. At most one Matcher per thread exists at a
+/// time (it uses the thread's MatcherBuffers). `search` is over the reference scan's points.
 class Matcher
 {
 public:
-  Matcher(const PreparedScan& reference, const PreparedScan& current, const PlicpOptions& options)
+  Matcher(const PreparedScan& reference, const PreparedScan& current, const PlicpOptions& options,
+          const NearestPointSearch& search)
       : reference_(reference),
         current_(current),
         options_(options),
-        cos_max_normal_angle_(std::cos(options.max_normal_angle_rad))
+        cos_max_normal_angle_(std::cos(options.max_normal_angle_rad)),
+        search_(search),
+        all_(buffers().all),
+        kept_(buffers().kept),
+        magnitudes_(buffers().magnitudes),
+        tracks_(buffers().tracks)
   {
-    search_ = options.correspondence_search == CorrespondenceSearch::kKdTree
-                  ? makeKdTreeSearch(reference.points, reference.lines)
-                  : makeAngularSearch(reference.points, reference.lines);
     double range2_sum_m2 = 0.0;
     for (const double range_m : current.points.ranges_m) {
       range2_sum_m2 += range_m * range_m;
@@ -45,15 +62,20 @@ public:
     rms_range_m_ = current.points.empty()
                        ? 0.0
                        : std::sqrt(range2_sum_m2 / static_cast<double>(current.points.size()));
+    all_.clear();
+    kept_.clear();
     all_.reserve(current.points.size());
     kept_.reserve(current.points.size());
     magnitudes_.reserve(current.points.size());
-    hints_.assign(current.points.size(), -1);
+    tracks_.assign(current.points.size(), NearestTrack());
   }
 
   /// Matches every new point, transformed by T_ref_new, to the nearest reference point with a
-  /// line whose direction is compatible; fills all_ with the residuals to those lines.
-  void findCorrespondences(const Pose2& T_ref_new)
+  /// line whose direction is compatible; fills all_ with the residuals to those lines. A point
+  /// whose last match provably still holds is not searched again (nearestTracked); a search
+  /// looks `margin_m` [m] beyond its answer so that the answer keeps holding while the pose
+  /// moves by less than about half of that.
+  void findCorrespondences(const Pose2& T_ref_new, double margin_m)
   {
     all_.clear();
     const Eigen::Matrix2d R = Eigen::Rotation2Dd(T_ref_new.theta()).toRotationMatrix();
@@ -61,19 +83,20 @@ public:
     const ScanPoints& points = current_.points;
     const ScanLines& lines = current_.lines;
     const ScanLines& reference_lines = reference_.lines;
+    int last_match = -1;  // a new point's first search starts at its predecessor's match
     for (std::size_t i = 0; i < points.size(); ++i) {
       const Eigen::Vector2d q = R * points.points_m[i] + t;
       // The new point's own line, if it has one, must face the same way as the reference's
       // (the same surface seen from the same side).
       const Eigen::Vector2d query_normal =
           lines.fitted[i] != 0 ? Eigen::Vector2d(R * lines.normals[i]) : Eigen::Vector2d::Zero();
-      // The previous iteration's match is near: it shortens the search.
-      const int j = search_->nearest(q, query_normal, cos_max_normal_angle_,
-                                     options_.max_correspondence_distance_m, nullptr, hints_[i]);
-      hints_[i] = j;
+      const int j = search_.nearestTracked(q, query_normal, cos_max_normal_angle_,
+                                           options_.max_correspondence_distance_m, margin_m,
+                                           tracks_[i], last_match);
       if (j < 0) {
         continue;
       }
+      last_match = j;
       const Eigen::Vector2d& normal = reference_lines.normals[j];
       const Eigen::Vector2d offset = q - reference_lines.centroids_m[j];
       const double along_m = normal.x() * offset.y() - normal.y() * offset.x();  // tangent . offset
@@ -96,37 +119,77 @@ public:
     if (n == 0) {
       return;
     }
-    magnitudes_.resize(n);
-    for (std::size_t k = 0; k < n; ++k) {
-      magnitudes_[k] = std::abs(all_[k].residual_m);
-    }
-    auto rankOf = [n](double fraction) {
-      return static_cast<std::size_t>(
-          std::clamp(std::ceil(fraction * static_cast<double>(n)) - 1.0, 0.0, n - 1.0));
-    };
-    // Fixed percentile (the largest residual still kept), then the adaptive threshold. The
-    // second selection only searches the side of the first one's rank that holds its rank.
-    const std::size_t fixed_rank = rankOf(options_.trim_keep_fraction);
-    const std::size_t adaptive_rank = rankOf(options_.adaptive_trim_quantile);
-    const auto begin = magnitudes_.begin();
-    std::nth_element(begin, begin + fixed_rank, magnitudes_.end());
-    if (adaptive_rank < fixed_rank) {
-      std::nth_element(begin, begin + adaptive_rank, begin + fixed_rank);
-    } else if (adaptive_rank > fixed_rank) {
-      std::nth_element(begin + fixed_rank + 1, begin + adaptive_rank, magnitudes_.end());
-    }
-    const double fixed_m = magnitudes_[fixed_rank];
-    const double adaptive_m =
-        std::max({options_.adaptive_trim_floor_m, pose_uncertainty_m,
-                  options_.adaptive_trim_multiplier * magnitudes_[adaptive_rank]});
     const double threshold_m =
-        frozen_threshold_m_ > 0.0 ? frozen_threshold_m_ : std::min(fixed_m, adaptive_m);
+        frozen_threshold_m_ > 0.0 ? frozen_threshold_m_ : trimThreshold(pose_uncertainty_m);
     last_threshold_m_ = threshold_m;
     for (const Correspondence& c : all_) {
       if (std::abs(c.residual_m) <= threshold_m) {
         kept_.push_back(c);
       }
     }
+  }
+
+  /// The trimming threshold of all_ [m]: the smaller of the fixed percentile (the largest
+  /// residual still kept) and the adaptive threshold.
+  double trimThreshold(double pose_uncertainty_m)
+  {
+    const std::size_t n = all_.size();
+    auto rankOf = [n](double fraction) {
+      return static_cast<std::size_t>(
+          std::clamp(std::ceil(fraction * static_cast<double>(n)) - 1.0, 0.0, n - 1.0));
+    };
+    const std::size_t fixed_rank = rankOf(options_.trim_keep_fraction);
+    const double fixed_m = rankedMagnitude(fixed_rank);
+    // The adaptive threshold matters only when it can fall below the fixed one: not when its
+    // floor already reaches it (then its quantile need not be selected at all).
+    const double floor_m = std::max(options_.adaptive_trim_floor_m, pose_uncertainty_m);
+    if (floor_m >= fixed_m) {
+      return fixed_m;
+    }
+    // Nor when multiplier times the quantile reaches it, i.e. when at most adaptive_rank
+    // residuals stay below it after multiplying (a count, no selection; exact, as multiplying
+    // by a positive number keeps the order).
+    const std::size_t adaptive_rank = rankOf(options_.adaptive_trim_quantile);
+    std::size_t below = 0;
+    for (const Correspondence& c : all_) {
+      below += options_.adaptive_trim_multiplier * std::abs(c.residual_m) < fixed_m ? 1 : 0;
+    }
+    if (below <= adaptive_rank) {
+      return fixed_m;
+    }
+    const double adaptive_m =
+        std::max(floor_m, options_.adaptive_trim_multiplier * rankedMagnitude(adaptive_rank));
+    return std::min(fixed_m, adaptive_m);
+  }
+
+  /// The rank-th smallest |residual| of all_ (0-based) [m]. Ranks in the top quarter, as the
+  /// fixed percentile's, come from a min-heap of the largest ones (one pass, mostly
+  /// comparisons); others from a selection over all of them.
+  double rankedMagnitude(std::size_t rank)
+  {
+    const std::size_t n = all_.size();
+    const std::size_t from_top = n - rank;  // the answer is the from_top-th largest
+    if (4 * from_top <= n) {
+      magnitudes_.clear();
+      for (const Correspondence& c : all_) {
+        const double magnitude = std::abs(c.residual_m);
+        if (magnitudes_.size() < from_top) {
+          magnitudes_.push_back(magnitude);
+          std::push_heap(magnitudes_.begin(), magnitudes_.end(), std::greater<double>());
+        } else if (magnitude > magnitudes_.front()) {
+          std::pop_heap(magnitudes_.begin(), magnitudes_.end(), std::greater<double>());
+          magnitudes_.back() = magnitude;
+          std::push_heap(magnitudes_.begin(), magnitudes_.end(), std::greater<double>());
+        }
+      }
+      return magnitudes_.front();
+    }
+    magnitudes_.resize(n);
+    for (std::size_t k = 0; k < n; ++k) {
+      magnitudes_[k] = std::abs(all_[k].residual_m);
+    }
+    std::nth_element(magnitudes_.begin(), magnitudes_.begin() + rank, magnitudes_.end());
+    return magnitudes_[rank];
   }
 
   /// From now on trims at the last threshold: the trimmed set no longer follows the residual
@@ -174,15 +237,21 @@ public:
   const std::vector<Correspondence>& kept() const { return kept_; }
 
 private:
+  static MatcherBuffers& buffers()
+  {
+    thread_local MatcherBuffers thread_buffers;
+    return thread_buffers;
+  }
+
   const PreparedScan& reference_;
   const PreparedScan& current_;
   const PlicpOptions& options_;
   const double cos_max_normal_angle_;
-  std::unique_ptr<NearestPointSearch> search_;
-  std::vector<Correspondence> all_;
-  std::vector<Correspondence> kept_;
-  std::vector<double> magnitudes_;
-  std::vector<int> hints_;  // per new point: its reference match of the last search, or -1
+  const NearestPointSearch& search_;
+  std::vector<Correspondence>& all_;
+  std::vector<Correspondence>& kept_;
+  std::vector<double>& magnitudes_;
+  std::vector<NearestTrack>& tracks_;
   PointToLineSystem system_;
   double lever_arm_m_ = 1.0;
   double rms_range_m_ = 0.0;
@@ -251,9 +320,15 @@ PreparedScan prepareScan(const Scan& scan, const LineFitOptions& options,
 
 namespace {
 
-/// One match from one initial guess (matchScans without the ambiguity check).
+/// Largest search margin (findCorrespondences), as a fraction of max_correspondence_distance_m:
+/// wider margins cost more visits than they save.
+constexpr double kMaxSearchMarginFraction = 0.04;
+
+/// One match from one initial guess (matchScans without the ambiguity check). Builds the
+/// search over the reference scan into `search` unless an earlier match of the same scans did.
 PlicpResult matchOnce(const PreparedScan& reference, const PreparedScan& current,
-                      const Pose2& T_ref_new_guess, const PlicpOptions& options)
+                      const Pose2& T_ref_new_guess, const PlicpOptions& options,
+                      std::unique_ptr<NearestPointSearch>& search)
 {
   PlicpResult result;
   result.T_ref_new = T_ref_new_guess;
@@ -267,7 +342,12 @@ PlicpResult matchOnce(const PreparedScan& reference, const PreparedScan& current
                        std::to_string(options.min_points));
   }
 
-  Matcher matcher(reference, current, options);
+  if (!search) {
+    search = options.correspondence_search == CorrespondenceSearch::kKdTree
+                 ? makeKdTreeSearch(reference.points, reference.lines)
+                 : makeAngularSearch(reference.points, reference.lines);
+  }
+  Matcher matcher(reference, current, options, *search);
   Pose2 T_ref_new = T_ref_new_guess;
   // The last few iterates, for cycle detection.
   std::array<Pose2, 8> recent;
@@ -282,7 +362,14 @@ PlicpResult matchOnce(const PreparedScan& reference, const PreparedScan& current
     if (iteration == options.max_iterations / 2 + 1) {
       matcher.freezeTrimThreshold();
     }
-    matcher.findCorrespondences(T_ref_new);
+    // The next steps move the points by about the last one's displacement in all (PLICP
+    // converges superlinearly): searches that look twice pose_uncertainty_m beyond their answer
+    // stay valid over them. The first step's size is unknown: no margin (it would rarely hold).
+    const double margin_m =
+        iteration == 1 ? 0.0
+                       : std::min(2.0 * pose_uncertainty_m,
+                                  kMaxSearchMarginFraction * options.max_correspondence_distance_m);
+    matcher.findCorrespondences(T_ref_new, margin_m);
     matcher.trim(pose_uncertainty_m);
     if (matcher.kept().size() < static_cast<std::size_t>(options.min_correspondences)) {
       return failure(result, PlicpStatus::kTooFewCorrespondences,
@@ -336,7 +423,7 @@ PlicpResult matchOnce(const PreparedScan& reference, const PreparedScan& current
   }
 
   // Statistics, degeneracy and covariance at the solution.
-  matcher.findCorrespondences(T_ref_new);
+  matcher.findCorrespondences(T_ref_new, 0.0);
   matcher.trim(0.0);
   const std::vector<Correspondence>& kept = matcher.kept();
   result.correspondence_count = static_cast<int>(kept.size());
@@ -408,7 +495,8 @@ bool weakMatch(const PlicpResult& result, const PlicpOptions& options)
 /// solution; a clearly better fit replaces it, an equally good one elsewhere widens its
 /// covariance to cover both.
 PlicpResult checkAmbiguity(const PreparedScan& reference, const PreparedScan& current,
-                           PlicpResult best, const PlicpOptions& options)
+                           PlicpResult best, const PlicpOptions& options,
+                           std::unique_ptr<NearestPointSearch>& search)
 {
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(best.covariance.topLeftCorner<2, 2>());
   const Eigen::Vector2d weakest = eigen.eigenvectors().col(1);
@@ -423,7 +511,7 @@ PlicpResult checkAmbiguity(const PreparedScan& reference, const PreparedScan& cu
         Eigen::Vector3d(0.0, 0.0, -options.ambiguity_offset_rad)}) {
     const Pose2 start(solution.x() + offset.x(), solution.y() + offset.y(),
                       solution.theta() + offset.z());
-    PlicpResult other = matchOnce(reference, current, start, options);
+    PlicpResult other = matchOnce(reference, current, start, options, search);
     if (other.converged())
       others.push_back(std::move(other));
   }
@@ -454,9 +542,10 @@ PlicpResult matchScans(const PreparedScan& reference, const PreparedScan& curren
                        const Pose2& T_ref_new_guess, const PlicpOptions& options)
 {
   validate(options);
-  PlicpResult result = matchOnce(reference, current, T_ref_new_guess, options);
+  std::unique_ptr<NearestPointSearch> search;  // built once, shared by the ambiguity check
+  PlicpResult result = matchOnce(reference, current, T_ref_new_guess, options, search);
   if (weakMatch(result, options))
-    result = checkAmbiguity(reference, current, std::move(result), options);
+    result = checkAmbiguity(reference, current, std::move(result), options, search);
   return result;
 }
 

@@ -1,8 +1,10 @@
 #include "odometry_calibration/scan/plicp_covariance.h"
 
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <limits>
+#include <vector>
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
@@ -37,6 +39,24 @@ void addOuterProduct(Eigen::Matrix3d& m, const Eigen::Vector3d& v, double w = 1.
   m(1, 1) += w1 * v(1);
   m(1, 2) += w1 * v(2);
   m(2, 2) += w2 * v(2);
+}
+
+using Vector3dList = std::vector<Eigen::Vector3d, Eigen::aligned_allocator<Eigen::Vector3d>>;
+
+/// Per-reference-point sums of plicpCovariance(), kept per thread between calls (as long as the
+/// reference scan; allocating and freeing them per match costs page faults on large scans).
+struct CovarianceBuffers
+{
+  Vector3dList line_sum;
+  Vector3dList line_moment;
+  std::vector<std::uint8_t> line_used;
+  Vector3dList reading_effect;
+};
+
+CovarianceBuffers& threadBuffers()
+{
+  thread_local CovarianceBuffers buffers;
+  return buffers;
 }
 
 std::string formatVector(const Eigen::Vector2d& v, const char* unit)
@@ -143,11 +163,13 @@ Eigen::Matrix3d plicpCovariance(const ScanPoints& reference, const ScanLines& re
   // Per reference line: sums of J_i and of s_i J_i over the new points matched to it, s_i the
   // matched point's along-line offset from the line's centroid.
   const std::size_t reference_count = reference.size();
-  std::vector<Eigen::Vector3d, Eigen::aligned_allocator<Eigen::Vector3d>> line_sum(
-      reference_count, Eigen::Vector3d::Zero());
-  std::vector<Eigen::Vector3d, Eigen::aligned_allocator<Eigen::Vector3d>> line_moment(
-      reference_count, Eigen::Vector3d::Zero());
-  std::vector<std::uint8_t> line_used(reference_count, 0);
+  CovarianceBuffers& buffers = threadBuffers();
+  Vector3dList& line_sum = buffers.line_sum;
+  Vector3dList& line_moment = buffers.line_moment;
+  std::vector<std::uint8_t>& line_used = buffers.line_used;
+  line_sum.assign(reference_count, Eigen::Vector3d::Zero());
+  line_moment.assign(reference_count, Eigen::Vector3d::Zero());
+  line_used.assign(reference_count, 0);
 
   for (const Correspondence& c : correspondences) {
     const int j = c.reference_index;
@@ -168,8 +190,8 @@ Eigen::Matrix3d plicpCovariance(const ScanPoints& reference, const ScanLines& re
   // A reference range moves the perpendicular offset d_k of its point by n^T u_k per metre; the
   // total-least-squares line through the window moves by dd_k / K at the centroid and tilts by
   // s_k dd_k / sum(s^2), so a residual at along-offset s changes by -(1/K + s s_k / sum(s^2)) dd_k.
-  std::vector<Eigen::Vector3d, Eigen::aligned_allocator<Eigen::Vector3d>> reading_effect(
-      reference_count, Eigen::Vector3d::Zero());
+  Vector3dList& reading_effect = buffers.reading_effect;
+  reading_effect.assign(reference_count, Eigen::Vector3d::Zero());
   for (std::size_t j = 0; j < reference_count; ++j) {
     if (line_used[j] == 0) {
       continue;

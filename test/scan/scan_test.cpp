@@ -1,4 +1,5 @@
 // Scan -> points (invalid readings), local line fits, and the two nearest-point searches.
+#include <array>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -299,6 +300,123 @@ TEST_P(NearestPointSearchFieldOfView, AngularAndKdTreeAgreeWithBruteForce)
       EXPECT_EQ(angular->nearest(q, normal, min_cosine, max_distance_m, nullptr, hint), expected)
           << "query " << q.transpose() << ", hint " << hint;
     }
+  }
+}
+
+/// The usable reference point nearest to q within max_distance_m with a compatible normal (the
+/// rule of NearestPointSearch::find), by brute force; -1 when none.
+int bruteForceNearest(const ScanPoints& points, const ScanLines& lines, const Eigen::Vector2d& q,
+                      const Eigen::Vector2d& normal, double min_cosine, double max_distance_m)
+{
+  int expected = -1;
+  double best = max_distance_m;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const bool compatible =
+        lines.fitted[i] == 0 || lines.normals[i].dot(normal) >= min_cosine * normal.norm();
+    const double distance = (points.points_m[i] - q).norm();
+    if (lines.valid[i] != 0 && compatible && distance < best) {
+      best = distance;
+      expected = static_cast<int>(i);
+    }
+  }
+  return expected;
+}
+
+TEST_P(NearestPointSearchFieldOfView, IsolationBoundsEveryOtherPoint)
+{
+  const synthetic::World world = synthetic::officeRoom();
+  synthetic::LidarModel lidar;
+  lidar.field_of_view_rad = GetParam();
+  std::mt19937 rng(5);
+  const ScanPoints points =
+      scanToPoints(synthetic::simulateScan(world, Pose2(3, 3, 0.4), lidar, rng));
+  const ScanLines lines = fitScanLines(points, LineFitOptions());
+  const auto angular = makeAngularSearch(points, lines);
+  const auto kdtree = makeKdTreeSearch(points, lines);
+  std::uniform_int_distribution<std::size_t> point_index(0, points.size() - 1);
+  std::normal_distribution<double> offset(0.0, 0.05);
+  std::uniform_real_distribution<double> angle(-M_PI, M_PI);
+  const double min_cosine = std::cos(0.6);
+  int isolated_beyond_answer = 0;
+  for (int query = 0; query < 1500; ++query) {
+    // Near the surfaces, where ICP asks.
+    const Eigen::Vector2d q =
+        points.points_m[point_index(rng)] + Eigen::Vector2d(offset(rng), offset(rng));
+    const double a = angle(rng);
+    const Eigen::Vector2d normal =
+        query % 2 == 0 ? Eigen::Vector2d(std::cos(a), std::sin(a)) : Eigen::Vector2d::Zero();
+    const double max_distance_m = query % 3 == 0 ? 0.03 : 0.5;
+    const double margin_m = std::array<double, 3>{0.0, 0.01, 0.05}[query % 3];
+    const int expected = bruteForceNearest(points, lines, q, normal, min_cosine, max_distance_m);
+    const double reach_m =
+        (expected >= 0 ? (points.points_m[expected] - q).norm() : max_distance_m) + margin_m;
+    double others_m = std::numeric_limits<double>::infinity();  // nearest point but the answer
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      if (lines.valid[i] != 0 && static_cast<int>(i) != expected)
+        others_m = std::min(others_m, (points.points_m[i] - q).norm());
+    }
+    for (const auto* search : {angular.get(), kdtree.get()}) {
+      const NearestPoint answer = search->find(q, normal, min_cosine, max_distance_m, -1, margin_m);
+      ASSERT_EQ(answer.index, expected) << "query " << q.transpose() << ", margin " << margin_m;
+      if (expected >= 0) {
+        EXPECT_NEAR(answer.distance_m, (points.points_m[expected] - q).norm(), 1e-12);
+      }
+      // A bound: no other point nearer than the isolation ...
+      EXPECT_LE(answer.isolation_m, others_m + 1e-12) << "query " << q.transpose();
+      // ... and as large as the margin makes it: up to the reach, unless another point is nearer.
+      EXPECT_GE(answer.isolation_m, std::min(others_m, reach_m) - 1e-12)
+          << "query " << q.transpose() << ", margin " << margin_m;
+    }
+    isolated_beyond_answer +=
+        expected >= 0 &&
+        angular->find(q, normal, min_cosine, max_distance_m, expected, margin_m).isolation_m >
+            reach_m - margin_m + 1e-3;
+  }
+  // The margin buys certificates: most answers are isolated by more than a millimetre.
+  EXPECT_GT(isolated_beyond_answer, 500);
+}
+
+TEST_P(NearestPointSearchFieldOfView, TrackedQueriesAnswerAsSearchesDoWithFewerSearches)
+{
+  const synthetic::World world = synthetic::officeRoom();
+  synthetic::LidarModel lidar;
+  lidar.field_of_view_rad = GetParam();
+  std::mt19937 rng(7);
+  const ScanPoints points =
+      scanToPoints(synthetic::simulateScan(world, Pose2(3, 3, 0.4), lidar, rng));
+  const ScanLines lines = fitScanLines(points, LineFitOptions());
+  const auto angular = makeAngularSearch(points, lines);
+  const auto kdtree = makeKdTreeSearch(points, lines);
+  std::uniform_int_distribution<std::size_t> point_index(0, points.size() - 1);
+  std::normal_distribution<double> unit(0.0, 1.0);
+  const double min_cosine = std::cos(0.6);
+  for (const auto* search : {angular.get(), kdtree.get()}) {
+    int calls = 0;
+    int searches = 0;
+    for (int track_number = 0; track_number < 300; ++track_number) {
+      // A new point over ICP iterations: steps shrinking from 5 cm to nothing, its normal
+      // turning with the pose (sometimes across the compatibility limit of 0.6 rad).
+      Eigen::Vector2d q =
+          points.points_m[point_index(rng)] + 0.05 * Eigen::Vector2d(unit(rng), unit(rng));
+      double normal_angle = std::atan2(q.y(), q.x()) + M_PI + 0.6 * unit(rng);
+      const double max_distance_m = track_number % 4 == 0 ? 0.02 : 0.5;
+      NearestTrack track;
+      for (const double step_m : {0.05, 0.02, 0.005, 0.001, 2e-4, 3e-5, 0.0, 0.0}) {
+        q += step_m * Eigen::Vector2d(unit(rng), unit(rng));
+        normal_angle += 5.0 * step_m * unit(rng);
+        const Eigen::Vector2d normal(std::cos(normal_angle), std::sin(normal_angle));
+        const Eigen::Vector2d searched_at = track.query_m;
+        const int answer =
+            search->nearestTracked(q, normal, min_cosine, max_distance_m, 4.0 * step_m, track);
+        ++calls;
+        searches += track.query_m != searched_at || calls == 1 ? 1 : 0;
+        ASSERT_EQ(answer, bruteForceNearest(points, lines, q, normal, min_cosine, max_distance_m))
+            << "track " << track_number << ", step " << step_m << " m";
+      }
+    }
+    // The margins make most of the later, smaller steps free.
+    EXPECT_LT(searches, 0.5 * calls);
+    EXPECT_GT(searches, 300);  // every track's first call searches
   }
 }
 
