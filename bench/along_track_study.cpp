@@ -18,6 +18,9 @@
 // Usage: study_along_track [--seeds N] [--duration S] [--worlds office,mines_like]
 //                          [--effects SETS]  (e.g. sweep+noise,all; default: each alone, all)
 //                          [--pairs-csv FILE]  (every pair's truth and results, guess too long)
+//                          [--ours-only]  (only ours with the sweep's own motion: ~20x faster)
+//                          [--fallback-max-surface-points N] [--veiling-min-angle-deg D]
+//                          (LineFitOptions of ours; default: the defaults)
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -139,9 +142,9 @@ enum Variant
 
 /// Matches one run's pairs `step` scans apart with every variant.
 void matchRun(const Recorder& run, const sim::Scenario& scenario, std::size_t step,
-              double guess_scale, Tally tallies[kVariants], std::ostream* pairs_csv)
+              double guess_scale, const PlicpOptions& options, bool quick, Tally tallies[kVariants],
+              std::ostream* pairs_csv)
 {
-  const PlicpOptions options;
   const double period = 1.0 / scenario.laser.rate_hz;
   std::vector<Scan> scans;
   std::vector<Pose2> T_world_laser;
@@ -171,15 +174,17 @@ void matchRun(const Recorder& run, const sim::Scenario& scenario, std::size_t st
     const Pose2 truth = between(T_world_laser[k], T_world_laser[k + step]);
     const Pose2 guess =  // a biased odometry
         se2Exp(guess_scale * se2Log(truth)) * Pose2(0.0, 0.0, 0.005);
+    const PlicpResult own = matchScans(
+        prepareScan(scans[k], options.line_fit, ownVelocity(k)),
+        prepareScan(scans[k + step], options.line_fit, ownVelocity(k + step)), guess, options);
+    tallies[kOursOwnSweep].add(own.valid(), own.T_ref_new, truth);
+    if (quick)
+      continue;
     const PreparedScan ref_comp = prepareScan(scans[k], options.line_fit, velocity(k));
     const PreparedScan cur_comp =
         prepareScan(scans[k + step], options.line_fit, velocity(k + step));
     const PlicpResult ours = matchScans(ref_comp, cur_comp, guess, options);
     tallies[kOursCompensated].add(ours.valid(), ours.T_ref_new, truth);
-    const PlicpResult own = matchScans(
-        prepareScan(scans[k], options.line_fit, ownVelocity(k)),
-        prepareScan(scans[k + step], options.line_fit, ownVelocity(k + step)), guess, options);
-    tallies[kOursOwnSweep].add(own.valid(), own.T_ref_new, truth);
     const PreparedScan ref_raw = prepareScan(scans[k], options.line_fit);
     const PreparedScan cur_raw = prepareScan(scans[k + step], options.line_fit);
     const PlicpResult raw = matchScans(ref_raw, cur_raw, guess, options);
@@ -219,8 +224,23 @@ int main(int argc, char** argv)
   std::string worlds = "office,mines_like";
   std::string pairs_csv_path;
   std::string effects_list;
+  PlicpOptions options;  // the defaults, but for the line-fit options given
+  bool quick = false;    // --ours-only: only ours compensated with the sweep's own motion
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
+    if (arg == "--ours-only") {
+      quick = true;
+      continue;
+    }
+    if ((arg == "--fallback-max-surface-points" || arg == "--veiling-min-angle-deg") &&
+        i + 1 < argc) {
+      const double value = std::atof(argv[++i]);
+      if (arg == "--veiling-min-angle-deg")
+        options.line_fit.veiling_min_angle_rad = value * M_PI / 180.0;
+      else
+        options.line_fit.segment_fallback_max_surface_points = static_cast<int>(value);
+      continue;
+    }
     if ((arg == "--seeds" || arg == "--duration" || arg == "--worlds" || arg == "--pairs-csv" ||
          arg == "--effects") &&
         i + 1 < argc) {
@@ -237,9 +257,20 @@ int main(int argc, char** argv)
         pairs_csv_path = value;
     } else {
       std::cerr << "usage: study_along_track [--seeds N] [--duration S] [--worlds a,b] "
-                   "[--effects sweep+noise,...] [--pairs-csv FILE]\n";
+                   "[--effects sweep+noise,...] [--pairs-csv FILE] [--ours-only] "
+                   "[--fallback-max-surface-points N] [--veiling-min-angle-deg D]\n";
       return arg == "-h" || arg == "--help" ? 0 : 2;
     }
+  }
+  try {
+    validate(options);
+  } catch (const std::invalid_argument& error) {
+    std::cerr << "study_along_track: " << error.what() << "\n";
+    return 2;
+  }
+  if (quick && !pairs_csv_path.empty()) {
+    std::cerr << "study_along_track: --pairs-csv needs every variant (not --ours-only)\n";
+    return 2;
   }
   if (seeds < 1 || !(duration_s > 1.0)) {
     std::cerr << "study_along_track: --seeds must be >= 1 and --duration > 1 s\n";
@@ -328,7 +359,8 @@ int main(int argc, char** argv)
             std::ostringstream rows;
             const bool dump = pairs_csv.is_open() && g == 0;
             Tally tallies[kVariants];
-            matchRun(run, scenario, steps[s], guesses[g], tallies, dump ? &rows : nullptr);
+            matchRun(run, scenario, steps[s], guesses[g], options, quick, tallies,
+                     dump ? &rows : nullptr);
             if (dump) {
               std::istringstream lines(rows.str());
               for (std::string line; std::getline(lines, line);)

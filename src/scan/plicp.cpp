@@ -15,6 +15,7 @@
 
 #include "odometry_calibration/scan/nearest_point_search.h"
 #include "odometry_calibration/scan/point_to_line_solver.h"
+#include "odometry_calibration/scan/veiling_points.h"
 
 namespace odometry_calibration {
 namespace {
@@ -314,6 +315,11 @@ PreparedScan prepareScan(const Scan& scan, const LineFitOptions& options,
   validate(options);
   PreparedScan prepared;
   prepared.points = scanToPoints(scan, velocity);
+  if (options.veiling_min_angle_rad > 0.0) {
+    prepared.points = removePoints(prepared.points,
+                                   findVeilingPoints(prepared.points, options.veiling_min_angle_rad,
+                                                     options.veiling_max_ray_gap));
+  }
   prepared.lines = fitScanLines(prepared.points, options);
   return prepared;
 }

@@ -57,6 +57,12 @@ void validate(const LineFitOptions& options, const std::string& prefix)
   require(std::isfinite(options.max_bend_sigmas) && options.max_bend_sigmas > 0.0,
           prefix + "max_bend_sigmas must be a positive number");
   require(options.min_points_one_sided >= 3, prefix + "min_points_one_sided must be at least 3");
+  require(options.segment_fallback_max_surface_points >= 0,
+          prefix + "segment_fallback_max_surface_points must be >= 0 (0: no limit)");
+  require(std::isfinite(options.veiling_min_angle_rad) && options.veiling_min_angle_rad >= 0.0 &&
+              options.veiling_min_angle_rad < 0.5 * M_PI,
+          prefix + "veiling_min_angle_rad must be in [0, pi/2) radians");
+  require(options.veiling_max_ray_gap >= 1, prefix + "veiling_max_ray_gap must be at least 1");
 }
 
 ScanLines fitScanLines(const ScanPoints& points, const LineFitOptions& options)
@@ -182,7 +188,10 @@ ScanLines fitScanLines(const ScanPoints& points, const LineFitOptions& options)
       // line through the point's immediate neighbours on the same surface.
       const int first = std::max(j - 1, surface_start[j]);
       const int last = std::min(j + 1, surface_end[j]);
-      if (!options.segment_fallback || last - first + 1 < 2) {
+      const int surface_points = surface_end[j] - surface_start[j] + 1;
+      if (!options.segment_fallback || last - first + 1 < 2 ||
+          (options.segment_fallback_max_surface_points > 0 &&
+           surface_points > options.segment_fallback_max_surface_points)) {
         continue;
       }
       chosen = fit(first, last);

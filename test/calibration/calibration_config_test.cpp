@@ -23,6 +23,13 @@ TEST(CalibrationConfig, ShippedConfigParses)
   EXPECT_EQ(config.models.joints.names.size(), 2u);
   // 50 turns/s of 2000 ticks: the glitch limit in ticks per second.
   EXPECT_DOUBLE_EQ(channels[0].max_rate_per_s, 1e5);
+  // The line-fit keys of scan_matching reach the matcher's options.
+  const CalibrationConfig tuned = parseCalibrationConfig(
+      "joints: [{name: l, units_per_turn: 100}, {name: r, units_per_turn: 100}]\n"
+      "scan_matching: {segment_fallback_max_surface_points: 4, veiling_min_angle_rad: 0.17}\n",
+      "c.yaml");
+  EXPECT_EQ(tuned.collector.plicp.line_fit.segment_fallback_max_surface_points, 4);
+  EXPECT_DOUBLE_EQ(tuned.collector.plicp.line_fit.veiling_min_angle_rad, 0.17);
 }
 
 TEST(CalibrationConfig, AbsoluteJointsGetAGlitchLimitToo)
@@ -134,6 +141,12 @@ TEST(CalibrationConfig, ErrorsNameTheKey)
             std::string::npos);
   EXPECT_NE(message(joints + "keyframes: {fit_intervals_s: [0, 1]}\n").find("fit_intervals_s"),
             std::string::npos);
+  EXPECT_NE(message(joints + "scan_matching: {segment_fallback_max_surface_points: -1}\n")
+                .find("segment_fallback_max_surface_points"),
+            std::string::npos);
+  EXPECT_NE(
+      message(joints + "scan_matching: {veiling_min_angle_rad: 2}\n").find("veiling_min_angle_rad"),
+      std::string::npos);
   // Wheels in different units cannot share one diff-drive model.
   EXPECT_NE(message("joints: [{name: l, units_per_turn: 100}, {name: r}]\n").find("units_per_turn"),
             std::string::npos);
