@@ -65,8 +65,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     while (stream.getLength() > 0) {
       std::uint8_t type = 0;
       ser::deserialize(stream, type);
-      // roscpp would allocate what the lengths claim before finding the bytes missing (the bag
-      // reader checks the same way before deserialising).
+      // roscpp would allocate what the lengths claim before finding the bytes missing: its
+      // limitation (every node's), not this package's, so such input is not passed on.
       if (!ros_conversions::wireLengthsFit(kWireTypes[type % 4], stream.getData(),
                                            stream.getLength()))
         break;
