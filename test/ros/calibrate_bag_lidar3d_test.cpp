@@ -95,6 +95,21 @@ TEST_F(CalibrateBagLidar3d, LidarPitchedTwoDegreesIsLevelledAndRecoversTheTruth)
   expectTruth(calibrate(config));
 }
 
+TEST_F(CalibrateBagLidar3d, ScanFromPointsPitchedTwoDegreesRecoversTheTruth)
+{
+  // The in-band voxels matched unbinned, each at its own bearing, on the levelled 2 deg run.
+  scenario_.laser.pitch_rad = kPitch;
+  std::string config = test_support::readFile(kConfig + "/diff_drive_lidar3d.yaml");
+  for (const auto& [from, to] :
+       {std::pair<std::string, std::string>{"    scan_from: bins ", "    scan_from: points "},
+        {"    pitch_rad: 0.0 ", "    pitch_rad: " + std::to_string(kPitch) + " "}}) {
+    const auto at = config.find(from);
+    ASSERT_NE(at, std::string::npos) << from;
+    config.replace(at, from.size(), to);
+  }
+  expectTruth(calibrate(config));
+}
+
 TEST_F(CalibrateBagLidar3d, AbsolutePointStampsCalibrateAsWellAsRelativeOnes)
 {
   // The same run written with Velodyne's relative `time` (FLOAT32 s after the stamp) and with
