@@ -10,6 +10,7 @@
 #include "odometry_calibration/models/sensor_pose_yaml.h"
 
 #include "odometry_calibration/models/observability.h"
+#include "odometry_calibration/models/parameter_estimates.h"
 #include "odometry_calibration/models/sensor_motion_fit.h"
 
 namespace odometry_calibration {
@@ -143,18 +144,13 @@ ModelReport DiffDriveModel::fit(const std::vector<MotionPair>& pairs)
   report.has_extrinsic = true;
   report.T_base_sensor = T_base_sensor_;
 
-  const char* names[] = {"left_wheel_radius", "right_wheel_radius", "wheel_separation",
-                         "sensor_x",          "sensor_y",           "sensor_theta"};
-  const char* units[] = {"m", "m", "m", "m", "m", "rad"};
   Eigen::Matrix<double, 6, 1> start, value;
   start << start_intrinsics, start_pose.vector();
   value << intrinsics_, T_base_sensor_.vector();
-  for (int i = 0; i < 6; ++i) {
-    const double sigma = fit.covariance_available && covariance_(i, i) > 0.0
-                             ? std::sqrt(covariance_(i, i))
-                             : std::numeric_limits<double>::quiet_NaN();
-    report.parameters.push_back({names[i], units[i], start(i), value(i), sigma});
-  }
+  report.parameters = parameterEstimates(
+      {"left_wheel_radius", "right_wheel_radius", "wheel_separation", "sensor_x", "sensor_y",
+       "sensor_theta"},
+      {"m", "m", "m", "m", "m", "rad"}, start, value, covariance_, fit.covariance_available);
   ObservabilityHints hints;
   hints.unobservable_without_turning = "wheel_separation, the radii's difference and sensor_y";
   hints.confused_by_one_way_turns =

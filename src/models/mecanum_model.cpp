@@ -11,6 +11,7 @@
 #include "odometry_calibration/models/sensor_pose_yaml.h"
 
 #include "odometry_calibration/models/observability.h"
+#include "odometry_calibration/models/parameter_estimates.h"
 #include "odometry_calibration/models/sensor_motion_fit.h"
 
 namespace odometry_calibration {
@@ -205,24 +206,19 @@ ModelReport MecanumModel::fit(const std::vector<MotionPair>& pairs)
   report.has_extrinsic = true;
   report.T_base_sensor = T_base_sensor_;
 
-  const char* names[] = {"wheel_radius_front_left",
-                         "wheel_radius_front_right",
-                         "wheel_radius_rear_left",
-                         "wheel_radius_rear_right",
-                         "lx_plus_ly",
-                         "sensor_x",
-                         "sensor_y",
-                         "sensor_theta"};
-  const char* units[] = {"m", "m", "m", "m", "m", "m", "m", "rad"};
+  const std::vector<std::string> names = {"wheel_radius_front_left",
+                                          "wheel_radius_front_right",
+                                          "wheel_radius_rear_left",
+                                          "wheel_radius_rear_right",
+                                          "lx_plus_ly",
+                                          "sensor_x",
+                                          "sensor_y",
+                                          "sensor_theta"};
   Eigen::Matrix<double, 8, 1> start, value;
   start << start_intrinsics, start_pose.vector();
   value << intrinsics_, T_base_sensor_.vector();
-  for (int i = 0; i < 8; ++i) {
-    const double sigma = fit.covariance_available && covariance_(i, i) > 0.0
-                             ? std::sqrt(covariance_(i, i))
-                             : std::numeric_limits<double>::quiet_NaN();
-    report.parameters.push_back({names[i], units[i], start(i), value(i), sigma});
-  }
+  report.parameters = parameterEstimates(names, {"m", "m", "m", "m", "m", "m", "m", "rad"}, start,
+                                         value, covariance_, fit.covariance_available);
   ObservabilityHints hints;
   hints.unobservable_without_turning = "lx_plus_ly, sensor_x and sensor_y";
   hints.confused_by_one_way_turns =

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "odometry_calibration/models/observability.h"
+#include "odometry_calibration/models/parameter_estimates.h"
 #include "odometry_calibration/models/tricycle_residual.h"
 
 namespace odometry_calibration {
@@ -108,20 +109,14 @@ std::vector<ParameterEstimate> makeEstimates(const TricycleParameters& initial,
                                              const Eigen::Matrix<double, 7, 7>& covariance,
                                              bool covariance_available)
 {
-  const char* names[] = {"steering_scale", "traction_scale", "axis_length", "steering_offset",
-                         "sensor_x",       "sensor_y",       "sensor_theta"};
-  const char* units[] = {"-", "m/turn", "m", "rad", "m", "m", "rad"};
   Eigen::Matrix<double, 7, 1> start;
   start << initial.kinematicVector(), initial.T_base_sensor.vector();
   Eigen::Matrix<double, 7, 1> value;
   value << calibrated.kinematicVector(), calibrated.T_base_sensor.vector();
-  std::vector<ParameterEstimate> estimates;
-  for (int i = 0; i < 7; ++i) {
-    const double sigma = covariance_available ? std::sqrt(std::max(0.0, covariance(i, i)))
-                                              : std::numeric_limits<double>::quiet_NaN();
-    estimates.push_back({names[i], units[i], start(i), value(i), sigma});
-  }
-  return estimates;
+  return parameterEstimates({"steering_scale", "traction_scale", "axis_length", "steering_offset",
+                             "sensor_x", "sensor_y", "sensor_theta"},
+                            {"-", "m/turn", "m", "rad", "m", "m", "rad"}, start, value, covariance,
+                            covariance_available);
 }
 
 }  // namespace

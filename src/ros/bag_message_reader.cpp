@@ -8,6 +8,10 @@
 #include <cstdio>
 #include <cstring>
 #include <utility>
+#include <vector>
+
+#include <ros/serialization.h>
+#include <boost/make_shared.hpp>
 
 #include <geometry_msgs/PoseStamped.h>
 #include <nav_msgs/Odometry.h>
@@ -17,6 +21,7 @@
 
 #include "odometry_calibration/ros/conversions.h"
 #include "odometry_calibration/ros/point_cloud_conversion.h"
+#include "odometry_calibration/ros/wire_length_check.h"
 #include "odometry_calibration/scan/cloud_to_scan.h"
 
 namespace odometry_calibration {
@@ -127,6 +132,36 @@ std::vector<BagInput> BagMessageReader::next()
   return batch;
 }
 
+namespace {
+
+/// The message deserialised, once its claimed string and array lengths are checked against its
+/// bytes (wire_length_check.h: a corrupted count would make roscpp allocate what it claims);
+/// null when the message is of another type. Throws ros::Exception, naming the topic and the
+/// time, when the lengths do not fit: the bag is corrupted. `buffer` is reused between calls.
+template <class Message>
+boost::shared_ptr<Message> instantiateChecked(const rosbag::MessageInstance& message,
+                                              ros_conversions::WireMessage type,
+                                              std::vector<std::uint8_t>* buffer)
+{
+  if (!message.isType<Message>())
+    return nullptr;
+  buffer->resize(message.size());
+  ros::serialization::OStream out(buffer->data(), static_cast<std::uint32_t>(buffer->size()));
+  message.write(out);
+  if (!ros_conversions::wireLengthsFit(type, buffer->data(), buffer->size())) {
+    throw ros::Exception("a " + ros_conversions::wireMessageName(type) + " on " +
+                         message.getTopic() + " at " + std::to_string(message.getTime().toSec()) +
+                         " s claims strings or arrays longer than its " +
+                         std::to_string(buffer->size()) + " bytes");
+  }
+  auto result = boost::make_shared<Message>();
+  ros::serialization::IStream in(buffer->data(), static_cast<std::uint32_t>(buffer->size()));
+  ros::serialization::deserialize(in, *result);
+  return result;
+}
+
+}  // namespace
+
 void BagMessageReader::read(rosbag::View& view, const CalibrationConfig& config)
 {
   const std::vector<EncoderChannelOptions> channels = encoderChannels(config);
@@ -134,6 +169,7 @@ void BagMessageReader::read(rosbag::View& view, const CalibrationConfig& config)
   const double span_s = std::max(1e-9, (view.getEndTime() - view.getBeginTime()).toSec());
   Clock::duration reading{}, converting{}, filtering{};
   std::vector<BagInput> batch;
+  std::vector<std::uint8_t> buffer;
   auto start = Clock::now();
   for (const rosbag::MessageInstance& message : view) {
     {
@@ -144,7 +180,8 @@ void BagMessageReader::read(rosbag::View& view, const CalibrationConfig& config)
     BagInput input;
     input.fraction = (message.getTime().toSec() - begin_s) / span_s;
     if (message.getTopic() == config.joint_state_topic) {
-      const auto joints = message.instantiate<sensor_msgs::JointState>();
+      const auto joints = instantiateChecked<sensor_msgs::JointState>(
+          message, ros_conversions::WireMessage::kJointState, &buffer);
       if (!joints)
         continue;
       const auto converted = Clock::now();
@@ -159,7 +196,8 @@ void BagMessageReader::read(rosbag::View& view, const CalibrationConfig& config)
       start = Clock::now();
       converting += start - converted;
     } else if (config.ego_motion == EgoMotionSource::kScan) {
-      const auto scan = message.instantiate<sensor_msgs::LaserScan>();
+      const auto scan = instantiateChecked<sensor_msgs::LaserScan>(
+          message, ros_conversions::WireMessage::kLaserScan, &buffer);
       if (!scan)
         continue;
       const auto converted = Clock::now();
@@ -170,7 +208,8 @@ void BagMessageReader::read(rosbag::View& view, const CalibrationConfig& config)
       start = Clock::now();
       converting += start - converted;
     } else if (config.ego_motion == EgoMotionSource::kCloud) {
-      const auto cloud = message.instantiate<sensor_msgs::PointCloud2>();
+      const auto cloud = instantiateChecked<sensor_msgs::PointCloud2>(
+          message, ros_conversions::WireMessage::kPointCloud2, &buffer);
       if (!cloud)
         continue;
       const auto converted = Clock::now();
@@ -209,10 +248,12 @@ void BagMessageReader::read(rosbag::View& view, const CalibrationConfig& config)
       }
     } else {
       input.kind = BagInput::Kind::kPose;
-      if (const auto odometry = message.instantiate<nav_msgs::Odometry>()) {
+      if (const auto odometry = instantiateChecked<nav_msgs::Odometry>(
+              message, ros_conversions::WireMessage::kOdometry, &buffer)) {
         input.stamp_s = odometry->header.stamp.toSec();
         input.pose = ros_conversions::fromPoseMsg(odometry->pose.pose);
-      } else if (const auto stamped = message.instantiate<geometry_msgs::PoseStamped>()) {
+      } else if (const auto stamped = instantiateChecked<geometry_msgs::PoseStamped>(
+                     message, ros_conversions::WireMessage::kPoseStamped, &buffer)) {
         input.stamp_s = stamped->header.stamp.toSec();
         input.pose = ros_conversions::fromPoseMsg(stamped->pose);
       } else {

@@ -139,6 +139,8 @@ LidarCloud fromPointCloud2Msg(const sensor_msgs::PointCloud2& message,
   pcl_message.fields.push_back(stand_in);
   LidarCloud result;
   result.cloud = std::make_shared<TimedCloud>();
+  if (std::size_t{message.width} * message.height == 0)
+    return result;  // no points (PCL's conversion would index the empty cloud's first point)
   pcl::fromPCLPointCloud2(pcl_message, *result.cloud);
   TimedCloud& cloud = *result.cloud;
 

@@ -90,6 +90,33 @@ struct Deformation
   }
 };
 
+/// A differential drive's two sides commanded (v, omega) by a controller that knows the geometric
+/// separation b: wheel rates (v -+ b omega / 2) / r [rad/s], and the ground speeds the (possibly
+/// deformed) wheels realise at those rates [m/s]. `right_wheel` is the right side's wheel index
+/// in the deformation (the left side's is 0, the one that can be out of round).
+struct SideSpeeds
+{
+  double rate_left_radps = 0.0, rate_right_radps = 0.0;
+  double speed_left_mps = 0.0, speed_right_mps = 0.0;
+};
+
+SideSpeeds differentialSideSpeeds(const Twist2& command, double separation_m, double r_left_m,
+                                  double r_right_m, const Deformation& deformation,
+                                  const Eigen::VectorXd& joint_rad, int right_wheel)
+{
+  SideSpeeds sides;
+  sides.rate_left_radps = (command.vx_mps - 0.5 * separation_m * command.omega_radps) / r_left_m;
+  sides.rate_right_radps = (command.vx_mps + 0.5 * separation_m * command.omega_radps) / r_right_m;
+  sides.speed_left_mps =
+      deformation.effectiveRadius(0, r_left_m, joint_rad(0), sides.rate_left_radps) *
+      sides.rate_left_radps;
+  sides.speed_right_mps =
+      deformation.effectiveRadius(right_wheel, r_right_m, joint_rad(right_wheel),
+                                  sides.rate_right_radps) *
+      sides.rate_right_radps;
+  return sides;
+}
+
 class DiffDrive : public Robot
 {
 public:
@@ -114,12 +141,10 @@ public:
 
   Twist2 step(const Twist2& command, double dt_s, Eigen::VectorXd* joint_rad) const override
   {
-    const double rate_left = (command.vx_mps - 0.5 * separation_ * command.omega_radps) / r_left_;
-    const double rate_right = (command.vx_mps + 0.5 * separation_ * command.omega_radps) / r_right_;
-    const double speed_left =
-        deformation_.effectiveRadius(0, r_left_, (*joint_rad)(0), rate_left) * rate_left;
-    const double speed_right =
-        deformation_.effectiveRadius(1, r_right_, (*joint_rad)(1), rate_right) * rate_right;
+    const SideSpeeds sides = differentialSideSpeeds(command, separation_, r_left_, r_right_,
+                                                    deformation_, *joint_rad, 1);
+    const double rate_left = sides.rate_left_radps, rate_right = sides.rate_right_radps;
+    const double speed_left = sides.speed_left_mps, speed_right = sides.speed_right_mps;
     // The left wheel may roll in a direction turned by the misalignment angle.
     const double misalignment = deformation_.axis_misalignment_rad;
     const double left_x = speed_left * std::cos(misalignment);
@@ -375,12 +400,10 @@ public:
   {
     // The controller knows the geometric values only; the turn rate realised is smaller by the
     // slip factor.
-    const double rate_left = (command.vx_mps - 0.5 * separation_ * command.omega_radps) / r_left_;
-    const double rate_right = (command.vx_mps + 0.5 * separation_ * command.omega_radps) / r_right_;
-    const double speed_left =
-        deformation_.effectiveRadius(0, r_left_, (*joint_rad)(0), rate_left) * rate_left;
-    const double speed_right =
-        deformation_.effectiveRadius(2, r_right_, (*joint_rad)(2), rate_right) * rate_right;
+    const SideSpeeds sides = differentialSideSpeeds(command, separation_, r_left_, r_right_,
+                                                    deformation_, *joint_rad, 2);
+    const double rate_left = sides.rate_left_radps, rate_right = sides.rate_right_radps;
+    const double speed_left = sides.speed_left_mps, speed_right = sides.speed_right_mps;
     (*joint_rad)(0) += rate_left * dt_s;
     (*joint_rad)(1) += rate_left * dt_s;
     (*joint_rad)(2) += rate_right * dt_s;

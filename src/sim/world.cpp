@@ -84,13 +84,12 @@ double World::castRay(const Eigen::Vector2d& origin, double angle_rad, double ma
   return castRayHit(origin, angle_rad, max_range_m).range_m;
 }
 
-RayHit World::castRayHit(const Eigen::Vector2d& origin, double angle_rad, double max_range_m) const
+template <class Accept>
+int World::nearestCrossing(const Eigen::Vector2d& origin, double ux, double uy, double& best,
+                           Accept accept) const
 {
   // Ray o + t u (t >= 0) against segment a + s d (0 <= s <= 1): solve with 2D cross products,
   // t = ((a - o) x d) / (u x d), s = ((a - o) x u) / (u x d).
-  const double ux = std::cos(angle_rad);
-  const double uy = std::sin(angle_rad);
-  double best = max_range_m;
   int hit = -1;
   const std::size_t n = ax_.size();
   for (std::size_t i = 0; i < n; ++i) {
@@ -102,11 +101,20 @@ RayHit World::castRayHit(const Eigen::Vector2d& origin, double angle_rad, double
     const double wy = ay_[i] - origin.y();
     const double t = (wx * dy_[i] - wy * dx_[i]) / denominator;
     const double s = (wx * uy - wy * ux) / denominator;
-    if (t > 0.0 && t <= best && s >= 0.0 && s <= 1.0) {
+    if (t > 0.0 && t <= best && s >= 0.0 && s <= 1.0 && accept(i, t)) {
       best = t;
       hit = static_cast<int>(i);
     }
   }
+  return hit;
+}
+
+RayHit World::castRayHit(const Eigen::Vector2d& origin, double angle_rad, double max_range_m) const
+{
+  const double ux = std::cos(angle_rad);
+  const double uy = std::sin(angle_rad);
+  double best = max_range_m;
+  const int hit = nearestCrossing(origin, ux, uy, best, [](std::size_t, double) { return true; });
   RayHit result;
   if (hit >= 0) {
     const std::size_t i = static_cast<std::size_t>(hit);
@@ -121,36 +129,21 @@ RayHit World::castRayHit(const Eigen::Vector2d& origin, double angle_rad, double
 double World::castRay3d(const Eigen::Vector2d& origin, double origin_z_m, double angle_rad,
                         double elevation_rad, double max_range_m) const
 {
-  // The same 2D intersection as castRay, t being the horizontal distance; the ray is at height
-  // z(t) = origin_z + t tan(elevation) there, and hits the wall only below its top.
-  const double ux = std::cos(angle_rad);
-  const double uy = std::sin(angle_rad);
+  // The same 2D intersection as castRayHit, t being the horizontal distance; the ray is at
+  // height z(t) = origin_z + t tan(elevation) there, and hits the wall only below its top.
   const double slope = std::tan(elevation_rad);
-  const double horizontal_max = max_range_m * std::cos(elevation_rad);
-  double best = horizontal_max;
+  double best = max_range_m * std::cos(elevation_rad);
   bool hit = false;
   if (slope < 0.0 && origin_z_m / -slope <= best) {  // the floor
     best = origin_z_m / -slope;
     hit = true;
   }
-  const std::size_t n = ax_.size();
-  for (std::size_t i = 0; i < n; ++i) {
-    const double denominator = ux * dy_[i] - uy * dx_[i];
-    if (std::abs(denominator) < 1e-15) {
-      continue;  // parallel
-    }
-    const double wx = ax_[i] - origin.x();
-    const double wy = ay_[i] - origin.y();
-    const double t = (wx * dy_[i] - wy * dx_[i]) / denominator;
-    const double s = (wx * uy - wy * ux) / denominator;
-    if (t > 0.0 && t <= best && s >= 0.0 && s <= 1.0) {
-      const double z = origin_z_m + t * slope;
-      if (z >= 0.0 && z <= height_[i]) {
-        best = t;
-        hit = true;
-      }
-    }
-  }
+  const int wall = nearestCrossing(origin, std::cos(angle_rad), std::sin(angle_rad), best,
+                                   [&](std::size_t i, double t) {
+                                     const double z = origin_z_m + t * slope;
+                                     return z >= 0.0 && z <= height_[i];
+                                   });
+  hit = hit || wall >= 0;
   return hit ? best / std::cos(elevation_rad) : std::numeric_limits<double>::infinity();
 }
 

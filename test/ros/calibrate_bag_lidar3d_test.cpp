@@ -192,7 +192,8 @@ sensor_msgs::PointCloud2 cloudMessage(const std::vector<float>& xyz, const std::
   message.width = static_cast<std::uint32_t>(xyz.size() / 3);
   message.row_step = message.point_step * message.width;
   message.data.resize(message.row_step);
-  std::memcpy(message.data.data(), xyz.data(), message.data.size());
+  if (!message.data.empty())
+    std::memcpy(message.data.data(), xyz.data(), message.data.size());
   return message;
 }
 

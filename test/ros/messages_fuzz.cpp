@@ -5,7 +5,6 @@
 // with the diff_drive.yaml configuration. The first byte picks the ego-motion source (scans or
 // poses), as the node's configuration does.
 #include <cstdint>
-#include <cstring>
 #include <memory>
 #include <stdexcept>
 
@@ -18,6 +17,7 @@
 #include "odometry_calibration/calibration/calibration_config.h"
 #include "odometry_calibration/calibration/odometry_integrator.h"
 #include "odometry_calibration/ros/conversions.h"
+#include "odometry_calibration/ros/wire_length_check.h"
 
 using namespace odometry_calibration;
 namespace ser = ros::serialization;
@@ -34,87 +34,10 @@ const CalibrationConfig& config()
   return loaded;
 }
 
-/// Walks the wire format of one message of `type` (0 JointState, 1 LaserScan, 2 Odometry,
-/// 3 PoseStamped) and says whether every array and string length it claims fits in the bytes
-/// that are there. roscpp resizes an array to its claimed length before it checks (a 4-byte
-/// field can claim 32 GB, and ASan's operator new aborts instead of throwing): a roscpp
-/// limitation of every node, not this package's, so such input is not passed on.
-class LengthCheck
-{
-public:
-  LengthCheck(const std::uint8_t* data, std::size_t size) : data_(data), left_(size) {}
-
-  bool message(int type)
-  {
-    header();
-    switch (type) {
-      case 0:
-        array(0);  // name: strings
-        array(8);  // position
-        array(8);  // velocity
-        array(8);  // effort
-        break;
-      case 1:
-        skip(7 * 4);  // angle_min ... range_max
-        array(4);     // ranges
-        array(4);     // intensities
-        break;
-      case 2:
-        string();                     // child_frame_id
-        skip((7 + 36 + 6 + 36) * 8);  // pose with covariance, twist with covariance
-        break;
-      default:
-        skip(7 * 8);  // pose
-        break;
-    }
-    return ok_;
-  }
-
-private:
-  std::uint32_t u32()
-  {
-    std::uint32_t value = 0;
-    if (left_ >= 4)
-      std::memcpy(&value, data_, 4);
-    skip(4);
-    return value;
-  }
-  void skip(std::size_t n)
-  {
-    if (n > left_) {
-      ok_ = false;
-      left_ = 0;
-      return;
-    }
-    data_ += n;
-    left_ -= n;
-  }
-  void string() { skip(u32()); }
-  void header()
-  {
-    skip(12);  // seq, stamp
-    string();  // frame_id
-  }
-  /// An array of fixed-size elements, or of strings (element_size 0).
-  void array(std::size_t element_size)
-  {
-    const std::uint32_t count = u32();
-    if (element_size > 0) {
-      skip(std::size_t{count} * element_size);
-      return;
-    }
-    if (count > left_ / 4) {  // each string takes at least its 4-byte length
-      skip(left_ + 1);
-      return;
-    }
-    for (std::uint32_t i = 0; i < count && ok_; ++i)
-      string();
-  }
-
-  const std::uint8_t* data_;
-  std::size_t left_;
-  bool ok_ = true;
-};
+/// The wire types of the input's type byte (mod 4).
+const ros_conversions::WireMessage kWireTypes[] = {
+    ros_conversions::WireMessage::kJointState, ros_conversions::WireMessage::kLaserScan,
+    ros_conversions::WireMessage::kOdometry, ros_conversions::WireMessage::kPoseStamped};
 
 template <class Message>
 Message read(ser::IStream& stream)
@@ -142,8 +65,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     while (stream.getLength() > 0) {
       std::uint8_t type = 0;
       ser::deserialize(stream, type);
-      if (!LengthCheck(stream.getData(), stream.getLength()).message(type % 4))
-        break;  // roscpp would allocate what the lengths claim, then find the bytes missing
+      // roscpp would allocate what the lengths claim before finding the bytes missing (the bag
+      // reader checks the same way before deserialising).
+      if (!ros_conversions::wireLengthsFit(kWireTypes[type % 4], stream.getData(),
+                                           stream.getLength()))
+        break;
       try {
         switch (type % 4) {
           case 0: {

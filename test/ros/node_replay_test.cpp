@@ -24,6 +24,7 @@
 #include "odometry_calibration/CalibrationPair.h"
 #include "odometry_calibration/data/pairs_csv.h"
 #include "odometry_calibration/ros/conversions.h"
+#include "trajectory_comparison.h"
 
 namespace odometry_calibration {
 namespace {
@@ -33,21 +34,7 @@ using test::waitFor;
 
 const std::string kNode = "/odometry_calibration";
 
-struct Stamped
-{
-  double stamp_s;
-  Pose2 pose;
-};
-
-/// The entry nearest in time.
-Pose2 nearest(const std::vector<Stamped>& poses, double stamp_s)
-{
-  const Stamped* best = &poses.front();
-  for (const Stamped& entry : poses)
-    if (std::abs(entry.stamp_s - stamp_s) < std::abs(best->stamp_s - stamp_s))
-      best = &entry;
-  return best->pose;
-}
+using test::Stamped;
 
 std::map<std::string, double> parameters(const odometry_calibration::CalibrationReport& report)
 {
@@ -154,41 +141,11 @@ TEST(NodeReplay, FitsMidRunPublishesCorrectedOdometryAndMatchesTheBagTool)
 
   // ~odom after the fit against the ground truth, compared with the nominal odometry over the
   // same interval.
-  std::vector<Stamped> after;
-  for (const Stamped& entry : odometry)
-    if (entry.stamp_s > fit_stamp_s)
-      after.push_back(entry);
-  ASSERT_GT(after.size(), 500u);
   EXPECT_EQ(odom_parent, "odom");
   EXPECT_EQ(odom_child, "base_link");
   EXPECT_GT(odom_variance_x, 0.0);
-  ASSERT_FALSE(ground_truth.empty());
-  ASSERT_GT(nominal_path.poses.size(), 100u);
-  std::vector<Stamped> nominal;
-  for (const auto& pose : nominal_path.poses)
-    nominal.push_back({pose.header.stamp.toSec(), ros_conversions::fromPoseMsg(pose.pose)});
-  // After a fit the odometry is integrated again from the start with the calibrated model:
-  // compare the whole run with the ground truth (odom = the truth's start pose).
-  const double t1 = after.back().stamp_s;
-  const Pose2 truth_start = ground_truth.front().pose;
-  const Pose2 truth_end = between(truth_start, nearest(ground_truth, t1));
-  auto error = [&](const Pose2& pose) {
-    const Pose2 e = between(truth_end, pose);
-    return std::hypot(e.x(), e.y());
-  };
-  const double corrected_error = error(after.back().pose);
-  const double nominal_error = error(nearest(nominal, t1));
-  double distance = 0.0;
-  for (std::size_t i = 1; i < ground_truth.size() && ground_truth[i].stamp_s <= t1; ++i) {
-    const Pose2 step = between(ground_truth[i - 1].pose, ground_truth[i].pose);
-    distance += std::hypot(step.x(), step.y());
-  }
-  RecordProperty("distance_m", std::to_string(distance));
-  RecordProperty("corrected_end_error_m", std::to_string(corrected_error));
-  RecordProperty("nominal_end_error_m", std::to_string(nominal_error));
-  EXPECT_GT(distance, 10.0);
-  EXPECT_LT(corrected_error, 0.005 * distance);
-  EXPECT_LT(corrected_error, 0.1 * nominal_error);
+  ASSERT_NO_FATAL_FAILURE(test::expectCorrectedOdometryEndsNearTheTruth(
+      odometry, fit_stamp_s, ground_truth, nominal_path));
 
   // The guidance names every diff_drive parameter with its sigma and target; the health
   // monitor watches the fit and, the robot being unchanged, raises no alarm.

@@ -69,6 +69,13 @@ public:
   const std::vector<Segment>& segments() const { return segments_; }
 
 private:
+  /// The nearest segment the ray origin + t (ux, uy), 0 < t <= best, crosses and `accept(i, t)`
+  /// admits; `best` becomes its t. Returns its index, or -1 (best unchanged). Defined and used
+  /// in world.cpp only.
+  template <class Accept>
+  int nearestCrossing(const Eigen::Vector2d& origin, double ux, double uy, double& best,
+                      Accept accept) const;
+
   std::vector<Segment> segments_;
   std::vector<std::vector<Eigen::Vector2d>> outlines_;
   std::vector<std::vector<Eigen::Vector2d>> solids_;
