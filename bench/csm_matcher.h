@@ -9,6 +9,7 @@
 #include <Eigen/Core>
 
 #include "odometry_calibration/geometry/se2.h"
+#include "odometry_calibration/scan/plicp.h"
 #include "odometry_calibration/scan/scan.h"
 
 // CSM's C headers last: they define min and max as macros.
@@ -96,6 +97,69 @@ inline CsmOutcome matchWithCsm(const Scan& reference, const Scan& current, const
   ld_free(params.laser_ref);
   ld_free(params.laser_sens);
   return outcome;
+}
+
+/// CSM's laser_data for a prepared scan's points (motion compensated when the scan was): each
+/// point as a reading at its own bearing, in the scan's order; CSM recomputes the points from
+/// these, so it sees exactly the points ours matches.
+inline LDP toLaserData(const ScanPoints& points)
+{
+  const int n = static_cast<int>(points.size());
+  LDP ld = ld_alloc_new(n);
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector2d& p = points.points_m[static_cast<std::size_t>(i)];
+    ld->theta[i] = std::atan2(p.y(), p.x());
+    ld->readings[i] = p.norm();
+    ld->valid[i] = 1;
+  }
+  ld->min_theta = n > 0 ? ld->theta[0] : 0.0;
+  ld->max_theta = n > 0 ? ld->theta[n - 1] : 0.0;
+  return ld;
+}
+
+/// sm_icp with its defaults on two prepared scans' points from a first guess (covariance as
+/// asked), answered as our matcher answers: valid or not converged, the pose, the covariance.
+/// For the pairing's matcher slot (pairing/match_queue.h, ScanMatcher).
+inline PlicpResult matchPreparedWithCsm(const PreparedScan& reference, const PreparedScan& current,
+                                        const Pose2& guess, bool covariance)
+{
+  PlicpResult answer;
+  answer.T_ref_new = guess;
+  if (reference.points.size() < 20 || current.points.size() < 20) {
+    answer.status = PlicpStatus::kTooFewPoints;
+    return answer;
+  }
+  Scan limits;  // the points are already within the scan's range limits
+  limits.range_min_m = 0.0;
+  limits.range_max_m = 1e3;
+  sm_params params = csmDefaults(limits, covariance);
+  params.laser_ref = toLaserData(reference.points);
+  params.laser_sens = toLaserData(current.points);
+  params.first_guess[0] = guess.x();
+  params.first_guess[1] = guess.y();
+  params.first_guess[2] = guess.theta();
+  sm_result result{};
+  sm_icp(&params, &result);
+  answer.status = result.valid != 0 ? PlicpStatus::kValid : PlicpStatus::kNoConvergence;
+  if (result.valid != 0) {
+    answer.T_ref_new = Pose2(result.x[0], result.x[1], result.x[2]);
+    answer.iterations = result.iterations;
+    answer.correspondence_count = result.nvalid;
+  }
+  if (covariance && result.valid != 0 && result.cov_x_m) {
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c)
+        answer.covariance(r, c) = gsl_matrix_get(result.cov_x_m, r, c);
+  }
+  if (result.cov_x_m)
+    gsl_matrix_free(result.cov_x_m);
+  if (result.dx_dy1_m)
+    gsl_matrix_free(result.dx_dy1_m);
+  if (result.dx_dy2_m)
+    gsl_matrix_free(result.dx_dy2_m);
+  ld_free(params.laser_ref);
+  ld_free(params.laser_sens);
+  return answer;
 }
 
 }  // namespace csm_reference

@@ -29,14 +29,18 @@ CalibrationJobResult runCalibrationJob(const CalibrationConfig& config,
     TimeOffsetOptions search;
     search.min_s = config.time_offset_search_min_s;
     search.max_s = config.time_offset_search_max_s;
+    search.interpolation = config.collector.encoder_interpolation;
     // The grid refits the model per offset from the configured start only: the global yaw
     // starts (issue 23) are for the final fit and would multiply the search's cost.
     ModelFactoryOptions search_models = config.models;
     search_models.diff_drive.yaw_starts = 1;
     search_models.tricycle.calibration.yaw_starts = 1;
     search_models.mecanum.yaw_starts = 1;
-    job.time_offset = estimateTimeOffset(
-        pairs, encoder_history, [&]() { return makeModel(config.model, search_models); }, search);
+    job.time_offset = options.time_offset_search
+                          ? *options.time_offset_search
+                          : estimateTimeOffset(
+                                pairs, encoder_history,
+                                [&]() { return makeModel(config.model, search_models); }, search);
     const TimeOffsetResult& offset = *job.time_offset;
     if (offset.flat) {
       offset_warnings.push_back(
@@ -50,7 +54,8 @@ CalibrationJobResult runCalibrationJob(const CalibrationConfig& config,
                                   " s lies at the edge of time_offset_search_s: widen it");
       }
     }
-    job.pairs = rewindowPairs(pairs, encoder_history, job.time_offset_s);
+    job.pairs = rewindowPairs(pairs, encoder_history, job.time_offset_s,
+                              config.collector.encoder_interpolation);
   }
   job.model = makeModel(config.model, config.models);
   job.report = job.model->fit(job.pairs);

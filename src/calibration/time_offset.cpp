@@ -12,14 +12,15 @@
 namespace odometry_calibration {
 
 std::vector<MotionPair> rewindowPairs(const std::vector<MotionPair>& pairs,
-                                      const std::vector<EncoderSample>& history, double tau_s)
+                                      const std::vector<EncoderSample>& history, double tau_s,
+                                      EncoderInterpolation interpolation)
 {
   std::vector<MotionPair> result;
   result.reserve(pairs.size());
   for (const MotionPair& pair : pairs) {
     MotionPair moved = pair;
-    moved.encoder_samples =
-        cutEncoderWindow(history, pair.start_stamp_s + tau_s, pair.end_stamp_s + tau_s);
+    moved.encoder_samples = cutEncoderWindow(history, pair.start_stamp_s + tau_s,
+                                             pair.end_stamp_s + tau_s, interpolation);
     if (moved.encoder_samples.size() >= 2)
       result.push_back(std::move(moved));
   }
@@ -66,7 +67,7 @@ TimeOffsetResult estimateTimeOffset(const std::vector<MotionPair>& pairs,
   std::size_t best = 0;
   for (int i = 0; i <= steps; ++i) {
     const double tau = options.min_s + i * options.step_s;
-    const std::vector<MotionPair> moved = rewindowPairs(pairs, history, tau);
+    const std::vector<MotionPair> moved = rewindowPairs(pairs, history, tau, options.interpolation);
     double cost = std::numeric_limits<double>::infinity();
     try {
       auto model = make_model();

@@ -56,14 +56,17 @@ EncoderSample EncoderTrack::at(double stamp_s) const
   return interpolateEncoderSample(samples_, stamp_s);
 }
 
-std::vector<EncoderSample> EncoderTrack::between(double start_s, double end_s) const
+std::vector<EncoderSample> EncoderTrack::between(double start_s, double end_s,
+                                                 EncoderInterpolation mode) const
 {
   if (samples_.empty() || start_s < firstStamp() || end_s > lastStamp()) {
     throw std::out_of_range("no encoder data over the requested interval");
   }
-  if (!(end_s > start_s))
-    return {at(start_s), at(end_s)};
-  return cutEncoderWindow(samples_, start_s, end_s);
+  if (!(end_s > start_s)) {
+    const EncoderSample sample = interpolateEncoderSample(samples_, start_s, mode);
+    return {sample, interpolateEncoderSample(samples_, end_s, mode)};
+  }
+  return cutEncoderWindow(samples_, start_s, end_s, mode);
 }
 
 double EncoderTrack::largestGap(double start_s, double end_s) const

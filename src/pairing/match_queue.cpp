@@ -7,14 +7,17 @@ namespace odometry_calibration {
 
 PlicpResult timedMatch(const LazyPreparedScan& reference, const LazyPreparedScan& current,
                        const Pose2& T_ref_new_guess, const PlicpOptions& options,
-                       double* preparation_time_s, double* matching_time_s)
+                       double* preparation_time_s, double* matching_time_s,
+                       const ScanMatcher& matcher)
 {
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
   const PreparedScan& prepared_reference = reference.get();
   const PreparedScan& prepared_current = current.get();
   const auto prepared = Clock::now();
-  PlicpResult result = matchScans(prepared_reference, prepared_current, T_ref_new_guess, options);
+  PlicpResult result =
+      matcher ? matcher(prepared_reference, prepared_current, T_ref_new_guess, options)
+              : matchScans(prepared_reference, prepared_current, T_ref_new_guess, options);
   *preparation_time_s += std::chrono::duration<double>(prepared - start).count();
   *matching_time_s += std::chrono::duration<double>(Clock::now() - prepared).count();
   return result;
@@ -41,13 +44,14 @@ MatchQueue::~MatchQueue()
 std::shared_ptr<MatchJob> MatchQueue::submit(std::shared_ptr<const LazyPreparedScan> reference,
                                              std::shared_ptr<const LazyPreparedScan> current,
                                              const Pose2& T_ref_new_guess,
-                                             const PlicpOptions& options)
+                                             const PlicpOptions& options, ScanMatcher matcher)
 {
   auto job = std::make_shared<MatchJob>();
   job->reference = std::move(reference);
   job->current = std::move(current);
   job->T_ref_new_guess = T_ref_new_guess;
   job->options = options;
+  job->matcher = std::move(matcher);
   {
     std::lock_guard<std::mutex> lock(mutex_);
     queue_.push_back(job);
@@ -63,7 +67,7 @@ void MatchQueue::runFront(std::unique_lock<std::mutex>& lock)
   lock.unlock();
   try {
     job->result = timedMatch(*job->reference, *job->current, job->T_ref_new_guess, job->options,
-                             &job->preparation_time_s, &job->matching_time_s);
+                             &job->preparation_time_s, &job->matching_time_s, job->matcher);
   } catch (...) {
     job->error = std::current_exception();
   }

@@ -33,6 +33,8 @@ void validate(const CollectorOptions& o)
   require(o.consistency_translation_m > 0.0 && o.consistency_rotation_rad > 0.0,
           "consistency thresholds must be > 0");
   require((o.covariance_floor.array() >= 0.0).all(), "covariance_floor must be >= 0");
+  require(!o.pair_motion_from_chain || o.check_consistency,
+          "pair_motion_from_chain needs check_consistency (the consecutive matches)");
   validate(o.plicp);
 }
 
@@ -233,7 +235,7 @@ std::optional<std::vector<EncoderSample>> PairCollector::encoderWindow(double st
     }
   }
 
-  return track_.between(from, to);
+  return track_.between(from, to, options_.encoder_interpolation);
 }
 
 Pose2 PairCollector::predict(const std::vector<EncoderSample>& window) const
@@ -319,7 +321,8 @@ CollectorEvent PairCollector::processScan(double stamp_s,
     std::string reason;
     const auto window = encoderWindow(previous_scan_stamp_s_, stamp_s, &reason);
     const Pose2 guess = window ? predict(*window) : Pose2();
-    consecutive_.push_back(matches_->submit(previous_scan_, prepared, guess, consecutive_options_));
+    consecutive_.push_back(
+        matches_->submit(previous_scan_, prepared, guess, consecutive_options_, options_.matcher));
   }
   previous_scan_ = prepared;
   previous_scan_stamp_s_ = stamp_s;
@@ -338,11 +341,13 @@ CollectorEvent PairCollector::processScan(double stamp_s,
   // Runs here while the background thread works through the consecutive matches.
   const PlicpResult match =
       timedMatch(*keyframe_->scan, *prepared, predict(window), options_.plicp,
-                 &statistics_.preparation_time_s, &statistics_.matching_time_s);
+                 &statistics_.preparation_time_s, &statistics_.matching_time_s, options_.matcher);
   foldConsecutiveMatches();
   if (!match.valid()) {
     return start_keyframe(reject(std::string("scan match ") + toString(match.status)));
   }
+  if (options_.pair_motion_from_chain && !chain_valid_)
+    return start_keyframe(reject("a consecutive match failed (pair motion from the chain)"));
   if (options_.check_consistency && !chain_valid_) {
     ++statistics_.unverified_pairs;  // a consecutive match failed: nothing to compare with
   } else if (options_.check_consistency) {
@@ -352,6 +357,8 @@ CollectorEvent PairCollector::processScan(double stamp_s,
       return start_keyframe(reject("keyframe match disagrees with consecutive matches"));
     }
   }
+  if (options_.pair_motion_from_chain)
+    return start_keyframe(pairEvent(stamp_s, std::move(window), chain_, match.covariance));
   return start_keyframe(pairEvent(stamp_s, std::move(window), match.T_ref_new, match.covariance));
 }
 

@@ -228,10 +228,12 @@ int main(int argc, char** argv)
       }
     }
 
-    const BagRunResult run =
-        runBags(bags, config, start_s, end_s,
-                quiet ? nullptr : std::function<void(const BagProgress&)>(showProgress));
-    const std::string summary = formatBagRunSummary(run);
+    // Paired at the estimated time offset (a second pass when the configured one is off).
+    OffsetPairing offset_pairing;
+    const BagRunResult run = runBagsAtEstimatedOffset(
+        bags, &config, start_s, end_s,
+        quiet ? nullptr : std::function<void(const BagProgress&)>(showProgress), &offset_pairing);
+    const std::string summary = formatBagRunSummary(run) + offset_pairing.text;
     std::cout << summary;
 
     PairHoldout holdout_split;
@@ -243,8 +245,12 @@ int main(int argc, char** argv)
     const FitIntervalRun fit_interval = chooseBagFitInterval(
         interval_option, bags, config, run, evaluation_pairs,
         holdout > 0.0 ? holdout_split.border_stamp_s : INFINITY, start_s, end_s);
-    const CalibrationJobResult job = runCalibrationJob(
-        config, fit_interval.pairs ? *fit_interval.pairs : evaluation_pairs, run.encoder_history);
+    CalibrationJobOptions job_options;
+    if (!fit_interval.pairs && holdout <= 0.0)  // the very pairs the offset was searched on
+      job_options.time_offset_search = offset_pairing.search;
+    const CalibrationJobResult job =
+        runCalibrationJob(config, fit_interval.pairs ? *fit_interval.pairs : evaluation_pairs,
+                          run.encoder_history, job_options);
     std::string text = summary + fit_interval.text +
                        (job.time_offset ? formatTimeOffset(*job.time_offset) : "") + "\n" +
                        formatModelReport(job.report) + formatNominalComparison(job);

@@ -136,6 +136,33 @@ TEST(CalibrationJob, EstimatesTheTimeOffsetAndFitsThePairsCutThere)
   EXPECT_FALSE(kept.time_offset);
 }
 
+TEST(CalibrationJob, ASearchAlreadyDoneIsUsedInsteadOfSearchingAgain)
+{
+  const sim::GeneratedPairs data = simulatedPairs();
+  const std::vector<EncoderSample> history = encoderHistory(data.pairs);
+  CalibrationConfig config = diffDriveConfig(data.joints);
+  config.estimate_time_offset = true;
+  config.time_offset_search_min_s = -0.2;
+  config.time_offset_search_max_s = 0.2;
+  // A search result (as runBagsAtEstimatedOffset hands on) that is not the data's own
+  // minimum (0): the job takes it as it is, cuts the windows there and reports it.
+  TimeOffsetResult given;
+  given.offset_s = 0.06;
+  given.sigma_s = 0.001;
+  given.curve = {{0.04, 2.0}, {0.06, 1.0}, {0.08, 2.0}};
+  CalibrationJobOptions options;
+  options.time_offset_search = given;
+  const CalibrationJobResult job = runCalibrationJob(config, data.pairs, history, options);
+  ASSERT_TRUE(job.time_offset);
+  EXPECT_DOUBLE_EQ(job.time_offset_s, 0.06);
+  EXPECT_EQ(job.time_offset->curve.size(), 3u);
+  ASSERT_GE(job.pairs.size() + 1, data.pairs.size());  // the history ends before the last one's
+  EXPECT_NEAR(job.pairs.front().encoder_samples.front().stamp_s,
+              data.pairs.front().start_stamp_s + 0.06, 1e-9);
+  // Without it the job searches and finds the data's offset.
+  EXPECT_NEAR(runCalibrationJob(config, data.pairs, history).time_offset_s, 0.0, 0.01);
+}
+
 TEST(CalibrationJob, ScoresTheModelFirstThenTheComparedOnesThenTheNominal)
 {
   const sim::GeneratedPairs data = simulatedPairs();

@@ -32,6 +32,26 @@ TEST(EncoderTrack, InterpolatesBetweenSamplesAcrossAWrap)
   EXPECT_THROW(t.between(0.9, 1.1), std::out_of_range);
 }
 
+TEST(EncoderTrack, NearestReadingInsteadOfInterpolation)
+{
+  EncoderTrack t = track();
+  t.add(1.0, Eigen::Vector2d(1000, 100));
+  t.add(1.1, Eigen::Vector2d(1200, 200));
+  t.add(1.2, Eigen::Vector2d(1300, 300));
+  const auto window = t.between(1.03, 1.17, EncoderInterpolation::kNearest);
+  ASSERT_EQ(window.size(), 3u);
+  EXPECT_NEAR(window.front().stamp_s, 1.03, 1e-12);  // stamped where asked
+  EXPECT_EQ(window.front().values(0), 0.0);          // the reading at 1.0 (counts from it)
+  EXPECT_EQ(window[1].values(0), 200.0);
+  EXPECT_NEAR(window.back().stamp_s, 1.17, 1e-12);
+  EXPECT_EQ(window.back().values(0), 300.0);  // the reading at 1.2
+  EXPECT_EQ(window.back().values(1), 300.0);
+  // Linear for comparison: 30 % and 70 % of the way.
+  const auto linear = t.between(1.03, 1.17);
+  EXPECT_NEAR(linear.front().values(0), 60.0, 1e-9);
+  EXPECT_NEAR(linear.back().values(0), 270.0, 1e-9);
+}
+
 TEST(EncoderTrack, TimeGoingBackwardsRestartsTheTrack)
 {
   EncoderTrack t = track();

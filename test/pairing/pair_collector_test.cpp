@@ -1,3 +1,4 @@
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <random>
@@ -322,6 +323,118 @@ TEST(PairCollector, MinimumMotionExtendsIntervalsAndDropsStandingStill)
   EXPECT_NE(rejected[0].find("too little motion"), std::string::npos) << rejected[0];
 }
 
+/// The nominal model as the matchers' initial guess (laser at x = 0.15).
+MotionPredictor nominalPredictor()
+{
+  const DiffDriveEncoderLayout layout;
+  return [layout](const std::vector<EncoderSample>& samples) {
+    const double intrinsic[3] = {0.077, 0.077, 0.33};
+    return sensorMotionFromBodyMotion(Pose2(0.15, 0, 0),
+                                      integrateDiffDriveMotion(intrinsic, layout, samples));
+  };
+}
+
+/// The pairs of a 20 s run in the room with `options`.
+std::vector<MotionPair> roomPairs(const CollectorOptions& options, CollectorStatistics* statistics)
+{
+  const sim::Scenario s = scenario(20.0);
+  const sim::World world = sim::parseWorldYaml(kRoom, "room");
+  const auto robot = sim::makeRobot(s.robot);
+  PairCollector collector(wheels(), options, nominalPredictor());
+  Feeder feeder;
+  feeder.collector = &collector;
+  sim::simulate(s, world, *robot, feeder);
+  feeder.take(collector.flush());
+  *statistics = collector.statistics();
+  return feeder.pairs;
+}
+
+TEST(PairCollector, AnInjectedMatcherMakesEveryMatch)
+{
+  CollectorOptions options;
+  CollectorStatistics plain_statistics, statistics;
+  const std::vector<MotionPair> plain = roomPairs(options, &plain_statistics);
+  std::atomic<int> keyframe_matches{0}, consecutive_matches{0};
+  options.matcher = [&](const PreparedScan& reference, const PreparedScan& current,
+                        const Pose2& guess, const PlicpOptions& plicp) {
+    // The pairing asks for the covariance of keyframe matches only.
+    ++(plicp.compute_covariance ? keyframe_matches : consecutive_matches);
+    return matchScans(reference, current, guess, plicp);
+  };
+  const std::vector<MotionPair> wrapped = roomPairs(options, &statistics);
+  ASSERT_GT(plain.size(), 20u);
+  ASSERT_EQ(wrapped.size(), plain.size());
+  for (std::size_t k = 0; k < plain.size(); ++k)
+    EXPECT_EQ(wrapped[k].sensor_motion.x(), plain[k].sensor_motion.x());
+  EXPECT_EQ(static_cast<std::size_t>(consecutive_matches), statistics.consecutive_matches);
+  EXPECT_GE(static_cast<std::size_t>(keyframe_matches), plain.size());
+
+  // A matcher that never converges: no pair, every keyframe interval rejected for it.
+  options.matcher = [](const PreparedScan&, const PreparedScan&, const Pose2& guess,
+                       const PlicpOptions&) {
+    PlicpResult result;
+    result.status = PlicpStatus::kNoConvergence;
+    result.T_ref_new = guess;
+    return result;
+  };
+  EXPECT_TRUE(roomPairs(options, &statistics).empty());
+  EXPECT_GT(statistics.rejected["scan match " + std::string(toString(PlicpStatus::kNoConvergence))],
+            20u);
+}
+
+TEST(PairCollector, PairMotionFromTheChainOfConsecutiveMatches)
+{
+  CollectorOptions options;
+  CollectorStatistics direct_statistics, chain_statistics;
+  const std::vector<MotionPair> direct = roomPairs(options, &direct_statistics);
+  options.pair_motion_from_chain = true;
+  const std::vector<MotionPair> chained = roomPairs(options, &chain_statistics);
+  ASSERT_GT(direct.size(), 20u);
+  // The same pairs (the consistency check kept the same ones), each with the chain's motion:
+  // within the check's 3 cm / 0.02 rad of the direct match, and not the same numbers.
+  ASSERT_EQ(chained.size(), direct.size());
+  int differ = 0;
+  for (std::size_t k = 0; k < direct.size(); ++k) {
+    EXPECT_EQ(chained[k].start_stamp_s, direct[k].start_stamp_s);
+    const Pose2 difference = between(direct[k].sensor_motion, chained[k].sensor_motion);
+    EXPECT_LT(std::hypot(difference.x(), difference.y()), 0.03);
+    EXPECT_LT(std::abs(difference.theta()), 0.02);
+    differ += std::hypot(difference.x(), difference.y()) > 1e-6;
+    EXPECT_EQ(chained[k].covariance, direct[k].covariance);  // the keyframe match's
+  }
+  EXPECT_GT(differ, static_cast<int>(direct.size()) / 2);
+}
+
+TEST(PairCollector, NearestEncoderReadingAtTheKeyframes)
+{
+  CollectorOptions options;
+  options.time_offset_s = 0.007;  // keyframes 7 ms after a 50 Hz reading
+  CollectorStatistics statistics;
+  const std::vector<MotionPair> linear = roomPairs(options, &statistics);
+  options.encoder_interpolation = EncoderInterpolation::kNearest;
+  const std::vector<MotionPair> nearest = roomPairs(options, &statistics);
+  ASSERT_GT(linear.size(), 20u);
+  ASSERT_EQ(nearest.size(), linear.size());
+  int moving = 0;
+  for (std::size_t k = 0; k < linear.size(); ++k) {
+    const auto& l = linear[k].encoder_samples;
+    const auto& n = nearest[k].encoder_samples;
+    ASSERT_EQ(n.size(), l.size());
+    ASSERT_GE(n.size(), 3u);
+    EXPECT_NEAR(n.front().stamp_s, linear[k].start_stamp_s + 0.007, 1e-9);
+    // Linear: 35 % of the way to the next reading (l[1]); nearest: the reading before, so the
+    // linear value lies between it and the next one, 0.35 of the step from it.
+    const Eigen::VectorXd step = l[1].values - n.front().values;
+    if (step.norm() > 1.0) {
+      ++moving;
+      EXPECT_NEAR((l.front().values - n.front().values).norm(), 0.35 * step.norm(),
+                  1e-6 * step.norm() + 1e-9);
+    }
+    EXPECT_EQ(n[1].values, l[1].values);  // the readings inside are the same
+  }
+  EXPECT_GT(moving, 10);
+}
+
 TEST(PairCollector, InvalidOptionsAreNamed)
 {
   CollectorOptions options;
@@ -331,6 +444,15 @@ TEST(PairCollector, InvalidOptionsAreNamed)
     FAIL();
   } catch (const std::invalid_argument& error) {
     EXPECT_NE(std::string(error.what()).find("keyframe_interval_s"), std::string::npos);
+  }
+  options = CollectorOptions();
+  options.pair_motion_from_chain = true;
+  options.check_consistency = false;
+  try {
+    PairCollector collector(wheels(), options);
+    FAIL();
+  } catch (const std::invalid_argument& error) {
+    EXPECT_NE(std::string(error.what()).find("pair_motion_from_chain"), std::string::npos);
   }
 }
 

@@ -25,6 +25,9 @@ struct CalibrationJobOptions
   /// Chain the calibrated and nominal predictions against the matched displacements (the
   /// report's trajectories and per-pair errors; one prediction per pair and model).
   bool compare_trajectories = true;
+  /// The time offset search already done on these same pairs and history (e.g. by
+  /// runBagsAtEstimatedOffset): used instead of searching again.
+  std::optional<TimeOffsetResult> time_offset_search;
 };
 
 /// The outcome of one calibration.

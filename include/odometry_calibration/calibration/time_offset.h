@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "odometry_calibration/data/encoder_track.h"
 #include "odometry_calibration/data/motion_pair.h"
 #include "odometry_calibration/models/model.h"
 
@@ -22,6 +23,8 @@ struct TimeOffsetOptions
   double max_s = 0.4;    ///< search range end [s]
   double step_s = 0.02;  ///< grid step [s]
   double trim = 0.1;     ///< fraction of the largest errors ignored in the cost [-]
+  /// How the windows' end values are taken between encoder readings.
+  EncoderInterpolation interpolation = EncoderInterpolation::kLinear;
 };
 
 /// The estimate and the cost curve behind it.
@@ -43,8 +46,9 @@ TimeOffsetResult estimateTimeOffset(const std::vector<MotionPair>& pairs,
                                     const TimeOffsetOptions& options);
 
 /// The pairs with their encoder windows cut at offset `tau_s` (pairs the history does not
-/// cover are left out).
-std::vector<MotionPair> rewindowPairs(const std::vector<MotionPair>& pairs,
-                                      const std::vector<EncoderSample>& history, double tau_s);
+/// cover are left out), end values taken as `interpolation` says.
+std::vector<MotionPair> rewindowPairs(
+    const std::vector<MotionPair>& pairs, const std::vector<EncoderSample>& history, double tau_s,
+    EncoderInterpolation interpolation = EncoderInterpolation::kLinear);
 
 }  // namespace odometry_calibration

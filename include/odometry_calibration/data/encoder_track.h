@@ -16,10 +16,19 @@
 
 namespace odometry_calibration {
 
+/// How a value between two encoder readings is taken.
+enum class EncoderInterpolation
+{
+  kLinear,   ///< linear in time between the readings around it (the default)
+  kNearest,  ///< the reading nearest in time (as pipelines that pair each scan with a reading)
+};
+
 /// Decoded values at `stamp_s`, linearly interpolated in time-ordered `samples` (a vector or a
-/// deque). Requires samples.front().stamp_s <= stamp_s <= samples.back().stamp_s.
+/// deque), or with kNearest the values of the nearest sample (stamped `stamp_s`). Requires
+/// samples.front().stamp_s <= stamp_s <= samples.back().stamp_s.
 template <class Samples>
-EncoderSample interpolateEncoderSample(const Samples& samples, double stamp_s)
+EncoderSample interpolateEncoderSample(const Samples& samples, double stamp_s,
+                                       EncoderInterpolation mode = EncoderInterpolation::kLinear)
 {
   const auto after =
       std::lower_bound(samples.begin(), samples.end(), stamp_s,
@@ -27,26 +36,32 @@ EncoderSample interpolateEncoderSample(const Samples& samples, double stamp_s)
   if (after->stamp_s == stamp_s || after == samples.begin())
     return *after;
   const EncoderSample& before = *std::prev(after);
+  if (mode == EncoderInterpolation::kNearest) {
+    const bool before_nearer = stamp_s - before.stamp_s <= after->stamp_s - stamp_s;
+    return {stamp_s, before_nearer ? before.values : after->values};
+  }
   const double fraction = (stamp_s - before.stamp_s) / (after->stamp_s - before.stamp_s);
   return {stamp_s, before.values + fraction * (after->values - before.values)};
 }
 
-/// The samples of [start_s, end_s] from time-ordered `samples`: values interpolated at both
-/// ends and every sample strictly inside. Empty when the samples do not cover the interval.
+/// The samples of [start_s, end_s] from time-ordered `samples`: values interpolated (`mode`) at
+/// both ends and every sample strictly inside. Empty when the samples do not cover the interval.
 template <class Samples>
-std::vector<EncoderSample> cutEncoderWindow(const Samples& samples, double start_s, double end_s)
+std::vector<EncoderSample> cutEncoderWindow(
+    const Samples& samples, double start_s, double end_s,
+    EncoderInterpolation mode = EncoderInterpolation::kLinear)
 {
   if (samples.size() < 2 || !(end_s > start_s) || start_s < samples.front().stamp_s ||
       end_s > samples.back().stamp_s) {
     return {};
   }
-  std::vector<EncoderSample> window = {interpolateEncoderSample(samples, start_s)};
+  std::vector<EncoderSample> window = {interpolateEncoderSample(samples, start_s, mode)};
   auto it =
       std::upper_bound(samples.begin(), samples.end(), start_s,
                        [](double t, const EncoderSample& sample) { return t < sample.stamp_s; });
   for (; it != samples.end() && it->stamp_s < end_s; ++it)
     window.push_back(*it);
-  window.push_back(interpolateEncoderSample(samples, end_s));
+  window.push_back(interpolateEncoderSample(samples, end_s, mode));
   return window;
 }
 
@@ -86,9 +101,12 @@ public:
   /// Requires covers(stamp_s, ...) to hold (throws std::out_of_range otherwise).
   EncoderSample at(double stamp_s) const;
 
-  /// The samples of [start_s, end_s]: interpolated values at both ends and every sample
-  /// strictly inside. Requires both ends to be covered (throws std::out_of_range otherwise).
-  std::vector<EncoderSample> between(double start_s, double end_s) const;
+  /// The samples of [start_s, end_s]: interpolated values (`mode`) at both ends and every
+  /// sample strictly inside. Requires both ends to be covered (throws std::out_of_range
+  /// otherwise).
+  std::vector<EncoderSample> between(
+      double start_s, double end_s,
+      EncoderInterpolation mode = EncoderInterpolation::kLinear) const;
 
   /// The longest time between consecutive samples within [start_s, end_s] [s].
   double largestGap(double start_s, double end_s) const;

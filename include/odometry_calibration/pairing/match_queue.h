@@ -7,6 +7,7 @@
 #include <condition_variable>
 #include <deque>
 #include <exception>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <thread>
@@ -17,6 +18,14 @@
 
 namespace odometry_calibration {
 
+/// A scan matcher in place of matchScans (same contract: the pose of the current scan in the
+/// reference scan's frame from a first guess, with a status and, when options ask, a
+/// covariance), so that another implementation can be compared inside the same pairing (the
+/// reference PLICP in bench/mines_component_study.cpp). Empty: matchScans.
+using ScanMatcher =
+    std::function<PlicpResult(const PreparedScan& reference, const PreparedScan& current,
+                              const Pose2& T_ref_new_guess, const PlicpOptions& options)>;
+
 /// One submitted match: its inputs, then its result.
 struct MatchJob
 {
@@ -24,6 +33,7 @@ struct MatchJob
   std::shared_ptr<const LazyPreparedScan> current;
   Pose2 T_ref_new_guess;
   PlicpOptions options;
+  ScanMatcher matcher;              ///< empty: matchScans
   PlicpResult result;               ///< valid once done
   double preparation_time_s = 0.0;  ///< spent preparing the scans (if this job did) [s]
   double matching_time_s = 0.0;     ///< spent matching [s]
@@ -31,11 +41,12 @@ struct MatchJob
   bool done = false;
 };
 
-/// matchScans on two lazily prepared scans, adding the time spent preparing them (if this
-/// call does) and matching to the two counters [s].
+/// matchScans (or `matcher` when given) on two lazily prepared scans, adding the time spent
+/// preparing them (if this call does) and matching to the two counters [s].
 PlicpResult timedMatch(const LazyPreparedScan& reference, const LazyPreparedScan& current,
                        const Pose2& T_ref_new_guess, const PlicpOptions& options,
-                       double* preparation_time_s, double* matching_time_s);
+                       double* preparation_time_s, double* matching_time_s,
+                       const ScanMatcher& matcher = nullptr);
 
 /// The queue and its worker. Not copyable (it owns a thread).
 class MatchQueue
@@ -48,10 +59,11 @@ public:
   MatchQueue(const MatchQueue&) = delete;
   MatchQueue& operator=(const MatchQueue&) = delete;
 
-  /// Queues matchScans(reference->get(), current->get(), guess, options).
+  /// Queues matchScans(reference->get(), current->get(), guess, options) (or `matcher`'s).
   std::shared_ptr<MatchJob> submit(std::shared_ptr<const LazyPreparedScan> reference,
                                    std::shared_ptr<const LazyPreparedScan> current,
-                                   const Pose2& T_ref_new_guess, const PlicpOptions& options);
+                                   const Pose2& T_ref_new_guess, const PlicpOptions& options,
+                                   ScanMatcher matcher = nullptr);
 
   /// The job's result, once it is done; runs queued jobs on the calling thread while it waits.
   /// Rethrows what matchScans threw.

@@ -57,6 +57,15 @@ struct CollectorOptions
   bool check_consistency = true;
   double consistency_translation_m = 0.03;
   double consistency_rotation_rad = 0.02;
+  /// The pair's measured motion: the keyframe match (false), or the composition of the
+  /// consecutive matches over the same interval (true; needs check_consistency, the pair keeps
+  /// the keyframe match's covariance and is dropped when a consecutive match failed).
+  bool pair_motion_from_chain = false;
+  /// How the encoder values at the keyframes' times (+ time_offset_s) are taken between readings.
+  EncoderInterpolation encoder_interpolation = EncoderInterpolation::kLinear;
+  /// The scan matcher of both kinds of matches; empty: matchScans (scan/plicp.h). For
+  /// comparisons with other implementations (match_queue.h).
+  ScanMatcher matcher;
   /// Added to every pair's covariance diagonal: unmodelled errors (stamp jitter, the sweep)
   /// that the matcher's own covariance does not see [m^2, m^2, rad^2].
   Eigen::Vector3d covariance_floor{1e-6, 1e-6, 1e-6};
