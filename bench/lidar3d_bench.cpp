@@ -2,6 +2,8 @@
 // PCL conversion, the filtering into a planar scan (band, voxel grid, bearing bins), and the
 // scan preparation plus one PLICP match, per cloud of the simulated office run
 // (config/sim/scenarios/diff_drive_office_lidar3d.yaml: 16 rings, 0.4 deg, ~14000 points).
+// The filtering and matching run with ego_motion.cloud.scan_from bins (argument 0) and points
+// (argument 1).
 // Run through scripts/bench or scripts/bench_lidar3d.
 #include <benchmark/benchmark.h>
 
@@ -57,6 +59,14 @@ const CalibrationConfig& config()
   return result;
 }
 
+/// The config's cloud options with scan_from bins (0) or points (1).
+CloudToScanOptions cloudOptions(const benchmark::State& state)
+{
+  CloudToScanOptions options = config().cloud;
+  options.scan_from = state.range(0) == 0 ? ScanFrom::kBins : ScanFrom::kPoints;
+  return options;
+}
+
 void BM_ConvertPointCloud2(benchmark::State& state)
 {
   const auto& messages = clouds();
@@ -75,9 +85,10 @@ void BM_FilterCloudToScan(benchmark::State& state)
     converted.push_back(ros_conversions::fromPointCloud2Msg(message));
   std::size_t i = 0;
   CloudToScanCounts counts;
+  const CloudToScanOptions options = cloudOptions(state);
   for (auto _ : state) {
     const auto& cloud = converted[i++ % converted.size()];
-    Scan scan = cloudToScan(cloud.cloud, cloud.has_times, config().cloud, &counts);
+    Scan scan = cloudToScan(cloud.cloud, cloud.has_times, options, &counts);
     benchmark::DoNotOptimize(scan.ranges_m.data());
   }
   state.counters["in_band"] = static_cast<double>(counts.band);
@@ -88,9 +99,10 @@ void BM_FilterCloudToScan(benchmark::State& state)
 void BM_PrepareAndMatchConsecutiveScans(benchmark::State& state)
 {
   std::vector<Scan> scans;
+  const CloudToScanOptions options = cloudOptions(state);
   for (const auto& message : clouds()) {
     const auto cloud = ros_conversions::fromPointCloud2Msg(message);
-    scans.push_back(cloudToScan(cloud.cloud, cloud.has_times, config().cloud));
+    scans.push_back(cloudToScan(cloud.cloud, cloud.has_times, options));
   }
   const LineFitOptions lines = config().collector.lines;
   PreparedScan previous = prepareScan(scans[0], lines);
@@ -108,6 +120,6 @@ void BM_PrepareAndMatchConsecutiveScans(benchmark::State& state)
 }  // namespace
 
 BENCHMARK(BM_ConvertPointCloud2)->Unit(benchmark::kMicrosecond);
-BENCHMARK(BM_FilterCloudToScan)->Unit(benchmark::kMicrosecond);
-BENCHMARK(BM_PrepareAndMatchConsecutiveScans)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_FilterCloudToScan)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_PrepareAndMatchConsecutiveScans)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 BENCHMARK_MAIN();

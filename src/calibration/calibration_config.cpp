@@ -178,10 +178,12 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
     where = source + ": ego_motion.cloud";
     if (ego && ego["cloud"]) {
       const YAML::Node cloud = ego["cloud"];
-      checkYamlKeys(cloud,
-                    {"band_m", "roll_rad", "pitch_rad", "voxel_size_m", "outlier_neighbours",
-                     "outlier_stddev", "angular_resolution_rad", "range_min_m", "range_max_m"},
-                    where);
+      checkYamlKeys(
+          cloud,
+          {"band_m", "roll_rad", "pitch_rad", "voxel_size_m", "outlier_neighbours",
+           "outlier_stddev", "angular_resolution_rad", "range_min_m", "range_max_m", "scan_from",
+           "point_time_field", "point_time_unit", "point_time_reference", "point_time_limit_s"},
+          where);
       CloudToScanOptions& o = c.cloud;
       if (cloud["band_m"]) {
         std::vector<double> band;
@@ -199,6 +201,17 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
       readYaml(cloud, "angular_resolution_rad", &o.angular_resolution_rad);
       readYaml(cloud, "range_min_m", &o.range_min_m);
       readYaml(cloud, "range_max_m", &o.range_max_m);
+      std::string name = toString(o.scan_from);
+      readYaml(cloud, "scan_from", &name);
+      o.scan_from = scanFromName(name);
+      readYaml(cloud, "point_time_field", &o.point_times.field);
+      name = toString(o.point_times.unit);
+      readYaml(cloud, "point_time_unit", &name);
+      o.point_times.unit = pointTimeUnitName(name);
+      name = toString(o.point_times.reference);
+      readYaml(cloud, "point_time_reference", &name);
+      o.point_times.reference = pointTimeReferenceName(name);
+      readYaml(cloud, "point_time_limit_s", &o.point_times.limit_s);
     }
 
     where = source + ": keyframes";

@@ -186,12 +186,13 @@ void BagMessageReader::read(rosbag::View& view, const CalibrationConfig& config)
       if (input.problem.empty()) {
         cloud_frame_ = cloud->header.frame_id;
         try {
-          const auto lidar = ros_conversions::fromPointCloud2Msg(*cloud);
+          const auto lidar = ros_conversions::fromPointCloud2Msg(*cloud, config.cloud.point_times);
           const auto filtered = Clock::now();
           converting += filtered - converted;
           try {
             input.scan = cloudToScan(lidar.cloud, lidar.has_times, config.cloud);
             input.kind = BagInput::Kind::kScan;
+            input.problem = lidar.time_problem;
           } catch (const std::invalid_argument& error) {
             input.problem = "PointCloud2 skipped: " + std::string(error.what());
           }

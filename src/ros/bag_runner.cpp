@@ -136,6 +136,8 @@ BagRunResult runBagsUnchecked(const std::vector<std::string>& bag_paths,
           break;
         case BagInput::Kind::kScan:
           ++result.ego_motion_messages;
+          if (!input.problem.empty() && result.clouds_without_times++ == 0)
+            result.first_cloud_time_problem = input.problem;
           take(collector.addScan(input.stamp_s, input.scan), input.stamp_s);
           break;
         case BagInput::Kind::kPose:
@@ -208,6 +210,11 @@ std::vector<std::string> bagRunNotes(const BagRunResult& run)
   if (run.bad_joint_states > 0) {
     notes.push_back("skipped " + std::to_string(run.bad_joint_states) +
                     " JointState messages, first: " + run.first_bad_joint_state);
+  }
+  if (run.clouds_without_times > 0) {
+    notes.push_back(std::to_string(run.clouds_without_times) +
+                    " PointCloud2 messages used without their per-point times, first: " +
+                    run.first_cloud_time_problem);
   }
   if (run.bad_clouds > 0) {
     notes.push_back("skipped " + std::to_string(run.bad_clouds) +

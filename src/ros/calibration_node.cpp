@@ -301,10 +301,12 @@ void CalibrationNode::onCloud(const sensor_msgs::PointCloud2::ConstPtr& message)
   // The conversion and filtering run before the lock: the encoders keep flowing meanwhile.
   const std::string& frame = message->header.frame_id;
   std::string problem;
+  std::string time_problem;  // the cloud is used, without its per-point times
   Scan scan;
   try {
-    const auto lidar = ros_conversions::fromPointCloud2Msg(*message);
+    const auto lidar = ros_conversions::fromPointCloud2Msg(*message, config_.cloud.point_times);
     scan = cloudToScan(lidar.cloud, lidar.has_times, config_.cloud);
+    time_problem = lidar.time_problem;
   } catch (const std::invalid_argument& error) {
     problem = error.what();
   }
@@ -327,6 +329,13 @@ void CalibrationNode::onCloud(const sensor_msgs::PointCloud2::ConstPtr& message)
     warnInput(problem, "PointCloud2 on " + ego_health_.topic + " skipped (" +
                            std::to_string(bad_scans_) + " so far): " + problem);
     return;
+  }
+  if (!time_problem.empty()) {
+    ++clouds_without_times_;
+    last_problem_ = "PointCloud2 " + time_problem;
+    warnInput("per-point times ignored", "PointCloud2 on " + ego_health_.topic + ": " +
+                                             time_problem + " (" +
+                                             std::to_string(clouds_without_times_) + " so far)");
   }
   const double stamp_s = message->header.stamp.toSec();
   try {

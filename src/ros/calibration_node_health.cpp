@@ -113,6 +113,8 @@ void CalibrationNode::publishDiagnostics(double period_s)
         std::to_string(found == s.glitches.end() ? 0 : found->second));
   }
   add("scans skipped", std::to_string(bad_scans_));
+  if (config_.ego_motion == EgoMotionSource::kCloud)
+    add("clouds without per-point times", std::to_string(clouds_without_times_));
   add("restarts (time went backwards)", std::to_string(s.restarts));
   add("model", active_model_ ? active_model_->name() + " (" + active_model_origin_ + ")"
                              : std::string("none"));

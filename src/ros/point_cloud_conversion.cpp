@@ -4,6 +4,7 @@
 #include <cstring>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <pcl/PCLPointCloud2.h>
 #include <pcl/conversions.h>
@@ -44,30 +45,30 @@ std::size_t fieldSize(std::uint8_t datatype)
   }
 }
 
-/// Reads one time value [s] of the given type at `data`.
-double readTime(const std::uint8_t* data, std::uint8_t datatype)
+/// Reads one raw value of the given numeric type at `data`.
+double readValue(const std::uint8_t* data, std::uint8_t datatype)
 {
+  auto as = [data](auto value) {
+    std::memcpy(&value, data, sizeof value);
+    return static_cast<double>(value);
+  };
   switch (datatype) {
-    case Field::FLOAT32: {
-      float value;
-      std::memcpy(&value, data, sizeof value);
-      return value;
-    }
-    case Field::FLOAT64: {
-      double value;
-      std::memcpy(&value, data, sizeof value);
-      return value;
-    }
-    case Field::UINT32: {
-      std::uint32_t value;
-      std::memcpy(&value, data, sizeof value);
-      return 1e-9 * value;
-    }
-    default: {  // INT32
-      std::int32_t value;
-      std::memcpy(&value, data, sizeof value);
-      return 1e-9 * value;
-    }
+    case Field::INT8:
+      return as(std::int8_t{});
+    case Field::UINT8:
+      return as(std::uint8_t{});
+    case Field::INT16:
+      return as(std::int16_t{});
+    case Field::UINT16:
+      return as(std::uint16_t{});
+    case Field::INT32:
+      return as(std::int32_t{});
+    case Field::UINT32:
+      return as(std::uint32_t{});
+    case Field::FLOAT32:
+      return as(float{});
+    default:  // FLOAT64
+      return as(double{});
   }
 }
 
@@ -109,35 +110,33 @@ void checkLayout(const sensor_msgs::PointCloud2& message)
 
 }  // namespace
 
-LidarCloud fromPointCloud2Msg(const sensor_msgs::PointCloud2& message)
+LidarCloud fromPointCloud2Msg(const sensor_msgs::PointCloud2& message,
+                              const PointTimeOptions& time_options)
 {
   checkLayout(message);
-  const Field* time = findField(message, "time");
-  if (!time)
-    time = findField(message, "t");
-  const bool float_time = time && time->datatype == Field::FLOAT32;
-  // PCL fills PointXYZI's fields by name: the cloud's own intensity is set aside and a FLOAT32
-  // time (the usual case) is read as the intensity in the same pass; otherwise x stands in (so
-  // that PCL finds every field) and the intensities are overwritten below.
+  const Field* time = nullptr;
+  if (time_options.field.empty()) {
+    for (const std::string& name : defaultPointTimeFields()) {
+      if ((time = findField(message, name)))
+        break;
+    }
+  } else {
+    time = findField(message, time_options.field);
+  }
+  // PCL fills PointXYZI's fields by name: the cloud's own intensity is set aside and x stands in
+  // for it (so that PCL finds every field); the intensities are overwritten below.
   pcl::PCLPointCloud2 pcl_message;
   pcl_conversions::toPCL(message, pcl_message);
   for (auto& field : pcl_message.fields) {
     if (field.name == "intensity")
       field.name = "intensity_of_the_cloud";
   }
-  if (float_time) {
-    for (auto& field : pcl_message.fields) {
-      if (field.name == time->name)
-        field.name = "intensity";
-    }
-  } else {
-    pcl::PCLPointField stand_in;
-    stand_in.name = "intensity";
-    stand_in.offset = findField(message, "x")->offset;
-    stand_in.datatype = pcl::PCLPointField::FLOAT32;
-    stand_in.count = 1;
-    pcl_message.fields.push_back(stand_in);
-  }
+  pcl::PCLPointField stand_in;
+  stand_in.name = "intensity";
+  stand_in.offset = findField(message, "x")->offset;
+  stand_in.datatype = pcl::PCLPointField::FLOAT32;
+  stand_in.count = 1;
+  pcl_message.fields.push_back(stand_in);
   LidarCloud result;
   result.cloud = std::make_shared<TimedCloud>();
   if (std::size_t{message.width} * message.height == 0)
@@ -145,27 +144,33 @@ LidarCloud fromPointCloud2Msg(const sensor_msgs::PointCloud2& message)
   pcl::fromPCLPointCloud2(pcl_message, *result.cloud);
   TimedCloud& cloud = *result.cloud;
 
-  const bool other_time =
-      time && (time->datatype == Field::FLOAT64 || time->datatype == Field::UINT32 ||
-               time->datatype == Field::INT32);
-  result.has_times = float_time || other_time;
-  if (other_time) {
-    std::size_t i = 0;
+  if (time) {
+    result.time_field = time->name;
+    std::vector<double> times;
+    times.reserve(cloud.size());
     for (std::uint32_t row = 0; row < message.height; ++row) {
       const std::uint8_t* row_data = message.data.data() + row * message.row_step;
-      for (std::uint32_t column = 0; column < message.width; ++column, ++i) {
-        cloud[i].intensity = static_cast<float>(
-            readTime(row_data + column * message.point_step + time->offset, time->datatype));
-      }
+      for (std::uint32_t column = 0; column < message.width; ++column)
+        times.push_back(
+            readValue(row_data + column * message.point_step + time->offset, time->datatype));
     }
-  }
-  if (result.has_times) {
-    for (const auto& point : cloud.points) {
-      if (!std::isfinite(point.intensity)) {
-        result.has_times = false;  // a NaN time: the times are not to be trusted
-        break;
-      }
+    const bool integer_field = time->datatype != Field::FLOAT32 && time->datatype != Field::FLOAT64;
+    const PointTimeConversion conversion =
+        toTimesAfterStamp(times, integer_field, message.header.stamp.toSec(), time_options);
+    result.time_unit = conversion.unit;
+    result.time_reference = conversion.reference;
+    if (conversion.usable() && times.size() == cloud.size()) {
+      result.has_times = true;
+      for (std::size_t i = 0; i < times.size(); ++i)
+        cloud[i].intensity = static_cast<float>(times[i]);
+    } else {
+      result.time_problem =
+          "per-point times of field '" + time->name +
+          "' ignored (no sweep compensation for this cloud): " + conversion.problem;
     }
+  } else if (!time_options.field.empty()) {
+    result.time_problem = "the configured point_time_field '" + time_options.field +
+                          "' is not in the cloud: no sweep compensation";
   }
   if (!result.has_times) {
     for (auto& point : cloud.points)

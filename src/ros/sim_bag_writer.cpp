@@ -83,7 +83,9 @@ void SimBagWriter::onScan(const sim::ScanSample& sample)
 void SimBagWriter::onCloud(const sim::CloudSample& sample)
 {
   // The layout lidar drivers write (e.g. velodyne_pointcloud's): x, y, z, intensity, ring, time
-  // (seconds after the stamp), packed.
+  // (FLOAT32 seconds after the stamp), packed; with `point_times: absolute` the last field is
+  // Hesai's `timestamp` (FLOAT64 seconds since the epoch) instead.
+  const bool absolute = scenario_.laser.point_times == "absolute";
   sensor_msgs::PointCloud2 message;
   message.header.seq = scan_seq_++;
   message.header.stamp = rosTime(scenario_.start_time_s, sample.stamp_s);
@@ -101,21 +103,30 @@ void SimBagWriter::onCloud(const sim::CloudSample& sample)
   field("z", 8, sensor_msgs::PointField::FLOAT32);
   field("intensity", 12, sensor_msgs::PointField::FLOAT32);
   field("ring", 16, sensor_msgs::PointField::UINT16);
-  field("time", 18, sensor_msgs::PointField::FLOAT32);
+  if (absolute)
+    field("timestamp", 18, sensor_msgs::PointField::FLOAT64);
+  else
+    field("time", 18, sensor_msgs::PointField::FLOAT32);
   const std::size_t n = sample.size();
   message.height = 1;
   message.width = static_cast<std::uint32_t>(n);
   message.is_bigendian = false;
-  message.point_step = 22;
+  message.point_step = absolute ? 26 : 22;
   message.row_step = message.point_step * message.width;
   message.is_dense = true;
   message.data.resize(message.row_step);
+  const double stamp_s = message.header.stamp.toSec();
   std::uint8_t* out = message.data.data();
   for (std::size_t i = 0; i < n; ++i, out += message.point_step) {
     std::memcpy(out, &sample.xyz[3 * i], 12);
     std::memcpy(out + 12, &sample.intensity[i], 4);
     std::memcpy(out + 16, &sample.ring[i], 2);
-    std::memcpy(out + 18, &sample.time_s[i], 4);
+    if (absolute) {
+      const double time_s = stamp_s + static_cast<double>(sample.time_s[i]);
+      std::memcpy(out + 18, &time_s, 8);
+    } else {
+      std::memcpy(out + 18, &sample.time_s[i], 4);
+    }
   }
   // Bag time: when the sweep is complete and the driver publishes it.
   const ros::Time published =

@@ -1,9 +1,11 @@
 #include "odometry_calibration/scan/cloud_to_scan.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
+#include <vector>
 
 #include <pcl/common/transforms.h>
 #include <pcl/filters/crop_box.h>
@@ -12,6 +14,81 @@
 #include <Eigen/Geometry>
 
 namespace odometry_calibration {
+namespace {
+
+/// The scan's common fields: range limits, and the nominal spacing of `rays` rays over a turn.
+Scan emptyScan(std::size_t rays, const CloudToScanOptions& options)
+{
+  Scan scan;
+  scan.angle_increment_rad = 2.0 * M_PI / static_cast<double>(std::max<std::size_t>(rays, 1));
+  scan.angle_min_rad = -M_PI + 0.5 * scan.angle_increment_rad;  // bin centres
+  scan.range_min_m = options.range_min_m;
+  scan.range_max_m = options.range_max_m;
+  return scan;
+}
+
+/// Projected onto the plane and binned by bearing; each bin keeps its nearest point.
+Scan binnedByBearing(const TimedCloud& kept, bool has_times, const CloudToScanOptions& options)
+{
+  const std::size_t bins =
+      static_cast<std::size_t>(std::ceil(2.0 * M_PI / options.angular_resolution_rad));
+  Scan scan = emptyScan(bins, options);
+  scan.ranges_m.assign(bins, std::numeric_limits<double>::quiet_NaN());
+  if (has_times)
+    scan.ray_times_s.assign(bins, 0.0);
+  for (const auto& p : kept.points) {
+    const double range = std::hypot(static_cast<double>(p.x), static_cast<double>(p.y));
+    if (!(range >= options.range_min_m && range <= options.range_max_m))
+      continue;
+    const double bearing = std::atan2(static_cast<double>(p.y), static_cast<double>(p.x));
+    std::size_t bin = static_cast<std::size_t>((bearing + M_PI) / scan.angle_increment_rad);
+    if (bin >= bins)
+      bin = bins - 1;  // bearing == pi
+    double& nearest = scan.ranges_m[bin];
+    if (std::isnan(nearest) || range < nearest) {
+      nearest = range;
+      if (has_times)
+        scan.ray_times_s[bin] = static_cast<double>(p.intensity);
+    }
+  }
+  return scan;
+}
+
+/// The (projected) points themselves within the range limits, ordered by bearing: one ray per
+/// point at its own bearing (Scan::ray_angles_rad).
+Scan pointsByBearing(const TimedCloud& kept, bool has_times, const CloudToScanOptions& options)
+{
+  struct Polar
+  {
+    double bearing, range, time;
+  };
+  std::vector<Polar> points;
+  points.reserve(kept.size());
+  for (const auto& p : kept.points) {
+    const double range = std::hypot(static_cast<double>(p.x), static_cast<double>(p.y));
+    if (range >= options.range_min_m && range <= options.range_max_m) {
+      points.push_back({std::atan2(static_cast<double>(p.y), static_cast<double>(p.x)), range,
+                        static_cast<double>(p.intensity)});
+    }
+  }
+  std::sort(points.begin(), points.end(),
+            [](const Polar& a, const Polar& b) { return a.bearing < b.bearing; });
+  Scan scan = emptyScan(points.size(), options);
+  scan.ranges_m.reserve(points.size());
+  scan.ray_angles_rad.reserve(points.size());
+  for (const Polar& p : points) {
+    scan.ranges_m.push_back(p.range);
+    scan.ray_angles_rad.push_back(p.bearing);
+    if (has_times)
+      scan.ray_times_s.push_back(p.time);
+  }
+  if (!points.empty())
+    scan.angle_min_rad = points.front().bearing;
+  return scan;
+}
+
+}  // namespace
+
 Scan cloudToScan(const TimedCloud::ConstPtr& input, bool has_times,
                  const CloudToScanOptions& options, CloudToScanCounts* counts_out)
 {
@@ -61,6 +138,10 @@ Scan cloudToScan(const TimedCloud::ConstPtr& input, bool has_times,
   crop.setInputCloud(points);
   crop.filter(*band);
   counts.band = band->size();
+  if (options.scan_from == ScanFrom::kPoints) {
+    for (auto& p : band->points)
+      p.z = 0.0f;  // projected onto the plane: the rings that see a wall share its voxels
+  }
 
   auto thinned = band;
   if (options.voxel_size_m > 0.0 && !band->empty()) {
@@ -85,34 +166,9 @@ Scan cloudToScan(const TimedCloud::ConstPtr& input, bool has_times,
   }
   counts.kept = kept->size();
 
-  // Projected onto the plane and binned by bearing; each bin keeps its nearest point.
-  Scan scan;
-  const std::size_t bins =
-      static_cast<std::size_t>(std::ceil(2.0 * M_PI / options.angular_resolution_rad));
-  scan.angle_increment_rad = 2.0 * M_PI / static_cast<double>(bins);
-  scan.angle_min_rad = -M_PI + 0.5 * scan.angle_increment_rad;  // bin centres
-  scan.range_min_m = options.range_min_m;
-  scan.range_max_m = options.range_max_m;
-  scan.ranges_m.assign(bins, std::numeric_limits<double>::quiet_NaN());
-  if (has_times)
-    scan.ray_times_s.assign(bins, 0.0);
-  for (const auto& p : kept->points) {
-    const double range = std::hypot(static_cast<double>(p.x), static_cast<double>(p.y));
-    if (!(range >= options.range_min_m && range <= options.range_max_m))
-      continue;
-    const double bearing = std::atan2(static_cast<double>(p.y), static_cast<double>(p.x));
-    std::size_t bin = static_cast<std::size_t>((bearing + M_PI) / scan.angle_increment_rad);
-    if (bin >= bins)
-      bin = bins - 1;  // bearing == pi
-    double& nearest = scan.ranges_m[bin];
-    if (std::isnan(nearest) || range < nearest) {
-      if (std::isnan(nearest))
-        ++counts.rays;
-      nearest = range;
-      if (has_times)
-        scan.ray_times_s[bin] = static_cast<double>(p.intensity);
-    }
-  }
+  Scan scan = options.scan_from == ScanFrom::kPoints ? pointsByBearing(*kept, has_times, options)
+                                                     : binnedByBearing(*kept, has_times, options);
+  counts.rays = countUsableReadings(scan);
   report();
   if (counts.rays < options.min_points) {
     std::ostringstream text;

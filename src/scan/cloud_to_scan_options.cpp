@@ -15,6 +15,20 @@ void require(bool condition, const std::string& message)
 
 }  // namespace
 
+const char* toString(ScanFrom from)
+{
+  return from == ScanFrom::kPoints ? "points" : "bins";
+}
+
+ScanFrom scanFromName(const std::string& name)
+{
+  if (name == "bins")
+    return ScanFrom::kBins;
+  if (name == "points")
+    return ScanFrom::kPoints;
+  throw std::invalid_argument("cloud scan_from must be bins or points, got '" + name + "'");
+}
+
 void validate(const CloudToScanOptions& o)
 {
   require(std::isfinite(o.band_min_m) && std::isfinite(o.band_max_m) && o.band_min_m < o.band_max_m,
@@ -34,6 +48,7 @@ void validate(const CloudToScanOptions& o)
               o.range_max_m > o.range_min_m,
           "cloud ranges: need 0 <= range_min_m < range_max_m (finite)");
   require(o.min_points >= 1, "cloud min_points must be >= 1");
+  validate(o.point_times);
 }
 
 std::string describeBand(const CloudToScanOptions& options)

@@ -125,6 +125,27 @@ void validate(const Scan& scan)
         throw std::invalid_argument("scan ray_times_s must be finite numbers of seconds");
     }
   }
+  if (!scan.ray_angles_rad.empty()) {
+    if (scan.ray_angles_rad.size() != scan.ranges_m.size()) {
+      throw std::invalid_argument("scan ray_angles_rad has " +
+                                  std::to_string(scan.ray_angles_rad.size()) + " entries for " +
+                                  std::to_string(scan.ranges_m.size()) +
+                                  " rays: give one per ray, or leave it empty");
+    }
+    if (scan.angle_increment_rad < 0.0) {
+      throw std::invalid_argument(
+          "scan with ray_angles_rad needs a positive (nominal) angle_increment_rad");
+    }
+    for (std::size_t i = 0; i < scan.ray_angles_rad.size(); ++i) {
+      const double angle = scan.ray_angles_rad[i];
+      if (!(std::abs(angle) <= 4.0 * M_PI) || (i > 0 && angle < scan.ray_angles_rad[i - 1])) {
+        throw std::invalid_argument(
+            "scan ray_angles_rad must be finite, within [-4 pi, 4 pi] rad and non-decreasing "
+            "(ray " +
+            std::to_string(i) + ": " + std::to_string(angle) + ")");
+      }
+    }
+  }
   if (!scan.valid.empty() && scan.valid.size() != scan.ranges_m.size()) {
     throw std::invalid_argument("scan valid mask has " + std::to_string(scan.valid.size()) +
                                 " entries for " + std::to_string(scan.ranges_m.size()) +
@@ -177,15 +198,27 @@ ScanPoints scanToPoints(const Scan& scan, const SensorVelocity& velocity)
   // Points go out in increasing angle whatever the sign of the increment: the correspondence
   // search relies on that order.
   const bool reversed = scan.angle_increment_rad < 0.0;
-  const auto& directions = rayDirections(scan.angle_min_rad, scan.angle_increment_rad, ray_count);
+  // Rays at regular bearings take their directions from the cached table; a scan with its own
+  // bearings (ray_angles_rad) computes them.
+  const std::vector<Eigen::Vector2d, Eigen::aligned_allocator<Eigen::Vector2d>>* directions =
+      scan.ray_angles_rad.empty()
+          ? &rayDirections(scan.angle_min_rad, scan.angle_increment_rad, ray_count)
+          : nullptr;
   for (std::size_t k = 0; k < ray_count; ++k) {
     const std::size_t i = reversed ? ray_count - 1 - k : k;
     if (!isUsableReading(scan, i)) {
       continue;
     }
     const double range_m = scan.ranges_m[i];
-    const double angle_rad = scan.angle_min_rad + static_cast<double>(i) * scan.angle_increment_rad;
-    const Eigen::Vector2d& direction = directions[i];
+    double angle_rad = 0.0;
+    Eigen::Vector2d direction;
+    if (scan.ray_angles_rad.empty()) {
+      angle_rad = scan.angle_min_rad + static_cast<double>(i) * scan.angle_increment_rad;
+      direction = (*directions)[i];
+    } else {
+      angle_rad = scan.ray_angles_rad[i];
+      direction = Eigen::Vector2d(std::cos(angle_rad), std::sin(angle_rad));
+    }
     result.points_m.push_back(range_m * direction);
     result.directions.push_back(direction);
     result.angles_rad.push_back(angle_rad);

@@ -69,6 +69,8 @@ void validate(const Scenario& s)
   require(s.laser.height_m > 0.0 && std::isfinite(s.laser.height_m), "laser.height_m must be > 0");
   require(std::abs(s.laser.roll_rad) < 0.5 && std::abs(s.laser.pitch_rad) < 0.5,
           "laser roll_rad and pitch_rad must be within 0.5 rad");
+  require(s.laser.point_times == "relative" || s.laser.point_times == "absolute",
+          "laser.point_times must be relative or absolute");
   require(s.encoders.rate_hz > 0.0, "encoders.rate_hz must be > 0");
   require(s.encoders.counter_bits >= 0 && s.encoders.counter_bits <= 52,
           "encoders.counter_bits must be in [0, 52]");
@@ -154,7 +156,8 @@ Scenario loadScenarioYaml(const std::string& path, const std::string& worlds_dir
                    "horizontal_step_rad",
                    "height_m",
                    "roll_rad",
-                   "pitch_rad"},
+                   "pitch_rad",
+                   "point_times"},
                   where);
     if (laser) {
       s.laser.T_base_laser = readPose(laser["pose"], where + ".pose", s.laser.T_base_laser);
@@ -182,6 +185,7 @@ Scenario loadScenarioYaml(const std::string& path, const std::string& worlds_dir
     readYaml(laser, "height_m", &s.laser.height_m);
     readYaml(laser, "roll_rad", &s.laser.roll_rad);
     readYaml(laser, "pitch_rad", &s.laser.pitch_rad);
+    readYaml(laser, "point_times", &s.laser.point_times);
 
     where = path + ": encoders";
     const YAML::Node encoders = root["encoders"];
@@ -335,6 +339,7 @@ std::string scenarioTruthYaml(const Scenario& s, const Robot& robot)
     out << YAML::Key << "height_m" << YAML::Value << s.laser.height_m;
     out << YAML::Key << "roll_rad" << YAML::Value << s.laser.roll_rad;
     out << YAML::Key << "pitch_rad" << YAML::Value << s.laser.pitch_rad;
+    out << YAML::Key << "point_times" << YAML::Value << s.laser.point_times;
   }
   out << YAML::EndMap;
   out << YAML::Key << "encoders" << YAML::Value << YAML::BeginMap;

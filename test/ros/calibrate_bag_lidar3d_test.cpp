@@ -13,6 +13,7 @@
 
 #include <gtest/gtest.h>
 #include <rosbag/bag.h>
+#include <rosbag/view.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <yaml-cpp/yaml.h>
 
@@ -92,6 +93,82 @@ TEST_F(CalibrateBagLidar3d, LidarPitchedTwoDegreesIsLevelledAndRecoversTheTruth)
   ASSERT_NE(at, std::string::npos);
   config.replace(at, level.size(), "    pitch_rad: " + std::to_string(kPitch) + " ");
   expectTruth(calibrate(config));
+}
+
+TEST_F(CalibrateBagLidar3d, ScanFromPointsPitchedTwoDegreesRecoversTheTruth)
+{
+  // The in-band voxels matched unbinned, each at its own bearing, on the levelled 2 deg run.
+  scenario_.laser.pitch_rad = kPitch;
+  std::string config = test_support::readFile(kConfig + "/diff_drive_lidar3d.yaml");
+  for (const auto& [from, to] :
+       {std::pair<std::string, std::string>{"    scan_from: bins ", "    scan_from: points "},
+        {"    pitch_rad: 0.0 ", "    pitch_rad: " + std::to_string(kPitch) + " "}}) {
+    const auto at = config.find(from);
+    ASSERT_NE(at, std::string::npos) << from;
+    config.replace(at, from.size(), to);
+  }
+  expectTruth(calibrate(config));
+}
+
+TEST_F(CalibrateBagLidar3d, AbsolutePointStampsCalibrateAsWellAsRelativeOnes)
+{
+  // The same run written with Velodyne's relative `time` (FLOAT32 s after the stamp) and with
+  // Hesai's absolute `timestamp` (FLOAT64 s since the epoch): the times are the same to float
+  // rounding, so the fits must agree far more closely than the tolerances, which a bag whose
+  // absolute times were ignored (no sweep compensation) or misread would not.
+  const std::string config = test_support::readFile(kConfig + "/diff_drive_lidar3d.yaml");
+  const YAML::Node relative = calibrate(config);
+  scenario_.laser.point_times = "absolute";
+  const YAML::Node absolute = calibrate(config);
+  expectTruth(absolute);
+  const std::string output = test_support::readFile(directory_ + "/stdout.txt");
+  EXPECT_EQ(output.find("without their per-point times"), std::string::npos) << output;
+  for (const char* name : {"left_wheel_radius", "right_wheel_radius", "wheel_separation",
+                           "sensor_x", "sensor_y", "sensor_theta"}) {
+    EXPECT_NEAR(absolute["parameters"][name]["value"].as<double>(),
+                relative["parameters"][name]["value"].as<double>(), 2e-5)
+        << name;
+  }
+}
+
+TEST_F(CalibrateBagLidar3d, CloudsWithImpossibleAbsoluteStampsAreUsedWithoutTimesAndCounted)
+{
+  scenario_.duration_s = 8.0;
+  scenario_.laser.point_times = "absolute";
+  const std::string bag = directory_ + "/run.bag";
+  simulateToBag(scenario_, bag, "");
+  // A copy of a cloud restamped 3 s later (its points' absolute times are then 3 s before the
+  // stamp), in a second bag: its times must not be used.
+  const std::string odd_bag = directory_ + "/odd.bag";
+  {
+    sensor_msgs::PointCloud2 cloud;
+    {
+      rosbag::Bag in(bag, rosbag::bagmode::Read);
+      rosbag::View view(in, rosbag::TopicQuery(scenario_.laser.topic));
+      cloud = *view.begin()->instantiate<sensor_msgs::PointCloud2>();
+    }
+    cloud.header.stamp += ros::Duration(3.0);
+    rosbag::Bag out(odd_bag, rosbag::bagmode::Write);
+    out.write(scenario_.laser.topic, cloud.header.stamp, cloud);
+  }
+  const CalibrationConfig config = loadCalibrationConfig(kConfig + "/diff_drive_lidar3d.yaml");
+  const BagRunResult run = runBags({bag, odd_bag}, config);
+  EXPECT_EQ(run.bad_clouds, 0u);
+  EXPECT_EQ(run.clouds_without_times, 1u);
+  EXPECT_NE(run.first_cloud_time_problem.find("per-point times of field 'timestamp' ignored"),
+            std::string::npos)
+      << run.first_cloud_time_problem;
+  EXPECT_NE(run.first_cloud_time_problem.find("s from the stamp, beyond the 0.5 s"),
+            std::string::npos)
+      << run.first_cloud_time_problem;
+  const std::string notes = formatBagRunSummary(run);
+  EXPECT_NE(notes.find("1 PointCloud2 messages used without their per-point times"),
+            std::string::npos)
+      << notes;
+  // The run's own clouds alone: every time used.
+  const BagRunResult clean = runBags({bag}, config);
+  EXPECT_EQ(clean.clouds_without_times, 0u);
+  EXPECT_GT(clean.pairs.size(), 10u);
 }
 
 /// A PointCloud2 of `points` x, y, z float triples in `frame`, stamped `stamp`.

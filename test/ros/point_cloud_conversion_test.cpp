@@ -118,7 +118,10 @@ TEST(PointCloudConversion, ANanTimeDropsTheTimes)
                            5);
   const float nan = std::numeric_limits<float>::quiet_NaN();
   std::memcpy(message.data.data() + 2 * message.point_step + 12, &nan, 4);
-  EXPECT_FALSE(fromPointCloud2Msg(message).has_times);
+  const auto cloud = fromPointCloud2Msg(message);
+  EXPECT_FALSE(cloud.has_times);
+  EXPECT_NE(cloud.time_problem.find("point 2's time is nan"), std::string::npos)
+      << cloud.time_problem;
 }
 
 TEST(PointCloudConversion, NanPointsPassThroughForTheFilterToDrop)
@@ -130,6 +133,116 @@ TEST(PointCloudConversion, NanPointsPassThroughForTheFilterToDrop)
   const auto cloud = fromPointCloud2Msg(message);
   ASSERT_EQ(cloud.cloud->size(), 3u);
   EXPECT_TRUE(std::isnan((*cloud.cloud)[1].x));
+}
+
+/// Overwrites the FLOAT64 field `name` of every point i with value(i).
+template <typename Value>
+void setFloat64(sensor_msgs::PointCloud2& message, const std::string& name, Value value)
+{
+  for (const Field& field : message.fields) {
+    if (field.name != name)
+      continue;
+    for (std::size_t i = 0; i < message.width; ++i) {
+      const double v = value(i);
+      std::memcpy(message.data.data() + i * message.point_step + field.offset, &v, 8);
+    }
+  }
+}
+
+constexpr double kStamp = 1700000000.5;  // header stamp [s since the epoch]
+
+/// Hesai's layout: x, y, z, intensity, ring, `timestamp` (FLOAT64), stamped kStamp.
+sensor_msgs::PointCloud2 hesaiCloud(std::size_t n)
+{
+  auto message = makeCloud({{"x", Field::FLOAT32},
+                            {"y", Field::FLOAT32},
+                            {"z", Field::FLOAT32},
+                            {"intensity", Field::FLOAT32},
+                            {"ring", Field::UINT16},
+                            {"timestamp", Field::FLOAT64}},
+                           n);
+  message.header.stamp.fromSec(kStamp);
+  return message;
+}
+
+TEST(PointCloudConversion, HesaiAbsoluteSecondsBecomeTimesAfterTheStamp)
+{
+  auto message = hesaiCloud(20);
+  setFloat64(message, "timestamp",
+             [](std::size_t i) { return kStamp + 0.001 * static_cast<double>(i); });
+  const auto cloud = fromPointCloud2Msg(message);
+  EXPECT_TRUE(cloud.has_times) << cloud.time_problem;
+  EXPECT_TRUE(cloud.time_problem.empty());
+  EXPECT_EQ(cloud.time_field, "timestamp");
+  EXPECT_EQ(cloud.time_unit, PointTimeUnit::kSeconds);
+  EXPECT_EQ(cloud.time_reference, PointTimeReference::kAbsolute);
+  EXPECT_NEAR((*cloud.cloud)[0].intensity, 0.0, 1e-6);
+  EXPECT_NEAR((*cloud.cloud)[19].intensity, 0.019, 1e-6);
+  EXPECT_FLOAT_EQ((*cloud.cloud)[19].x, 19.0f);
+}
+
+TEST(PointCloudConversion, LivoxAbsoluteNanosecondsBecomeTimesAfterTheStamp)
+{
+  auto message = hesaiCloud(20);
+  setFloat64(message, "timestamp",
+             [](std::size_t i) { return (kStamp + 0.001 * static_cast<double>(i)) * 1e9; });
+  const auto cloud = fromPointCloud2Msg(message);
+  EXPECT_TRUE(cloud.has_times) << cloud.time_problem;
+  EXPECT_EQ(cloud.time_unit, PointTimeUnit::kNanoseconds);
+  EXPECT_EQ(cloud.time_reference, PointTimeReference::kAbsolute);
+  EXPECT_NEAR((*cloud.cloud)[19].intensity, 0.019, 1e-6);
+}
+
+TEST(PointCloudConversion, ABadAbsoluteTimeLeavesTheCloudWithoutTimesSayingWhy)
+{
+  // One point carries another sweep's time, 3 s later: no compensation rather than a wrong one.
+  auto message = hesaiCloud(20);
+  setFloat64(message, "timestamp", [](std::size_t i) {
+    return kStamp + 0.001 * static_cast<double>(i) + (i == 11 ? 3.0 : 0.0);
+  });
+  const auto cloud = fromPointCloud2Msg(message);
+  EXPECT_FALSE(cloud.has_times);
+  EXPECT_NE(cloud.time_problem.find("per-point times of field 'timestamp' ignored"),
+            std::string::npos)
+      << cloud.time_problem;
+  EXPECT_NE(cloud.time_problem.find("point 11's time is 3.011 s from the stamp"), std::string::npos)
+      << cloud.time_problem;
+  for (const auto& point : cloud.cloud->points)
+    EXPECT_EQ(point.intensity, 0.0f);
+  ASSERT_EQ(cloud.cloud->size(), 20u);  // the points themselves are kept
+
+  // A NaN absolute time likewise.
+  setFloat64(message, "timestamp", [](std::size_t i) {
+    return i == 4 ? std::numeric_limits<double>::quiet_NaN()
+                  : kStamp + 0.001 * static_cast<double>(i);
+  });
+  const auto nan = fromPointCloud2Msg(message);
+  EXPECT_FALSE(nan.has_times);
+  EXPECT_NE(nan.time_problem.find("point 4's time is nan"), std::string::npos) << nan.time_problem;
+}
+
+TEST(PointCloudConversion, TheConfiguredTimeFieldIsUsedOrItsAbsenceNamed)
+{
+  const auto message = makeCloud({{"x", Field::FLOAT32},
+                                  {"y", Field::FLOAT32},
+                                  {"z", Field::FLOAT32},
+                                  {"offset_time", Field::UINT32}},
+                                 20);
+  // Not one of the names tried by default: no times, and nothing wrong.
+  const auto by_default = fromPointCloud2Msg(message);
+  EXPECT_FALSE(by_default.has_times);
+  EXPECT_TRUE(by_default.time_problem.empty());
+  PointTimeOptions options;
+  options.field = "offset_time";
+  const auto configured = fromPointCloud2Msg(message, options);
+  EXPECT_TRUE(configured.has_times) << configured.time_problem;
+  EXPECT_NEAR((*configured.cloud)[19].intensity, 0.019, 1e-7);
+  options.field = "point_time";
+  const auto missing = fromPointCloud2Msg(message, options);
+  EXPECT_FALSE(missing.has_times);
+  EXPECT_NE(missing.time_problem.find("point_time_field 'point_time' is not in the cloud"),
+            std::string::npos)
+      << missing.time_problem;
 }
 
 TEST(PointCloudConversion, MalformedCloudsAreRefusedSayingWhy)

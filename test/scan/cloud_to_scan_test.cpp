@@ -1,5 +1,6 @@
 // A 3D lidar's cloud into a planar scan: the height band, the levelling of a tilted sensor,
 // the per-point times, and the clouds that give no scan (each with its message).
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -204,6 +205,68 @@ TEST(CloudToScan, CloudsThatGiveNoScanAreRejectedSayingWhy)
   EXPECT_EQ(sparse.find(": 0 bearings"), std::string::npos) << sparse;
 }
 
+TEST(CloudToScan, ScanFromPointsKeepsEveryVoxelAtItsOwnBearing)
+{
+  CloudToScanOptions options;  // 5 cm voxels
+  options.scan_from = ScanFrom::kPoints;
+  CloudToScanCounts counts;
+  const Scan scan = cloudToScan(roomCloud(), true, options, &counts);
+  // The band projected before the voxel grid: the rings seeing a wall share its voxels, so
+  // the walls' 36 m make about 36 / 0.05 = 720 voxels (a 3D grid would keep each ring's).
+  EXPECT_GT(counts.voxels, 650u);
+  EXPECT_LT(counts.voxels, 800u);
+  // Every voxel in range becomes a ray: the room's walls are all within 6.4 m.
+  ASSERT_EQ(scan.ranges_m.size(), counts.voxels);
+  EXPECT_EQ(counts.rays, counts.voxels);
+  ASSERT_EQ(scan.ray_angles_rad.size(), scan.ranges_m.size());
+  ASSERT_EQ(scan.ray_times_s.size(), scan.ranges_m.size());
+  EXPECT_TRUE(std::is_sorted(scan.ray_angles_rad.begin(), scan.ray_angles_rad.end()));
+  EXPECT_NO_THROW(validate(scan));
+  // Each ray is its voxel's centroid, on the wall at its own bearing (no half-bin error).
+  double worst = 0.0;
+  for (std::size_t i = 0; i < scan.ranges_m.size(); ++i) {
+    worst = std::max(worst, std::abs(scan.ranges_m[i] - wallDistance(scan.ray_angles_rad[i])));
+    // Column k (bearing -pi + 2 pi (k + 0.5) / 900) was taken at 0.1 ms k; a voxel's time is
+    // the mean of its points', within the 5 cm (at most 0.6 deg, 1.5 columns) it spans.
+    const double column = (scan.ray_angles_rad[i] + M_PI) / (2.0 * M_PI) * 900.0 - 0.5;
+    EXPECT_NEAR(scan.ray_times_s[i], 1e-4 * column, 2e-4) << i;
+  }
+  // A centroid of points on a straight wall lies on it: only corners and float rounding.
+  EXPECT_LT(worst, 0.01);
+  // The bins of the same cloud lose half a bin at the corners: more error.
+  options.scan_from = ScanFrom::kBins;
+  options.angular_resolution_rad = 2.0 * M_PI / 900.0;
+  EXPECT_GT(wallError(cloudToScan(roomCloud(), true, options)).first, worst);
+}
+
+TEST(CloudToScan, ScanFromPointsLevelsATiltedSensorAndDropsTheFloor)
+{
+  const double pitch = 2.0 * M_PI / 180.0;
+  const Eigen::Matrix3d R_level_sensor =
+      Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  CloudToScanOptions options;
+  options.scan_from = ScanFrom::kPoints;
+  options.voxel_size_m = 0.0;
+  options.pitch_rad = pitch;
+  const Scan scan = cloudToScan(roomCloud(R_level_sensor.transpose(), 15.0, 15.0), false, options);
+  EXPECT_TRUE(scan.ray_times_s.empty());
+  EXPECT_GT(scan.ranges_m.size(), 900u);
+  double worst = 0.0;
+  for (std::size_t i = 0; i < scan.ranges_m.size(); ++i) {
+    worst = std::max(worst,
+                     std::abs(scan.ranges_m[i] - wallDistance(scan.ray_angles_rad[i], 15.0, 15.0)));
+  }
+  EXPECT_LT(worst, 0.01);  // float rounding at 21 m; the floor would be metres off
+}
+
+TEST(CloudToScanOptions, ScanFromNames)
+{
+  EXPECT_EQ(scanFromName("bins"), ScanFrom::kBins);
+  EXPECT_EQ(scanFromName("points"), ScanFrom::kPoints);
+  EXPECT_STREQ(toString(ScanFrom::kPoints), "points");
+  EXPECT_THROW(scanFromName("rays"), std::invalid_argument);
+}
+
 TEST(CloudToScanOptions, BadOptionsAreNamed)
 {
   CloudToScanOptions options;
@@ -218,6 +281,9 @@ TEST(CloudToScanOptions, BadOptionsAreNamed)
   EXPECT_THROW(validate(options), std::invalid_argument);
   options = CloudToScanOptions();
   options.pitch_rad = 2.0;
+  EXPECT_THROW(validate(options), std::invalid_argument);
+  options = CloudToScanOptions();
+  options.point_times.limit_s = -1.0;
   EXPECT_THROW(validate(options), std::invalid_argument);
   EXPECT_NO_THROW(validate(CloudToScanOptions()));
 }

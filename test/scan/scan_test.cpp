@@ -170,6 +170,44 @@ TEST(ScanToPoints, RejectsUnusableGeometryNamingTheField)
   EXPECT_NO_THROW(scanToPoints(scan));
 }
 
+TEST(ScanToPoints, PerRayAnglesReplaceTheEqualSpacing)
+{
+  // Unequally spaced rays (a 3D lidar's points ordered by bearing), two at the same bearing.
+  Scan scan = fourRayScan({1.0, 2.0, 3.0, 4.0});
+  scan.ray_angles_rad = {-1.0, 0.3, 0.3, 2.5};
+  scan.ray_times_s = {0.0, 0.01, 0.02, 0.03};
+  const ScanPoints points = scanToPoints(scan);
+  ASSERT_EQ(points.size(), 4u);
+  for (int i = 0; i < 4; ++i) {
+    EXPECT_EQ(points.angles_rad[i], scan.ray_angles_rad[i]);
+    EXPECT_NEAR(points.points_m[i].x(), (i + 1.0) * std::cos(scan.ray_angles_rad[i]), 1e-15);
+    EXPECT_NEAR(points.points_m[i].y(), (i + 1.0) * std::sin(scan.ray_angles_rad[i]), 1e-15);
+  }
+  // Compensated with a turn: each point turned by omega * its own ray time.
+  const ScanPoints turned = scanToPoints(scan, SensorVelocity{0.0, 0.0, 1.0});
+  EXPECT_NEAR(turned.angles_rad[3], 2.5 + 0.03, 1e-12);
+  EXPECT_NEAR(turned.angles_rad[0], -1.0, 1e-12);
+
+  auto refused = [&](std::vector<double> angles, double increment = M_PI / 6) {
+    Scan bad = fourRayScan({1.0, 2.0, 3.0, 4.0});
+    bad.ray_angles_rad = std::move(angles);
+    bad.angle_increment_rad = increment;
+    try {
+      scanToPoints(bad);
+    } catch (const std::invalid_argument& error) {
+      return std::string(error.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(refused({0.0, 1.0, 2.0}).find("ray_angles_rad has 3 entries for 4 rays"),
+            std::string::npos);
+  EXPECT_NE(refused({0.0, 1.0, 0.5, 2.0}).find("non-decreasing (ray 2"), std::string::npos);
+  EXPECT_NE(refused({0.0, std::nan(""), 1.0, 2.0}).find("ray_angles_rad must be finite"),
+            std::string::npos);
+  EXPECT_NE(refused({0.0, 1.0, 2.0, 20.0}).find("[-4 pi, 4 pi]"), std::string::npos);
+  EXPECT_NE(refused({0.0, 1.0, 2.0, 3.0}, -0.1).find("positive"), std::string::npos);
+}
+
 /// Noise-free scan of a world from the origin.
 ScanPoints cleanScan(const synthetic::World& world, const Pose2& pose = Pose2(),
                      int ray_count = 682)

@@ -28,7 +28,8 @@ struct BagInput
   {
     kJoints,     ///< `raw`: the configured joints' positions, signs applied
     kBadJoints,  ///< a JointState that could not be used (`problem` says why)
-    kScan,       ///< `scan` (from a LaserScan, or a PointCloud2 of the cloud source)
+    kScan,       ///< `scan` (from a LaserScan, or a PointCloud2 of the cloud source; a
+                 ///< non-empty `problem`: the cloud's per-point times were not used, and why)
     kBadScan,    ///< a PointCloud2 that gave no scan (`problem` says why)
     kPose,       ///< `pose`: the sensor's pose from an odometry or pose message
   };

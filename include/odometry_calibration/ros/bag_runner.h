@@ -35,13 +35,16 @@ struct BagRunResult
   std::string first_bad_joint_state;  ///< the first such problem, in words
   std::size_t bad_clouds = 0;         ///< skipped PointCloud2 (cloud source): layout, band, frame
   std::string first_bad_cloud;        ///< the first such problem, in words
-  std::vector<std::string> restarts;  ///< time going backwards, in words
-  double bag_span_s = 0.0;            ///< time covered by the bags [s]
-  double wall_time_s = 0.0;           ///< total wall time [s]
-  double read_time_s = 0.0;           ///< reading and deserialising messages (reading thread) [s]
-  double conversion_time_s = 0.0;     ///< messages to the core's types (reading thread) [s]
-  double filtering_time_s = 0.0;  ///< clouds to scans: band, voxels, binning (reading thread) [s]
-  double pairing_time_s = 0.0;    ///< scan preparation, matching, pairing [s]
+  /// PointCloud2 used without their per-point times (a bad time, a missing configured field)
+  std::size_t clouds_without_times = 0;
+  std::string first_cloud_time_problem;  ///< why the first of them, in words
+  std::vector<std::string> restarts;     ///< time going backwards, in words
+  double bag_span_s = 0.0;               ///< time covered by the bags [s]
+  double wall_time_s = 0.0;              ///< total wall time [s]
+  double read_time_s = 0.0;        ///< reading and deserialising messages (reading thread) [s]
+  double conversion_time_s = 0.0;  ///< messages to the core's types (reading thread) [s]
+  double filtering_time_s = 0.0;   ///< clouds to scans: band, voxels, binning (reading thread) [s]
+  double pairing_time_s = 0.0;     ///< scan preparation, matching, pairing [s]
 };
 
 /// Runs the bags through a collector. Only messages within [start_offset_s, end_offset_s]

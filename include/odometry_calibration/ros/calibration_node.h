@@ -199,6 +199,7 @@ private:
   TopicHealth joint_health_, ego_health_;
   std::size_t bad_joint_states_ = 0;
   std::size_t bad_scans_ = 0;
+  std::size_t clouds_without_times_ = 0;  ///< clouds used without their per-point times
   std::string last_problem_;
   std::set<std::string> rejection_reasons_seen_;
   std::map<std::string, ros::WallTime> input_warnings_;

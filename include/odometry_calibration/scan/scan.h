@@ -39,6 +39,11 @@ struct Scan
   /// (e.g. a scan made from a 3D lidar's cloud, cloud_to_scan.h, whose rays are not taken at
   /// equal intervals). Empty: the times come from time_increment_s.
   std::vector<double> ray_times_s;
+  /// Optional per-ray bearings [rad], one per ray, non-decreasing, replacing angle_min_rad +
+  /// i * angle_increment_rad (then only a nominal spacing, > 0): a scan of points not on equally
+  /// spaced rays, e.g. a 3D lidar's in-band points ordered by bearing (cloud_to_scan.h,
+  /// `scan_from: points`). Empty: the rays are equally spaced.
+  std::vector<double> ray_angles_rad;
 };
 
 /// Velocity of the sensor during a scan's sweep, in the sensor's frame at the stamp, assumed
@@ -55,7 +60,9 @@ struct SensorVelocity
 
 /// Throws std::invalid_argument naming the offending field when the scan's geometry is unusable
 /// (angle_increment_rad zero or not finite, range limits not 0 <= min < max, a validity mask of
-/// the wrong length, time_increment_s not finite, ray_times_s of the wrong length or not finite).
+/// the wrong length, time_increment_s not finite, ray_times_s of the wrong length or not finite,
+/// ray_angles_rad of the wrong length, not finite, decreasing or beyond [-4 pi, 4 pi], or with a
+/// negative angle_increment_rad).
 /// Readings themselves are never rejected: bad ones are dropped by scanToPoints().
 void validate(const Scan& scan);
 

@@ -52,6 +52,9 @@ struct LaserOptions
   double height_m = 0.5;                    ///< mounting height above the floor [m]
   double roll_rad = 0.0;                    ///< mounting roll (about the laser's x) [rad]
   double pitch_rad = 0.0;                   ///< mounting pitch (about its y; + nose down) [rad]
+  /// The per-point time field: `relative`: `time`, FLOAT32 seconds after the stamp (Velodyne);
+  /// `absolute`: `timestamp`, FLOAT64 seconds since the epoch (Hesai).
+  std::string point_times = "relative";
 };
 
 /// The wheel / joint encoders, published together as one sensor_msgs/JointState.
