@@ -38,45 +38,15 @@
 #include "odometry_calibration/sim/scenario.h"
 #include "odometry_calibration/sim/simulator.h"
 #include "odometry_calibration/sim/world.h"
+#include "support/sim_recording.h"
 
 namespace {
 
 using namespace odometry_calibration;
 
-/// Collects a run's scans and its truth.
-struct Recorder : sim::SimulationSink
-{
-  std::vector<sim::ScanSample> scans;
-  std::vector<sim::TruthSample> truth;
-  void onJointState(const sim::JointStateSample&) override {}
-  void onScan(const sim::ScanSample& s) override { scans.push_back(s); }
-  void onTruth(const sim::TruthSample& s) override { truth.push_back(s); }
-};
-
-/// The robot's true pose at time t: the latest truth sample before t moved on by its velocity
-/// (the truth is sampled every 2 ms here; the velocity changes little within that).
-Pose2 truthAt(const std::vector<sim::TruthSample>& truth, double t)
-{
-  auto after =
-      std::upper_bound(truth.begin(), truth.end(), t,
-                       [](double time, const sim::TruthSample& s) { return time < s.stamp_s; });
-  if (after == truth.begin())
-    return truth.front().T_world_base;
-  const sim::TruthSample& before = *(after - 1);
-  return before.T_world_base * sim::integrateTwist(before.twist, t - before.stamp_s);
-}
-
-Scan toScan(const sim::ScanSample& sample)
-{
-  Scan scan;
-  scan.angle_min_rad = sample.angle_min_rad;
-  scan.angle_increment_rad = sample.angle_increment_rad;
-  scan.range_min_m = sample.range_min_m;
-  scan.range_max_m = sample.range_max_m;
-  scan.time_increment_s = sample.time_increment_s;
-  scan.ranges_m.assign(sample.ranges.begin(), sample.ranges.end());
-  return scan;
-}
+using Recorder = test::ScanTruthRecorder;
+using test::toScan;
+using test::truthAt;
 
 /// The sensor effects switched on by a named set, on top of the scenario's own laser.
 struct EffectSet

@@ -68,6 +68,28 @@ inline sm_params csmDefaults(const Scan& scan, bool covariance)
   return params;
 }
 
+/// Runs sm_icp with `params` (its scans and first guess set; both freed here) and returns its
+/// result, the covariance copied into `covariance` when asked for and computed (GSL matrices
+/// freed).
+inline sm_result runCsm(sm_params* params, Eigen::Matrix3d* covariance)
+{
+  sm_result result{};
+  sm_icp(params, &result);
+  if (covariance && result.valid != 0 && result.cov_x_m) {
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c)
+        (*covariance)(r, c) = gsl_matrix_get(result.cov_x_m, r, c);
+  }
+  for (gsl_matrix* matrix : {result.cov_x_m, result.dx_dy1_m, result.dx_dy2_m}) {
+    if (matrix)
+      gsl_matrix_free(matrix);
+  }
+  result.cov_x_m = result.dx_dy1_m = result.dx_dy2_m = nullptr;
+  ld_free(params->laser_ref);
+  ld_free(params->laser_sens);
+  return result;
+}
+
 /// sm_icp with its defaults on two scans from a first guess.
 inline CsmOutcome matchWithCsm(const Scan& reference, const Scan& current, const Pose2& guess,
                                bool covariance)
@@ -78,24 +100,10 @@ inline CsmOutcome matchWithCsm(const Scan& reference, const Scan& current, const
   params.first_guess[0] = guess.x();
   params.first_guess[1] = guess.y();
   params.first_guess[2] = guess.theta();
-  sm_result result{};
-  sm_icp(&params, &result);
   CsmOutcome outcome;
+  const sm_result result = runCsm(&params, covariance ? &outcome.covariance : nullptr);
   outcome.valid = result.valid != 0;
   outcome.T_ref_new = Pose2(result.x[0], result.x[1], result.x[2]);
-  if (covariance && outcome.valid && result.cov_x_m) {
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c)
-        outcome.covariance(r, c) = gsl_matrix_get(result.cov_x_m, r, c);
-  }
-  if (result.cov_x_m)
-    gsl_matrix_free(result.cov_x_m);
-  if (result.dx_dy1_m)
-    gsl_matrix_free(result.dx_dy1_m);
-  if (result.dx_dy2_m)
-    gsl_matrix_free(result.dx_dy2_m);
-  ld_free(params.laser_ref);
-  ld_free(params.laser_sens);
   return outcome;
 }
 
@@ -138,27 +146,13 @@ inline PlicpResult matchPreparedWithCsm(const PreparedScan& reference, const Pre
   params.first_guess[0] = guess.x();
   params.first_guess[1] = guess.y();
   params.first_guess[2] = guess.theta();
-  sm_result result{};
-  sm_icp(&params, &result);
+  const sm_result result = runCsm(&params, covariance ? &answer.covariance : nullptr);
   answer.status = result.valid != 0 ? PlicpStatus::kValid : PlicpStatus::kNoConvergence;
   if (result.valid != 0) {
     answer.T_ref_new = Pose2(result.x[0], result.x[1], result.x[2]);
     answer.iterations = result.iterations;
     answer.correspondence_count = result.nvalid;
   }
-  if (covariance && result.valid != 0 && result.cov_x_m) {
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c)
-        answer.covariance(r, c) = gsl_matrix_get(result.cov_x_m, r, c);
-  }
-  if (result.cov_x_m)
-    gsl_matrix_free(result.cov_x_m);
-  if (result.dx_dy1_m)
-    gsl_matrix_free(result.dx_dy1_m);
-  if (result.dx_dy2_m)
-    gsl_matrix_free(result.dx_dy2_m);
-  ld_free(params.laser_ref);
-  ld_free(params.laser_sens);
   return answer;
 }
 

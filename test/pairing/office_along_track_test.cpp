@@ -16,43 +16,16 @@
 #include "odometry_calibration/sim/scenario.h"
 #include "odometry_calibration/sim/simulator.h"
 #include "odometry_calibration/sim/world.h"
+#include "support/sim_recording.h"
 
 namespace odometry_calibration {
 namespace {
 
 const std::string kConfig = ODOMETRY_CALIBRATION_CONFIG_DIR;
 
-struct Recorder : sim::SimulationSink
-{
-  std::vector<sim::ScanSample> scans;
-  std::vector<sim::TruthSample> truth;
-  void onJointState(const sim::JointStateSample&) override {}
-  void onScan(const sim::ScanSample& s) override { scans.push_back(s); }
-  void onTruth(const sim::TruthSample& s) override { truth.push_back(s); }
-};
-
-Pose2 truthAt(const std::vector<sim::TruthSample>& truth, double t)
-{
-  auto after =
-      std::upper_bound(truth.begin(), truth.end(), t,
-                       [](double time, const sim::TruthSample& s) { return time < s.stamp_s; });
-  if (after == truth.begin())
-    return truth.front().T_world_base;
-  const sim::TruthSample& before = *(after - 1);
-  return before.T_world_base * sim::integrateTwist(before.twist, t - before.stamp_s);
-}
-
-Scan toScan(const sim::ScanSample& sample)
-{
-  Scan scan;
-  scan.angle_min_rad = sample.angle_min_rad;
-  scan.angle_increment_rad = sample.angle_increment_rad;
-  scan.range_min_m = sample.range_min_m;
-  scan.range_max_m = sample.range_max_m;
-  scan.time_increment_s = sample.time_increment_s;
-  scan.ranges_m.assign(sample.ranges.begin(), sample.ranges.end());
-  return scan;
-}
+using Recorder = test::ScanTruthRecorder;
+using test::toScan;
+using test::truthAt;
 
 /// The office runs of seeds 1-3 (60 s each, as in the study) with every effect, at the URG-like
 /// values of config/sim/scenarios/mines_like.yaml.
