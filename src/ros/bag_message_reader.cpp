@@ -17,6 +17,7 @@
 
 #include "odometry_calibration/ros/conversions.h"
 #include "odometry_calibration/ros/point_cloud_conversion.h"
+#include "odometry_calibration/ros/wire_length_check.h"
 #include "odometry_calibration/scan/cloud_to_scan.h"
 
 namespace odometry_calibration {
@@ -53,6 +54,34 @@ void onBagReadFault(int signal)
   }
   std::signal(signal, SIG_DFL);
   std::raise(signal);
+}
+
+/// The message deserialised as T, or nullptr when it is of another type. Its bytes are copied
+/// out of the chunk first (checkBagRecords vouched that they lie inside it) and their lengths
+/// are checked before deserialising: a corrupted array count would otherwise make roscpp
+/// allocate up to 4 G elements before it notices the bytes are missing.
+template <typename T>
+boost::shared_ptr<T> deserialiseChecked(const rosbag::MessageInstance& message,
+                                        ros_conversions::WireMessage type,
+                                        std::vector<std::uint8_t>& bytes)
+{
+  const std::string md5 = message.getMD5Sum();
+  if (message.getDataType() != ros::message_traits::datatype<T>() ||
+      (md5 != "*" && md5 != ros::message_traits::md5sum<T>()))
+    return nullptr;
+  bytes.resize(message.size());
+  ros::serialization::OStream out(bytes.data(), static_cast<std::uint32_t>(bytes.size()));
+  message.write(out);
+  if (!ros_conversions::wireLengthsFit(type, bytes.data(), bytes.size())) {
+    throw ros::Exception("a " + message.getDataType() + " message on '" + message.getTopic() +
+                         "' at " + std::to_string(message.getTime().toSec()) +
+                         " s claims strings or arrays longer than its " +
+                         std::to_string(bytes.size()) + " bytes");
+  }
+  auto deserialised = boost::make_shared<T>();
+  ros::serialization::IStream in(bytes.data(), static_cast<std::uint32_t>(bytes.size()));
+  ros::serialization::deserialize(in, *deserialised);
+  return deserialised;
 }
 
 }  // namespace
@@ -144,7 +173,8 @@ void BagMessageReader::read(rosbag::View& view, const CalibrationConfig& config)
     BagInput input;
     input.fraction = (message.getTime().toSec() - begin_s) / span_s;
     if (message.getTopic() == config.joint_state_topic) {
-      const auto joints = message.instantiate<sensor_msgs::JointState>();
+      const auto joints = deserialiseChecked<sensor_msgs::JointState>(
+          message, ros_conversions::WireMessage::kJointState, message_bytes_);
       if (!joints)
         continue;
       const auto converted = Clock::now();
@@ -159,7 +189,8 @@ void BagMessageReader::read(rosbag::View& view, const CalibrationConfig& config)
       start = Clock::now();
       converting += start - converted;
     } else if (config.ego_motion == EgoMotionSource::kScan) {
-      const auto scan = message.instantiate<sensor_msgs::LaserScan>();
+      const auto scan = deserialiseChecked<sensor_msgs::LaserScan>(
+          message, ros_conversions::WireMessage::kLaserScan, message_bytes_);
       if (!scan)
         continue;
       const auto converted = Clock::now();
@@ -170,7 +201,8 @@ void BagMessageReader::read(rosbag::View& view, const CalibrationConfig& config)
       start = Clock::now();
       converting += start - converted;
     } else if (config.ego_motion == EgoMotionSource::kCloud) {
-      const auto cloud = message.instantiate<sensor_msgs::PointCloud2>();
+      const auto cloud = deserialiseChecked<sensor_msgs::PointCloud2>(
+          message, ros_conversions::WireMessage::kPointCloud2, message_bytes_);
       if (!cloud)
         continue;
       const auto converted = Clock::now();
@@ -209,10 +241,12 @@ void BagMessageReader::read(rosbag::View& view, const CalibrationConfig& config)
       }
     } else {
       input.kind = BagInput::Kind::kPose;
-      if (const auto odometry = message.instantiate<nav_msgs::Odometry>()) {
+      if (const auto odometry = deserialiseChecked<nav_msgs::Odometry>(
+              message, ros_conversions::WireMessage::kOdometry, message_bytes_)) {
         input.stamp_s = odometry->header.stamp.toSec();
         input.pose = ros_conversions::fromPoseMsg(odometry->pose.pose);
-      } else if (const auto stamped = message.instantiate<geometry_msgs::PoseStamped>()) {
+      } else if (const auto stamped = deserialiseChecked<geometry_msgs::PoseStamped>(
+                     message, ros_conversions::WireMessage::kPoseStamped, message_bytes_)) {
         input.stamp_s = stamped->header.stamp.toSec();
         input.pose = ros_conversions::fromPoseMsg(stamped->pose);
       } else {

@@ -11,6 +11,7 @@
 #include <rosbag/view.h>
 
 #include "odometry_calibration/ros/bag_message_reader.h"
+#include "odometry_calibration/ros/bag_record_check.h"
 
 namespace odometry_calibration {
 namespace {
@@ -50,6 +51,14 @@ BagRunResult runBagsUnchecked(const std::vector<std::string>& bag_paths,
       throw std::runtime_error("cannot read bag '" + path + "': " + error.what() +
                                " (a truncated or unindexed bag can be repaired with "
                                "'rosbag reindex')");
+    }
+    // rosbag trusts the lengths inside chunks; a flipped byte there would make it read outside
+    // its buffers. Refuse such a bag before any message is read.
+    try {
+      checkBagRecords(path);
+    } catch (const std::runtime_error& error) {
+      throw std::runtime_error("bag '" + path + "' is corrupted: " + error.what() +
+                               " (check it with 'rosbag check')");
     }
     bags.push_back(std::move(bag));
   }

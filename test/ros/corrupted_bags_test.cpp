@@ -131,6 +131,7 @@ TEST_F(CorruptedBags, RandomCorruptionsNeverCrash)
     if (outcome.status == 1) {
       EXPECT_NE(outcome.error.find("corrupted-" + std::to_string(seed) + ".bag"), std::string::npos)
           << outcome.error;
+      EXPECT_NE(outcome.error.find("is corrupted"), std::string::npos) << outcome.error;
     }
     ++statuses[outcome.status];
   }

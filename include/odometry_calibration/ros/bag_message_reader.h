@@ -5,6 +5,7 @@
 #pragma once
 
 #include <condition_variable>
+#include <cstdint>
 #include <deque>
 #include <exception>
 #include <mutex>
@@ -94,7 +95,8 @@ private:
   double read_time_s_ = 0.0;
   double conversion_time_s_ = 0.0;
   double filtering_time_s_ = 0.0;
-  std::string cloud_frame_;  ///< the first cloud's frame: the sensor's
+  std::string cloud_frame_;                  ///< the first cloud's frame: the sensor's
+  std::vector<std::uint8_t> message_bytes_;  ///< the message being deserialised
   std::thread thread_;
 };
 

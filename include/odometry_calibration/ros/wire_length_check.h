@@ -6,9 +6,9 @@
 // (little-endian; string = uint32 length + bytes; array = uint32 count + elements; ROS wiki,
 // "roscpp/Overview/MessagesSerializationAndAdaptingTypes") of the message types this package
 // reads and say whether every length fits in the bytes that are there. The messages fuzz target
-// passes only such messages on (what it finds should be this package's faults, not roscpp's).
-// The bag reader does not use them: rosbag hands out a message's bytes only by copying the
-// length its record claims, unchecked against the chunk, which is worse than deserialising.
+// passes only such messages on (what it finds should be this package's faults, not roscpp's),
+// and the bag reader checks every message with them, after checkBagRecords (bag_record_check.h)
+// made sure that the length each record claims lies inside its chunk.
 #pragma once
 
 #include <cstddef>

@@ -1,0 +1,343 @@
+#include "odometry_calibration/ros/bag_record_check.h"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <map>
+#include <stdexcept>
+#include <vector>
+
+#include <rosbag/chunked_file.h>
+#include <rosbag/exceptions.h>
+
+namespace odometry_calibration {
+namespace {
+
+constexpr char kMagic[] = "#ROSBAG V2.0\n";
+constexpr char kOldMagic[] = "#ROSBAG V1.2\n";
+constexpr std::size_t kMagicBytes = sizeof(kMagic) - 1;
+constexpr std::uint8_t kOpMessageData = 0x02;
+constexpr std::uint8_t kOpBagHeader = 0x03;
+constexpr std::uint8_t kOpIndexData = 0x04;
+constexpr std::uint8_t kOpChunk = 0x05;
+constexpr std::uint8_t kOpChunkInfo = 0x06;
+constexpr std::uint8_t kOpConnection = 0x07;
+constexpr std::size_t kWindowBytes = 64 * 1024;         // file bytes read at a time
+constexpr std::uint32_t kMaxHeaderBytes = 1024 * 1024;  // record headers hold a few fields
+constexpr std::uint32_t kIndexEntryBytes = 12;          // uint32 sec, nsec, offset
+
+[[noreturn]] void fail(const std::string& what)
+{
+  throw std::runtime_error(what);
+}
+
+/// An open file descriptor, closed on scope exit.
+class FileDescriptor
+{
+public:
+  explicit FileDescriptor(const std::string& path) : fd_(::open(path.c_str(), O_RDONLY | O_CLOEXEC))
+  {
+    if (fd_ < 0)
+      fail("cannot open '" + path + "': " + std::strerror(errno));
+  }
+  ~FileDescriptor() { ::close(fd_); }
+  FileDescriptor(const FileDescriptor&) = delete;
+  FileDescriptor& operator=(const FileDescriptor&) = delete;
+  int get() const { return fd_; }
+
+private:
+  int fd_;
+};
+
+/// The bytes a walk reads: a region of the file (read through a window, so that large message
+/// data is skipped rather than read) or a chunk decompressed into memory.
+class ByteSource
+{
+public:
+  ByteSource(int fd, std::uint64_t begin, std::uint64_t size) : fd_(fd), begin_(begin), size_(size)
+  {
+  }
+  explicit ByteSource(std::vector<std::uint8_t> memory)
+      : size_(memory.size()), window_(std::move(memory)), in_memory_(true)
+  {
+  }
+
+  std::uint64_t size() const { return size_; }
+
+  /// The `n` bytes at `offset`, valid until the next call; nullptr unless all are inside.
+  const std::uint8_t* at(std::uint64_t offset, std::size_t n)
+  {
+    if (offset > size_ || n > size_ - offset)
+      return nullptr;
+    if (in_memory_)
+      return window_.data() + offset;
+    if (offset < window_offset_ || offset + n > window_offset_ + window_.size()) {
+      const std::size_t length = static_cast<std::size_t>(
+          std::min<std::uint64_t>(std::max(n, kWindowBytes), size_ - offset));
+      window_.resize(length);
+      std::size_t done = 0;
+      while (done < length) {
+        const ssize_t got = ::pread(fd_, window_.data() + done, length - done,
+                                    static_cast<off_t>(begin_ + offset + done));
+        if (got <= 0) {
+          window_.clear();
+          return nullptr;
+        }
+        done += static_cast<std::size_t>(got);
+      }
+      window_offset_ = offset;
+    }
+    return window_.data() + (offset - window_offset_);
+  }
+
+  std::uint32_t u32(std::uint64_t offset)
+  {
+    const std::uint8_t* bytes = at(offset, 4);
+    std::uint32_t value = 0;
+    if (bytes)
+      std::memcpy(&value, bytes, 4);  // little-endian, as the format and every ROS 1 host
+    return value;
+  }
+
+private:
+  int fd_ = -1;
+  std::uint64_t begin_ = 0;
+  std::uint64_t size_ = 0;
+  std::vector<std::uint8_t> window_;
+  std::uint64_t window_offset_ = 0;
+  bool in_memory_ = false;
+};
+
+/// One record's header fields and where its data lies.
+struct Record
+{
+  std::map<std::string, std::string> fields;
+  std::uint8_t op = 0;
+  std::uint64_t data_offset = 0;  ///< in its source
+  std::uint32_t data_bytes = 0;
+  std::uint64_t end() const { return data_offset + data_bytes; }
+
+  bool has(const std::string& name) const { return fields.count(name) > 0; }
+
+  /// A fixed-size little-endian field; "" or the problem.
+  template <typename T>
+  std::string number(const std::string& name, T* value) const
+  {
+    const auto field = fields.find(name);
+    if (field == fields.end())
+      return "has no '" + name + "' field";
+    if (field->second.size() != sizeof(T))
+      return "has a '" + name + "' field of " + std::to_string(field->second.size()) +
+             " bytes, not " + std::to_string(sizeof(T));
+    std::memcpy(value, field->second.data(), sizeof(T));
+    return "";
+  }
+};
+
+/// Reads the record at `offset` of `source` into `record`; "" or what is wrong with it.
+std::string readRecord(ByteSource& source, std::uint64_t offset, Record& record)
+{
+  record = Record{};
+  if (!source.at(offset, 4))
+    return "the header length is cut off";
+  const std::uint32_t header_bytes = source.u32(offset);
+  if (header_bytes > kMaxHeaderBytes)
+    return "claims a header of " + std::to_string(header_bytes) + " bytes";
+  const std::uint8_t* header = source.at(offset + 4, header_bytes);
+  if (!header)
+    return "claims a header of " + std::to_string(header_bytes) + " bytes, " +
+           std::to_string(source.size() - std::min(source.size(), offset + 4)) + " are left";
+  const std::vector<std::uint8_t> copy(header, header + header_bytes);
+  for (std::size_t position = 0; position < copy.size();) {
+    std::uint32_t field_bytes = 0;
+    if (copy.size() - position < 4)
+      return "has a header field cut off";
+    std::memcpy(&field_bytes, copy.data() + position, 4);
+    position += 4;
+    if (field_bytes > copy.size() - position)
+      return "has a header field of " + std::to_string(field_bytes) + " bytes in a header of " +
+             std::to_string(header_bytes);
+    const std::string field(reinterpret_cast<const char*>(copy.data() + position), field_bytes);
+    position += field_bytes;
+    const std::size_t equals = field.find('=');
+    if (equals == std::string::npos)
+      return "has a header field without '='";
+    record.fields[field.substr(0, equals)] = field.substr(equals + 1);
+  }
+  const std::string op_problem = record.number("op", &record.op);
+  if (!op_problem.empty())
+    return op_problem;
+  const std::uint64_t length_offset = offset + 4 + header_bytes;
+  if (!source.at(length_offset, 4))
+    return "has its data length cut off";
+  record.data_bytes = source.u32(length_offset);
+  record.data_offset = length_offset + 4;
+  if (record.data_offset > source.size() || record.data_bytes > source.size() - record.data_offset)
+    return "claims " + std::to_string(record.data_bytes) + " data bytes, " +
+           std::to_string(source.size() - record.data_offset) + " are left";
+  return "";
+}
+
+/// Reads the record at `offset`, which must be of `op`; throws "<where>: <problem>" otherwise.
+Record expectRecord(ByteSource& source, std::uint64_t offset, std::uint8_t op,
+                    const std::string& where)
+{
+  Record record;
+  const std::string problem = readRecord(source, offset, record);
+  if (!problem.empty())
+    fail(where + " " + problem);
+  if (record.op != op)
+    fail(where + " is of type 0x" + std::to_string(record.op) + ", not 0x" + std::to_string(op));
+  return record;
+}
+
+template <typename T>
+T expectNumber(const Record& record, const std::string& name, const std::string& where)
+{
+  T value{};
+  const std::string problem = record.number(name, &value);
+  if (!problem.empty())
+    fail(where + " " + problem);
+  return value;
+}
+
+std::string at(const char* what, std::uint64_t offset)
+{
+  return std::string(what) + " at byte " + std::to_string(offset);
+}
+
+/// The chunk's records, decompressed when they are compressed.
+ByteSource chunkContents(const FileDescriptor& file, ByteSource& bag, const Record& chunk,
+                         const std::string& where)
+{
+  const auto compression = chunk.fields.find("compression");
+  if (compression == chunk.fields.end())
+    fail(where + " names no compression");
+  const auto size = expectNumber<std::uint32_t>(chunk, "size", where);
+  if (compression->second == "none") {
+    if (size != chunk.data_bytes)
+      fail(where + " is uncompressed but claims " + std::to_string(size) + " bytes in " +
+           std::to_string(chunk.data_bytes));
+    return ByteSource(file.get(), chunk.data_offset, chunk.data_bytes);
+  }
+  rosbag::CompressionType type = rosbag::compression::Uncompressed;
+  if (compression->second == "bz2") {
+    type = rosbag::compression::BZ2;
+  } else if (compression->second == "lz4") {
+    type = rosbag::compression::LZ4;
+  } else {
+    fail(where + " has an unknown compression '" + compression->second + "'");
+  }
+  const std::uint8_t* packed = bag.at(chunk.data_offset, chunk.data_bytes);
+  if (!packed)
+    fail(where + " cannot be read");
+  std::vector<std::uint8_t> source(packed, packed + chunk.data_bytes);
+  std::vector<std::uint8_t> records(size);
+  try {
+    rosbag::ChunkedFile codec;
+    codec.decompress(type, records.data(), size, source.data(), chunk.data_bytes);
+  } catch (const rosbag::BagException& error) {
+    fail(where + " does not decompress (" + compression->second + "): " + error.what());
+  }
+  return ByteSource(std::move(records));
+}
+
+}  // namespace
+
+BagRecordCheckSummary checkBagRecords(const std::string& path)
+{
+  BagRecordCheckSummary summary;
+  const FileDescriptor file(path);
+  struct stat status = {};
+  if (::fstat(file.get(), &status) != 0)
+    fail("cannot read '" + path + "': " + std::strerror(errno));
+  ByteSource bag(file.get(), 0, static_cast<std::uint64_t>(status.st_size));
+  const std::uint8_t* magic = bag.at(0, kMagicBytes);
+  if (magic && std::memcmp(magic, kOldMagic, kMagicBytes) == 0) {
+    summary.checked = false;
+    return summary;
+  }
+  if (!magic || std::memcmp(magic, kMagic, kMagicBytes) != 0)
+    fail("it does not start as a ROS bag of format 2.0 ('#ROSBAG V2.0')");
+
+  const Record header = expectRecord(bag, kMagicBytes, kOpBagHeader, "the bag header record");
+  const auto encryptor = header.fields.find("encryptor");
+  if (encryptor != header.fields.end() && !encryptor->second.empty() &&
+      encryptor->second != "rosbag/NoEncryptor") {
+    summary.checked = false;  // its chunks are encrypted: only rosbag can read them
+    return summary;
+  }
+  const auto index_position = expectNumber<std::uint64_t>(header, "index_pos", "the bag header");
+  const auto connections = expectNumber<std::uint32_t>(header, "conn_count", "the bag header");
+  const auto chunks = expectNumber<std::uint32_t>(header, "chunk_count", "the bag header");
+  if (index_position == 0)
+    fail(
+        "its index was never written (a recording that was not closed); 'rosbag reindex' "
+        "rebuilds it");
+  if (index_position < header.end() || index_position >= bag.size())
+    fail("the bag header puts the index at byte " + std::to_string(index_position) +
+         ", outside the bag's " + std::to_string(bag.size()) + " bytes");
+
+  // The index section, as rosbag reads it: the connections, then one info per chunk.
+  std::uint64_t offset = index_position;
+  for (std::uint32_t i = 0; i < connections; ++i)
+    offset = expectRecord(bag, offset, kOpConnection, at("connection record", offset)).end();
+  struct ChunkInfo
+  {
+    std::uint64_t position;
+    std::uint32_t connections;
+  };
+  std::vector<ChunkInfo> infos;
+  for (std::uint32_t i = 0; i < chunks; ++i) {
+    const std::string where = at("chunk info record", offset);
+    const Record info = expectRecord(bag, offset, kOpChunkInfo, where);
+    infos.push_back({expectNumber<std::uint64_t>(info, "chunk_pos", where),
+                     expectNumber<std::uint32_t>(info, "count", where)});
+    offset = info.end();
+  }
+
+  for (const ChunkInfo& info : infos) {
+    const std::string where = at("chunk", info.position);
+    const Record chunk = expectRecord(bag, info.position, kOpChunk, where);
+    ByteSource contents = chunkContents(file, bag, chunk, where);
+    // Its records must tile it; the index may point only at message data records' starts.
+    std::map<std::uint64_t, std::uint8_t> starts;
+    Record record;
+    for (std::uint64_t inner = 0; inner < contents.size(); inner = record.end()) {
+      const std::string problem = readRecord(contents, inner, record);
+      if (!problem.empty())
+        fail(where + ": record at chunk offset " + std::to_string(inner) + " " + problem);
+      if (record.op != kOpMessageData && record.op != kOpConnection)
+        fail(where + ": record at chunk offset " + std::to_string(inner) + " is of type 0x" +
+             std::to_string(record.op) + ", which a chunk does not hold");
+      starts[inner] = record.op;
+      ++summary.records;
+    }
+    std::uint64_t index_offset = chunk.end();
+    for (std::uint32_t c = 0; c < info.connections; ++c) {
+      const std::string index_where = at("index record", index_offset);
+      const Record index = expectRecord(bag, index_offset, kOpIndexData, index_where);
+      const auto count = expectNumber<std::uint32_t>(index, "count", index_where);
+      if (std::uint64_t{count} * kIndexEntryBytes != index.data_bytes)
+        fail(index_where + " claims " + std::to_string(count) + " entries in " +
+             std::to_string(index.data_bytes) + " bytes");
+      for (std::uint32_t e = 0; e < count; ++e) {
+        const std::uint32_t entry =
+            bag.u32(index.data_offset + std::uint64_t{e} * kIndexEntryBytes + 8);
+        const auto start = starts.find(entry);
+        if (start == starts.end() || start->second != kOpMessageData)
+          fail(index_where + ": entry " + std::to_string(e) + " points at chunk offset " +
+               std::to_string(entry) + ", where no message record of " + where + " starts");
+      }
+      summary.index_entries += count;
+      index_offset = index.end();
+    }
+    ++summary.chunks;
+  }
+  return summary;
+}
+
+}  // namespace odometry_calibration
