@@ -11,6 +11,7 @@
 
 #include "odometry_calibration/models/observability.h"
 #include "odometry_calibration/models/parameter_estimates.h"
+#include "odometry_calibration/models/parameter_layouts.h"
 #include "odometry_calibration/models/sensor_motion_fit.h"
 
 namespace odometry_calibration {
@@ -147,15 +148,14 @@ ModelReport DiffDriveModel::fit(const std::vector<MotionPair>& pairs)
   Eigen::Matrix<double, 6, 1> start, value;
   start << start_intrinsics, start_pose.vector();
   value << intrinsics_, T_base_sensor_.vector();
-  report.parameters = parameterEstimates(
-      {"left_wheel_radius", "right_wheel_radius", "wheel_separation", "sensor_x", "sensor_y",
-       "sensor_theta"},
-      {"m", "m", "m", "m", "m", "rad"}, start, value, covariance_, fit.covariance_available);
+  const ParameterLayout& layout = diffDriveParameters();
+  report.parameters = parameterEstimates(layout.names, layout.units, start, value, covariance_,
+                                         fit.covariance_available);
   ObservabilityHints hints;
   hints.unobservable_without_turning = "wheel_separation, the radii's difference and sensor_y";
   hints.confused_by_one_way_turns =
       "the radii's difference is poorly separated from the sensor's position";
-  hints.relative_parameters = {"left_wheel_radius", "right_wheel_radius", "wheel_separation"};
+  hints.relative_parameters = layout.relative;
   report.warnings = observabilityWarnings(pairs, report.parameters, covariance_,
                                           fit.covariance_available, hints, &report.notes);
   return report;

@@ -12,6 +12,7 @@
 
 #include "odometry_calibration/models/diff_drive_kinematics.h"
 #include "odometry_calibration/models/mecanum_kinematics.h"
+#include "odometry_calibration/models/parameter_layouts.h"
 #include "odometry_calibration/models/sensor_motion_fit.h"
 #include "odometry_calibration/models/tricycle_residual.h"
 
@@ -81,8 +82,7 @@ std::string motionWords(Motion motion, bool turns_in_place, double driven, doubl
 struct ModelTraits
 {
   std::string model;
-  std::vector<std::string> names, units;
-  std::vector<std::string> relative;       ///< parameters with a relative target
+  ParameterLayout layout;                  ///< names, units, which have a relative target
   std::vector<std::vector<Motion>> needs;  ///< per parameter
   bool turns_in_place = true;
 };
@@ -110,16 +110,17 @@ public:
     Eigen::Matrix<double, P, 1> value;
     value << intrinsic_, sensor_pose_;
     for (int i = 0; i < P; ++i) {
-      const std::string& name = traits_.names[static_cast<std::size_t>(i)];
+      const std::string& name = traits_.layout.names[static_cast<std::size_t>(i)];
       const auto given = options_.target_sigma.find(name);
       if (given != options_.target_sigma.end()) {
         target_(i) = given->second;
-      } else if (std::find(traits_.relative.begin(), traits_.relative.end(), name) !=
-                 traits_.relative.end()) {
+      } else if (std::find(traits_.layout.relative.begin(), traits_.layout.relative.end(), name) !=
+                 traits_.layout.relative.end()) {
         target_(i) = options_.relative_target * std::abs(value(i));
       } else {
-        target_(i) = traits_.units[static_cast<std::size_t>(i)] == "rad" ? options_.angle_target_rad
-                                                                         : options_.length_target_m;
+        target_(i) = traits_.layout.units[static_cast<std::size_t>(i)] == "rad"
+                         ? options_.angle_target_rad
+                         : options_.length_target_m;
       }
       if (!(target_(i) > 0.0)) {
         throw std::invalid_argument("excitation guidance: the target sigma of " + name +
@@ -170,8 +171,8 @@ public:
     std::array<int, kMotionCount> wanted{};
     for (int i = 0; i < P; ++i) {
       ParameterGuidance parameter;
-      parameter.name = traits_.names[static_cast<std::size_t>(i)];
-      parameter.unit = traits_.units[static_cast<std::size_t>(i)];
+      parameter.name = traits_.layout.names[static_cast<std::size_t>(i)];
+      parameter.unit = traits_.layout.units[static_cast<std::size_t>(i)];
       parameter.value = value_(i);
       parameter.sigma = std::sqrt(std::max(covariance(i, i), 0.0));
       parameter.target_sigma = target_(i);
@@ -260,10 +261,7 @@ std::unique_ptr<ExcitationGuidance> diffDriveGuidance(const DiffDriveOptions& fa
 {
   ModelTraits traits;
   traits.model = "diff_drive";
-  traits.names = {"left_wheel_radius", "right_wheel_radius", "wheel_separation",
-                  "sensor_x",          "sensor_y",           "sensor_theta"};
-  traits.units = {"m", "m", "m", "m", "m", "rad"};
-  traits.relative = {"left_wheel_radius", "right_wheel_radius", "wheel_separation"};
+  traits.layout = diffDriveParameters();
   // The radii need straight runs (their mean) and turns both ways (their ratio against b);
   // the sensor's position is best seen turning on the spot both ways (a pure rotation moves it
   // on a circle), its yaw on straight runs (the travel's direction in the sensor frame).
@@ -305,10 +303,7 @@ std::unique_ptr<ExcitationGuidance> tricycleGuidance(const TricycleModelOptions&
 {
   ModelTraits traits;
   traits.model = "tricycle";
-  traits.names = {"steering_scale", "traction_scale", "axis_length", "steering_offset",
-                  "sensor_x",       "sensor_y",       "sensor_theta"};
-  traits.units = {"-", "m/turn", "m", "rad", "m", "m", "rad"};
-  traits.relative = {"steering_scale", "traction_scale", "axis_length"};
+  traits.layout = tricycleParameters();
   traits.turns_in_place = false;
   // The steering scale is seen at large angles both ways; the offset against straight runs and
   // both turn directions (seed section 6: one-way turns confuse it with the scale); the axis
@@ -353,17 +348,7 @@ std::unique_ptr<ExcitationGuidance> mecanumGuidance(const MecanumOptions& factor
 {
   ModelTraits traits;
   traits.model = "mecanum";
-  traits.names = {"wheel_radius_front_left",
-                  "wheel_radius_front_right",
-                  "wheel_radius_rear_left",
-                  "wheel_radius_rear_right",
-                  "lx_plus_ly",
-                  "sensor_x",
-                  "sensor_y",
-                  "sensor_theta"};
-  traits.units = {"m", "m", "m", "m", "m", "m", "m", "rad"};
-  traits.relative = {"wheel_radius_front_left", "wheel_radius_front_right",
-                     "wheel_radius_rear_left", "wheel_radius_rear_right", "lx_plus_ly"};
+  traits.layout = mecanumParameters();
   // Each radius enters forward travel, strafing and rotation with its own signs: all three
   // (both ways) separate the four; lx + ly needs rotation; the sensor as for the diff drive.
   const std::vector<Motion> radius = {kStraight, kStrafeLeft, kStrafeRight, kTurnLeft, kTurnRight};

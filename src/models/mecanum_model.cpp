@@ -12,6 +12,7 @@
 
 #include "odometry_calibration/models/observability.h"
 #include "odometry_calibration/models/parameter_estimates.h"
+#include "odometry_calibration/models/parameter_layouts.h"
 #include "odometry_calibration/models/sensor_motion_fit.h"
 
 namespace odometry_calibration {
@@ -206,24 +207,17 @@ ModelReport MecanumModel::fit(const std::vector<MotionPair>& pairs)
   report.has_extrinsic = true;
   report.T_base_sensor = T_base_sensor_;
 
-  const std::vector<std::string> names = {"wheel_radius_front_left",
-                                          "wheel_radius_front_right",
-                                          "wheel_radius_rear_left",
-                                          "wheel_radius_rear_right",
-                                          "lx_plus_ly",
-                                          "sensor_x",
-                                          "sensor_y",
-                                          "sensor_theta"};
+  const ParameterLayout& layout = mecanumParameters();
   Eigen::Matrix<double, 8, 1> start, value;
   start << start_intrinsics, start_pose.vector();
   value << intrinsics_, T_base_sensor_.vector();
-  report.parameters = parameterEstimates(names, {"m", "m", "m", "m", "m", "m", "m", "rad"}, start,
-                                         value, covariance_, fit.covariance_available);
+  report.parameters = parameterEstimates(layout.names, layout.units, start, value, covariance_,
+                                         fit.covariance_available);
   ObservabilityHints hints;
   hints.unobservable_without_turning = "lx_plus_ly, sensor_x and sensor_y";
   hints.confused_by_one_way_turns =
       "the radii's left-right difference is poorly separated from the sensor's position";
-  hints.relative_parameters = {names[0], names[1], names[2], names[3], names[4]};
+  hints.relative_parameters = layout.relative;
   const std::vector<std::string> general = observabilityWarnings(
       pairs, report.parameters, covariance_, fit.covariance_available, hints, &report.notes);
   // The mecanum coverage check names the missing motion (strafing, turning on the spot,

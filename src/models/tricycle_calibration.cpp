@@ -9,6 +9,7 @@
 
 #include "odometry_calibration/models/observability.h"
 #include "odometry_calibration/models/parameter_estimates.h"
+#include "odometry_calibration/models/parameter_layouts.h"
 #include "odometry_calibration/models/tricycle_residual.h"
 
 namespace odometry_calibration {
@@ -113,10 +114,8 @@ std::vector<ParameterEstimate> makeEstimates(const TricycleParameters& initial,
   start << initial.kinematicVector(), initial.T_base_sensor.vector();
   Eigen::Matrix<double, 7, 1> value;
   value << calibrated.kinematicVector(), calibrated.T_base_sensor.vector();
-  return parameterEstimates({"steering_scale", "traction_scale", "axis_length", "steering_offset",
-                             "sensor_x", "sensor_y", "sensor_theta"},
-                            {"-", "m/turn", "m", "rad", "m", "m", "rad"}, start, value, covariance,
-                            covariance_available);
+  return parameterEstimates(tricycleParameters().names, tricycleParameters().units, start, value,
+                            covariance, covariance_available);
 }
 
 }  // namespace
@@ -212,7 +211,7 @@ TricycleCalibrationResult calibrateTricycle(const std::vector<MotionPair>& pairs
   ObservabilityHints hints;
   hints.unobservable_without_turning = "steering_scale, axis_length and sensor_y";
   hints.confused_by_one_way_turns = "steering_offset cannot be separated from steering_scale";
-  hints.relative_parameters = {"steering_scale", "traction_scale", "axis_length"};
+  hints.relative_parameters = tricycleParameters().relative;
   result.warnings = observabilityWarnings(pairs, result.estimates, result.covariance,
                                           result.covariance_available, hints, &result.notes);
   return result;
