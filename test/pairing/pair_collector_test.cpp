@@ -11,6 +11,8 @@
 #include "odometry_calibration/sim/robot.h"
 #include "odometry_calibration/sim/simulator.h"
 
+#include "support/sim_recording.h"
+
 namespace odometry_calibration {
 namespace {
 
@@ -20,16 +22,7 @@ std::vector<EncoderChannelOptions> wheels()
           {"right_wheel", EncoderKind::kIncremental, 4294967296.0, 0.0}};
 }
 
-Scan toScan(const sim::ScanSample& s)
-{
-  Scan scan;
-  scan.angle_min_rad = s.angle_min_rad;
-  scan.angle_increment_rad = s.angle_increment_rad;
-  scan.range_min_m = s.range_min_m;
-  scan.range_max_m = s.range_max_m;
-  scan.ranges_m.assign(s.ranges.begin(), s.ranges.end());
-  return scan;
-}
+using test::toScan;
 
 /// Feeds a simulated run to a collector in time order, as the node and the bag tool do.
 struct Feeder : sim::SimulationSink

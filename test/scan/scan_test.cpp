@@ -292,50 +292,62 @@ TEST(ScanLines, OptionsAreValidated)
   }
 }
 
+/// The office room seen from (3, 3, 0.4) with the parameter's field of view (240 deg, or 360
+/// deg: the walks wrap around), its lines and both searches over it.
 class NearestPointSearchFieldOfView : public ::testing::TestWithParam<double>
 {
+protected:
+  /// Scans with noise from `seed`; the tests draw their queries from the same generator.
+  void scan(unsigned seed)
+  {
+    synthetic::LidarModel lidar;
+    lidar.field_of_view_rad = GetParam();
+    rng_.seed(seed);
+    points_ = scanToPoints(
+        synthetic::simulateScan(synthetic::officeRoom(), Pose2(3, 3, 0.4), lidar, rng_));
+    lines_ = fitScanLines(points_, LineFitOptions());
+    angular_ = makeAngularSearch(points_, lines_);
+    kdtree_ = makeKdTreeSearch(points_, lines_);
+  }
+
+  std::mt19937 rng_;
+  ScanPoints points_;
+  ScanLines lines_;
+  std::unique_ptr<NearestPointSearch> angular_, kdtree_;
+  const double min_cosine_ = std::cos(0.6);
 };
 
 TEST_P(NearestPointSearchFieldOfView, AngularAndKdTreeAgreeWithBruteForce)
 {
-  const synthetic::World world = synthetic::officeRoom();
-  synthetic::LidarModel lidar;
-  lidar.field_of_view_rad = GetParam();  // 240 deg, or 360 deg (the walks wrap around)
-  std::mt19937 rng(3);
-  const ScanPoints points =
-      scanToPoints(synthetic::simulateScan(world, Pose2(3, 3, 0.4), lidar, rng));
-  const ScanLines lines = fitScanLines(points, LineFitOptions());
-  const auto angular = makeAngularSearch(points, lines);
-  const auto kdtree = makeKdTreeSearch(points, lines);
+  scan(3);
   std::uniform_real_distribution<double> coordinate(-6.0, 6.0);
   std::uniform_real_distribution<double> angle(-M_PI, M_PI);
-  const double min_cosine = std::cos(0.6);
-  std::uniform_int_distribution<std::size_t> hint_index(0, points.size() - 1);
+  std::uniform_int_distribution<std::size_t> hint_index(0, points_.size() - 1);
   for (int query = 0; query < 2000; ++query) {
-    const Eigen::Vector2d q(coordinate(rng), coordinate(rng));
-    const double a = angle(rng);
+    const Eigen::Vector2d q(coordinate(rng_), coordinate(rng_));
+    const double a = angle(rng_);
     const Eigen::Vector2d normal =
         query % 2 == 0 ? Eigen::Vector2d(std::cos(a), std::sin(a)) : Eigen::Vector2d::Zero();
     const double max_distance_m = query % 3 == 0 ? 0.3 : 2.0;
     int expected = -1;
     double best = max_distance_m;
-    for (std::size_t i = 0; i < points.size(); ++i) {
+    for (std::size_t i = 0; i < points_.size(); ++i) {
       const bool compatible =
-          lines.fitted[i] == 0 || normal.isZero() || lines.normals[i].dot(normal) >= min_cosine;
-      const double distance = (points.points_m[i] - q).norm();
-      if (lines.valid[i] != 0 && compatible && distance <= best) {
+          lines_.fitted[i] == 0 || normal.isZero() || lines_.normals[i].dot(normal) >= min_cosine_;
+      const double distance = (points_.points_m[i] - q).norm();
+      if (lines_.valid[i] != 0 && compatible && distance <= best) {
         best = distance;
         expected = static_cast<int>(i);
       }
     }
-    EXPECT_EQ(angular->nearest(q, normal, min_cosine, max_distance_m, nullptr), expected)
+    EXPECT_EQ(angular_->nearest(q, normal, min_cosine_, max_distance_m, nullptr), expected)
         << "query " << q.transpose();
-    EXPECT_EQ(kdtree->nearest(q, normal, min_cosine, max_distance_m, nullptr), expected)
+    EXPECT_EQ(kdtree_->nearest(q, normal, min_cosine_, max_distance_m, nullptr), expected)
         << "query " << q.transpose();
     // A hint (any reference point: near, far, unusable or out of range) never changes the
     // answer.
-    for (const int hint : {expected, static_cast<int>(hint_index(rng)), -1, 100000}) {
-      EXPECT_EQ(angular->nearest(q, normal, min_cosine, max_distance_m, nullptr, hint), expected)
+    for (const int hint : {expected, static_cast<int>(hint_index(rng_)), -1, 100000}) {
+      EXPECT_EQ(angular_->nearest(q, normal, min_cosine_, max_distance_m, nullptr, hint), expected)
           << "query " << q.transpose() << ", hint " << hint;
     }
   }
@@ -362,42 +374,34 @@ int bruteForceNearest(const ScanPoints& points, const ScanLines& lines, const Ei
 
 TEST_P(NearestPointSearchFieldOfView, IsolationBoundsEveryOtherPoint)
 {
-  const synthetic::World world = synthetic::officeRoom();
-  synthetic::LidarModel lidar;
-  lidar.field_of_view_rad = GetParam();
-  std::mt19937 rng(5);
-  const ScanPoints points =
-      scanToPoints(synthetic::simulateScan(world, Pose2(3, 3, 0.4), lidar, rng));
-  const ScanLines lines = fitScanLines(points, LineFitOptions());
-  const auto angular = makeAngularSearch(points, lines);
-  const auto kdtree = makeKdTreeSearch(points, lines);
-  std::uniform_int_distribution<std::size_t> point_index(0, points.size() - 1);
+  scan(5);
+  std::uniform_int_distribution<std::size_t> point_index(0, points_.size() - 1);
   std::normal_distribution<double> offset(0.0, 0.05);
   std::uniform_real_distribution<double> angle(-M_PI, M_PI);
-  const double min_cosine = std::cos(0.6);
   int isolated_beyond_answer = 0;
   for (int query = 0; query < 1500; ++query) {
     // Near the surfaces, where ICP asks.
     const Eigen::Vector2d q =
-        points.points_m[point_index(rng)] + Eigen::Vector2d(offset(rng), offset(rng));
-    const double a = angle(rng);
+        points_.points_m[point_index(rng_)] + Eigen::Vector2d(offset(rng_), offset(rng_));
+    const double a = angle(rng_);
     const Eigen::Vector2d normal =
         query % 2 == 0 ? Eigen::Vector2d(std::cos(a), std::sin(a)) : Eigen::Vector2d::Zero();
     const double max_distance_m = query % 3 == 0 ? 0.03 : 0.5;
     const double margin_m = std::array<double, 3>{0.0, 0.01, 0.05}[query % 3];
-    const int expected = bruteForceNearest(points, lines, q, normal, min_cosine, max_distance_m);
+    const int expected = bruteForceNearest(points_, lines_, q, normal, min_cosine_, max_distance_m);
     const double reach_m =
-        (expected >= 0 ? (points.points_m[expected] - q).norm() : max_distance_m) + margin_m;
+        (expected >= 0 ? (points_.points_m[expected] - q).norm() : max_distance_m) + margin_m;
     double others_m = std::numeric_limits<double>::infinity();  // nearest point but the answer
-    for (std::size_t i = 0; i < points.size(); ++i) {
-      if (lines.valid[i] != 0 && static_cast<int>(i) != expected)
-        others_m = std::min(others_m, (points.points_m[i] - q).norm());
+    for (std::size_t i = 0; i < points_.size(); ++i) {
+      if (lines_.valid[i] != 0 && static_cast<int>(i) != expected)
+        others_m = std::min(others_m, (points_.points_m[i] - q).norm());
     }
-    for (const auto* search : {angular.get(), kdtree.get()}) {
-      const NearestPoint answer = search->find(q, normal, min_cosine, max_distance_m, -1, margin_m);
+    for (const auto* search : {angular_.get(), kdtree_.get()}) {
+      const NearestPoint answer =
+          search->find(q, normal, min_cosine_, max_distance_m, -1, margin_m);
       ASSERT_EQ(answer.index, expected) << "query " << q.transpose() << ", margin " << margin_m;
       if (expected >= 0) {
-        EXPECT_NEAR(answer.distance_m, (points.points_m[expected] - q).norm(), 1e-12);
+        EXPECT_NEAR(answer.distance_m, (points_.points_m[expected] - q).norm(), 1e-12);
       }
       // A bound: no other point nearer than the isolation ...
       EXPECT_LE(answer.isolation_m, others_m + 1e-12) << "query " << q.transpose();
@@ -407,7 +411,7 @@ TEST_P(NearestPointSearchFieldOfView, IsolationBoundsEveryOtherPoint)
     }
     isolated_beyond_answer +=
         expected >= 0 &&
-        angular->find(q, normal, min_cosine, max_distance_m, expected, margin_m).isolation_m >
+        angular_->find(q, normal, min_cosine_, max_distance_m, expected, margin_m).isolation_m >
             reach_m - margin_m + 1e-3;
   }
   // The margin buys certificates: most answers are isolated by more than a millimetre.
@@ -416,39 +420,31 @@ TEST_P(NearestPointSearchFieldOfView, IsolationBoundsEveryOtherPoint)
 
 TEST_P(NearestPointSearchFieldOfView, TrackedQueriesAnswerAsSearchesDoWithFewerSearches)
 {
-  const synthetic::World world = synthetic::officeRoom();
-  synthetic::LidarModel lidar;
-  lidar.field_of_view_rad = GetParam();
-  std::mt19937 rng(7);
-  const ScanPoints points =
-      scanToPoints(synthetic::simulateScan(world, Pose2(3, 3, 0.4), lidar, rng));
-  const ScanLines lines = fitScanLines(points, LineFitOptions());
-  const auto angular = makeAngularSearch(points, lines);
-  const auto kdtree = makeKdTreeSearch(points, lines);
-  std::uniform_int_distribution<std::size_t> point_index(0, points.size() - 1);
+  scan(7);
+  std::uniform_int_distribution<std::size_t> point_index(0, points_.size() - 1);
   std::normal_distribution<double> unit(0.0, 1.0);
-  const double min_cosine = std::cos(0.6);
-  for (const auto* search : {angular.get(), kdtree.get()}) {
+  for (const auto* search : {angular_.get(), kdtree_.get()}) {
     int calls = 0;
     int searches = 0;
     for (int track_number = 0; track_number < 300; ++track_number) {
       // A new point over ICP iterations: steps shrinking from 5 cm to nothing, its normal
       // turning with the pose (sometimes across the compatibility limit of 0.6 rad).
       Eigen::Vector2d q =
-          points.points_m[point_index(rng)] + 0.05 * Eigen::Vector2d(unit(rng), unit(rng));
-      double normal_angle = std::atan2(q.y(), q.x()) + M_PI + 0.6 * unit(rng);
+          points_.points_m[point_index(rng_)] + 0.05 * Eigen::Vector2d(unit(rng_), unit(rng_));
+      double normal_angle = std::atan2(q.y(), q.x()) + M_PI + 0.6 * unit(rng_);
       const double max_distance_m = track_number % 4 == 0 ? 0.02 : 0.5;
       NearestTrack track;
       for (const double step_m : {0.05, 0.02, 0.005, 0.001, 2e-4, 3e-5, 0.0, 0.0}) {
-        q += step_m * Eigen::Vector2d(unit(rng), unit(rng));
-        normal_angle += 5.0 * step_m * unit(rng);
+        q += step_m * Eigen::Vector2d(unit(rng_), unit(rng_));
+        normal_angle += 5.0 * step_m * unit(rng_);
         const Eigen::Vector2d normal(std::cos(normal_angle), std::sin(normal_angle));
         const Eigen::Vector2d searched_at = track.query_m;
         const int answer =
-            search->nearestTracked(q, normal, min_cosine, max_distance_m, 4.0 * step_m, track);
+            search->nearestTracked(q, normal, min_cosine_, max_distance_m, 4.0 * step_m, track);
         ++calls;
         searches += track.query_m != searched_at || calls == 1 ? 1 : 0;
-        ASSERT_EQ(answer, bruteForceNearest(points, lines, q, normal, min_cosine, max_distance_m))
+        ASSERT_EQ(answer,
+                  bruteForceNearest(points_, lines_, q, normal, min_cosine_, max_distance_m))
             << "track " << track_number << ", step " << step_m << " m";
       }
     }
