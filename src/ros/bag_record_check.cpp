@@ -137,6 +137,32 @@ struct Record
   }
 };
 
+/// Reads `bytes` as header fields (uint32 length, then "name=value"), as rosbag does for record
+/// headers and connection records' data (ros::Header::parse, which takes each length as given):
+/// into `fields` when given; "" or what is wrong ("has a <what> field ...").
+std::string readFields(const std::vector<std::uint8_t>& bytes, const std::string& what,
+                       std::map<std::string, std::string>* fields)
+{
+  for (std::size_t position = 0; position < bytes.size();) {
+    std::uint32_t field_bytes = 0;
+    if (bytes.size() - position < 4)
+      return "has a " + what + " field cut off";
+    std::memcpy(&field_bytes, bytes.data() + position, 4);
+    position += 4;
+    if (field_bytes > bytes.size() - position)
+      return "has a " + what + " field of " + std::to_string(field_bytes) + " bytes in a " + what +
+             " of " + std::to_string(bytes.size());
+    const std::string field(reinterpret_cast<const char*>(bytes.data() + position), field_bytes);
+    position += field_bytes;
+    const std::size_t equals = field.find('=');
+    if (equals == std::string::npos)
+      return "has a " + what + " field without '='";
+    if (fields)
+      (*fields)[field.substr(0, equals)] = field.substr(equals + 1);
+  }
+  return "";
+}
+
 /// Reads the record at `offset` of `source` into `record`; "" or what is wrong with it.
 std::string readRecord(ByteSource& source, std::uint64_t offset, Record& record)
 {
@@ -151,22 +177,9 @@ std::string readRecord(ByteSource& source, std::uint64_t offset, Record& record)
     return "claims a header of " + std::to_string(header_bytes) + " bytes, " +
            std::to_string(source.size() - std::min(source.size(), offset + 4)) + " are left";
   const std::vector<std::uint8_t> copy(header, header + header_bytes);
-  for (std::size_t position = 0; position < copy.size();) {
-    std::uint32_t field_bytes = 0;
-    if (copy.size() - position < 4)
-      return "has a header field cut off";
-    std::memcpy(&field_bytes, copy.data() + position, 4);
-    position += 4;
-    if (field_bytes > copy.size() - position)
-      return "has a header field of " + std::to_string(field_bytes) + " bytes in a header of " +
-             std::to_string(header_bytes);
-    const std::string field(reinterpret_cast<const char*>(copy.data() + position), field_bytes);
-    position += field_bytes;
-    const std::size_t equals = field.find('=');
-    if (equals == std::string::npos)
-      return "has a header field without '='";
-    record.fields[field.substr(0, equals)] = field.substr(equals + 1);
-  }
+  const std::string fields_problem = readFields(copy, "header", &record.fields);
+  if (!fields_problem.empty())
+    return fields_problem;
   const std::string op_problem = record.number("op", &record.op);
   if (!op_problem.empty())
     return op_problem;
@@ -178,6 +191,17 @@ std::string readRecord(ByteSource& source, std::uint64_t offset, Record& record)
   if (record.data_offset > source.size() || record.data_bytes > source.size() - record.data_offset)
     return "claims " + std::to_string(record.data_bytes) + " data bytes, " +
            std::to_string(source.size() - record.data_offset) + " are left";
+  if (record.op == kOpConnection) {  // its data is the connection's header, parsed as one
+    if (record.data_bytes > kMaxHeaderBytes)
+      return "holds a connection header of " + std::to_string(record.data_bytes) + " bytes";
+    const std::uint8_t* data = source.at(record.data_offset, record.data_bytes);
+    if (!data)
+      return "cannot be read";
+    const std::string problem = readFields(
+        std::vector<std::uint8_t>(data, data + record.data_bytes), "connection header", nullptr);
+    if (!problem.empty())
+      return problem;
+  }
   return "";
 }
 
@@ -296,6 +320,9 @@ BagRecordCheckSummary checkBagRecords(const std::string& path)
     const Record info = expectRecord(bag, offset, kOpChunkInfo, where);
     infos.push_back({expectNumber<std::uint64_t>(info, "chunk_pos", where),
                      expectNumber<std::uint32_t>(info, "count", where)});
+    if (std::uint64_t{infos.back().connections} * 8 != info.data_bytes)  // (conn, count) pairs
+      fail(where + " claims " + std::to_string(infos.back().connections) + " connections in " +
+           std::to_string(info.data_bytes) + " bytes");
     offset = info.end();
   }
 

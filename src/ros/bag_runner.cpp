@@ -45,20 +45,22 @@ BagRunResult runBagsUnchecked(const std::vector<std::string>& bag_paths,
     if (!std::filesystem::is_regular_file(path, error_code)) {
       throw std::runtime_error("no bag file '" + path + "'");
     }
+    // rosbag trusts the lengths a bag states (of records, header fields, index entries): one
+    // flipped byte makes it read outside its buffers, already while opening. Refuse such a bag
+    // before rosbag reads any of it.
+    try {
+      checkBagRecords(path);
+    } catch (const std::runtime_error& error) {
+      throw std::runtime_error("bag '" + path + "' is corrupted or cut off: " + error.what() +
+                               " (check it with 'rosbag check'; 'rosbag reindex' repairs a bag "
+                               "whose index is lost or cut off)");
+    }
     try {
       bag->open(path, rosbag::bagmode::Read);
     } catch (const rosbag::BagException& error) {
       throw std::runtime_error("cannot read bag '" + path + "': " + error.what() +
                                " (a truncated or unindexed bag can be repaired with "
                                "'rosbag reindex')");
-    }
-    // rosbag trusts the lengths inside chunks; a flipped byte there would make it read outside
-    // its buffers. Refuse such a bag before any message is read.
-    try {
-      checkBagRecords(path);
-    } catch (const std::runtime_error& error) {
-      throw std::runtime_error("bag '" + path + "' is corrupted: " + error.what() +
-                               " (check it with 'rosbag check')");
     }
     bags.push_back(std::move(bag));
   }

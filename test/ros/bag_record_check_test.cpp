@@ -183,6 +183,45 @@ TEST_F(BagRecordCheck, CorruptedArrayCountInsideAMessageIsReportedNotAllocated)
   }
 }
 
+TEST_F(BagRecordCheck, HeaderFieldBeyondItsHeaderIsRefusedBeforeRosbagOpensTheBag)
+{
+  // rosbag's open parses the bag header record with ros::Header::parse, which copies each
+  // field's claimed length unchecked (found by the bag fuzz target: heap-buffer-overflow).
+  std::string bytes = readFile(writeBag("clean.bag", rosbag::compression::Uncompressed));
+  const std::size_t first_field = 13 + 4;  // after "#ROSBAG V2.0\n" and the header length
+  setU32(bytes, first_field, 219);
+  const std::string path = write("field.bag", bytes);
+  const CalibrationConfig config =
+      loadCalibrationConfig(std::string(ODOMETRY_CALIBRATION_CONFIG_DIR) + "/diff_drive.yaml");
+  try {
+    runBags({path}, config);
+    FAIL() << "a bag header field of 219 bytes was read";
+  } catch (const std::runtime_error& error) {
+    const std::string what = error.what();
+    EXPECT_NE(what.find("field.bag' is corrupted or cut off: the bag header record has a header "
+                        "field of 219 bytes"),
+              std::string::npos)
+        << what;
+  }
+}
+
+TEST_F(BagRecordCheck, ConnectionHeaderFieldBeyondItsDataIsRefused)
+{
+  // The connection records' data is a header too (topic, type, md5sum, message_definition).
+  std::string bytes = readFile(writeBag("clean.bag", rosbag::compression::Uncompressed));
+  const std::size_t type = bytes.find(std::string("\x1b\0\0\0type=sensor_msgs/JointState", 31));
+  ASSERT_NE(type, std::string::npos);
+  setU32(bytes, type, 0x10000);
+  try {
+    checkBagRecords(write("connection.bag", bytes));
+    FAIL() << "a connection header field of 64 KiB was taken";
+  } catch (const std::runtime_error& error) {
+    EXPECT_NE(std::string(error.what()).find("has a connection header field of 65536 bytes"),
+              std::string::npos)
+        << error.what();
+  }
+}
+
 TEST_F(BagRecordCheck, NotABagAndUnindexedBagsAreRefused)
 {
   EXPECT_THROW(checkBagRecords(write("text.bag", "#ROSBAG V3.0\nnothing")), std::runtime_error);
