@@ -280,20 +280,19 @@ BagRecordCheckSummary checkBagRecords(const std::string& path)
     fail("cannot read '" + path + "': " + std::strerror(errno));
   ByteSource bag(file.get(), 0, static_cast<std::uint64_t>(status.st_size));
   const std::uint8_t* magic = bag.at(0, kMagicBytes);
-  if (magic && std::memcmp(magic, kOldMagic, kMagicBytes) == 0) {
-    summary.checked = false;
-    return summary;
-  }
+  if (magic && std::memcmp(magic, kOldMagic, kMagicBytes) == 0)
+    throw UnsupportedBagFormat(
+        "it is in the bag format 1.2 of ROS before 2010, which is not read "
+        "here; 'rosbag filter OLD.bag NEW.bag True' rewrites it in 2.0");
   if (!magic || std::memcmp(magic, kMagic, kMagicBytes) != 0)
     fail("it does not start as a ROS bag of format 2.0 ('#ROSBAG V2.0')");
 
   const Record header = expectRecord(bag, kMagicBytes, kOpBagHeader, "the bag header record");
   const auto encryptor = header.fields.find("encryptor");
   if (encryptor != header.fields.end() && !encryptor->second.empty() &&
-      encryptor->second != "rosbag/NoEncryptor") {
-    summary.checked = false;  // its chunks are encrypted: only rosbag can read them
-    return summary;
-  }
+      encryptor->second != "rosbag/NoEncryptor")
+    throw UnsupportedBagFormat("it is encrypted (" + encryptor->second +
+                               "), which is not read here; 'rosbag decrypt' writes a plain copy");
   const auto index_position = expectNumber<std::uint64_t>(header, "index_pos", "the bag header");
   const auto connections = expectNumber<std::uint32_t>(header, "conn_count", "the bag header");
   const auto chunks = expectNumber<std::uint32_t>(header, "chunk_count", "the bag header");

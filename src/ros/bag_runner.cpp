@@ -50,6 +50,8 @@ BagRunResult runBagsUnchecked(const std::vector<std::string>& bag_paths,
     // before rosbag reads any of it.
     try {
       checkBagRecords(path);
+    } catch (const UnsupportedBagFormat& error) {
+      throw std::runtime_error("bag '" + path + "' cannot be read: " + error.what());
     } catch (const std::runtime_error& error) {
       throw std::runtime_error("bag '" + path + "' is corrupted or cut off: " + error.what() +
                                " (check it with 'rosbag check'; 'rosbag reindex' repairs a bag "

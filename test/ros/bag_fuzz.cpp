@@ -14,19 +14,11 @@
 #include "odometry_calibration/calibration/calibration_config.h"
 #include "odometry_calibration/ros/bag_runner.h"
 
+#include "support/fuzz_config.h"
+
 using namespace odometry_calibration;
 
 namespace {
-
-const CalibrationConfig& config()
-{
-  static const CalibrationConfig loaded = [] {
-    CalibrationConfig c = loadCalibrationConfig(ODOMETRY_CALIBRATION_CONFIG_DIR "/diff_drive.yaml");
-    c.collector.background_matching = false;  // reproducible: every match in this thread
-    return c;
-  }();
-  return loaded;
-}
 
 /// The file the input is written to: one per process, removed at exit.
 const std::string& bagPath()
@@ -59,7 +51,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   ::close(fd);
   try {
-    runBags({bagPath()}, config());
+    runBags({bagPath()}, test::diffDriveFuzzConfig());
   } catch (const std::exception&) {
     // Reported to the user as "bag '...' is corrupted: ..." (or another clear error).
   }

@@ -79,6 +79,30 @@ protected:
     return path;
   }
 
+  /// What checkBagRecords says of `bytes` written as `name`; "" when it takes them.
+  std::string checkError(const std::string& name, const std::string& bytes)
+  {
+    try {
+      checkBagRecords(write(name, bytes));
+    } catch (const std::runtime_error& error) {
+      return error.what();
+    }
+    return "";
+  }
+
+  /// What runBags (diff_drive.yaml) says of `bytes` written as `name`; "" when it reads them.
+  std::string runError(const std::string& name, const std::string& bytes)
+  {
+    const CalibrationConfig config =
+        loadCalibrationConfig(std::string(ODOMETRY_CALIBRATION_CONFIG_DIR) + "/diff_drive.yaml");
+    try {
+      runBags({write(name, bytes)}, config);
+    } catch (const std::runtime_error& error) {
+      return error.what();
+    }
+    return "";
+  }
+
   static std::uint32_t u32(const std::string& bytes, std::size_t at)
   {
     std::uint32_t value = 0;
@@ -108,7 +132,6 @@ TEST_F(BagRecordCheck, WellFormedBagsOfEachCompressionPass)
                                           std::pair{"bz2.bag", rosbag::compression::BZ2},
                                           std::pair{"lz4.bag", rosbag::compression::LZ4}}) {
     const BagRecordCheckSummary summary = checkBagRecords(writeBag(name, compression));
-    EXPECT_TRUE(summary.checked) << name;
     EXPECT_GT(summary.chunks, 5u) << name;
     EXPECT_EQ(summary.index_entries, std::uint64_t{kJointStates + kScans}) << name;
     // The chunks hold the messages and, where a topic first appears, its connection record.
@@ -122,15 +145,9 @@ TEST_F(BagRecordCheck, MessageLengthBeyondItsChunkIsRefused)
   const std::size_t record = firstMessageRecord(bytes);
   const std::size_t data_length = record + 4 + u32(bytes, record);
   setU32(bytes, data_length, 0xFFFFFF00u);
-  try {
-    checkBagRecords(write("long.bag", bytes));
-    FAIL() << "a record claiming 4 GiB was taken";
-  } catch (const std::runtime_error& error) {
-    EXPECT_NE(std::string(error.what()).find("claims 4294967040 data bytes"), std::string::npos)
-        << error.what();
-    EXPECT_NE(std::string(error.what()).find("chunk at byte 4117"), std::string::npos)
-        << error.what();
-  }
+  const std::string error = checkError("long.bag", bytes);
+  EXPECT_NE(error.find("chunk at byte 4117: record at chunk offset"), std::string::npos) << error;
+  EXPECT_NE(error.find("claims 4294967040 data bytes"), std::string::npos) << error;
 }
 
 TEST_F(BagRecordCheck, IndexEntryOffTheRecordStartsIsRefused)
@@ -144,13 +161,8 @@ TEST_F(BagRecordCheck, IndexEntryOffTheRecordStartsIsRefused)
   ASSERT_NE(ver, std::string::npos);
   const std::size_t first_offset = ver + 12 + 4 + 8;
   setU32(bytes, first_offset, u32(bytes, first_offset) + 1);
-  try {
-    checkBagRecords(write("index.bag", bytes));
-    FAIL() << "an index entry inside a record was taken";
-  } catch (const std::runtime_error& error) {
-    EXPECT_NE(std::string(error.what()).find("entry 0 points at chunk offset"), std::string::npos)
-        << error.what();
-  }
+  const std::string error = checkError("index.bag", bytes);
+  EXPECT_NE(error.find("entry 0 points at chunk offset"), std::string::npos) << error;
   // The same bag with the entry restored passes: the change above was all that was wrong.
   setU32(bytes, first_offset, u32(bytes, first_offset) - 1);
   EXPECT_EQ(checkBagRecords(write("restored.bag", bytes)).index_entries,
@@ -166,21 +178,13 @@ TEST_F(BagRecordCheck, CorruptedArrayCountInsideAMessageIsReportedNotAllocated)
   const std::size_t data = record + 4 + u32(bytes, record) + 4;
   ASSERT_EQ(u32(bytes, data + 16), 2u);
   setU32(bytes, data + 16, 0x7FFFFFFFu);
-  const std::string path = write("count.bag", bytes);
-  EXPECT_TRUE(checkBagRecords(path).checked);  // the records are intact; the message is not
-  const CalibrationConfig config =
-      loadCalibrationConfig(std::string(ODOMETRY_CALIBRATION_CONFIG_DIR) + "/diff_drive.yaml");
-  try {
-    runBags({path}, config);
-    FAIL() << "a JointState with 2^31 names was read";
-  } catch (const std::runtime_error& error) {
-    const std::string what = error.what();
-    EXPECT_NE(what.find("count.bag"), std::string::npos) << what;
-    EXPECT_NE(what.find("sensor_msgs/JointState message on '/joint_states' at 1700000000.0"),
-              std::string::npos)
-        << what;
-    EXPECT_NE(what.find("claims strings or arrays longer than its"), std::string::npos) << what;
-  }
+  EXPECT_EQ(checkError("count.bag", bytes), "");  // the records are intact; the message is not
+  const std::string error = runError("count.bag", bytes);
+  EXPECT_NE(error.find("count.bag"), std::string::npos) << error;
+  EXPECT_NE(error.find("sensor_msgs/JointState message on '/joint_states' at 1700000000.0"),
+            std::string::npos)
+      << error;
+  EXPECT_NE(error.find("claims strings or arrays longer than its"), std::string::npos) << error;
 }
 
 TEST_F(BagRecordCheck, HeaderFieldBeyondItsHeaderIsRefusedBeforeRosbagOpensTheBag)
@@ -190,19 +194,11 @@ TEST_F(BagRecordCheck, HeaderFieldBeyondItsHeaderIsRefusedBeforeRosbagOpensTheBa
   std::string bytes = readFile(writeBag("clean.bag", rosbag::compression::Uncompressed));
   const std::size_t first_field = 13 + 4;  // after "#ROSBAG V2.0\n" and the header length
   setU32(bytes, first_field, 219);
-  const std::string path = write("field.bag", bytes);
-  const CalibrationConfig config =
-      loadCalibrationConfig(std::string(ODOMETRY_CALIBRATION_CONFIG_DIR) + "/diff_drive.yaml");
-  try {
-    runBags({path}, config);
-    FAIL() << "a bag header field of 219 bytes was read";
-  } catch (const std::runtime_error& error) {
-    const std::string what = error.what();
-    EXPECT_NE(what.find("field.bag' is corrupted or cut off: the bag header record has a header "
-                        "field of 219 bytes"),
-              std::string::npos)
-        << what;
-  }
+  const std::string error = runError("field.bag", bytes);
+  EXPECT_NE(error.find("field.bag' is corrupted or cut off: the bag header record has a header "
+                       "field of 219 bytes"),
+            std::string::npos)
+      << error;
 }
 
 TEST_F(BagRecordCheck, ConnectionHeaderFieldBeyondItsDataIsRefused)
@@ -212,31 +208,28 @@ TEST_F(BagRecordCheck, ConnectionHeaderFieldBeyondItsDataIsRefused)
   const std::size_t type = bytes.find(std::string("\x1b\0\0\0type=sensor_msgs/JointState", 31));
   ASSERT_NE(type, std::string::npos);
   setU32(bytes, type, 0x10000);
-  try {
-    checkBagRecords(write("connection.bag", bytes));
-    FAIL() << "a connection header field of 64 KiB was taken";
-  } catch (const std::runtime_error& error) {
-    EXPECT_NE(std::string(error.what()).find("has a connection header field of 65536 bytes"),
-              std::string::npos)
-        << error.what();
-  }
+  const std::string error = checkError("connection.bag", bytes);
+  EXPECT_NE(error.find("has a connection header field of 65536 bytes"), std::string::npos) << error;
 }
 
 TEST_F(BagRecordCheck, NotABagAndUnindexedBagsAreRefused)
 {
-  EXPECT_THROW(checkBagRecords(write("text.bag", "#ROSBAG V3.0\nnothing")), std::runtime_error);
+  EXPECT_NE(checkError("text.bag", "#ROSBAG V3.0\nnothing").find("#ROSBAG V2.0"),
+            std::string::npos);
   EXPECT_THROW(checkBagRecords(directory_ + "/missing.bag"), std::runtime_error);
+  // rosbag's reader of format 1.2 allocates the header lengths it reads (4 GB, found by the bag
+  // fuzz target): such bags are refused with the way to convert them.
+  const std::string old_format = checkError("old.bag", "#ROSBAG V1.2\n\xff\xff\xff\xff");
+  EXPECT_NE(old_format.find("format 1.2"), std::string::npos) << old_format;
+  EXPECT_NE(old_format.find("rosbag filter"), std::string::npos) << old_format;
   std::string bytes = readFile(writeBag("clean.bag", rosbag::compression::Uncompressed));
   const std::size_t field = bytes.find("index_pos=");
   ASSERT_NE(field, std::string::npos);
   for (std::size_t i = 0; i < 8; ++i)
     bytes[field + 10 + i] = '\0';
-  try {
-    checkBagRecords(write("unindexed.bag", bytes));
-    FAIL() << "a bag without index was taken";
-  } catch (const std::runtime_error& error) {
-    EXPECT_NE(std::string(error.what()).find("rosbag reindex"), std::string::npos) << error.what();
-  }
+  const std::string error = checkError("unindexed.bag", bytes);
+  EXPECT_NE(error.find("its index was never written"), std::string::npos) << error;
+  EXPECT_NE(error.find("rosbag reindex"), std::string::npos) << error;
 }
 
 }  // namespace

@@ -19,20 +19,12 @@
 #include "odometry_calibration/ros/conversions.h"
 #include "odometry_calibration/ros/wire_length_check.h"
 
+#include "support/fuzz_config.h"
+
 using namespace odometry_calibration;
 namespace ser = ros::serialization;
 
 namespace {
-
-const CalibrationConfig& config()
-{
-  static const CalibrationConfig loaded = [] {
-    CalibrationConfig c = loadCalibrationConfig(ODOMETRY_CALIBRATION_CONFIG_DIR "/diff_drive.yaml");
-    c.collector.background_matching = false;  // reproducible: every match in this thread
-    return c;
-  }();
-  return loaded;
-}
 
 /// The wire types of the input's type byte (mod 4).
 const ros_conversions::WireMessage kWireTypes[] = {
@@ -51,14 +43,15 @@ Message read(ser::IStream& stream)
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size)
 {
+  const CalibrationConfig& config = test::diffDriveFuzzConfig();
   if (size < 1)
     return 0;
   const bool scans = data[0] % 2 == 0;
-  const std::vector<EncoderChannelOptions> channels = encoderChannels(config());
-  PairCollector collector(channels, config().collector, priorPredictor(config()));
+  const std::vector<EncoderChannelOptions> channels = encoderChannels(config);
+  PairCollector collector(channels, config.collector, priorPredictor(config));
   EncoderDecoder decoder(channels);
-  OdometryIntegrator odometry(priorModel(config()), priorSensorPose(config()),
-                              config().collector.keyframe_interval_s);
+  OdometryIntegrator odometry(priorModel(config), priorSensorPose(config),
+                              config.collector.keyframe_interval_s);
   const Eigen::Matrix3d covariance = Eigen::Matrix3d::Identity() * 1e-4;
   ser::IStream stream(const_cast<std::uint8_t*>(data) + 1, static_cast<uint32_t>(size - 1));
   try {
@@ -75,7 +68,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
           case 0: {
             const auto message = read<sensor_msgs::JointState>(stream);
             const Eigen::VectorXd raw =
-                applySigns(config(), ros_conversions::rawJointPositions(message, channels));
+                applySigns(config, ros_conversions::rawJointPositions(message, channels));
             const double stamp_s = message.header.stamp.toSec();
             Eigen::VectorXd accepted;
             collector.addEncoders(stamp_s, raw, &accepted);
@@ -91,7 +84,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             const auto message = read<sensor_msgs::LaserScan>(stream);
             const Scan scan = ros_conversions::fromLaserScanMsg(message);
             if (scans &&
-                static_cast<int>(countUsableReadings(scan)) >= config().collector.plicp.min_points)
+                static_cast<int>(countUsableReadings(scan)) >= config.collector.plicp.min_points)
               collector.addScan(message.header.stamp.toSec(), scan);
             break;
           }

@@ -20,9 +20,17 @@
 #pragma once
 
 #include <cstdint>
+#include <stdexcept>
 #include <string>
 
 namespace odometry_calibration {
+
+/// A bag of a kind the check cannot walk (format 1.2, encrypted): not corrupted, refused with the
+/// way to convert it.
+struct UnsupportedBagFormat : std::runtime_error
+{
+  using std::runtime_error::runtime_error;
+};
 
 /// What the check looked at, for a summary.
 struct BagRecordCheckSummary
@@ -30,15 +38,15 @@ struct BagRecordCheckSummary
   std::uint64_t chunks = 0;         ///< chunks walked
   std::uint64_t records = 0;        ///< records inside them
   std::uint64_t index_entries = 0;  ///< index entries checked
-  bool checked = true;              ///< false: a bag this check cannot read (format 1.2, or
-                                    ///< encrypted), left to rosbag as it is
 };
 
 /// Walks the bag at `path` as above. Throws std::runtime_error naming the first problem and
 /// the byte where it is ("chunk at byte 4117: record at chunk offset 880 claims 4294967040
 /// data bytes, 600 are left") when the bag is not well formed; a bag rosbag would refuse for a
-/// missing or unreadable index (truncated, never closed) throws too. Reads record headers only
-/// for uncompressed chunks; a compressed chunk is decompressed once more.
+/// missing or unreadable index (truncated, never closed) throws too. Bags this check cannot walk,
+/// format 1.2 (ROS before 2010) and encrypted ones, throw UnsupportedBagFormat (the message says
+/// how to convert them). Reads record headers only for uncompressed chunks; a compressed chunk is
+/// decompressed once more.
 BagRecordCheckSummary checkBagRecords(const std::string& path);
 
 }  // namespace odometry_calibration
