@@ -25,9 +25,10 @@ constexpr std::uint8_t kOpIndexData = 0x04;
 constexpr std::uint8_t kOpChunk = 0x05;
 constexpr std::uint8_t kOpChunkInfo = 0x06;
 constexpr std::uint8_t kOpConnection = 0x07;
-constexpr std::size_t kWindowBytes = 64 * 1024;         // file bytes read at a time
-constexpr std::uint32_t kMaxHeaderBytes = 1024 * 1024;  // record headers hold a few fields
-constexpr std::uint32_t kIndexEntryBytes = 12;          // uint32 sec, nsec, offset
+constexpr std::size_t kWindowBytes = 64 * 1024;               // file bytes read at a time
+constexpr std::uint32_t kMaxHeaderBytes = 1024 * 1024;        // record headers hold a few fields
+constexpr std::uint32_t kIndexEntryBytes = 12;                // uint32 sec, nsec, offset
+constexpr std::uint32_t kMaxCompressedChunkBytes = 1u << 30;  // decompressed
 
 [[noreturn]] void fail(const std::string& what)
 {
@@ -255,6 +256,11 @@ ByteSource chunkContents(const FileDescriptor& file, ByteSource& bag, const Reco
   } else {
     fail(where + " has an unknown compression '" + compression->second + "'");
   }
+  // The decompressed bytes are zeroed first, so that a chunk that decompresses short ends in
+  // zero-length records (refused) rather than in whatever the memory held. A chunk is cut at
+  // 768 KiB by default; only one message of over 1 GiB would need more.
+  if (size > kMaxCompressedChunkBytes)
+    fail(where + " claims " + std::to_string(size) + " bytes once decompressed, over 1 GiB");
   const std::uint8_t* packed = bag.at(chunk.data_offset, chunk.data_bytes);
   if (!packed)
     fail(where + " cannot be read");
