@@ -229,7 +229,8 @@ T expectNumber(const Record& record, const std::string& name, const std::string&
   return value;
 }
 
-std::string at(const char* what, std::uint64_t offset)
+/// "<what> at byte <offset>": where in the file a problem is, for messages.
+std::string placeOf(const char* what, std::uint64_t offset)
 {
   return std::string(what) + " at byte " + std::to_string(offset);
 }
@@ -313,7 +314,7 @@ BagRecordCheckSummary checkBagRecords(const std::string& path)
   // The index section, as rosbag reads it: the connections, then one info per chunk.
   std::uint64_t offset = index_position;
   for (std::uint32_t i = 0; i < connections; ++i)
-    offset = expectRecord(bag, offset, kOpConnection, at("connection record", offset)).end();
+    offset = expectRecord(bag, offset, kOpConnection, placeOf("connection record", offset)).end();
   struct ChunkInfo
   {
     std::uint64_t position;
@@ -321,7 +322,7 @@ BagRecordCheckSummary checkBagRecords(const std::string& path)
   };
   std::vector<ChunkInfo> infos;
   for (std::uint32_t i = 0; i < chunks; ++i) {
-    const std::string where = at("chunk info record", offset);
+    const std::string where = placeOf("chunk info record", offset);
     const Record info = expectRecord(bag, offset, kOpChunkInfo, where);
     infos.push_back({expectNumber<std::uint64_t>(info, "chunk_pos", where),
                      expectNumber<std::uint32_t>(info, "count", where)});
@@ -332,7 +333,7 @@ BagRecordCheckSummary checkBagRecords(const std::string& path)
   }
 
   for (const ChunkInfo& info : infos) {
-    const std::string where = at("chunk", info.position);
+    const std::string where = placeOf("chunk", info.position);
     const Record chunk = expectRecord(bag, info.position, kOpChunk, where);
     ByteSource contents = chunkContents(file, bag, chunk, where);
     // Its records must tile it; the index may point only at message data records' starts.
@@ -350,7 +351,7 @@ BagRecordCheckSummary checkBagRecords(const std::string& path)
     }
     std::uint64_t index_offset = chunk.end();
     for (std::uint32_t c = 0; c < info.connections; ++c) {
-      const std::string index_where = at("index record", index_offset);
+      const std::string index_where = placeOf("index record", index_offset);
       const Record index = expectRecord(bag, index_offset, kOpIndexData, index_where);
       const auto count = expectNumber<std::uint32_t>(index, "count", index_where);
       if (std::uint64_t{count} * kIndexEntryBytes != index.data_bytes)
