@@ -73,8 +73,8 @@ struct CollectorOptions
   /// core). The events, pairs and statistics are the same either way; off, every match runs
   /// in the calling thread.
   bool background_matching = true;
-  PlicpOptions plicp;    ///< the scan matcher
-  LineFitOptions lines;  ///< the reference surfaces
+  /// The scan matcher, with the line fits of every scan it prepares (plicp.line_fit).
+  PlicpOptions plicp;
 };
 
 /// Throws std::invalid_argument naming the first invalid option.
