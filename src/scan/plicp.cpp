@@ -358,6 +358,13 @@ PlicpResult matchOnce(const PreparedScan& reference, const PreparedScan& current
   // The last few iterates, for cycle detection.
   std::array<Pose2, 8> recent;
   recent.fill(Pose2(std::nan(""), std::nan(""), std::nan("")));
+  std::array<int, 8> recent_iteration{};  // the iteration whose start each of recent is
+  // Whether each step held a direction at the guess (by iteration modulo 16: a cycle spans at
+  // most 9 steps), the last degeneracy a step held, and whether the pose the iteration stops at
+  // comes from a held step (the last step, or any step of the cycle it stops in).
+  std::array<bool, 16> held{};
+  Degeneracy held_degeneracy;
+  bool solution_held = false;
   bool converged = false;
   Degeneracy last_degeneracy;  // the one the last step obeyed
   // How far the pose may still be from the solution, as a displacement of the points: unknown
@@ -391,6 +398,10 @@ PlicpResult matchOnce(const PreparedScan& reference, const PreparedScan& current
       return failure(result, PlicpStatus::kUnconstrained, degeneracy.description);
     }
     last_degeneracy = degeneracy;
+    held[iteration % held.size()] = degeneracy.degenerate();
+    if (degeneracy.degenerate()) {
+      held_degeneracy = degeneracy;
+    }
     const std::optional<Pose2> next = matcher.step(constraintFor(degeneracy, T_ref_new_guess));
     if (!next) {
       return failure(result, PlicpStatus::kUnconstrained,
@@ -401,13 +412,23 @@ PlicpResult matchOnce(const PreparedScan& reference, const PreparedScan& current
     // A pose equal to one a few steps back is a cycle: correspondences flip in and out of the
     // trimmed set. The poses of the cycle are fixed points of equal merit: the match converged.
     bool cycle = false;
-    for (const Pose2& earlier : recent) {
-      cycle = cycle || (std::hypot(next->x() - earlier.x(), next->y() - earlier.y()) <
-                            options.translation_tolerance_m &&
-                        std::abs(normalizeAngle(next->theta() - earlier.theta())) <
-                            options.rotation_tolerance_rad);
+    int cycle_start = iteration;  // the first step of the cycle (this step when none)
+    for (std::size_t slot = 0; slot < recent.size(); ++slot) {
+      const Pose2& earlier = recent[slot];
+      if (std::hypot(next->x() - earlier.x(), next->y() - earlier.y()) <
+              options.translation_tolerance_m &&
+          std::abs(normalizeAngle(next->theta() - earlier.theta())) <
+              options.rotation_tolerance_rad) {
+        cycle = true;
+        cycle_start = std::min(cycle_start, recent_iteration[slot]);
+      }
+    }
+    solution_held = false;
+    for (int k = cycle_start; k <= iteration; ++k) {
+      solution_held = solution_held || held[k % held.size()];
     }
     recent[iteration % recent.size()] = T_ref_new;
+    recent_iteration[iteration % recent.size()] = iteration;
     pose_uncertainty_m = 2.0 * matcher.pointDisplacement(step_m, step_rad);
     T_ref_new = *next;
     result.T_ref_new = T_ref_new;
@@ -461,6 +482,15 @@ PlicpResult matchOnce(const PreparedScan& reference, const PreparedScan& current
     // Report the axis the solution was held on (the re-analysis differs in round-off only).
     result.degeneracy = last_degeneracy;
   }
+  // Near the degeneracy threshold the analysis can flip between iterations: a step holds the
+  // weak direction at the guess, the next one does not, and the iteration stops (small step or
+  // cycle) on a pose whose weak component is the guess's or lies between it and the solution.
+  // The analysis at that pose may find the scene just constrained, yet the component was never
+  // measured: the match is reported degenerate, as the held step found it (issue 16: in the
+  // sparse hall such matches were valid 3-4 cm and 6-15 mrad off, 7-9 sigma).
+  if (!result.degeneracy.degenerate() && solution_held) {
+    result.degeneracy = held_degeneracy;
+  }
   if (result.degeneracy.direction == DegenerateDirection::kSeveral) {
     return failure(result, PlicpStatus::kUnconstrained, result.degeneracy.description);
   }
@@ -488,8 +518,11 @@ PlicpResult matchOnce(const PreparedScan& reference, const PreparedScan& current
 /// Whether a valid match is weak enough to have its ambiguity checked.
 bool weakMatch(const PlicpResult& result, const PlicpOptions& options)
 {
-  if (!options.check_ambiguity || !result.valid() || result.covariance.isZero() ||
-      result.correspondence_count >= options.ambiguity_max_correspondences)
+  if (!options.check_ambiguity || !result.valid() || result.covariance.isZero())
+    return false;
+  if (result.degeneracy.information_ratio < options.ambiguity_max_information_ratio)
+    return true;  // near degenerate: a slide along the weak direction may fit as well
+  if (result.correspondence_count >= options.ambiguity_max_correspondences)
     return false;
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(
       result.covariance.topLeftCorner<2, 2>());
@@ -528,10 +561,12 @@ PlicpResult checkAmbiguity(const PreparedScan& reference, const PreparedScan& cu
     if (!other.valid() && other.inlier_fraction > best.inlier_fraction + kClearlyMoreInliers)
       return other;
   }
-  // Others as good, elsewhere (beyond 3 sigma): the data cannot tell them apart.
+  // Others as good, elsewhere (beyond 3 sigma): the data cannot tell them apart. A start that
+  // finds the scene degenerate with as good a fit counts too: held along the weak direction
+  // where it started, it fits there as well as the solution does.
   Eigen::Matrix3d spread = Eigen::Matrix3d::Zero();
   for (const PlicpResult& other : others) {
-    if (!other.valid() || other.inlier_fraction < best.inlier_fraction - kClearlyMoreInliers)
+    if (!other.converged() || other.inlier_fraction < best.inlier_fraction - kClearlyMoreInliers)
       continue;
     Eigen::Vector3d d = other.T_ref_new.vector() - best.T_ref_new.vector();
     d(2) = normalizeAngle(d(2));

@@ -56,7 +56,11 @@ void validate(const PlicpOptions& options)
   require(positive(options.min_information_ratio) && options.min_information_ratio < 1.0,
           "min_information_ratio must be in (0, 1)");
   require(options.ambiguity_max_correspondences >= 0,
-          "ambiguity_max_correspondences must be >= 0 (0: never checked)");
+          "ambiguity_max_correspondences must be >= 0 (0: only near-degenerate matches checked)");
+  require(std::isfinite(options.ambiguity_max_information_ratio) &&
+              options.ambiguity_max_information_ratio >= 0.0 &&
+              options.ambiguity_max_information_ratio < 1.0,
+          "ambiguity_max_information_ratio must be in [0, 1) (0: no near-degenerate check)");
   require(positive(options.ambiguity_sigma_m) && positive(options.ambiguity_sigma_rad) &&
               positive(options.ambiguity_offset_m) && positive(options.ambiguity_offset_rad),
           "ambiguity_sigma_m, ambiguity_sigma_rad, ambiguity_offset_m and ambiguity_offset_rad "

@@ -135,8 +135,8 @@ TEST(PlicpHonesty, ValidMatchesInWeakScenesAreRightWithinTheirCovariance)
     print(world.name, honesty);
     EXPECT_EQ(honesty.beyond_5_sigma, 0) << world.name;
   }
-  // The sparse hall, 1500 pairs: issue 16 asks for none beyond 5 sigma; measured 3 of about
-  // 1160 valid with the ambiguity check (8 without: the check must keep at least half away).
+  // The sparse hall, 1500 pairs: issue 16 asks for none beyond 5 sigma; measured none of 1156
+  // valid with the ambiguity check (3 without, wrong minima only the check finds).
   int valid = 0, beyond = 0, beyond_unchecked = 0;
   for (const unsigned seed : {1u, 2u, 16u}) {
     const Honesty honesty = runWorld(sparseHall(), seed);
@@ -149,8 +149,8 @@ TEST(PlicpHonesty, ValidMatchesInWeakScenesAreRightWithinTheirCovariance)
             << " valid matches beyond 5 sigma with the ambiguity check, " << beyond_unchecked
             << " without\n";
   EXPECT_GT(valid, 1000);
-  EXPECT_LE(beyond, 4);
-  EXPECT_LE(2 * beyond, beyond_unchecked);
+  EXPECT_EQ(beyond, 0);
+  EXPECT_GT(beyond_unchecked, 0);  // the scene still holds the wrong minima the check must find
 }
 
 }  // namespace

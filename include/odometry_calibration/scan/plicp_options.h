@@ -70,15 +70,20 @@ struct PlicpOptions
   bool compute_covariance = true;
   /// Ambiguity check of weak matches (needs the covariance): a valid match with fewer than
   /// ambiguity_max_correspondences correspondences whose weakest translation sigma exceeds
-  /// ambiguity_sigma_m or whose heading sigma exceeds ambiguity_sigma_rad is matched again from
-  /// four starts (the solution moved by +-ambiguity_offset_m along its weakest direction, and
-  /// turned by +-ambiguity_offset_rad). A start that finds the scene degenerate with a clearly
-  /// better fit (2 % more inliers) makes the match degenerate; starts that fit as well but lie
-  /// beyond 3 sigma widen the covariance to cover them (+ d d^T): the Censi covariance measures
-  /// the noise, not which of two equally good solutions is right. Off in rich scenes (more
-  /// correspondences, small sigmas), where it would cost time and find nothing.
+  /// ambiguity_sigma_m or whose heading sigma exceeds ambiguity_sigma_rad, or one whose
+  /// information ratio (Degeneracy) is below ambiguity_max_information_ratio (near degenerate,
+  /// whatever its correspondences), is matched again from four starts (the solution moved by
+  /// +-ambiguity_offset_m along its weakest direction, and turned by +-ambiguity_offset_rad). A
+  /// start that finds the scene degenerate with a clearly better fit (2 % more inliers) makes the
+  /// match degenerate; starts that fit as well (valid, or degenerate and held where they started)
+  /// but lie beyond 3 sigma widen the covariance to cover them (+ d d^T): the Censi covariance
+  /// measures the noise, not which of two equally good solutions is right. Off in rich scenes (more
+  /// correspondences, small sigmas), where it would cost time and find nothing. The near-degenerate
+  /// test catches weak matches with many correspondences (a long wall and one pillar face: 226)
+  /// without checking every match of that size (docs/scan_matching.md, "Honest in weak scenes").
   bool check_ambiguity = true;
   int ambiguity_max_correspondences = 150;
+  double ambiguity_max_information_ratio = 0.04;  // twice min_information_ratio
   double ambiguity_sigma_m = 0.002;
   double ambiguity_sigma_rad = 0.001;
   double ambiguity_offset_m = 0.1;
