@@ -260,8 +260,8 @@ std::vector<CollectorEvent> PairCollector::addScan(double stamp_s, const Scan& s
   last_scan_stamp_s_ = stamp_s;
   last_input_stamp_s_ = std::max(last_input_stamp_s_, stamp_s);
   // Prepared later, by the first match that needs it (possibly on the matching thread).
-  pending_.push_back({stamp_s, std::make_shared<LazyPreparedScan>(scan, options_.plicp.line_fit), Pose2(),
-                      Eigen::Matrix3d::Zero()});
+  pending_.push_back({stamp_s, std::make_shared<LazyPreparedScan>(scan, options_.plicp.line_fit),
+                      Pose2(), Eigen::Matrix3d::Zero()});
   return processReadyScans(false);
 }
 
