@@ -14,8 +14,16 @@ namespace odometry_calibration {
 namespace {
 
 constexpr double kOpen = std::numeric_limits<double>::infinity();  ///< a span not closed yet
+/// Chains shorter than this stay out of the scale check: their direction is noise [m].
+constexpr double kScaleCheckMinChain_m = 0.01;
 
 }  // namespace
+
+double CollectorStatistics::keyframeVersusChainPercent() const
+{
+  return chained_m > 0.0 ? 100.0 * (keyframe_along_chain_m / chained_m - 1.0)
+                         : std::numeric_limits<double>::quiet_NaN();
+}
 
 void validate(const CollectorOptions& o)
 {
@@ -355,6 +363,13 @@ CollectorEvent PairCollector::processScan(double stamp_s,
     if (std::hypot(difference.x(), difference.y()) > options_.consistency_translation_m ||
         std::abs(difference.theta()) > options_.consistency_rotation_rad) {
       return start_keyframe(reject("keyframe match disagrees with consecutive matches"));
+    }
+    const Eigen::Vector2d chain_m(chain_.x(), chain_.y());
+    if (chain_m.norm() >= kScaleCheckMinChain_m) {
+      statistics_.chained_m += chain_m.norm();
+      statistics_.keyframe_along_chain_m +=
+          Eigen::Vector2d(match.T_ref_new.x(), match.T_ref_new.y()).dot(chain_m) / chain_m.norm();
+      ++statistics_.scale_check_pairs;
     }
   }
   if (options_.pair_motion_from_chain)

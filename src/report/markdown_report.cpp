@@ -210,6 +210,12 @@ void collection(std::ostringstream& out, const MarkdownReportInput& input)
         << s.consecutive_failures << " failed; " << s.unverified_pairs
         << " pairs kept unverified\n";
   }
+  if (s.scale_check_pairs > 0) {
+    out << "- scale check: over " << s.scale_check_pairs << " pairs the keyframe matches read "
+        << format("%+.2f", s.keyframeVersusChainPercent())
+        << " % against the consecutive matches chained over the same interval (an unbiased "
+           "matcher reads 0; the difference bounds how well the scans fix the scale)\n";
+  }
   if (s.rejected.empty())
     out << "- no keyframe interval rejected\n";
   for (const auto& [reason, count] : s.rejected)

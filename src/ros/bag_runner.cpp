@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <filesystem>
+#include <iomanip>
 #include <memory>
 #include <new>
 #include <sstream>
@@ -259,6 +260,12 @@ std::string formatBagRunSummary(const BagRunResult& run)
          << " consecutive matches failed, " << s.unverified_pairs << " pairs unverified";
   }
   text << "\n";
+  if (s.scale_check_pairs > 0) {
+    text << "scale check: keyframe matches " << std::showpos << std::fixed << std::setprecision(2)
+         << s.keyframeVersusChainPercent() << std::noshowpos << std::defaultfloat
+         << std::setprecision(6) << " % against the chained consecutive matches over "
+         << s.scale_check_pairs << " pairs (docs/scan_matching.md)\n";
+  }
   for (const auto& [reason, count] : s.rejected) {
     text << "  rejected " << count << ": " << reason << "\n";
   }

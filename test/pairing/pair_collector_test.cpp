@@ -404,6 +404,41 @@ TEST(PairCollector, ScansArePreparedWithTheMatchersLineFitOptions)
   EXPECT_LT(veiled_mean_points, 0.7 * mean_points);
 }
 
+TEST(PairCollector, ScaleCheckComparesKeyframeMatchesWithTheChain)
+{
+  CollectorOptions options;
+  CollectorStatistics statistics;
+  const std::vector<MotionPair> pairs = roomPairs(options, &statistics);
+  ASSERT_GT(pairs.size(), 20u);
+  // Every verified pair that moved is compared; in the simulated room both agree closely.
+  EXPECT_GE(statistics.scale_check_pairs, pairs.size() * 9 / 10);
+  EXPECT_LE(statistics.scale_check_pairs, pairs.size());
+  const double agreed_pct = statistics.keyframeVersusChainPercent();
+  EXPECT_LT(std::abs(agreed_pct), 0.5);
+  // Keyframe matches (the ones asked for a covariance) read 2 % long: the check sees 2 % more.
+  options.matcher = [](const PreparedScan& reference, const PreparedScan& current,
+                       const Pose2& guess, const PlicpOptions& plicp) {
+    PlicpResult result = matchScans(reference, current, guess, plicp);
+    if (plicp.compute_covariance)
+      result.T_ref_new =
+          Pose2(1.02 * result.T_ref_new.x(), 1.02 * result.T_ref_new.y(), result.T_ref_new.theta());
+    return result;
+  };
+  CollectorStatistics scaled;
+  roomPairs(options, &scaled);
+  ASSERT_GT(scaled.scale_check_pairs, 20u);
+  std::printf("[ pairing ] scale check: %+.2f %%, keyframe matches 2 %% long %+.2f %%\n",
+              agreed_pct, scaled.keyframeVersusChainPercent());
+  EXPECT_NEAR(scaled.keyframeVersusChainPercent() - agreed_pct, 2.0, 0.3);
+  // Without the consistency check there is nothing to compare.
+  options = CollectorOptions();
+  options.check_consistency = false;
+  CollectorStatistics unchecked;
+  roomPairs(options, &unchecked);
+  EXPECT_EQ(unchecked.scale_check_pairs, 0u);
+  EXPECT_TRUE(std::isnan(unchecked.keyframeVersusChainPercent()));
+}
+
 TEST(PairCollector, PairMotionFromTheChainOfConsecutiveMatches)
 {
   CollectorOptions options;
