@@ -15,7 +15,7 @@
 //     weakly constrained, a matcher's result leans towards its guess: the two differ), and in
 //     brackets its standard error over the seeds' runs (guess too long): with 1-2 cm per
 //     consecutive pair, a few millimetres of error per pair make one 60 s run's sum uncertain
-//     by about 1 %, so a bias of 0.2 % needs tens of seeds to be seen at all;
+//     by 0.4-1 %, so a bias of 0.2 % needs tens of seeds to be seen at all;
 //   median / 95th percentile of |t_k - T_k| [mm] (guess too long);
 //   valid pairs / all pairs (guess too long).
 // Usage: study_along_track [--seeds N] [--duration S] [--worlds office,mines_like]

@@ -104,7 +104,7 @@ void BM_PrepareAndMatchConsecutiveScans(benchmark::State& state)
     const auto cloud = ros_conversions::fromPointCloud2Msg(message);
     scans.push_back(cloudToScan(cloud.cloud, cloud.has_times, options));
   }
-  const LineFitOptions lines = config().collector.lines;
+  const LineFitOptions lines = config().collector.plicp.line_fit;
   PreparedScan previous = prepareScan(scans[0], lines);
   std::size_t i = 1;
   for (auto _ : state) {

@@ -213,8 +213,9 @@ void collection(std::ostringstream& out, const MarkdownReportInput& input)
   if (s.scale_check_pairs > 0) {
     out << "- scale check: over " << s.scale_check_pairs << " pairs the keyframe matches read "
         << format("%+.2f", s.keyframeVersusChainPercent())
-        << " % against the consecutive matches chained over the same interval (an unbiased "
-           "matcher reads 0; the difference bounds how well the scans fix the scale)\n";
+        << " % longer than the consecutive matches chained over the same interval: how far the "
+           "matcher's two scales disagree on this data (0 for an unbiased matcher; not the "
+           "error of the fitted parameters)\n";
   }
   if (s.rejected.empty())
     out << "- no keyframe interval rejected\n";

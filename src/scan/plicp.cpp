@@ -566,7 +566,7 @@ PlicpResult checkAmbiguity(const PreparedScan& reference, const PreparedScan& cu
   // where it started, it fits there as well as the solution does.
   Eigen::Matrix3d spread = Eigen::Matrix3d::Zero();
   for (const PlicpResult& other : others) {
-    if (!other.converged() || other.inlier_fraction < best.inlier_fraction - kClearlyMoreInliers)
+    if (other.inlier_fraction < best.inlier_fraction - kClearlyMoreInliers)
       continue;
     Eigen::Vector3d d = other.T_ref_new.vector() - best.T_ref_new.vector();
     d(2) = normalizeAngle(d(2));

@@ -157,6 +157,25 @@ TEST_F(BagRunner, MismatchedJointStatesAreSkippedAndCounted)
   EXPECT_GT(run.pairs.size(), 60u);
 }
 
+TEST(BagRunSummary, ScaleCheckLineAndTheLinesAfterIt)
+{
+  BagRunResult run;
+  run.statistics.pairs = 7;
+  run.statistics.rejected["keyframe match disagrees with consecutive matches"] = 3;
+  const std::string without = formatBagRunSummary(run);
+  EXPECT_EQ(without.find("scale check"), std::string::npos) << without;
+  run.statistics.chained_m = 10.0;
+  run.statistics.keyframe_along_chain_m = 10.05;
+  run.statistics.scale_check_pairs = 7;
+  const std::string summary = formatBagRunSummary(run);
+  EXPECT_NE(summary.find("scale check: keyframe matches +0.50 % against the chained consecutive "
+                         "matches over 7 pairs"),
+            std::string::npos)
+      << summary;
+  // The stream's number format is back to the default after it (no sign, no fixed digits).
+  EXPECT_NE(summary.find("  rejected 3: keyframe match disagrees"), std::string::npos) << summary;
+}
+
 TEST_F(BagRunner, EncoderGlitchesAreSkippedCountedAndChangeNoParameter)
 {
   // 20 single-message jumps of 1e6 ticks (alternately on each wheel), every 300th JointState

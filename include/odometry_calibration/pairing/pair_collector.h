@@ -117,7 +117,7 @@ struct CollectorStatistics
   /// Scale check of the scan matcher (check_consistency): over the pairs that passed it, the
   /// summed length of the chained consecutive matches [m] and the summed keyframe matches
   /// projected on the chain's direction [m] (chains under 1 cm left out). An unbiased matcher
-  /// gives the same sum both ways; on the Mines log the keyframe matches read about 1 % longer.
+  /// gives the same sum both ways; on the Mines log the keyframe matches read 0.44 % longer.
   double chained_m = 0.0;
   double keyframe_along_chain_m = 0.0;
   std::size_t scale_check_pairs = 0;
