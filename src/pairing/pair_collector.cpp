@@ -25,6 +25,18 @@ double CollectorStatistics::keyframeVersusChainPercent() const
                          : std::numeric_limits<double>::quiet_NaN();
 }
 
+double CollectorStatistics::keyframeVersusChainStandardErrorPercent() const
+{
+  const double n = static_cast<double>(scale_check_pairs);
+  if (scale_check_pairs < 2 || !(chained_m > 0.0))
+    return std::numeric_limits<double>::quiet_NaN();
+  const double ratio = keyframe_along_chain_m / chained_m;
+  // sum (k - R c)^2 expanded into the running sums.
+  const double residual2 = keyframe_along_chain_m2 - 2.0 * ratio * chained_times_keyframe_m2 +
+                           ratio * ratio * chained_m2;
+  return 100.0 * std::sqrt(std::max(0.0, residual2) * n / (n - 1.0)) / chained_m;
+}
+
 void validate(const CollectorOptions& o)
 {
   auto require = [](bool ok, const char* message) {
@@ -366,10 +378,14 @@ CollectorEvent PairCollector::processScan(double stamp_s,
     }
     const Eigen::Vector2d chain_m(chain_.x(), chain_.y());
     if (chain_m.norm() >= kScaleCheckMinChain_m) {
-      statistics_.chained_m += chain_m.norm();
-      statistics_.keyframe_along_chain_m +=
+      const double keyframe_m =
           Eigen::Vector2d(match.T_ref_new.x(), match.T_ref_new.y()).dot(chain_m) / chain_m.norm();
       ++statistics_.scale_check_pairs;
+      statistics_.chained_m += chain_m.norm();
+      statistics_.keyframe_along_chain_m += keyframe_m;
+      statistics_.chained_m2 += chain_m.squaredNorm();
+      statistics_.keyframe_along_chain_m2 += keyframe_m * keyframe_m;
+      statistics_.chained_times_keyframe_m2 += keyframe_m * chain_m.norm();
     }
   }
   if (options_.pair_motion_from_chain)

@@ -212,8 +212,9 @@ void collection(std::ostringstream& out, const MarkdownReportInput& input)
   }
   if (s.scale_check_pairs > 0) {
     out << "- scale check: over " << s.scale_check_pairs << " pairs the keyframe matches read "
-        << format("%+.2f", s.keyframeVersusChainPercent())
-        << " % longer than the consecutive matches chained over the same interval: how far the "
+        << format("%+.2f", s.keyframeVersusChainPercent()) << " % (standard error "
+        << format("%.2f", s.keyframeVersusChainStandardErrorPercent())
+        << " %) longer than the consecutive matches chained over the same interval: how far the "
            "matcher's two scales disagree on this data (0 for an unbiased matcher; not the "
            "error of the fitted parameters)\n";
   }

@@ -1,8 +1,9 @@
 #include "odometry_calibration/ros/bag_runner.h"
 
 #include <chrono>
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
-#include <iomanip>
 #include <memory>
 #include <new>
 #include <sstream>
@@ -245,6 +246,17 @@ std::vector<std::string> bagRunNotes(const BagRunResult& run)
 
 std::string formatBagRunSummary(const BagRunResult& run)
 {
+  // "+0.44 % (± 0.31)": the scale check and its standard error (none with one pair).
+  auto formatScaleCheck = [](const CollectorStatistics& s) {
+    char text[64];
+    const double error_pct = s.keyframeVersusChainStandardErrorPercent();
+    if (std::isfinite(error_pct))
+      std::snprintf(text, sizeof(text), "%+.2f %% (± %.2f)", s.keyframeVersusChainPercent(),
+                    error_pct);
+    else
+      std::snprintf(text, sizeof(text), "%+.2f %%", s.keyframeVersusChainPercent());
+    return std::string(text);
+  };
   std::ostringstream text;
   text << "bags: " << run.bag_span_s << " s of data in " << run.wall_time_s << " s ("
        << (run.wall_time_s > 0 ? run.bag_span_s / run.wall_time_s : 0.0) << "x real time; reading "
@@ -261,10 +273,9 @@ std::string formatBagRunSummary(const BagRunResult& run)
   }
   text << "\n";
   if (s.scale_check_pairs > 0) {
-    text << "scale check: keyframe matches " << std::showpos << std::fixed << std::setprecision(2)
-         << s.keyframeVersusChainPercent() << std::noshowpos << std::defaultfloat
-         << std::setprecision(6) << " % against the chained consecutive matches over "
-         << s.scale_check_pairs << " pairs (docs/scan_matching.md)\n";
+    text << "scale check: keyframe matches " << formatScaleCheck(s)
+         << " against the chained consecutive matches over " << s.scale_check_pairs
+         << " pairs (docs/scan_matching.md)\n";
   }
   for (const auto& [reason, count] : s.rejected) {
     text << "  rejected " << count << ": " << reason << "\n";

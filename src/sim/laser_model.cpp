@@ -81,6 +81,9 @@ ScanSample LaserModel::measure(const World& world, double stamp_s,
     double cos_incidence = 1.0;
     double range = trueRange(world, origin, angle, &cos_incidence);
     if (std::isfinite(range)) {
+      if (options_.range_ripple_m > 0.0)
+        range +=
+            options_.range_ripple_m * std::sin(2.0 * M_PI * i / options_.range_ripple_period_rays);
       if (options_.range_noise_per_m > 0.0) {
         range += (options_.range_noise_m + options_.range_noise_per_m * range) *
                  unit_normal_(realism_rng_);

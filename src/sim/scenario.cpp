@@ -56,6 +56,11 @@ void validate(const Scenario& s)
           "laser.mixed_pixel_probability must be in [0, 1]");
   require(s.laser.dark_dropout_probability >= 0.0 && s.laser.dark_dropout_probability <= 1.0,
           "laser.dark_dropout_probability must be in [0, 1]");
+  require(std::isfinite(s.laser.range_ripple_m) && s.laser.range_ripple_m >= 0.0,
+          "laser.range_ripple_m must be >= 0 metres");
+  require(
+      std::isfinite(s.laser.range_ripple_period_rays) && s.laser.range_ripple_period_rays >= 2.0,
+      "laser.range_ripple_period_rays must be at least 2 rays");
   require(!s.laser.frame_id.empty() && !s.laser.topic.empty(), "laser frame_id/topic are empty");
   require(s.laser.type == "planar" || s.laser.type == "multibeam",
           "laser.type must be planar or multibeam");
@@ -147,6 +152,8 @@ Scenario loadScenarioYaml(const std::string& path, const std::string& worlds_dir
                    "mixed_pixel_probability",
                    "beam_divergence_rad",
                    "dark_dropout_probability",
+                   "range_ripple_m",
+                   "range_ripple_period_rays",
                    "frame_id",
                    "topic",
                    "type",
@@ -175,6 +182,8 @@ Scenario loadScenarioYaml(const std::string& path, const std::string& worlds_dir
     readYaml(laser, "mixed_pixel_probability", &s.laser.mixed_pixel_probability);
     readYaml(laser, "beam_divergence_rad", &s.laser.beam_divergence_rad);
     readYaml(laser, "dark_dropout_probability", &s.laser.dark_dropout_probability);
+    readYaml(laser, "range_ripple_m", &s.laser.range_ripple_m);
+    readYaml(laser, "range_ripple_period_rays", &s.laser.range_ripple_period_rays);
     readYaml(laser, "frame_id", &s.laser.frame_id);
     readYaml(laser, "topic", &s.laser.topic);
     readYaml(laser, "type", &s.laser.type);
@@ -328,6 +337,12 @@ std::string scenarioTruthYaml(const Scenario& s, const Robot& robot)
   out << YAML::Key << "mixed_pixel_probability" << YAML::Value << s.laser.mixed_pixel_probability;
   out << YAML::Key << "beam_divergence_rad" << YAML::Value << s.laser.beam_divergence_rad;
   out << YAML::Key << "dark_dropout_probability" << YAML::Value << s.laser.dark_dropout_probability;
+  if (s.laser.range_ripple_m >
+      0.0) {  // only then: truth files of other scenarios stay as they were
+    out << YAML::Key << "range_ripple_m" << YAML::Value << s.laser.range_ripple_m;
+    out << YAML::Key << "range_ripple_period_rays" << YAML::Value
+        << s.laser.range_ripple_period_rays;
+  }
   out << YAML::Key << "frame_id" << YAML::Value << s.laser.frame_id;
   out << YAML::Key << "topic" << YAML::Value << s.laser.topic;
   out << YAML::Key << "type" << YAML::Value << s.laser.type;

@@ -415,6 +415,10 @@ TEST(PairCollector, ScaleCheckComparesKeyframeMatchesWithTheChain)
   EXPECT_LE(statistics.scale_check_pairs, pairs.size());
   const double agreed_pct = statistics.keyframeVersusChainPercent();
   EXPECT_LT(std::abs(agreed_pct), 0.5);
+  // Its standard error: positive, and the difference from 0 within three of it.
+  const double error_pct = statistics.keyframeVersusChainStandardErrorPercent();
+  EXPECT_GT(error_pct, 0.0);
+  EXPECT_LT(std::abs(agreed_pct), 3.0 * error_pct);
   // Keyframe matches (the ones asked for a covariance) read 2 % long: the check sees 2 % more.
   options.matcher = [](const PreparedScan& reference, const PreparedScan& current,
                        const Pose2& guess, const PlicpOptions& plicp) {
@@ -437,6 +441,7 @@ TEST(PairCollector, ScaleCheckComparesKeyframeMatchesWithTheChain)
   roomPairs(options, &unchecked);
   EXPECT_EQ(unchecked.scale_check_pairs, 0u);
   EXPECT_TRUE(std::isnan(unchecked.keyframeVersusChainPercent()));
+  EXPECT_TRUE(std::isnan(unchecked.keyframeVersusChainStandardErrorPercent()));
 }
 
 TEST(PairCollector, PairMotionFromTheChainOfConsecutiveMatches)

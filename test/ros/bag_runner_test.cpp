@@ -164,12 +164,18 @@ TEST(BagRunSummary, ScaleCheckLineAndTheLinesAfterIt)
   run.statistics.rejected["keyframe match disagrees with consecutive matches"] = 3;
   const std::string without = formatBagRunSummary(run);
   EXPECT_EQ(without.find("scale check"), std::string::npos) << without;
+  // Two pairs: chains 4 and 6 m, keyframe matches 4.04 and 6.01 m (R = 1.005; residuals
+  // +0.02, -0.02; standard error 100 sqrt(2 * 0.0008) / 10 = 0.40 %).
   run.statistics.chained_m = 10.0;
   run.statistics.keyframe_along_chain_m = 10.05;
-  run.statistics.scale_check_pairs = 7;
+  run.statistics.scale_check_pairs = 2;
+  run.statistics.chained_m2 = 4.0 * 4.0 + 6.0 * 6.0;
+  run.statistics.keyframe_along_chain_m2 = 4.04 * 4.04 + 6.01 * 6.01;
+  run.statistics.chained_times_keyframe_m2 = 4.0 * 4.04 + 6.0 * 6.01;
+  EXPECT_NEAR(run.statistics.keyframeVersusChainStandardErrorPercent(), 0.40, 1e-9);
   const std::string summary = formatBagRunSummary(run);
-  EXPECT_NE(summary.find("scale check: keyframe matches +0.50 % against the chained consecutive "
-                         "matches over 7 pairs"),
+  EXPECT_NE(summary.find("scale check: keyframe matches +0.50 % (± 0.40) against the chained "
+                         "consecutive matches over 2 pairs"),
             std::string::npos)
       << summary;
   // The stream's number format is back to the default after it (no sign, no fixed digits).

@@ -149,6 +149,30 @@ TEST(LaserModel, ReturnsAreQuantisedToTheResolution)
   EXPECT_GT(finite, 100);
 }
 
+TEST(LaserModel, ARangeRippleFixedToTheRays)
+{
+  LaserOptions laser = degreeLaser(240);
+  laser.range_ripple_m = 0.006;
+  laser.range_ripple_period_rays = 40.0;
+  LaserModel rippled(laser, 3);
+  laser.range_ripple_m = 0.0;
+  LaserModel plain(laser, 3);
+  // The same error on the same ray whatever the pose (it moves with the sensor).
+  for (const Pose2& pose : {Pose2(0.0, 0.3, 0.1), Pose2(0.5, -0.2, -0.05)}) {
+    const ScanSample with = rippled.measure(wallAtX(4.0), 0.0, standing(pose));
+    const ScanSample without = plain.measure(wallAtX(4.0), 0.0, standing(pose));
+    int finite = 0;
+    for (std::size_t i = 0; i < with.ranges.size(); ++i) {
+      if (!std::isfinite(without.ranges[i]))
+        continue;
+      ++finite;
+      EXPECT_NEAR(with.ranges[i] - without.ranges[i], 0.006 * std::sin(2.0 * M_PI * i / 40.0), 1e-5)
+          << "ray " << i;
+    }
+    EXPECT_GT(finite, 100);
+  }
+}
+
 TEST(LaserModel, RangeNoiseSigmaGrowsWithTheRange)
 {
   // sigma = 0.002 + 0.01 r: about 0.012 m near 1 m and 0.052 m near 5 m, measured over 300

@@ -93,6 +93,33 @@ TEST(SimScenario, ChangesAreReadCheckedAndWrittenToTheTruth)
   std::remove(path.c_str());
 }
 
+TEST(SimScenario, TheRangeRippleIsReadCheckedAndWrittenToTheTruthOnlyWhenOn)
+{
+  const std::string path = "/tmp/odometry_calibration_scenario_ripple_test.yaml";
+  auto load = [&](const std::string& laser) {
+    std::ofstream(path) << "robot: {type: diff_drive}\nlaser: {" << laser << "}\n";
+    return loadScenarioYaml(path, shippedWorldsDirectory());
+  };
+  const Scenario off = load("rays: 100");
+  EXPECT_EQ(off.laser.range_ripple_m, 0.0);
+  EXPECT_EQ(scenarioTruthYaml(off, *makeRobot(off.robot)).find("range_ripple"), std::string::npos);
+  const Scenario on = load("range_ripple_m: 0.002, range_ripple_period_rays: 25");
+  EXPECT_DOUBLE_EQ(on.laser.range_ripple_m, 0.002);
+  EXPECT_DOUBLE_EQ(on.laser.range_ripple_period_rays, 25.0);
+  const std::string truth = scenarioTruthYaml(on, *makeRobot(on.robot));
+  EXPECT_NE(truth.find("range_ripple_m: 0.002"), std::string::npos) << truth;
+  EXPECT_NE(truth.find("range_ripple_period_rays: 25"), std::string::npos) << truth;
+  for (const std::string bad : {"range_ripple_m: -0.001", "range_ripple_period_rays: 1"}) {
+    try {
+      load(bad);
+      ADD_FAILURE() << bad << " was accepted";
+    } catch (const std::exception& error) {
+      EXPECT_NE(std::string(error.what()).find("range_ripple"), std::string::npos) << error.what();
+    }
+  }
+  std::remove(path.c_str());
+}
+
 TEST(SimScenario, ARunThatBarelyMovedIsTooLittle)
 {
   Scenario scenario;

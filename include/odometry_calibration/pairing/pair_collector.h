@@ -121,8 +121,16 @@ struct CollectorStatistics
   double chained_m = 0.0;
   double keyframe_along_chain_m = 0.0;
   std::size_t scale_check_pairs = 0;
+  /// Sums of squares and products of the pairs' two lengths (chain c, keyframe k), for the
+  /// standard error: c^2, k^2, c k [m^2].
+  double chained_m2 = 0.0;
+  double keyframe_along_chain_m2 = 0.0;
+  double chained_times_keyframe_m2 = 0.0;
   /// 100 (keyframe_along_chain_m / chained_m - 1) [%], NaN without a compared pair.
   double keyframeVersusChainPercent() const;
+  /// Its standard error [%], the pairs taken as independent: 100 sqrt(n / (n - 1) sum (k - R
+  /// c)^2) / sum c with R = sum k / sum c (NaN with fewer than two pairs).
+  double keyframeVersusChainStandardErrorPercent() const;
   double preparation_time_s = 0.0;  ///< thread time preparing scans (points, lines) [s]
   double matching_time_s = 0.0;     ///< thread time matching scans, both kinds [s]
 };

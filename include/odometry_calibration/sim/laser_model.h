@@ -17,7 +17,10 @@
 //   Borenstein, "Characterization of a 2D laser scanner for mobile robot obstacle negotiation",
 //   ICRA 2002);
 // - dark-surface dropouts: the echo weakens as cos(incidence) / r^2, so the chance of losing a
-//   return is dark_dropout_probability * (r / r_max)^2 / cos(incidence), capped at 1.
+//   return is dark_dropout_probability * (r / r_max)^2 / cos(incidence), capped at 1;
+// - a range ripple fixed to the rays: ray i reads range_ripple_m * sin(2 pi i /
+//   range_ripple_period_rays) too long, the same in every scan (a systematic error that depends
+//   on the beam's angle in the scanner, not on the scene; it moves with the sensor).
 //
 // Randomness comes from two streams seeded by the scenario's seed: the historical one (the
 // constant range noise and the dropouts, drawn exactly as before) and one for the new effects.

@@ -40,8 +40,12 @@ struct LaserOptions
   /// Dark surfaces: chance of losing a return from max_range_m at normal incidence; it scales
   /// with (range / max_range_m)^2 / cos(incidence) (the echo's weakness), capped at 1.
   double dark_dropout_probability = 0.0;
-  std::string frame_id = "laser";  ///< header frame of the scans
-  std::string topic = "/scan";     ///< bag topic
+  /// A range error fixed to the rays (moves with the sensor): ray i reads
+  /// range_ripple_m * sin(2 pi i / range_ripple_period_rays) too long [m]; 0 = off.
+  double range_ripple_m = 0.0;
+  double range_ripple_period_rays = 40.0;  ///< rays per period of the ripple [rays], >= 2
+  std::string frame_id = "laser";          ///< header frame of the scans
+  std::string topic = "/scan";             ///< bag topic
   // Multi-beam only: the rings' elevations are equally spaced over [min, max]; each sweep
   // turns once counter-clockwise from -pi during the 1 / rate_hz before its cloud is
   // published, the cloud stamped at the sweep's start, each point with its `time` after it.
