@@ -10,10 +10,10 @@
 
 #include <vector>
 
-#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 
 #include "odometry_calibration/scan/nearest_point_search.h"
+#include "odometry_calibration/scan/plicp_ambiguity.h"
 #include "odometry_calibration/scan/point_to_line_solver.h"
 #include "odometry_calibration/scan/veiling_points.h"
 
@@ -515,68 +515,6 @@ PlicpResult matchOnce(const PreparedScan& reference, const PreparedScan& current
   return result;
 }
 
-/// Whether a valid match is weak enough to have its ambiguity checked.
-bool weakMatch(const PlicpResult& result, const PlicpOptions& options)
-{
-  if (!options.check_ambiguity || !result.valid() || result.covariance.isZero())
-    return false;
-  if (result.degeneracy.information_ratio < options.ambiguity_max_information_ratio)
-    return true;  // near degenerate: a slide along the weak direction may fit as well
-  if (result.correspondence_count >= options.ambiguity_max_correspondences)
-    return false;
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(
-      result.covariance.topLeftCorner<2, 2>());
-  return std::sqrt(std::max(eigen.eigenvalues()(1), 0.0)) > options.ambiguity_sigma_m ||
-         std::sqrt(std::max(result.covariance(2, 2), 0.0)) > options.ambiguity_sigma_rad;
-}
-
-/// The ambiguity check (PlicpOptions::check_ambiguity): rematches from four starts around the
-/// solution; a clearly better fit replaces it, an equally good one elsewhere widens its
-/// covariance to cover both.
-PlicpResult checkAmbiguity(const PreparedScan& reference, const PreparedScan& current,
-                           PlicpResult best, const PlicpOptions& options,
-                           std::unique_ptr<NearestPointSearch>& search)
-{
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(best.covariance.topLeftCorner<2, 2>());
-  const Eigen::Vector2d weakest = eigen.eigenvectors().col(1);
-  const Pose2 solution = best.T_ref_new;
-  std::vector<PlicpResult> others;
-  for (const Eigen::Vector3d& offset :
-       {Eigen::Vector3d(options.ambiguity_offset_m * weakest.x(),
-                        options.ambiguity_offset_m * weakest.y(), 0.0),
-        Eigen::Vector3d(-options.ambiguity_offset_m * weakest.x(),
-                        -options.ambiguity_offset_m * weakest.y(), 0.0),
-        Eigen::Vector3d(0.0, 0.0, options.ambiguity_offset_rad),
-        Eigen::Vector3d(0.0, 0.0, -options.ambiguity_offset_rad)}) {
-    const Pose2 start(solution.x() + offset.x(), solution.y() + offset.y(),
-                      solution.theta() + offset.z());
-    PlicpResult other = matchOnce(reference, current, start, options, search);
-    if (other.converged())
-      others.push_back(std::move(other));
-  }
-  // A clearly better fit (more of the new scan on reference surfaces) is the solution, also
-  // when it finds the scene degenerate (the weak match was a wrong minimum, valid by chance).
-  constexpr double kClearlyMoreInliers = 0.02;
-  for (const PlicpResult& other : others) {
-    if (!other.valid() && other.inlier_fraction > best.inlier_fraction + kClearlyMoreInliers)
-      return other;
-  }
-  // Others as good, elsewhere (beyond 3 sigma): the data cannot tell them apart. A start that
-  // finds the scene degenerate with as good a fit counts too: held along the weak direction
-  // where it started, it fits there as well as the solution does.
-  Eigen::Matrix3d spread = Eigen::Matrix3d::Zero();
-  for (const PlicpResult& other : others) {
-    if (other.inlier_fraction < best.inlier_fraction - kClearlyMoreInliers)
-      continue;
-    Eigen::Vector3d d = other.T_ref_new.vector() - best.T_ref_new.vector();
-    d(2) = normalizeAngle(d(2));
-    if (d.dot(best.covariance.ldlt().solve(d)) > 9.0)
-      spread += d * d.transpose();
-  }
-  best.covariance += spread;
-  return best;
-}
-
 }  // namespace
 
 PlicpResult matchScans(const PreparedScan& reference, const PreparedScan& current,
@@ -585,8 +523,11 @@ PlicpResult matchScans(const PreparedScan& reference, const PreparedScan& curren
   validate(options);
   std::unique_ptr<NearestPointSearch> search;  // built once, shared by the ambiguity check
   PlicpResult result = matchOnce(reference, current, T_ref_new_guess, options, search);
-  if (weakMatch(result, options))
-    result = checkAmbiguity(reference, current, std::move(result), options, search);
+  if (needsAmbiguityCheck(result, options)) {
+    result = checkAmbiguity(std::move(result), options, [&](const Pose2& start) {
+      return matchOnce(reference, current, start, options, search);
+    });
+  }
   return result;
 }
 
