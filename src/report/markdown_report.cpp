@@ -211,10 +211,12 @@ void collection(std::ostringstream& out, const MarkdownReportInput& input)
         << " pairs kept unverified\n";
   }
   if (s.scale_check_pairs > 0) {
+    const double error_pct = s.keyframeVersusChainStandardErrorPercent();
     out << "- scale check: over " << s.scale_check_pairs << " pairs the keyframe matches read "
-        << format("%+.2f", s.keyframeVersusChainPercent()) << " % (standard error "
-        << format("%.2f", s.keyframeVersusChainStandardErrorPercent())
-        << " %) longer than the consecutive matches chained over the same interval: how far the "
+        << format("%+.2f", s.keyframeVersusChainPercent()) << " %"
+        << (std::isfinite(error_pct) ? " (standard error " + format("%.2f", error_pct) + " %)"
+                                     : std::string())
+        << " longer than the consecutive matches chained over the same interval: how far the "
            "matcher's two scales disagree on this data (0 for an unbiased matcher; not the "
            "error of the fitted parameters)\n";
   }
