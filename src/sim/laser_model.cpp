@@ -72,6 +72,10 @@ ScanSample LaserModel::measure(const World& world, double stamp_s,
   scan.scan_time_s = 1.0 / options_.rate_hz;
   scan.ranges.resize(static_cast<std::size_t>(options_.rays));
   Pose2 T_world_laser = T_world_laser_at(0.0);
+  const double rho = options_.range_noise_correlation;
+  const double innovation_scale = std::sqrt(1.0 - rho * rho);
+  double unit_noise = 0.0;  // the AR(1) chain along the scan, unit variance
+  bool chain_started = false;
   for (int i = 0; i < options_.rays; ++i) {
     if (options_.sweep && i > 0)
       T_world_laser = T_world_laser_at(i * time_increment_s_);
@@ -84,7 +88,12 @@ ScanSample LaserModel::measure(const World& world, double stamp_s,
       if (options_.range_ripple_m > 0.0)
         range +=
             options_.range_ripple_m * std::sin(2.0 * M_PI * i / options_.range_ripple_period_rays);
-      if (options_.range_noise_per_m > 0.0) {
+      if (rho > 0.0) {
+        const double z = unit_normal_(realism_rng_);
+        unit_noise = chain_started ? rho * unit_noise + innovation_scale * z : z;
+        chain_started = true;
+        range += (options_.range_noise_m + options_.range_noise_per_m * range) * unit_noise;
+      } else if (options_.range_noise_per_m > 0.0) {
         range += (options_.range_noise_m + options_.range_noise_per_m * range) *
                  unit_normal_(realism_rng_);
       } else if (options_.range_noise_m > 0.0) {

@@ -52,6 +52,9 @@ void validate(const Scenario& s)
   require(s.laser.range_noise_per_m >= 0.0 && s.laser.range_resolution_m >= 0.0 &&
               s.laser.beam_divergence_rad >= 0.0,
           "laser.range_noise_per_m, range_resolution_m and beam_divergence_rad must be >= 0");
+  require(std::isfinite(s.laser.range_noise_correlation) &&
+              s.laser.range_noise_correlation >= 0.0 && s.laser.range_noise_correlation <= 0.95,
+          "laser.range_noise_correlation must be in [0, 0.95]");
   require(s.laser.mixed_pixel_probability >= 0.0 && s.laser.mixed_pixel_probability <= 1.0,
           "laser.mixed_pixel_probability must be in [0, 1]");
   require(s.laser.dark_dropout_probability >= 0.0 && s.laser.dark_dropout_probability <= 1.0,
@@ -148,6 +151,7 @@ Scenario loadScenarioYaml(const std::string& path, const std::string& worlds_dir
                    "dropout_probability",
                    "sweep",
                    "range_noise_per_m",
+                   "range_noise_correlation",
                    "range_resolution_m",
                    "mixed_pixel_probability",
                    "beam_divergence_rad",
@@ -178,6 +182,7 @@ Scenario loadScenarioYaml(const std::string& path, const std::string& worlds_dir
     readYaml(laser, "dropout_probability", &s.laser.dropout_probability);
     readYaml(laser, "sweep", &s.laser.sweep);
     readYaml(laser, "range_noise_per_m", &s.laser.range_noise_per_m);
+    readYaml(laser, "range_noise_correlation", &s.laser.range_noise_correlation);
     readYaml(laser, "range_resolution_m", &s.laser.range_resolution_m);
     readYaml(laser, "mixed_pixel_probability", &s.laser.mixed_pixel_probability);
     readYaml(laser, "beam_divergence_rad", &s.laser.beam_divergence_rad);
@@ -333,6 +338,8 @@ std::string scenarioTruthYaml(const Scenario& s, const Robot& robot)
   out << YAML::Key << "dropout_probability" << YAML::Value << s.laser.dropout_probability;
   out << YAML::Key << "sweep" << YAML::Value << s.laser.sweep;
   out << YAML::Key << "range_noise_per_m" << YAML::Value << s.laser.range_noise_per_m;
+  if (s.laser.range_noise_correlation > 0.0)  // only then: other truth files stay as they were
+    out << YAML::Key << "range_noise_correlation" << YAML::Value << s.laser.range_noise_correlation;
   out << YAML::Key << "range_resolution_m" << YAML::Value << s.laser.range_resolution_m;
   out << YAML::Key << "mixed_pixel_probability" << YAML::Value << s.laser.mixed_pixel_probability;
   out << YAML::Key << "beam_divergence_rad" << YAML::Value << s.laser.beam_divergence_rad;

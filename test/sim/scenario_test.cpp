@@ -120,6 +120,40 @@ TEST(SimScenario, TheRangeRippleIsReadCheckedAndWrittenToTheTruthOnlyWhenOn)
   std::remove(path.c_str());
 }
 
+TEST(SimScenario, TheNoiseCorrelationIsReadCheckedAndWrittenToTheTruthOnlyWhenOn)
+{
+  const std::string path = "/tmp/odometry_calibration_scenario_correlation_test.yaml";
+  auto load = [&](const std::string& laser) {
+    std::ofstream(path) << "robot: {type: diff_drive}\nlaser: {" << laser << "}\n";
+    return loadScenarioYaml(path, shippedWorldsDirectory());
+  };
+  const Scenario off = load("rays: 100");
+  EXPECT_EQ(off.laser.range_noise_correlation, 0.0);
+  EXPECT_EQ(scenarioTruthYaml(off, *makeRobot(off.robot)).find("range_noise_correlation"),
+            std::string::npos);
+  const Scenario on = load("range_noise_correlation: 0.5");
+  EXPECT_DOUBLE_EQ(on.laser.range_noise_correlation, 0.5);
+  const std::string truth = scenarioTruthYaml(on, *makeRobot(on.robot));
+  EXPECT_NE(truth.find("range_noise_correlation: 0.5"), std::string::npos) << truth;
+  for (const std::string bad : {"range_noise_correlation: -0.1", "range_noise_correlation: 0.99",
+                                "range_noise_correlation: .nan"}) {
+    try {
+      load(bad);
+      ADD_FAILURE() << bad << " was accepted";
+    } catch (const std::exception& error) {
+      EXPECT_NE(std::string(error.what()).find("range_noise_correlation"), std::string::npos)
+          << error.what();
+    }
+  }
+  // The shipped Mines-like scenario carries the real URG log's measured noise.
+  const Scenario mines =
+      loadScenarioYaml(kScenarios + "/mines_like.yaml", shippedWorldsDirectory());
+  EXPECT_DOUBLE_EQ(mines.laser.range_noise_correlation, 0.5);
+  EXPECT_DOUBLE_EQ(mines.laser.range_noise_m, 0.002);
+  EXPECT_DOUBLE_EQ(mines.laser.range_noise_per_m, 0.002);
+  std::remove(path.c_str());
+}
+
 TEST(SimScenario, ARunThatBarelyMovedIsTooLittle)
 {
   Scenario scenario;

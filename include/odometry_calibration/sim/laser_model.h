@@ -8,6 +8,8 @@
 //   turning once per scan period (Hokuyo URG-04LX: 0.1 s / 1024 steps);
 // - range noise growing with the range, sigma = a + b r (a = range_noise_m, b =
 //   range_noise_per_m; e.g. the URG's 1 % of the range beyond 1 m);
+// - that noise correlated between neighbouring rays (range_noise_correlation rho: an AR(1)
+//   chain along the scan with the same sigma per ray, correlation rho^k k rays apart);
 // - returns quantised to range_resolution_m (1 mm for the URG's integer millimetres);
 // - mixed pixels: a beam whose footprint (max(beam divergence, ray increment) wide) straddles a
 //   depth step (its two edges on different walls that do not meet at a corner, more than 3 cm
