@@ -24,7 +24,7 @@
 //                          [--pairs-csv FILE]  (every pair's truth and results, guess too long)
 //                          [--ours-only]  (only ours with the sweep's own motion: ~20x faster)
 //                          [--fallback-max-surface-points N] [--veiling-min-angle-deg D]
-//                          [--trim-keep-fraction F]
+//                          [--trim-keep-fraction F] [--tolerance T]  (convergence, m and rad)
 //                          (options of ours; default: the defaults)
 //                          [--noise-m A] [--noise-per-m B] [--noise-correlation R]  (the noise
 //                          effect's sigma = A + B r, correlated by R between neighbouring rays;
@@ -252,13 +252,15 @@ int main(int argc, char** argv)
     }
     if ((arg == "--fallback-max-surface-points" || arg == "--veiling-min-angle-deg" ||
          arg == "--noise-m" || arg == "--noise-per-m" || arg == "--noise-correlation" ||
-         arg == "--trim-keep-fraction") &&
+         arg == "--trim-keep-fraction" || arg == "--tolerance") &&
         i + 1 < argc) {
       const double value = std::atof(argv[++i]);
       if (arg == "--noise-m")
         noise.at_zero_m = value;
       else if (arg == "--trim-keep-fraction")
         options.trim_keep_fraction = value;
+      else if (arg == "--tolerance")
+        options.translation_tolerance_m = options.rotation_tolerance_rad = value;
       else if (arg == "--noise-per-m")
         noise.per_m = value;
       else if (arg == "--noise-correlation")
@@ -288,7 +290,7 @@ int main(int argc, char** argv)
                    "[--effects sweep+noise,...] [--pairs-csv FILE] [--ours-only] "
                    "[--fallback-max-surface-points N] [--veiling-min-angle-deg D] "
                    "[--noise-m A] [--noise-per-m B] [--noise-correlation R] "
-                   "[--trim-keep-fraction F]\n";
+                   "[--trim-keep-fraction F] [--tolerance T]\n";
       return arg == "-h" || arg == "--help" ? 0 : 2;
     }
   }

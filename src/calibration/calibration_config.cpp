@@ -254,12 +254,12 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
 
     where = source + ": scan_matching";
     const YAML::Node matching = root["scan_matching"];
-    checkYamlKeys(
-        matching,
-        {"max_correspondence_distance_m", "max_iterations", "range_sigma_m",
-         "max_correction_translation_m", "max_correction_rotation_rad", "min_points",
-         "compensate_sweep", "segment_fallback_max_surface_points", "veiling_min_angle_rad"},
-        where);
+    checkYamlKeys(matching,
+                  {"max_correspondence_distance_m", "max_iterations", "range_sigma_m",
+                   "max_correction_translation_m", "max_correction_rotation_rad", "min_points",
+                   "compensate_sweep", "segment_fallback_max_surface_points",
+                   "veiling_min_angle_rad", "trim_keep_fraction"},
+                  where);
     PlicpOptions& p = k.plicp;
     readYaml(matching, "max_correspondence_distance_m", &p.max_correspondence_distance_m);
     readYaml(matching, "max_iterations", &p.max_iterations);
@@ -271,6 +271,7 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
     readYaml(matching, "segment_fallback_max_surface_points",
              &p.line_fit.segment_fallback_max_surface_points);
     readYaml(matching, "veiling_min_angle_rad", &p.line_fit.veiling_min_angle_rad);
+    readYaml(matching, "trim_keep_fraction", &p.trim_keep_fraction);
     validate(k);
     // A cloud is rejected where its scan would be: with fewer rays than the matcher needs.
     c.cloud.min_points = static_cast<std::size_t>(std::max(1, p.min_points));

@@ -26,8 +26,10 @@ TEST(CalibrationConfig, ShippedConfigParses)
   // The line-fit keys of scan_matching reach the matcher's options.
   const CalibrationConfig tuned = parseCalibrationConfig(
       "joints: [{name: l, units_per_turn: 100}, {name: r, units_per_turn: 100}]\n"
-      "scan_matching: {segment_fallback_max_surface_points: 4, veiling_min_angle_rad: 0.17}\n",
+      "scan_matching: {segment_fallback_max_surface_points: 4, veiling_min_angle_rad: 0.17, "
+      "trim_keep_fraction: 0.9}\n",
       "c.yaml");
+  EXPECT_DOUBLE_EQ(tuned.collector.plicp.trim_keep_fraction, 0.9);
   EXPECT_EQ(tuned.collector.plicp.line_fit.segment_fallback_max_surface_points, 4);
   EXPECT_DOUBLE_EQ(tuned.collector.plicp.line_fit.veiling_min_angle_rad, 0.17);
 }
@@ -146,6 +148,9 @@ TEST(CalibrationConfig, ErrorsNameTheKey)
             std::string::npos);
   EXPECT_NE(
       message(joints + "scan_matching: {veiling_min_angle_rad: 2}\n").find("veiling_min_angle_rad"),
+      std::string::npos);
+  EXPECT_NE(
+      message(joints + "scan_matching: {trim_keep_fraction: 1.5}\n").find("trim_keep_fraction"),
       std::string::npos);
   // Wheels in different units cannot share one diff-drive model.
   EXPECT_NE(message("joints: [{name: l, units_per_turn: 100}, {name: r}]\n").find("units_per_turn"),
