@@ -84,14 +84,16 @@ ScanSample LaserModel::measure(const World& world, double stamp_s,
         T_world_laser.theta() + angle_min + i * options_.fov_rad / (options_.rays - 1);
     double cos_incidence = 1.0;
     double range = trueRange(world, origin, angle, &cos_incidence);
+    if (rho > 0.0) {  // the chain moves on at every ray, returned or not: rho^k k rays apart
+      const double z = unit_normal_(realism_rng_);
+      unit_noise = chain_started ? rho * unit_noise + innovation_scale * z : z;
+      chain_started = true;
+    }
     if (std::isfinite(range)) {
       if (options_.range_ripple_m > 0.0)
         range +=
             options_.range_ripple_m * std::sin(2.0 * M_PI * i / options_.range_ripple_period_rays);
       if (rho > 0.0) {
-        const double z = unit_normal_(realism_rng_);
-        unit_noise = chain_started ? rho * unit_noise + innovation_scale * z : z;
-        chain_started = true;
         range += (options_.range_noise_m + options_.range_noise_per_m * range) * unit_noise;
       } else if (options_.range_noise_per_m > 0.0) {
         range += (options_.range_noise_m + options_.range_noise_per_m * range) *

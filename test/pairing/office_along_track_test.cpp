@@ -28,8 +28,9 @@ using test::toScan;
 using test::truthAt;
 
 /// The office runs of seeds 1-3 (60 s each, as in the study) with every effect, the noise at the
-/// URG-04LX datasheet's bound (5 mm + 0.5 % of r, uncorrelated; 2-4 times what the real log
-/// shows, scripts/measure_scan_noise): a stress case for the segment fallback.
+/// level mines_like.yaml had before its noise was measured (5 mm + 0.5 % of r, uncorrelated; 2-4
+/// times what the real log shows, scripts/measure_scan_noise): a stress case for the segment
+/// fallback.
 std::vector<std::pair<sim::Scenario, Recorder>> officeRuns()
 {
   const sim::Scenario base = sim::loadScenarioYaml(

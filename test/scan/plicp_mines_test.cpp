@@ -1,5 +1,6 @@
 // Acceptance of issue 11 on real scans: every consecutive pair of the Mines ParisTech log
-// (../shared/data/mines/exp1.dat, 682-ray Hokuyo URG-04LX, see its README). Skips without it.
+// (../shared/data/mines/exp1.dat, 682-ray Hokuyo URG-04LX, see its README), and how much the
+// keyframe matches depend on their guess (issue 16). Skips without it.
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -103,6 +104,72 @@ TEST_F(PlicpMinesAcceptance, AZeroGuessFindsTheSameDistance)
   print("zero guess", from_zero);
   EXPECT_GE(static_cast<double>(from_zero.converged) / from_zero.pairs, 0.99);
   EXPECT_LT(std::abs(from_zero.distanceDifference() - from_odometry.distanceDifference()), 0.005);
+}
+
+/// Keyframe pairs 5 scans (about 0.5 s) apart, as the calibration's, each matched from the chain
+/// of the consecutive matches between them scaled by 0.97 and by 1.03: 100 (sum of the matched
+/// distances from the long guess / the same from the short guess - 1) [%] over the pairs valid
+/// from both. A matcher that stays near its guess where a scene fixes the motion weakly reads
+/// positive; the calibration then keeps part of the nominal parameters' error.
+double keyframeLeanPercent(const std::vector<mines::Record>& records, const PlicpOptions& options,
+                           int* both_valid)
+{
+  std::vector<PreparedScan> scans;
+  for (std::size_t k = 0; k < records.size(); ++k) {
+    scans.push_back(
+        prepareScan(records[k].scan, options.line_fit, mines::laserVelocity(records, k)));
+  }
+  std::vector<Pose2> consecutive;
+  for (std::size_t k = 0; k + 1 < records.size(); ++k) {
+    const Pose2 guess =
+        k == 0 ? Pose2() : mines::laserMotion(mines::wheelOdometry(records[k - 1], records[k]));
+    const PlicpResult result = matchScans(scans[k], scans[k + 1], guess, options);
+    consecutive.push_back(result.converged() ? result.T_ref_new : guess);
+  }
+  double long_m = 0.0;
+  double short_m = 0.0;
+  *both_valid = 0;
+  for (std::size_t k = 0; k + 5 < records.size(); k += 5) {
+    Pose2 chain;
+    for (std::size_t j = k; j < k + 5; ++j) {
+      chain = chain * consecutive[j];
+    }
+    const PlicpResult from_long =
+        matchScans(scans[k], scans[k + 5], se2Exp(1.03 * se2Log(chain)), options);
+    const PlicpResult from_short =
+        matchScans(scans[k], scans[k + 5], se2Exp(0.97 * se2Log(chain)), options);
+    if (!from_long.valid() || !from_short.valid()) {
+      continue;
+    }
+    ++*both_valid;
+    long_m += std::hypot(from_long.T_ref_new.x(), from_long.T_ref_new.y());
+    short_m += std::hypot(from_short.T_ref_new.x(), from_short.T_ref_new.y());
+  }
+  return 100.0 * (long_m / short_m - 1.0);
+}
+
+TEST_F(PlicpMinesAcceptance, KeyframeMatchesHardlyDependOnTheirGuess)
+{
+  // With the default trimming (keep 95 %) measured +0.15 %; keeping 98 % or all of the
+  // correspondences (only the adaptive threshold trims) gives -0.39 % and -0.69 %: on these
+  // real scans the fixed trimming is what keeps a keyframe match independent of its guess,
+  // although in the simulated Mines-like corridors keeping all removes a lean (issue 16,
+  // docs/scan_matching.md). This is why the default stays at 95 %.
+  std::map<double, double> lean;
+  for (const double keep : {0.95, 0.98, 1.0}) {
+    PlicpOptions options;
+    options.trim_keep_fraction = keep;
+    int valid = 0;
+    lean[keep] = keyframeLeanPercent(records_, options, &valid);
+    std::printf(
+        "[ plicp    ] Mines, keyframes 5 scans apart, guess x1.03 vs x0.97, keep %.2f: "
+        "%+.3f %% over %d pairs\n",
+        keep, lean[keep], valid);
+    EXPECT_GE(valid, 140);
+  }
+  EXPECT_DOUBLE_EQ(PlicpOptions().trim_keep_fraction, 0.95);
+  EXPECT_LT(std::abs(lean[0.95]), 0.3);
+  EXPECT_GT(std::abs(lean[1.0]), 2.0 * std::abs(lean[0.95]));
 }
 
 }  // namespace

@@ -150,7 +150,7 @@ TEST(SimScenario, TheNoiseCorrelationIsReadCheckedAndWrittenToTheTruthOnlyWhenOn
       loadScenarioYaml(kScenarios + "/mines_like.yaml", shippedWorldsDirectory());
   EXPECT_DOUBLE_EQ(mines.laser.range_noise_correlation, 0.5);
   EXPECT_DOUBLE_EQ(mines.laser.range_noise_m, 0.002);
-  EXPECT_DOUBLE_EQ(mines.laser.range_noise_per_m, 0.002);
+  EXPECT_DOUBLE_EQ(mines.laser.range_noise_per_m, 0.003);
   std::remove(path.c_str());
 }
 
