@@ -3,7 +3,8 @@
 noise: sigma = 3 mm + 0.2 % of the range, correlated 0.5 between neighbouring rays (an AR(1)
 chain along the scan), a robot that stands for 40 scans and drives for 60. The script must give
 back the correlation, each bin's sigma and the line through them; and it must refuse an empty
-log, one without noise, one without a stand and a line with too few fields."""
+log, one without noise, one without a stand, a line with too few fields and a field that is
+not a number."""
 import math
 import os
 import random
@@ -83,34 +84,31 @@ class MeasureScanNoiseTest(unittest.TestCase):
             self.assertAlmostEqual(at_zero_mm, 1000.0 * SIGMA_AT_ZERO_M, delta=0.5, msg=text)
             self.assertAlmostEqual(percent, 100.0 * SIGMA_PER_M, delta=0.01, msg=text)
 
-    def test_refuses_a_log_where_the_robot_never_stands(self):
+    def assert_refused(self, write, message):
+        """The script exits with 1 and names the problem on a log `write` makes."""
         with tempfile.TemporaryDirectory() as folder:
             path = os.path.join(folder, "log.dat")
-            write_log(path, standing_scans=0, moving_scans=30)
+            write(path)
             result = run(path)
-            self.assertNotEqual(result.returncode, 0)
-            self.assertIn("no stand of the robot long enough", result.stderr)
+            self.assertEqual(result.returncode, 1, result.stdout)
+            self.assertIn(message, result.stderr)
 
-    def test_refuses_an_empty_log_and_one_without_noise(self):
-        with tempfile.TemporaryDirectory() as folder:
-            path = os.path.join(folder, "log.dat")
-            open(path, "w").close()
-            result = run(path)
-            self.assertEqual(result.returncode, 1)
-            self.assertIn("holds no scan", result.stderr)
-            write_log(path, standing_scans=40, moving_scans=10, noise_scale=0.0)
-            result = run(path)
-            self.assertEqual(result.returncode, 1)
-            self.assertIn("no noise to measure", result.stderr)
+    def test_refuses_logs_it_cannot_measure(self):
+        def text(content):
+            def write(path):
+                with open(path, "w") as log:
+                    log.write(content)
+            return write
 
-    def test_refuses_a_short_line(self):
-        with tempfile.TemporaryDirectory() as folder:
-            path = os.path.join(folder, "log.dat")
-            with open(path, "w") as log:
-                log.write("1 2 3 4 5\n")
-            result = run(path)
-            self.assertNotEqual(result.returncode, 0)
-            self.assertIn("log.dat:1: 5 fields", result.stderr)
+        self.assert_refused(lambda path: write_log(path, standing_scans=0, moving_scans=30),
+                            "no stand of the robot long enough")
+        self.assert_refused(text(""), "holds no scan")
+        self.assert_refused(
+            lambda path: write_log(path, standing_scans=40, moving_scans=10, noise_scale=0.0),
+            "no noise to measure")
+        self.assert_refused(text("1 2 3 4 5\n"), "log.dat:1: 5 fields")
+        self.assert_refused(text(" ".join(["1"] * 30 + ["x"] + ["1"] * 676) + "\n"),
+                            "log.dat:1: not a number")
 
 
 if __name__ == "__main__":
