@@ -34,9 +34,9 @@ struct LaserOptions
   double range_noise_per_m = 0.0;  ///< noise sigma = range_noise_m + this * range [m/m]
   /// Correlation of the range noise between neighbouring rays, in [0, 0.95]: the noise follows
   /// an AR(1) chain along the scan, e_i = sigma_i u_i with u_i = rho u_(i-1) + sqrt(1 - rho^2)
-  /// z_i, z_i standard normal, so each ray keeps its sigma (the real
-  /// URG-04LX log reads 0.49 between neighbours and 0.21 two rays apart, rho and rho^2; the
-  /// chain moves on at rays without a return too). 0 = off.
+  /// z_i, z_i standard normal, so each ray keeps its sigma; the chain moves on at rays without
+  /// a return too (the real URG-04LX log reads 0.49 between neighbours and 0.21 two rays apart,
+  /// rho and rho^2). 0 = off. Planar lasers only.
   double range_noise_correlation = 0.0;
   double range_resolution_m = 0.0;       ///< returns rounded to multiples of this; 0 = exact [m]
   double mixed_pixel_probability = 0.0;  ///< chance a beam across a depth step mixes its ranges
