@@ -198,6 +198,7 @@ void BagMessageReader::read(rosbag::View& view, const CalibrationConfig& config)
       input.kind = BagInput::Kind::kScan;
       input.stamp_s = scan->header.stamp.toSec();
       input.scan = ros_conversions::fromLaserScanMsg(*scan);
+      input.frame = scan->header.frame_id;
       start = Clock::now();
       converting += start - converted;
     } else if (config.ego_motion == EgoMotionSource::kCloud) {
@@ -217,6 +218,7 @@ void BagMessageReader::read(rosbag::View& view, const CalibrationConfig& config)
       }
       if (input.problem.empty()) {
         cloud_frame_ = cloud->header.frame_id;
+        input.frame = cloud_frame_;
         try {
           const auto lidar = ros_conversions::fromPointCloud2Msg(*cloud, config.cloud.point_times);
           const auto filtered = Clock::now();
@@ -245,6 +247,7 @@ void BagMessageReader::read(rosbag::View& view, const CalibrationConfig& config)
               message, ros_conversions::WireMessage::kOdometry, message_bytes_)) {
         input.stamp_s = odometry->header.stamp.toSec();
         input.pose = ros_conversions::fromPoseMsg(odometry->pose.pose);
+        input.frame = odometry->child_frame_id;
       } else if (const auto stamped = deserialiseChecked<geometry_msgs::PoseStamped>(
                      message, ros_conversions::WireMessage::kPoseStamped, message_bytes_)) {
         input.stamp_s = stamped->header.stamp.toSec();

@@ -34,15 +34,11 @@ std::string bagNames(const std::vector<std::string>& bag_paths)
   return (bag_paths.size() == 1 ? "bag " : "one of the bags ") + names;
 }
 
-BagRunResult runBagsUnchecked(const std::vector<std::string>& bag_paths,
-                              const CalibrationConfig& config, double start_offset_s,
-                              double end_offset_s,
-                              const std::function<void(const BagProgress&)>& progress)
+/// The bags, each checked record by record before rosbag reads it, then opened.
+std::vector<std::unique_ptr<rosbag::Bag>> openBags(const std::vector<std::string>& bag_paths)
 {
-  const auto run_start = Clock::now();
   std::vector<std::unique_ptr<rosbag::Bag>> bags;
   for (const std::string& path : bag_paths) {
-    auto bag = std::make_unique<rosbag::Bag>();
     std::error_code error_code;
     if (!std::filesystem::is_regular_file(path, error_code)) {
       throw std::runtime_error("no bag file '" + path + "'");
@@ -59,6 +55,7 @@ BagRunResult runBagsUnchecked(const std::vector<std::string>& bag_paths,
                                " (check it with 'rosbag check'; 'rosbag reindex' repairs a bag "
                                "whose index is lost or cut off)");
     }
+    auto bag = std::make_unique<rosbag::Bag>();
     try {
       bag->open(path, rosbag::bagmode::Read);
     } catch (const rosbag::BagException& error) {
@@ -68,16 +65,27 @@ BagRunResult runBagsUnchecked(const std::vector<std::string>& bag_paths,
     }
     bags.push_back(std::move(bag));
   }
-  const std::string ego_topic =
-      config.ego_motion == EgoMotionSource::kScan ? config.scan_topic : config.ego_motion_topic;
+  return bags;
+}
+
+std::string egoTopic(const CalibrationConfig& config)
+{
+  return config.ego_motion == EgoMotionSource::kScan ? config.scan_topic : config.ego_motion_topic;
+}
+
+/// The time window [begin, end] of the bags' messages on the configured topics.
+std::pair<ros::Time, ros::Time> timeWindow(const std::vector<std::unique_ptr<rosbag::Bag>>& bags,
+                                           const CalibrationConfig& config, double start_offset_s,
+                                           double end_offset_s)
+{
   rosbag::View all;
   for (const auto& bag : bags) {
-    all.addQuery(*bag,
-                 rosbag::TopicQuery(std::vector<std::string>{config.joint_state_topic, ego_topic}));
+    all.addQuery(*bag, rosbag::TopicQuery(
+                           std::vector<std::string>{config.joint_state_topic, egoTopic(config)}));
   }
   if (all.size() == 0) {
     throw std::runtime_error("the bags hold no message on '" + config.joint_state_topic + "' or '" +
-                             ego_topic + "'");
+                             egoTopic(config) + "'");
   }
   const double span_s = (all.getEndTime() - all.getBeginTime()).toSec();
   if (start_offset_s >= span_s || (end_offset_s > 0.0 && end_offset_s <= start_offset_s)) {
@@ -89,102 +97,122 @@ BagRunResult runBagsUnchecked(const std::vector<std::string>& bag_paths,
   const ros::Time end = end_offset_s > 0.0 && end_offset_s < span_s
                             ? all.getBeginTime() + ros::Duration(end_offset_s)
                             : all.getEndTime();
+  return {begin, end};
+}
+
+/// A session as calibrate_bag uses it: no files, no odometry, no assistant (the report says
+/// what they would), every encoder sample kept for the time offset and the nominal's re-cut.
+std::shared_ptr<CalibrationSession> bagSession(const CalibrationConfig& config,
+                                               const std::vector<double>& candidate_intervals_s)
+{
+  SessionOptions options;
+  options.load_saved_calibration = false;
+  options.resume_pairs = false;
+  options.min_pairs = 1;
+  options.odometry = false;
+  options.assistant = false;
+  options.candidate_intervals_s = candidate_intervals_s;
+  options.keep_encoder_history = true;
+  options.compare_trajectories = true;
+  options.source = "calibrate_bag";
+  return std::make_shared<CalibrationSession>(config, "", "", options);
+}
+
+/// One converted message into the session.
+void feed(CalibrationSession& session, BagInput& input, EgoMotionSource source)
+{
+  switch (input.kind) {
+    case BagInput::Kind::kBadJoints:
+      session.skipJointState(input.problem);
+      break;
+    case BagInput::Kind::kJoints:
+      session.addJointPositions(input.stamp_s, input.raw);
+      break;
+    case BagInput::Kind::kBadScan:
+      session.skipEgoMessage("PointCloud2", input.problem);
+      break;
+    case BagInput::Kind::kScan:
+      if (source == EgoMotionSource::kCloud)
+        session.addCloudScan(input.stamp_s, input.scan, input.frame, input.problem);
+      else
+        session.addScan(input.stamp_s, input.scan, input.frame);
+      break;
+    case BagInput::Kind::kPose:
+      session.addSensorPose(input.stamp_s, input.pose, input.frame);
+      break;
+  }
+}
+
+/// The session's counts as the run's, and the checks that the bags held usable data.
+void takeCounts(const CalibrationSession& session, const std::string& ego_topic,
+                const CalibrationConfig& config, BagRunResult* result)
+{
+  const SessionCounts counts = session.counts();
+  result->pairs = session.pairs();
+  result->encoder_history = session.encoderHistory();
+  result->statistics = counts.statistics;
+  result->joint_state_messages = counts.encoder_messages;
+  result->ego_motion_messages = counts.ego_messages;
+  result->bad_joint_states = counts.bad_encoder_messages;
+  result->first_bad_joint_state = counts.first_bad_encoder_message;
+  result->bad_clouds = counts.bad_ego_messages;
+  result->first_bad_cloud = counts.first_bad_ego_message;
+  result->clouds_without_times = counts.clouds_without_times;
+  result->first_cloud_time_problem = counts.first_cloud_time_problem;
+  result->restarts = counts.restarts;
+  if (result->joint_state_messages == 0) {
+    throw std::runtime_error("no sensor_msgs/JointState on '" + config.joint_state_topic +
+                             "' in the bags");
+  }
+  if (result->ego_motion_messages == 0)
+    throw std::runtime_error("no ego-motion message (" + ego_topic + ") in the bags");
+  if (result->bad_clouds > 0 && result->bad_clouds == result->ego_motion_messages) {
+    throw std::runtime_error(
+        "no usable " +
+        std::string(config.ego_motion == EgoMotionSource::kCloud ? "PointCloud2"
+                                                                 : "ego-motion message") +
+        " on '" + ego_topic + "': all were skipped, first: " + result->first_bad_cloud);
+  }
+  if (result->bad_joint_states == result->joint_state_messages)
+    throw std::runtime_error("no usable JointState: " + result->first_bad_joint_state);
+}
+
+BagRunResult runBagsUnchecked(const std::vector<std::string>& bag_paths,
+                              const CalibrationConfig& config, double start_offset_s,
+                              double end_offset_s,
+                              const std::function<void(const BagProgress&)>& progress,
+                              const std::vector<double>& candidate_intervals_s)
+{
+  const auto run_start = Clock::now();
+  const std::vector<std::unique_ptr<rosbag::Bag>> bags = openBags(bag_paths);
+  const auto [begin, end] = timeWindow(bags, config, start_offset_s, end_offset_s);
   rosbag::View view;
   for (const auto& bag : bags) {
-    view.addQuery(*bag,
-                  rosbag::TopicQuery(std::vector<std::string>{config.joint_state_topic, ego_topic}),
-                  begin, end);
+    view.addQuery(
+        *bag,
+        rosbag::TopicQuery(std::vector<std::string>{config.joint_state_topic, egoTopic(config)}),
+        begin, end);
   }
-
   BagRunResult result;
   result.bag_span_s = (end - begin).toSec();
-  PairCollector collector(encoderChannels(config), config.collector, priorPredictor(config));
-  std::vector<EncoderChannelOptions> channels = encoderChannels(config);
-  EncoderDecoder history_decoder(channels);
-  const Eigen::Matrix3d pose_covariance =
-      Eigen::Vector3d(config.ego_motion_sigma_m * config.ego_motion_sigma_m,
-                      config.ego_motion_sigma_m * config.ego_motion_sigma_m,
-                      config.ego_motion_sigma_rad * config.ego_motion_sigma_rad)
-          .asDiagonal();
-  auto take = [&](const std::vector<CollectorEvent>& events, double stamp_s) {
-    for (const CollectorEvent& event : events) {
-      if (event.type == CollectorEvent::Type::kPair) {
-        result.pairs.push_back(event.pair);
-      } else if (event.type == CollectorEvent::Type::kRestarted) {
-        result.restarts.push_back("at " + std::to_string(stamp_s) + " s: " + event.reason);
-      }
-    }
-  };
-
-  // Reading and converting run ahead on their own thread; this one feeds the collector.
+  result.session = bagSession(config, candidate_intervals_s);
+  // Reading and converting run ahead on their own thread; this one feeds the session.
   BagMessageReader reader(view, config, bagNames(bag_paths));
   std::size_t messages = 0;
   Clock::duration pairing{};
   for (std::vector<BagInput> batch = reader.next(); !batch.empty(); batch = reader.next()) {
     for (BagInput& input : batch) {
-      ++messages;
       const auto start = Clock::now();
-      switch (input.kind) {
-        case BagInput::Kind::kBadJoints:
-          ++result.joint_state_messages;
-          if (result.bad_joint_states++ == 0)
-            result.first_bad_joint_state = input.problem;
-          break;
-        case BagInput::Kind::kJoints:
-          ++result.joint_state_messages;
-          try {
-            Eigen::VectorXd accepted;  // empty for an encoder glitch
-            take(collector.addEncoders(input.stamp_s, input.raw, &accepted), input.stamp_s);
-            if (accepted.size() > 0 && (result.encoder_history.empty() ||
-                                        input.stamp_s > result.encoder_history.back().stamp_s)) {
-              result.encoder_history.push_back({input.stamp_s, history_decoder.decode(accepted)});
-            }
-          } catch (const std::invalid_argument& error) {
-            if (result.bad_joint_states++ == 0)
-              result.first_bad_joint_state = error.what();
-          }
-          break;
-        case BagInput::Kind::kBadScan:
-          ++result.ego_motion_messages;
-          if (result.bad_clouds++ == 0)
-            result.first_bad_cloud = input.problem;
-          break;
-        case BagInput::Kind::kScan:
-          ++result.ego_motion_messages;
-          if (!input.problem.empty() && result.clouds_without_times++ == 0)
-            result.first_cloud_time_problem = input.problem;
-          take(collector.addScan(input.stamp_s, input.scan), input.stamp_s);
-          break;
-        case BagInput::Kind::kPose:
-          ++result.ego_motion_messages;
-          take(collector.addSensorPose(input.stamp_s, input.pose, pose_covariance), input.stamp_s);
-          break;
-      }
+      feed(*result.session, input, config.ego_motion);
       pairing += Clock::now() - start;
-      if (progress && messages % 500 == 0)
+      if (progress && ++messages % 500 == 0)
         progress({input.fraction, messages, seconds(Clock::now() - run_start)});
     }
   }
-  take(collector.flush(), end.toSec());
+  result.session->flush();
   if (progress)
     progress({1.0, messages, seconds(Clock::now() - run_start)});
-  if (result.joint_state_messages == 0) {
-    throw std::runtime_error("no sensor_msgs/JointState on '" + config.joint_state_topic +
-                             "' in the bags");
-  }
-  if (result.ego_motion_messages == 0) {
-    throw std::runtime_error("no ego-motion message (" + ego_topic + ") in the bags");
-  }
-  if (result.bad_clouds > 0 && result.bad_clouds == result.ego_motion_messages) {
-    throw std::runtime_error("no usable PointCloud2 on '" + ego_topic +
-                             "': all were skipped, first: " + result.first_bad_cloud);
-  }
-  if (result.bad_joint_states == result.joint_state_messages) {
-    throw std::runtime_error("no usable JointState: " + result.first_bad_joint_state);
-  }
-  result.statistics = collector.statistics();
-  if (!result.restarts.empty())
-    result.encoder_history.clear();
+  takeCounts(*result.session, egoTopic(config), config, &result);
   result.wall_time_s = seconds(Clock::now() - run_start);
   result.pairing_time_s = seconds(pairing);
   result.conversion_time_s = reader.conversionTime();
@@ -197,7 +225,8 @@ BagRunResult runBagsUnchecked(const std::vector<std::string>& bag_paths,
 
 BagRunResult runBags(const std::vector<std::string>& bag_paths, const CalibrationConfig& config,
                      double start_offset_s, double end_offset_s,
-                     const std::function<void(const BagProgress&)>& progress)
+                     const std::function<void(const BagProgress&)>& progress,
+                     const std::vector<double>& candidate_intervals_s)
 {
   // rosbag and the message deserialisation throw these for a corrupted or cut-off bag (a
   // chunk or record that does not parse, a length beyond the data, a compressed chunk that
@@ -209,7 +238,8 @@ BagRunResult runBags(const std::vector<std::string>& bag_paths, const Calibratio
   };
   const BagReadScope reading(bagNames(bag_paths));
   try {
-    return runBagsUnchecked(bag_paths, config, start_offset_s, end_offset_s, progress);
+    return runBagsUnchecked(bag_paths, config, start_offset_s, end_offset_s, progress,
+                            candidate_intervals_s);
   } catch (const ros::Exception& error) {
     throw corrupted(error.what());
   } catch (const std::logic_error& error) {

@@ -11,13 +11,15 @@ BagRunResult runBagsAtEstimatedOffset(const std::vector<std::string>& bag_paths,
                                       CalibrationConfig* config, double start_offset_s,
                                       double end_offset_s,
                                       const std::function<void(const BagProgress&)>& progress,
-                                      OffsetPairing* pairing, double tolerance_s)
+                                      OffsetPairing* pairing, double tolerance_s,
+                                      const std::vector<double>& candidate_intervals_s)
 {
   OffsetPairing local;
   OffsetPairing& result = pairing ? *pairing : local;
   result = OffsetPairing();
   result.configured_s = result.estimate_s = config->collector.time_offset_s;
-  BagRunResult run = runBags(bag_paths, *config, start_offset_s, end_offset_s, progress);
+  BagRunResult run =
+      runBags(bag_paths, *config, start_offset_s, end_offset_s, progress, candidate_intervals_s);
   if (!config->estimate_time_offset || run.pairs.empty() || run.encoder_history.empty())
     return run;
   CalibrationJobOptions offset_only;
@@ -37,7 +39,7 @@ BagRunResult runBagsAtEstimatedOffset(const std::vector<std::string>& bag_paths,
     return run;
   }
   config->collector.time_offset_s = result.estimate_s;
-  run = runBags(bag_paths, *config, start_offset_s, end_offset_s, progress);
+  run = runBags(bag_paths, *config, start_offset_s, end_offset_s, progress, candidate_intervals_s);
   result.paired_again = true;
   std::snprintf(text, sizeof(text),
                 "paired again at the estimated time offset %.3f s (configured %.3f s: set "

@@ -40,6 +40,7 @@ struct BagInput
   Eigen::VectorXd raw;
   Scan scan;
   Pose2 pose;
+  std::string frame;  ///< the scan's or cloud's frame, the odometry's child frame (or empty)
   std::string problem;
 };
 

@@ -1,8 +1,10 @@
 // Reads bags directly with the rosbag C++ API (no playback), in timestamp order, and feeds the
-// same PairCollector as the live node: the offline half of DESIGN.md's data flow.
+// same calibration session as the live node (session/calibration_session.h): the offline half
+// of DESIGN.md's data flow.
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -10,6 +12,7 @@
 #include "odometry_calibration/calibration/calibration_config.h"
 #include "odometry_calibration/calibration/time_offset.h"
 #include "odometry_calibration/pairing/pair_collector.h"
+#include "odometry_calibration/session/calibration_session.h"
 
 namespace odometry_calibration {
 
@@ -45,15 +48,21 @@ struct BagRunResult
   double conversion_time_s = 0.0;  ///< messages to the core's types (reading thread) [s]
   double filtering_time_s = 0.0;   ///< clouds to scans: band, voxels, binning (reading thread) [s]
   double pairing_time_s = 0.0;     ///< scan preparation, matching, pairing [s]
+  /// The session the bags were fed to: its pairs (also at the candidate intervals) and encoder
+  /// history, and calibrate() on them.
+  std::shared_ptr<CalibrationSession> session;
 };
 
 /// Runs the bags through a collector. Only messages within [start_offset_s, end_offset_s]
 /// after the first message are used (end <= 0: to the end). Throws std::runtime_error for a
 /// bag that cannot be read (missing, truncated, unindexed: the message says which and what to
 /// do) or a topic that carries no message.
+/// With `candidate_intervals_s`, the session also pairs at those keyframe intervals (for the
+/// choice of the fit interval).
 BagRunResult runBags(const std::vector<std::string>& bag_paths, const CalibrationConfig& config,
                      double start_offset_s = 0.0, double end_offset_s = 0.0,
-                     const std::function<void(const BagProgress&)>& progress = nullptr);
+                     const std::function<void(const BagProgress&)>& progress = nullptr,
+                     const std::vector<double>& candidate_intervals_s = {});
 
 /// How runBagsAtEstimatedOffset paired the bags.
 struct OffsetPairing
@@ -82,7 +91,8 @@ BagRunResult runBagsAtEstimatedOffset(
     const std::vector<std::string>& bag_paths, CalibrationConfig* config,
     double start_offset_s = 0.0, double end_offset_s = 0.0,
     const std::function<void(const BagProgress&)>& progress = nullptr,
-    OffsetPairing* pairing = nullptr, double tolerance_s = 0.01);
+    OffsetPairing* pairing = nullptr, double tolerance_s = 0.01,
+    const std::vector<double>& candidate_intervals_s = {});
 
 /// What went wrong while reading, in words: skipped JointState and PointCloud2 messages (how
 /// many, the first reason) and restarts after time went backwards; empty for a clean run.

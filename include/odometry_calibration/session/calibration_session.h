@@ -1,0 +1,219 @@
+// One calibration session (issue 31): everything between the inputs and a fitted model that the
+// live node and calibrate_bag share, free of ROS. It takes encoder readings and ego-motion
+// samples (laser scans, a 3D lidar's clouds made scans, sensor poses) with their stamps and
+// frames, pairs them (pairing/pair_collector.h, and one collector per candidate fit interval),
+// keeps the pairs (and their file), the encoder history for the time-offset search, the
+// odometry of the nominal robot and of the active model, the live assistant; it fits on request
+// (session_fit.h) and saves the result files. The node is an adapter around it (messages in,
+// topics and services out), the bag tool feeds it from the bag reader: both give the same pairs
+// and the same fit from the same messages. Thread-safe: inputs may arrive while a fit runs.
+#pragma once
+
+#include <array>
+#include <cmath>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "odometry_calibration/calibration/calibration_config.h"
+#include "odometry_calibration/calibration/fit_interval.h"
+#include "odometry_calibration/pairing/pair_collector.h"
+#include "odometry_calibration/session/input_monitor.h"
+#include "odometry_calibration/session/pairs_store.h"
+#include "odometry_calibration/session/session_assistant.h"
+#include "odometry_calibration/session/session_fit.h"
+#include "odometry_calibration/session/session_messages.h"
+#include "odometry_calibration/session/session_odometry.h"
+
+namespace odometry_calibration {
+
+class CandidateCollectors;
+
+struct SessionOptions
+{
+  /// Where pairs.csv, last_fit.yaml, result.yaml, controller.yaml and laser_joint.urdf go;
+  /// empty: nothing is written (calibrate_bag writes its own set at the end).
+  std::string output_directory;
+  bool load_saved_calibration = true;  ///< start from output_directory/result.yaml
+  bool resume_pairs = true;            ///< continue output_directory/pairs.csv
+  int min_pairs = 10;                  ///< calibrate() refuses with fewer pairs
+  bool odometry = true;                ///< integrate the nominal and active model's odometry
+  SessionOdometryOptions odometry_options;
+  bool assistant = true;  ///< excitation guidance and health monitor
+  SessionAssistantOptions assistant_options;
+  /// Fit-interval candidates paired besides keyframes.interval_s (none: the config's
+  /// keyframes.fit_intervals_s).
+  std::optional<std::vector<double>> candidate_intervals_s;
+  /// Keep every decoded encoder sample for the time-offset search (none: when the
+  /// configuration estimates the offset).
+  std::optional<bool> keep_encoder_history;
+  bool compare_trajectories = false;           ///< the report's trajectories in each fit
+  std::string source = "calibration session";  ///< result.yaml's `source`
+  std::string base_frame = "base_link";        ///< laser_joint.urdf's parent
+  std::string default_sensor_frame = "laser";  ///< until an input names the sensor's frame
+  std::array<std::string, 2> topics = {"joint states", "ego-motion"};  ///< for messages
+  double silent_topic_timeout_s = 5.0;  ///< an input silent this long is warned about [s]
+  std::function<double()> wall_clock;   ///< seconds on the wall clock (default: steady clock)
+  SessionLog log;                       ///< what the session says (default: nothing)
+};
+
+/// What a front end needs to handle the session's events as they happen (all may be empty).
+/// Called with the session's lock held: do not call back into the session.
+struct SessionListener
+{
+  std::function<void(const MotionPair&)> pair;         ///< a new pair
+  std::function<void(const OdometryState&)> odometry;  ///< new corrected odometry
+  /// The sensor's pose (none: not known) or frame changed (re-send tf).
+  std::function<void(const std::optional<Pose2>& T_base_sensor, const std::string& frame)>
+      sensor_pose;
+};
+
+struct CalibrationRequest
+{
+  std::string model;    ///< empty: the configuration's `model`
+  std::string options;  ///< YAML overriding the configuration's model sections ("" none)
+  /// Default: kChoose when there are candidate intervals, else kConfigured.
+  std::optional<FitIntervalMode> interval_mode;
+  double fixed_interval_s = 0.0;                  ///< with kFixed [s]
+  double fit_until_stamp_s = INFINITY;            ///< fit only pairs ending by this stamp
+  std::optional<TimeOffsetResult> offset_search;  ///< already run on exactly these pairs
+};
+
+struct CalibrateOutcome
+{
+  bool success = false;           ///< a converged fit that is now the active model
+  std::string message;            ///< what happened or what to do, in words
+  std::optional<SessionFit> fit;  ///< the fit, when one ran (also when it did not converge)
+  std::size_t pairs_collected = 0;
+};
+
+/// The session's counts and state, for /diagnostics and summaries.
+struct SessionCounts
+{
+  CollectorStatistics statistics;
+  std::size_t pairs = 0, pairs_resumed = 0, pairs_unwritten = 0;
+  std::size_t encoder_messages = 0, ego_messages = 0;  ///< received (used or not)
+  std::size_t bad_encoder_messages = 0, bad_ego_messages = 0, clouds_without_times = 0;
+  std::string first_bad_encoder_message, first_bad_ego_message, first_cloud_time_problem;
+  std::vector<std::string> restarts;  ///< time going backwards, in words
+};
+
+class CalibrationSession
+{
+public:
+  /// `config` as parsed from `config_text` (read from `config_source`, for messages). Loads the
+  /// saved calibration and resumes the pairs file as the options say. Throws
+  /// std::invalid_argument / std::runtime_error for options or files it cannot use.
+  CalibrationSession(const CalibrationConfig& config, const std::string& config_text,
+                     const std::string& config_source, SessionOptions options,
+                     SessionListener listener = {});
+  ~CalibrationSession();
+  CalibrationSession(const CalibrationSession&) = delete;
+  CalibrationSession& operator=(const CalibrationSession&) = delete;
+
+  // --- Inputs (calibration_session_inputs.cpp) ---
+  /// The configured joints' positions (encoderChannels order, signs applied) at `stamp_s`.
+  void addJointPositions(double stamp_s, const Eigen::VectorXd& raw);
+  /// A JointState that could not be read (`problem` says why): counted and warned.
+  void skipJointState(const std::string& problem);
+  /// A laser scan in `frame` (empty: unnamed). A scan with fewer usable readings than
+  /// scan_matching.min_points is skipped and counted.
+  void addScan(double stamp_s, const Scan& scan, const std::string& frame);
+  /// A 3D lidar's cloud made a scan: the first cloud's frame is the sensor's, a cloud in
+  /// another is skipped; `time_problem` non-empty: used without its per-point times.
+  void addCloudScan(double stamp_s, const Scan& scan, const std::string& frame,
+                    const std::string& time_problem);
+  /// An ego-motion message that gave nothing (`what`: its type, `problem`: why).
+  void skipEgoMessage(const std::string& what, const std::string& problem);
+  /// The sensor's pose from another tool (odometry, pose); `frame` its child frame (or empty).
+  void addSensorPose(double stamp_s, const Pose2& T_world_sensor, const std::string& frame);
+  /// The end of the data: pairs waiting for scans are made now.
+  void flush();
+  /// Periodic work: silent-input warnings, pairs the disk did not take.
+  void tick();
+
+  // --- Queries ---
+  std::vector<MotionPair> pairs() const;
+  std::vector<IntervalPairs> candidatePairs() const;
+  std::vector<EncoderSample> encoderHistory() const;
+  SessionCounts counts() const;
+  const CalibrationConfig& config() const { return config_; }
+  double timeOffset() const;
+  std::optional<Pose2> sensorPose() const;
+  std::string sensorFrame() const;
+  bool hasNominalOdometry() const;
+  /// The paths (the scan-matched one drawn through the known or configured sensor pose).
+  OdometryPaths paths() const;
+  /// "calibration", "excitation guidance", "calibration health" (those that exist);
+  /// input rates over `period_s`.
+  std::vector<SessionStatusReport> statusReports(double period_s);
+  AssistantMarker assistantMarker() const;
+  std::optional<double> healthStatistic() const;  ///< none when nothing is watched
+
+  // --- Actions (calibration_session_actions.cpp) ---
+  /// Fits (session_fit.h) the pairs held at the call; a converged fit becomes the active model
+  /// (odometry integrated again, health monitor, guidance recentred, new time offset for new
+  /// pairs) and is written to last_fit.yaml.
+  CalibrateOutcome calibrate(const CalibrationRequest& request);
+  /// Writes the last successful fit: result.yaml, controller.yaml (diff_drive, skid_steer,
+  /// mecanum), laser_joint.urdf (with a sensor pose). Returns {success, message}.
+  std::pair<bool, std::string> save();
+  /// A new collection: pairs set aside, pairing, odometry, history and guidance restarted; the
+  /// active model stays. Returns what was done, in words.
+  std::string reset();
+
+private:
+  void loadSavedCalibration();
+  void startOdometry();
+  void makeCollectors();
+  void handleEvents(const std::vector<CollectorEvent>& events, double stamp_s);
+  void recordEncoderHistory(double stamp_s, const Eigen::VectorXd& accepted);
+  void integrate(double stamp_s, const Eigen::VectorXd& accepted);
+  void takeScan(double stamp_s, const Scan& scan);
+  void noteFrame(const std::string& frame);
+  void notifySensorPose() const;
+  void warnInput(const std::string& problem, const std::string& text);
+  void say(SessionLogLevel level, const std::string& text) const;
+  double now() const;
+  std::string collectionStatus(SessionStatusReport* status) const;
+  void activate(const std::string& name, const SessionFit& fit,
+                const std::shared_ptr<MotionModel>& model, const std::string& result_yaml);
+  void applyTimeOffset(double time_offset_s);
+  std::string successMessage(const std::string& name, const SessionFit& fit) const;
+
+  mutable std::mutex mutex_;
+  CalibrationConfig config_;
+  std::string config_text_, config_source_;
+  SessionOptions options_;
+  SessionListener listener_;
+  std::vector<EncoderChannelOptions> channels_;
+  std::unique_ptr<PairCollector> collector_;
+  std::unique_ptr<CandidateCollectors> candidates_;
+  std::vector<double> candidate_intervals_s_;
+  std::unique_ptr<PairsStore> store_;
+  bool keep_history_ = false;
+  bool history_broken_ = false;  ///< time went backwards: no continuous stream until reset
+  std::unique_ptr<EncoderDecoder> history_decoder_;
+  std::vector<EncoderSample> encoder_history_;
+  std::unique_ptr<SessionOdometry> odometry_;
+  std::unique_ptr<SessionAssistant> assistant_;
+  std::unique_ptr<InputMonitor> inputs_;
+  std::shared_ptr<const MotionModel> active_model_;
+  std::string active_model_origin_;
+  double model_interval_s_ = 0.5;  ///< window of the active model's predictions [s]
+  std::shared_ptr<const MotionModel> fitted_model_;  ///< last successful fit (for save())
+  std::string fitted_result_yaml_, fitted_controller_yaml_;
+  std::optional<Pose2> T_base_sensor_;  ///< learned (or saved) sensor pose
+  std::string sensor_frame_;            ///< from the inputs' headers
+  bool cloud_frame_fixed_ = false;      ///< the first cloud fixed the frame
+  bool has_nominal_ = false;            ///< the nominal robot's odometry runs
+  SessionCounts counts_;
+  std::string last_problem_;
+  std::set<std::string> rejection_reasons_seen_;
+};
+
+}  // namespace odometry_calibration

@@ -1,0 +1,60 @@
+// The health of a session's two inputs (encoders, ego-motion) on the wall clock: messages per
+// second, silence beyond a timeout (a warning naming the topic), skipped messages, and a limit
+// on repeated bad-input warnings (each distinct problem at once, then at most every 5 s).
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "odometry_calibration/session/session_messages.h"
+
+namespace odometry_calibration {
+
+enum class SessionInput
+{
+  kEncoders = 0,
+  kEgoMotion = 1
+};
+
+class InputMonitor
+{
+public:
+  /// `topics`: the encoder and ego-motion topics' names, for messages; times in seconds on any
+  /// wall clock (the caller's), `start_s` the session's start.
+  InputMonitor(const std::array<std::string, 2>& topics, double silent_timeout_s, double start_s);
+
+  void received(SessionInput input, double now_s);
+  std::size_t messages(SessionInput input) const { return inputs_[index(input)].messages; }
+  /// The warnings due now for silent inputs (each input at most once per timeout).
+  std::vector<std::string> silentWarnings(double now_s);
+  /// Adds "<topic> rate [Hz]" per input (messages since the last call over `period_s`) and a
+  /// problem per silent input.
+  void addRates(SessionStatusReport* status, std::vector<std::string>* problems, double now_s,
+                double period_s);
+  /// Whether a warning about `problem` may be said now (each distinct problem at once, then
+  /// at most every 5 s).
+  bool mayWarn(const std::string& problem, double now_s);
+  const std::string& topic(SessionInput input) const { return inputs_[index(input)].topic; }
+
+private:
+  struct Input
+  {
+    std::string topic;
+    std::size_t messages = 0;
+    std::size_t messages_at_last_rate = 0;
+    double last_message_s = 0.0;
+    double last_warning_s = -1e300;
+  };
+  static std::size_t index(SessionInput input) { return static_cast<std::size_t>(input); }
+  double silentFor(const Input& input, double now_s) const;
+
+  std::array<Input, 2> inputs_;
+  double silent_timeout_s_;
+  double start_s_;
+  std::map<std::string, double> warnings_;  ///< problem -> when last said [s]
+};
+
+}  // namespace odometry_calibration

@@ -1,0 +1,61 @@
+// One calibration of a session's pairs, the same for the live node's ~calibrate and for
+// calibrate_bag (issue 31: parity by construction): the keyframe interval of the fitted pairs
+// (the configured one, a given one, or one chosen by time-blocked cross-validation among the
+// candidates, calibration/fit_interval.h), then the calibration job (calibration_job.h: the
+// encoder-laser time offset when the configuration asks for it, the fit).
+#pragma once
+
+#include <cmath>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "odometry_calibration/calibration/calibration_config.h"
+#include "odometry_calibration/calibration/calibration_job.h"
+#include "odometry_calibration/calibration/fit_interval.h"
+
+namespace odometry_calibration {
+
+/// How the keyframe interval of the fitted pairs is found.
+enum class FitIntervalMode
+{
+  kConfigured,  ///< keyframes.interval_s
+  kFixed,       ///< SessionFitRequest::fixed_interval_s (one of the candidates)
+  kChoose,      ///< cross-validation among keyframes.interval_s and the candidates
+};
+
+struct SessionFitRequest
+{
+  CalibrationConfig config;       ///< the model's configuration (config.model is the one fitted)
+  std::vector<MotionPair> pairs;  ///< at keyframes.interval_s, time offset as configured
+  std::vector<IntervalPairs> candidates;       ///< the other intervals' pairs, collected alike
+  std::vector<EncoderSample> encoder_history;  ///< continuous since the first pair (or empty)
+  FitIntervalMode interval_mode = FitIntervalMode::kConfigured;
+  double fixed_interval_s = 0.0;  ///< with kFixed [s]
+  /// Only pairs ending by this stamp are fitted (calibrate_bag --holdout: the training part).
+  double fit_until_stamp_s = INFINITY;
+  /// The time-offset search already run on exactly `pairs` (reused with kConfigured).
+  std::optional<TimeOffsetResult> offset_search;
+  bool compare_trajectories = false;  ///< the report's trajectories (calibration_job.h)
+};
+
+struct SessionFit
+{
+  CalibrationJobResult job;
+  double fit_interval_s = 0.0;              ///< the interval of the fitted pairs [s]
+  std::optional<FitIntervalChoice> choice;  ///< the cross-validation, when it ran
+  std::string interval_text;      ///< how the interval was found, one line (empty: configured)
+  bool offset_estimated = false;  ///< the time offset was searched (history available)
+};
+
+/// Fits request.config.model as described above. The time offset is searched only with an
+/// encoder history; asked for without one, the fit keeps the configured offset and warns.
+/// Throws std::invalid_argument (too few or degenerate pairs, an unknown fixed interval) and
+/// what the model's fit throws.
+SessionFit fitSessionPairs(const SessionFitRequest& request);
+
+/// The sentence on the time offset for a reply: the estimate with sigma, or why there is none
+/// ("" when the configuration does not ask for it).
+std::string timeOffsetSentence(const CalibrationConfig& config, const SessionFit& fit);
+
+}  // namespace odometry_calibration

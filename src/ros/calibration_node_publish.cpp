@@ -1,0 +1,164 @@
+// The live node's outputs: what the session reports, as messages (odometry, tf, paths, pairs,
+// /diagnostics, the guidance marker, the health statistic).
+#include <diagnostic_msgs/DiagnosticArray.h>
+#include <geometry_msgs/TransformStamped.h>
+#include <nav_msgs/Path.h>
+#include <std_msgs/Float64.h>
+#include <visualization_msgs/Marker.h>
+
+#include "odometry_calibration/ros/calibration_node.h"
+#include "odometry_calibration/ros/conversions.h"
+#include "odometry_calibration/ros/report_messages.h"
+
+namespace odometry_calibration {
+namespace {
+
+/// (x, y, yaw) covariance into ROS's 6x6 (x y z roll pitch yaw); z, roll, pitch not estimated.
+void setCovariance(boost::array<double, 36>* out, const Eigen::Matrix3d& covariance)
+{
+  const int index[3] = {0, 1, 5};
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c)
+      (*out)[6 * index[r] + index[c]] = covariance(r, c);
+  for (int i : {2, 3, 4})
+    (*out)[7 * i] = 1e6;
+}
+
+nav_msgs::Path toPathMsg(const std::vector<StampedPose2>& poses, const std::string& frame)
+{
+  nav_msgs::Path path;
+  path.header.stamp = ros::Time::now();
+  path.header.frame_id = frame;
+  for (const StampedPose2& entry : poses)
+    path.poses.push_back(ros_conversions::toPoseStampedMsg(entry.pose, entry.stamp_s, frame));
+  return path;
+}
+
+}  // namespace
+
+SessionListener CalibrationNode::listener()
+{
+  SessionListener listener;
+  listener.pair = [this](const MotionPair& pair) { publishPair(pair); };
+  listener.odometry = [this](const OdometryState& state) { publishOdometry(state); };
+  listener.sensor_pose = [this](const std::optional<Pose2>& T_base_sensor,
+                                const std::string& frame) {
+    publishSensorPose(T_base_sensor, frame);
+  };
+  return listener;
+}
+
+void CalibrationNode::publishPair(const MotionPair& pair)
+{
+  pairs_publisher_.publish(ros_conversions::toPairMsg(pair, jointLayout(config_), sensor_frame_));
+}
+
+void CalibrationNode::publishOdometry(const OdometryState& state)
+{
+  const std::string child = state.tracks_base ? options_.base_frame : sensor_frame_;
+  nav_msgs::Odometry msg;
+  msg.header.stamp = ros::Time(std::max(0.0, state.stamp_s));
+  msg.header.frame_id = options_.odom_frame;
+  msg.child_frame_id = child;
+  msg.pose.pose = ros_conversions::toPoseMsg(state.pose);
+  setCovariance(&msg.pose.covariance, state.covariance);
+  msg.twist.twist.linear.x = state.velocity(0);
+  msg.twist.twist.linear.y = state.velocity(1);
+  msg.twist.twist.angular.z = state.velocity(2);
+  setCovariance(&msg.twist.covariance, state.velocity_covariance);
+  odom_publisher_.publish(msg);
+  if (options_.publish_odom_tf) {
+    geometry_msgs::TransformStamped transform;
+    transform.header = msg.header;
+    transform.child_frame_id = child;
+    transform.transform = ros_conversions::toTransformMsg(state.pose);
+    tf_broadcaster_.sendTransform(transform);
+  }
+}
+
+void CalibrationNode::publishSensorPose(const std::optional<Pose2>& T_base_sensor,
+                                        const std::string& frame)
+{
+  sensor_frame_ = frame;
+  if (!options_.publish_extrinsic_tf || !T_base_sensor)
+    return;
+  geometry_msgs::TransformStamped transform;
+  transform.header.stamp = ros::Time::now();
+  transform.header.frame_id = options_.base_frame;
+  transform.child_frame_id = frame;
+  transform.transform = ros_conversions::toTransformMsg(*T_base_sensor);
+  static_broadcaster_.sendTransform(transform);
+}
+
+void CalibrationNode::onTimer(const ros::WallTimerEvent& event)
+{
+  const double period_s = event.last_real.isZero() ? options_.diagnostics_period_s
+                                                   : (event.current_real - event.last_real).toSec();
+  session_->tick();
+  publishDiagnostics(period_s);
+  publishAssistant();
+  publishPaths();
+}
+
+void CalibrationNode::publishPaths()
+{
+  const OdometryPaths paths = session_->paths();
+  if (session_->hasNominalOdometry())
+    nominal_path_publisher_.publish(toPathMsg(paths.nominal, options_.odom_frame));
+  corrected_path_publisher_.publish(toPathMsg(paths.corrected, options_.odom_frame));
+  scan_path_publisher_.publish(toPathMsg(paths.scan_matched, options_.odom_frame));
+}
+
+void CalibrationNode::publishDiagnostics(double period_s)
+{
+  diagnostic_msgs::DiagnosticArray array;
+  array.header.stamp = ros::Time::now();
+  const std::string hardware_id = session_->sensorFrame();
+  for (const SessionStatusReport& report : session_->statusReports(period_s)) {
+    diagnostic_msgs::DiagnosticStatus status;
+    status.name = ros::this_node::getName() + ": " + report.name;
+    status.hardware_id = hardware_id;
+    status.level = report.level == SessionStatusReport::Level::kWarn
+                       ? diagnostic_msgs::DiagnosticStatus::WARN
+                       : diagnostic_msgs::DiagnosticStatus::OK;
+    status.message = report.message;
+    for (const auto& [key, value] : report.values) {
+      diagnostic_msgs::KeyValue entry;
+      entry.key = key;
+      entry.value = value;
+      status.values.push_back(entry);
+    }
+    array.status.push_back(status);
+  }
+  diagnostics_publisher_.publish(array);
+}
+
+void CalibrationNode::publishAssistant()
+{
+  if (const std::optional<double> statistic = session_->healthStatistic()) {
+    std_msgs::Float64 message;
+    message.data = *statistic;
+    health_statistic_publisher_.publish(message);
+  }
+  const AssistantMarker state = session_->assistantMarker();
+  if (state.text.empty())
+    return;
+  visualization_msgs::Marker marker;
+  marker.header.stamp = ros::Time::now();
+  marker.header.frame_id = options_.base_frame;
+  marker.ns = "odometry_calibration";
+  marker.type = visualization_msgs::Marker::TEXT_VIEW_FACING;
+  marker.action = visualization_msgs::Marker::ADD;
+  marker.pose.position.z = options_.marker_height_m;
+  marker.pose.orientation.w = 1.0;
+  marker.scale.z = options_.marker_text_height_m;
+  // Dark colours (rviz/calibration.rviz has a white background): red for a stale calibration,
+  // green when ready to fit, orange while collecting.
+  marker.color.a = 1.0;
+  marker.color.r = state.alarm ? 0.85f : (state.ready ? 0.0f : 0.8f);
+  marker.color.g = state.alarm ? 0.0f : (state.ready ? 0.5f : 0.4f);
+  marker.text = state.text;
+  guidance_marker_publisher_.publish(marker);
+}
+
+}  // namespace odometry_calibration

@@ -1,0 +1,219 @@
+// The session's actions: calibrate (a fit that becomes the active model), save, reset.
+#include <filesystem>
+
+#include "odometry_calibration/calibration/calibration_result.h"
+#include "odometry_calibration/calibration/candidate_collectors.h"
+#include "odometry_calibration/common/atomic_file.h"
+#include "odometry_calibration/eval/model_report.h"
+#include "odometry_calibration/models/model_factory.h"
+#include "odometry_calibration/report/controller_yaml.h"
+#include "odometry_calibration/session/calibration_session.h"
+
+namespace odometry_calibration {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string absolutePath(const std::string& directory, const std::string& name)
+{
+  return fs::absolute(directory + "/" + name).lexically_normal().string();
+}
+
+}  // namespace
+
+CalibrateOutcome CalibrationSession::calibrate(const CalibrationRequest& request)
+{
+  CalibrateOutcome outcome;
+  SessionFitRequest fit_request;
+  std::string guidance;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    fit_request.config = config_;
+    fit_request.pairs = store_->pairs();
+    if (candidates_)
+      fit_request.candidates = candidates_->pairs();
+    if (!history_broken_)
+      fit_request.encoder_history = encoder_history_;
+    guidance = assistant_ ? assistant_->guidanceSummary() : std::string();
+  }
+  outcome.pairs_collected = fit_request.pairs.size();
+  CalibrationConfig& config = fit_request.config;
+  const std::string name = request.model.empty() ? config.model : request.model;
+  try {
+    requireKnownModel(name, "model");
+    // The model sections as this model needs them (its joints resolved and checked); the
+    // configuration's own model has them already.
+    if (name != config.model || !request.options.empty()) {
+      if (config_text_.empty())
+        throw std::invalid_argument("the session has no configuration text to read it from");
+      config.models = configForModel(config_text_, name, request.options, config_source_).models;
+    }
+    config.model = name;
+  } catch (const std::exception& error) {
+    outcome.message =
+        "cannot fit " + name + " with this configuration and options: " + error.what();
+    return outcome;
+  }
+  if (static_cast<int>(fit_request.pairs.size()) < options_.min_pairs) {
+    outcome.message = "only " + std::to_string(fit_request.pairs.size()) + " pairs collected, " +
+                      std::to_string(options_.min_pairs) +
+                      " needed (~min_pairs): drive more, straight and turning both ways" + guidance;
+    return outcome;
+  }
+  fit_request.interval_mode = request.interval_mode.value_or(
+      fit_request.candidates.empty() ? FitIntervalMode::kConfigured : FitIntervalMode::kChoose);
+  fit_request.fixed_interval_s = request.fixed_interval_s;
+  fit_request.fit_until_stamp_s = request.fit_until_stamp_s;
+  fit_request.offset_search = request.offset_search;
+  fit_request.compare_trajectories = options_.compare_trajectories;
+  try {
+    outcome.fit = fitSessionPairs(fit_request);
+  } catch (const std::exception& error) {
+    outcome.message = name + " fit failed: " + error.what();
+    return outcome;
+  }
+  const SessionFit& fit = *outcome.fit;
+  if (!fit.job.report.converged) {
+    outcome.message = name + " fit did not converge (" + fit.job.report.termination +
+                      "); the active model is unchanged";
+    return outcome;
+  }
+  const std::string result_yaml =
+      calibrationResultYaml(fit.job.report, *fit.job.model, options_.source, fit.job.time_offset_s,
+                            jointLayout(config).names, fit.fit_interval_s);
+  if (!options_.output_directory.empty()) {
+    try {
+      // Every fit is kept (last_fit.yaml); save() makes it the calibration loaded on start.
+      writeFileAtomically(options_.output_directory + "/last_fit.yaml", result_yaml);
+    } catch (const std::exception& error) {
+      say(SessionLogLevel::kError, std::string("cannot write last_fit.yaml: ") + error.what());
+    }
+  }
+  try {
+    std::lock_guard<std::mutex> lock(mutex_);
+    activate(name, fit, fit.job.model, result_yaml);
+  } catch (const std::exception& error) {
+    outcome.message = name + " fitted, but its odometry failed: " + error.what() +
+                      "; the active model is unchanged";
+    return outcome;
+  }
+  outcome.success = true;
+  outcome.message = successMessage(name, fit) + timeOffsetSentence(config, fit);
+  for (const std::string& warning : fit.job.report.warnings)
+    outcome.message += " WARNING: " + warning;
+  outcome.message += guidance;
+  return outcome;
+}
+
+std::string CalibrationSession::successMessage(const std::string& name, const SessionFit& fit) const
+{
+  const ModelReport& report = fit.job.report;
+  std::string message =
+      name + " fitted to " + std::to_string(report.pairs_used) + " pairs (" +
+      std::to_string(report.outliers) + " rejected); residual RMS per pair " +
+      (report.before.count > 0 ? std::to_string(report.before.translation_m) + " -> "
+                               : std::string()) +
+      std::to_string(report.after.translation_m) + " m. Now driving ~odom; call ~save to keep it.";
+  if (!fit.interval_text.empty())
+    message += " " + fit.interval_text + ".";
+  return message;
+}
+
+void CalibrationSession::activate(const std::string& name, const SessionFit& fit,
+                                  const std::shared_ptr<MotionModel>& model,
+                                  const std::string& result_yaml)
+{
+  const ModelReport& report = fit.job.report;
+  const std::optional<Pose2> T_base_sensor =
+      report.has_extrinsic ? std::optional<Pose2>(report.T_base_sensor) : T_base_sensor_;
+  if (odometry_) {
+    // The corrected odometry is integrated again over the kept samples with the new model, so
+    // that ~odom and its path show the calibrated trajectory (one jump at the fit).
+    auto integrator =
+        std::make_unique<OdometryIntegrator>(model, T_base_sensor, fit.fit_interval_s);
+    integrator->setWindowCovarianceFloor(config_.collector.covariance_floor.asDiagonal());
+    odometry_->replayFinish(odometry_->replayStart(std::move(integrator)));
+  }
+  T_base_sensor_ = T_base_sensor;
+  fitted_model_ = model;
+  fitted_result_yaml_ = result_yaml;
+  fitted_controller_yaml_ = controllerYaml(report, options_.source);
+  model_interval_s_ = fit.fit_interval_s;
+  active_model_ = model;
+  active_model_origin_ = "fit of " + std::to_string(fit.job.pairs.size()) + " pairs";
+  notifySensorPose();
+  applyTimeOffset(fit.job.time_offset_s);
+  if (assistant_) {
+    assistant_->watch(model, active_model_origin_);
+    assistant_->recentre(name, report, store_->pairs());
+  }
+}
+
+void CalibrationSession::applyTimeOffset(double time_offset_s)
+{
+  const double previous_s = config_.collector.time_offset_s;
+  if (std::abs(time_offset_s - previous_s) < 1e-6)
+    return;
+  config_.collector.time_offset_s = time_offset_s;
+  makeCollectors();  // the fit-interval candidates pair at the new offset too
+  if (odometry_)
+    odometry_->restart();
+  char text[200];
+  std::snprintf(text, sizeof(text),
+                "time offset %.4f s -> %.4f s: new pairs and the odometry use it (both restarted)",
+                previous_s, time_offset_s);
+  say(SessionLogLevel::kInfo, text);
+}
+
+std::pair<bool, std::string> CalibrationSession::save()
+{
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!fitted_model_)
+    return {false, "nothing to save: no successful ~calibrate since the node started"};
+  if (options_.output_directory.empty())
+    return {false, "nothing to save: the session has no output directory"};
+  const std::string& directory = options_.output_directory;
+  try {
+    const std::string result_path = absolutePath(directory, "result.yaml");
+    writeFileAtomically(result_path, fitted_result_yaml_);
+    std::string message = "saved " + result_path;
+    const std::string controller_path = absolutePath(directory, "controller.yaml");
+    if (!fitted_controller_yaml_.empty()) {
+      writeFileAtomically(controller_path, fitted_controller_yaml_);
+      message += ", " + controller_path;
+    } else {  // an earlier calibration's controller values must not pass for this one's
+      std::error_code ignored;
+      fs::remove(controller_path, ignored);
+    }
+    if (T_base_sensor_) {
+      const std::string urdf_path = absolutePath(directory, "laser_joint.urdf");
+      const std::string frame =
+          sensor_frame_.empty() ? options_.default_sensor_frame : sensor_frame_;
+      writeFileAtomically(urdf_path, laserJointUrdf(*T_base_sensor_, options_.base_frame, frame));
+      message += " and " + urdf_path;
+    }
+    return {true, message};
+  } catch (const std::exception& error) {
+    return {false, std::string("cannot save: ") + error.what()};
+  }
+}
+
+std::string CalibrationSession::reset()
+{
+  std::lock_guard<std::mutex> lock(mutex_);
+  collector_->reset();
+  if (candidates_)
+    candidates_->clear();
+  const std::string set_aside = store_->reset();
+  if (odometry_)
+    odometry_->restart();
+  if (assistant_)
+    assistant_->reset();
+  encoder_history_.clear();
+  history_broken_ = false;
+  if (history_decoder_)
+    history_decoder_->reset();
+  return "collection restarted: " + set_aside + "; the active model is kept";
+}
+
+}  // namespace odometry_calibration

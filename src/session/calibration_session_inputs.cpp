@@ -1,0 +1,263 @@
+// The session's inputs: encoder readings and ego-motion samples into the pair collectors, the
+// encoder history and the odometry; each bad input counted and warned about.
+#include <cmath>
+#include <cstdio>
+
+#include "odometry_calibration/calibration/candidate_collectors.h"
+#include "odometry_calibration/session/calibration_session.h"
+
+namespace odometry_calibration {
+
+void CalibrationSession::warnInput(const std::string& problem, const std::string& text)
+{
+  if (inputs_->mayWarn(problem, now()))
+    say(SessionLogLevel::kWarn, text);
+}
+
+void CalibrationSession::addJointPositions(double stamp_s, const Eigen::VectorXd& raw)
+{
+  std::lock_guard<std::mutex> lock(mutex_);
+  inputs_->received(SessionInput::kEncoders, now());
+  Eigen::VectorXd accepted;
+  try {
+    handleEvents(collector_->addEncoders(stamp_s, raw, &accepted), stamp_s);
+    if (candidates_)
+      candidates_->addEncoders(stamp_s, raw);
+  } catch (const std::invalid_argument& error) {
+    if (counts_.bad_encoder_messages++ == 0)
+      counts_.first_bad_encoder_message = error.what();
+    last_problem_ = "JointState rejected: " + std::string(error.what());
+    warnInput(error.what(), "JointState on " + inputs_->topic(SessionInput::kEncoders) +
+                                " rejected: " + error.what());
+    return;
+  }
+  if (accepted.size() == 0)  // an encoder glitch: not motion
+    return;
+  recordEncoderHistory(stamp_s, accepted);
+  integrate(stamp_s, accepted);
+}
+
+void CalibrationSession::skipJointState(const std::string& problem)
+{
+  std::lock_guard<std::mutex> lock(mutex_);
+  inputs_->received(SessionInput::kEncoders, now());
+  if (counts_.bad_encoder_messages++ == 0)
+    counts_.first_bad_encoder_message = problem;
+  last_problem_ = "JointState skipped: " + problem;
+  warnInput(problem, "JointState on " + inputs_->topic(SessionInput::kEncoders) + " skipped (" +
+                         std::to_string(counts_.bad_encoder_messages) + " so far): " + problem);
+}
+
+void CalibrationSession::recordEncoderHistory(double stamp_s, const Eigen::VectorXd& accepted)
+{
+  if (!keep_history_ || history_broken_)
+    return;
+  if (!history_decoder_)
+    history_decoder_ = std::make_unique<EncoderDecoder>(channels_);
+  if (!encoder_history_.empty() && !(stamp_s > encoder_history_.back().stamp_s))
+    return;  // a repeated stamp adds nothing (time going backwards broke the history already)
+  encoder_history_.push_back({stamp_s, history_decoder_->decode(accepted)});
+}
+
+void CalibrationSession::integrate(double stamp_s, const Eigen::VectorXd& accepted)
+{
+  if (!odometry_)
+    return;
+  std::optional<OdometryState> state;
+  try {
+    state = odometry_->add(stamp_s, accepted, config_.collector.time_offset_s);
+  } catch (const std::exception& error) {
+    warnInput("odometry prediction failed",
+              std::string("odometry prediction failed: ") + error.what());
+    return;
+  }
+  if (state && listener_.odometry)
+    listener_.odometry(*state);
+}
+
+void CalibrationSession::takeScan(double stamp_s, const Scan& scan)
+{
+  const std::size_t usable = countUsableReadings(scan);
+  if (static_cast<int>(usable) < config_.collector.plicp.min_points) {
+    throw std::invalid_argument(
+        "only " + std::to_string(usable) + " of " + std::to_string(scan.ranges_m.size()) +
+        " ranges are usable (the rest NaN, inf or outside [range_min, range_max]); matching "
+        "needs scan_matching.min_points = " +
+        std::to_string(config_.collector.plicp.min_points));
+  }
+  handleEvents(collector_->addScan(stamp_s, scan), stamp_s);
+  if (candidates_)
+    candidates_->addScan(stamp_s, scan);
+}
+
+void CalibrationSession::noteFrame(const std::string& frame)
+{
+  if (frame.empty() || frame == sensor_frame_)
+    return;
+  if (!sensor_frame_.empty())
+    say(SessionLogLevel::kWarn,
+        "the sensor's frame changed from '" + sensor_frame_ + "' to '" + frame + "'");
+  sensor_frame_ = frame;
+  notifySensorPose();
+}
+
+void CalibrationSession::notifySensorPose() const
+{
+  if (listener_.sensor_pose)
+    listener_.sensor_pose(T_base_sensor_,
+                          sensor_frame_.empty() ? options_.default_sensor_frame : sensor_frame_);
+}
+
+void CalibrationSession::addScan(double stamp_s, const Scan& scan, const std::string& frame)
+{
+  std::lock_guard<std::mutex> lock(mutex_);
+  inputs_->received(SessionInput::kEgoMotion, now());
+  noteFrame(frame);
+  try {
+    takeScan(stamp_s, scan);
+  } catch (const std::invalid_argument& error) {
+    if (counts_.bad_ego_messages++ == 0)
+      counts_.first_bad_ego_message = error.what();
+    last_problem_ = "LaserScan skipped: " + std::string(error.what());
+    warnInput(error.what(), "LaserScan on " + inputs_->topic(SessionInput::kEgoMotion) +
+                                " skipped (" + std::to_string(counts_.bad_ego_messages) +
+                                " so far): " + error.what());
+  }
+}
+
+void CalibrationSession::addCloudScan(double stamp_s, const Scan& scan, const std::string& frame,
+                                      const std::string& time_problem)
+{
+  std::unique_lock<std::mutex> lock(mutex_);
+  std::string problem;
+  if (frame.empty()) {
+    problem = "PointCloud2 names no frame (header.frame_id is empty)";
+  } else if (cloud_frame_fixed_ && frame != sensor_frame_) {
+    problem = "PointCloud2 in frame '" + frame + "', not the sensor's frame '" + sensor_frame_ +
+              "' (the first cloud's)";
+  }
+  if (!problem.empty()) {
+    lock.unlock();
+    return skipEgoMessage("PointCloud2", problem);
+  }
+  inputs_->received(SessionInput::kEgoMotion, now());
+  cloud_frame_fixed_ = true;
+  noteFrame(frame);
+  if (!time_problem.empty()) {
+    if (counts_.clouds_without_times++ == 0)
+      counts_.first_cloud_time_problem = time_problem;
+    last_problem_ = "PointCloud2 " + time_problem;
+    warnInput("per-point times ignored",
+              "PointCloud2 on " + inputs_->topic(SessionInput::kEgoMotion) + ": " + time_problem +
+                  " (" + std::to_string(counts_.clouds_without_times) + " so far)");
+  }
+  try {
+    takeScan(stamp_s, scan);
+  } catch (const std::invalid_argument& error) {
+    if (counts_.bad_ego_messages++ == 0)
+      counts_.first_bad_ego_message = error.what();
+    last_problem_ = "PointCloud2 skipped: " + std::string(error.what());
+    warnInput(error.what(), "PointCloud2 on " + inputs_->topic(SessionInput::kEgoMotion) +
+                                " skipped: " + error.what());
+  }
+}
+
+void CalibrationSession::skipEgoMessage(const std::string& what, const std::string& problem)
+{
+  std::lock_guard<std::mutex> lock(mutex_);
+  inputs_->received(SessionInput::kEgoMotion, now());
+  if (counts_.bad_ego_messages++ == 0)
+    counts_.first_bad_ego_message = problem;
+  last_problem_ = what + " skipped: " + problem;
+  warnInput(problem, what + " on " + inputs_->topic(SessionInput::kEgoMotion) + " skipped (" +
+                         std::to_string(counts_.bad_ego_messages) + " so far): " + problem);
+}
+
+void CalibrationSession::addSensorPose(double stamp_s, const Pose2& T_world_sensor,
+                                       const std::string& frame)
+{
+  std::lock_guard<std::mutex> lock(mutex_);
+  inputs_->received(SessionInput::kEgoMotion, now());
+  noteFrame(frame);
+  const double sigma_m = config_.ego_motion_sigma_m, sigma_rad = config_.ego_motion_sigma_rad;
+  const Eigen::Matrix3d covariance =
+      Eigen::Vector3d(sigma_m * sigma_m, sigma_m * sigma_m, sigma_rad * sigma_rad).asDiagonal();
+  try {
+    handleEvents(collector_->addSensorPose(stamp_s, T_world_sensor, covariance), stamp_s);
+    if (candidates_)
+      candidates_->addSensorPose(stamp_s, T_world_sensor, covariance);
+  } catch (const std::invalid_argument& error) {
+    if (counts_.bad_ego_messages++ == 0)
+      counts_.first_bad_ego_message = error.what();
+    last_problem_ = "sensor pose skipped: " + std::string(error.what());
+    warnInput(error.what(),
+              "pose on " + inputs_->topic(SessionInput::kEgoMotion) + " skipped: " + error.what());
+  }
+}
+
+void CalibrationSession::flush()
+{
+  std::lock_guard<std::mutex> lock(mutex_);
+  handleEvents(collector_->flush(), 0.0);
+  if (candidates_)
+    candidates_->flush();
+}
+
+void CalibrationSession::tick()
+{
+  std::lock_guard<std::mutex> lock(mutex_);
+  for (const std::string& warning : inputs_->silentWarnings(now()))
+    say(SessionLogLevel::kWarn, warning);
+  store_->writePending();
+}
+
+void CalibrationSession::handleEvents(const std::vector<CollectorEvent>& events, double stamp_s)
+{
+  for (const CollectorEvent& event : events) {
+    switch (event.type) {
+      case CollectorEvent::Type::kPair:
+        store_->add(event.pair);
+        if (odometry_)
+          odometry_->addScanMatched(event.pair);
+        if (assistant_)
+          assistant_->addPair(event.pair);
+        if (listener_.pair)
+          listener_.pair(event.pair);
+        break;
+      case CollectorEvent::Type::kRestarted: {
+        char text[200];
+        std::snprintf(text, sizeof(text), "at %.3f s: ", stamp_s);
+        counts_.restarts.push_back(text + event.reason);
+        say(SessionLogLevel::kWarn, "time went backwards " + counts_.restarts.back() +
+                                        ": keyframe pairing and odometry restarted, the " +
+                                        std::to_string(store_->pairs().size()) +
+                                        " pairs collected are kept");
+        last_problem_ = "time went backwards: " + event.reason;
+        // The offset search needs one continuous encoder stream: none until a reset.
+        history_broken_ = true;
+        encoder_history_.clear();
+        if (odometry_)
+          odometry_->restart();
+        break;
+      }
+      case CollectorEvent::Type::kGlitch:
+        last_problem_ = event.reason;
+        warnInput(event.reason.substr(0, event.reason.find(':')),
+                  event.reason + " (counted on /diagnostics)");
+        break;
+      case CollectorEvent::Type::kRejected:
+        // Each reason once as a warning; the counts are on /diagnostics.
+        if (rejection_reasons_seen_.insert(event.reason).second) {
+          say(SessionLogLevel::kWarn,
+              "keyframe interval rejected (first time for this reason; counted on "
+              "/diagnostics): " +
+                  event.reason);
+        }
+        break;
+      default:
+        break;
+    }
+  }
+}
+
+}  // namespace odometry_calibration

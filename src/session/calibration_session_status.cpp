@@ -1,0 +1,78 @@
+// The session's statuses for /diagnostics: the collection ("calibration") and the assistant's.
+#include <cmath>
+
+#include "odometry_calibration/session/calibration_session.h"
+
+namespace odometry_calibration {
+namespace {
+
+/// Scan matching's success ratio (nan before the first consecutive match).
+double matchingSuccess(const CollectorStatistics& s)
+{
+  return s.consecutive_matches > 0
+             ? 1.0 - static_cast<double>(s.consecutive_failures) / s.consecutive_matches
+             : std::nan("");
+}
+
+}  // namespace
+
+std::string CalibrationSession::collectionStatus(SessionStatusReport* status) const
+{
+  const CollectorStatistics& s = collector_->statistics();
+  std::size_t rejected = 0;
+  for (const auto& [reason, count] : s.rejected)
+    rejected += count;
+  status->add("scan matching success ratio", std::to_string(matchingSuccess(s)));
+  status->add("pairs collected", std::to_string(store_->pairs().size()));
+  status->add("pairs resumed from file", std::to_string(store_->resumed()));
+  status->add("pairs not yet in the pairs file", std::to_string(store_->unwritten()));
+  status->add("keyframe intervals rejected", std::to_string(rejected));
+  for (const auto& [reason, count] : s.rejected)
+    status->add("rejected: " + reason, std::to_string(count));
+  status->add("JointStates skipped", std::to_string(counts_.bad_encoder_messages));
+  for (const auto& channel : channels_) {
+    const auto found = s.glitches.find(channel.name);
+    status->add("encoder glitches: " + channel.name,
+                std::to_string(found == s.glitches.end() ? 0 : found->second));
+  }
+  status->add("scans skipped", std::to_string(counts_.bad_ego_messages));
+  if (config_.ego_motion == EgoMotionSource::kCloud)
+    status->add("clouds without per-point times", std::to_string(counts_.clouds_without_times));
+  status->add("restarts (time went backwards)", std::to_string(s.restarts));
+  status->add("model", active_model_ ? active_model_->name() + " (" + active_model_origin_ + ")"
+                                     : std::string("none"));
+  status->add("time offset [s]", std::to_string(config_.collector.time_offset_s));
+  if (!last_problem_.empty())
+    status->add("last problem", last_problem_);
+  if (!store_->problem().empty())
+    return "cannot write the pairs file (pairs kept in memory): " + store_->problem();
+  return "";
+}
+
+std::vector<SessionStatusReport> CalibrationSession::statusReports(double period_s)
+{
+  std::lock_guard<std::mutex> lock(mutex_);
+  SessionStatusReport status;
+  status.name = "calibration";
+  std::vector<std::string> problems;
+  inputs_->addRates(&status, &problems, now(), period_s);
+  const std::string file_problem = collectionStatus(&status);
+  if (!file_problem.empty())
+    problems.push_back(file_problem);
+  const CollectorStatistics& s = collector_->statistics();
+  if (!problems.empty()) {
+    status.level = SessionStatusReport::Level::kWarn;
+    status.message = problems.front();
+  } else if (s.consecutive_matches > 10 && matchingSuccess(s) < 0.9) {
+    status.level = SessionStatusReport::Level::kWarn;
+    status.message = "scan matching fails often";
+  } else {
+    status.message = std::to_string(store_->pairs().size()) + " pairs";
+  }
+  std::vector<SessionStatusReport> statuses{status};
+  if (assistant_)
+    assistant_->addStatuses(&statuses);
+  return statuses;
+}
+
+}  // namespace odometry_calibration

@@ -1,0 +1,168 @@
+#include "odometry_calibration/session/session_assistant.h"
+
+#include <cstdio>
+
+namespace odometry_calibration {
+namespace {
+
+std::string formatValue(double value)
+{
+  char number[64];
+  std::snprintf(number, sizeof(number), "%.4g", value);
+  return number;
+}
+
+}  // namespace
+
+SessionAssistant::SessionAssistant(const SessionAssistantOptions& options,
+                                   const CalibrationConfig& config, const std::string& config_text,
+                                   const std::string& config_source, SessionLog log)
+    : options_(options), log_(std::move(log))
+{
+  if (!options_.guidance)
+    return;
+  // The fitted model's guidance, or the prior model's when the fitted one has none (gp).
+  const std::string name = hasExcitationGuidance(config.model) ? config.model : config.prior_model;
+  if (!hasExcitationGuidance(name)) {
+    if (log_) {
+      log_(SessionLogLevel::kInfo,
+           "no excitation guidance: it needs a diff_drive, tricycle or mecanum model or "
+           "prior_model");
+    }
+    return;
+  }
+  try {
+    const CalibrationConfig for_model = configForModel(config_text, name, "", config_source);
+    guidance_ = makeExcitationGuidance(name, for_model.models, options_.guidance_options);
+    guidance_model_ = name;
+    guidance_factory_ = for_model.models;
+  } catch (const std::exception& error) {
+    if (log_)
+      log_(SessionLogLevel::kWarn, "no excitation guidance for " + name + ": " + error.what());
+    guidance_.reset();
+  }
+}
+
+void SessionAssistant::addPair(const MotionPair& pair)
+{
+  if (guidance_)
+    guidance_->addPair(pair);
+  if (health_monitor_ && health_monitor_->addPair(pair) && log_)
+    log_(SessionLogLevel::kWarn, "calibration health: " + health_monitor_->status().message);
+}
+
+void SessionAssistant::watch(const std::shared_ptr<const MotionModel>& model,
+                             const std::string& origin)
+{
+  if (!options_.health_monitor || !model)
+    return;
+  health_monitor_ = std::make_unique<HealthMonitor>(model, options_.health_options);
+  health_model_origin_ = origin;
+}
+
+void SessionAssistant::recentre(const std::string& model, const ModelReport& report,
+                                const std::vector<MotionPair>& pairs)
+{
+  if (!guidance_ || model != guidance_model_)
+    return;
+  try {
+    auto recentred = makeExcitationGuidance(model, guidance_factory_, options_.guidance_options,
+                                            report.parameters);
+    for (const MotionPair& pair : pairs)
+      recentred->addPair(pair);
+    guidance_ = std::move(recentred);
+  } catch (const std::exception& error) {
+    if (log_)
+      log_(SessionLogLevel::kWarn,
+           std::string("the guidance stays at its previous values: ") + error.what());
+  }
+}
+
+void SessionAssistant::reset()
+{
+  if (guidance_)
+    guidance_->reset();
+}
+
+std::string SessionAssistant::guidanceSummary() const
+{
+  return guidance_ ? " Guidance: " + guidance_->status().summary() + "." : std::string();
+}
+
+SessionStatusReport SessionAssistant::guidanceStatus() const
+{
+  const ExcitationStatus guidance = guidance_->status();
+  SessionStatusReport status;
+  status.name = "excitation guidance";
+  status.message = guidance.summary();
+  status.add("guidance model", guidance.model);
+  status.add("ready to fit", guidance.ready_to_fit ? "true" : "false");
+  for (std::size_t i = 0; i < guidance.missing_motions.size(); ++i)
+    status.add("missing motion " + std::to_string(i + 1), guidance.missing_motions[i]);
+  for (const ParameterGuidance& p : guidance.parameters) {
+    status.add(p.name + " [" + p.unit + "]", (p.enough ? "enough: sigma " : "collecting: sigma ") +
+                                                 formatValue(p.sigma) + " (target " +
+                                                 formatValue(p.target_sigma) + ")");
+  }
+  return status;
+}
+
+SessionStatusReport SessionAssistant::healthStatus() const
+{
+  const HealthStatus health = health_monitor_->status();
+  SessionStatusReport status;
+  status.name = "calibration health";
+  status.level = health.alarm ? SessionStatusReport::Level::kWarn : SessionStatusReport::Level::kOk;
+  status.message = health.message;
+  status.add("watching", health_model_origin_);
+  status.add("statistic (alarm at 1)", formatValue(health.statistic));
+  status.add("CUSUM threshold h [sigma]", formatValue(health.threshold));
+  status.add("pairs scored", std::to_string(health.pairs));
+  for (const HealthChart& chart : health.charts) {
+    status.add("chart " + chart.name + " (" + chart.output + ")",
+               chart.calibrated
+                   ? "U " + formatValue(chart.upper) + ", L " + formatValue(chart.lower) +
+                         ", recent mean " + formatValue(chart.mean_recent) + " sigma"
+                   : "learning the noise (" + std::to_string(chart.count) + " pairs)");
+  }
+  return status;
+}
+
+void SessionAssistant::addStatuses(std::vector<SessionStatusReport>* statuses) const
+{
+  if (guidance_)
+    statuses->push_back(guidanceStatus());
+  if (health_monitor_)
+    statuses->push_back(healthStatus());
+}
+
+double SessionAssistant::healthStatistic() const
+{
+  return health_monitor_ ? health_monitor_->status().statistic : 0.0;
+}
+
+AssistantMarker SessionAssistant::marker() const
+{
+  AssistantMarker marker;
+  if (guidance_) {
+    const ExcitationStatus guidance = guidance_->status();
+    marker.ready = guidance.ready_to_fit;
+    marker.text = guidance.ready_to_fit
+                      ? "calibration: ready to fit (call ~calibrate)"
+                      : "calibration: collecting (" + std::to_string(guidance.pairs) + " pairs)";
+    for (std::size_t i = 0; i < guidance.missing_motions.size() && i < 3; ++i)
+      marker.text += "\n" + guidance.missing_motions[i];
+  }
+  if (health_monitor_) {
+    const HealthStatus health = health_monitor_->status();
+    marker.alarm = health.alarm;
+    char line[80];
+    std::snprintf(line, sizeof(line), "calibration health: ok (statistic %.2f of 1)",
+                  health.statistic);
+    marker.text += std::string(marker.text.empty() ? "" : "\n") +
+                   (health.alarm ? "CALIBRATION STALE: " + health.message : std::string(line));
+  }
+  return marker;
+}
+
+}  // namespace odometry_calibration

@@ -1,0 +1,137 @@
+#include "odometry_calibration/session/session_fit.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <stdexcept>
+
+namespace odometry_calibration {
+namespace {
+
+/// The pairs of one interval: the evaluation pairs at keyframes.interval_s, else a candidate's.
+std::vector<MotionPair> pairsAt(const SessionFitRequest& request, double interval_s)
+{
+  if (std::abs(interval_s - request.config.collector.keyframe_interval_s) < 1e-9)
+    return pairsEndingBy(request.pairs, request.fit_until_stamp_s);
+  for (const IntervalPairs& candidate : request.candidates) {
+    if (std::abs(candidate.interval_s - interval_s) < 1e-9)
+      return pairsEndingBy(candidate.pairs, request.fit_until_stamp_s);
+  }
+  throw std::invalid_argument("no pairs were collected at the fit interval " +
+                              std::to_string(interval_s) + " s");
+}
+
+/// Every candidate interval with its pairs (the evaluation interval among them), shortest first.
+std::vector<IntervalPairs> allCandidates(const SessionFitRequest& request)
+{
+  std::vector<IntervalPairs> all{{request.config.collector.keyframe_interval_s,
+                                  pairsEndingBy(request.pairs, request.fit_until_stamp_s)}};
+  for (const IntervalPairs& candidate : request.candidates) {
+    if (std::abs(candidate.interval_s - all.front().interval_s) > 1e-9)
+      all.push_back({candidate.interval_s, pairsAt(request, candidate.interval_s)});
+  }
+  std::stable_sort(all.begin(), all.end(), [](const IntervalPairs& a, const IntervalPairs& b) {
+    return a.interval_s < b.interval_s;
+  });
+  return all;
+}
+
+/// Cross-validates the candidates. The time offset belongs to the robot, not to T: found once
+/// on the evaluation pairs, then every candidate is cut at it, so the comparison is of intervals
+/// only. The chosen interval's pairs are returned as collected (the job re-cuts them).
+void chooseInterval(const SessionFitRequest& request, bool with_offset, SessionFit* fit,
+                    std::vector<MotionPair>* fit_pairs)
+{
+  const std::vector<IntervalPairs> collected = allCandidates(request);
+  std::vector<IntervalPairs> candidates = collected;
+  std::vector<MotionPair> evaluation = pairsEndingBy(request.pairs, request.fit_until_stamp_s);
+  if (with_offset) {
+    CalibrationJobOptions offset_only;
+    offset_only.compare_trajectories = false;
+    const CalibrationJobResult offset_job =
+        runCalibrationJob(request.config, evaluation, request.encoder_history, offset_only);
+    evaluation = offset_job.pairs;
+    for (IntervalPairs& candidate : candidates) {
+      candidate.pairs =
+          rewindowPairs(candidate.pairs, request.encoder_history, offset_job.time_offset_s);
+    }
+  }
+  fit->choice = chooseFitInterval(request.config, candidates, evaluation);
+  for (const IntervalPairs& candidate : collected) {
+    if (candidate.interval_s == fit->choice->interval_s) {
+      fit->fit_interval_s = candidate.interval_s;
+      *fit_pairs = candidate.pairs;
+    }
+  }
+  fit->interval_text =
+      formatFitIntervalChoice(*fit->choice, request.config.collector.keyframe_interval_s);
+}
+
+}  // namespace
+
+SessionFit fitSessionPairs(const SessionFitRequest& request)
+{
+  const CalibrationConfig& config = request.config;
+  SessionFit fit;
+  fit.fit_interval_s = config.collector.keyframe_interval_s;
+  fit.offset_estimated = config.estimate_time_offset && !request.encoder_history.empty();
+  std::vector<MotionPair> fit_pairs = pairsEndingBy(request.pairs, request.fit_until_stamp_s);
+  if (request.interval_mode == FitIntervalMode::kFixed) {
+    fit.fit_interval_s = request.fixed_interval_s;
+    fit_pairs = pairsAt(request, request.fixed_interval_s);
+    char text[160];
+    std::snprintf(text, sizeof(text), "fit interval T = %.2f s (--interval): %zu pairs",
+                  fit.fit_interval_s, fit_pairs.size());
+    fit.interval_text = text;
+  } else if (request.interval_mode == FitIntervalMode::kChoose) {
+    try {
+      chooseInterval(request, fit.offset_estimated, &fit, &fit_pairs);
+    } catch (const std::invalid_argument& error) {
+      fit.choice.reset();
+      fit.interval_text =
+          "fit interval: kept keyframes.interval_s (" + std::string(error.what()) + ")";
+    }
+  }
+  if (!fit.interval_text.empty() && fit.interval_text.back() == '\n')
+    fit.interval_text.pop_back();
+  CalibrationJobOptions job_options;
+  job_options.allow_time_offset = fit.offset_estimated;
+  job_options.compare_trajectories = request.compare_trajectories;
+  const bool same_pairs = request.interval_mode == FitIntervalMode::kConfigured &&
+                          fit_pairs.size() == request.pairs.size();
+  if (same_pairs)
+    job_options.time_offset_search = request.offset_search;
+  fit.job = runCalibrationJob(config, fit_pairs, request.encoder_history, job_options);
+  if (config.estimate_time_offset && !fit.offset_estimated) {
+    fit.job.report.warnings.push_back(
+        "the time offset was not estimated: it needs one continuous encoder stream (time went "
+        "backwards, or none since the start or the last reset); kept the configured " +
+        std::to_string(fit.job.time_offset_s) + " s");
+  }
+  return fit;
+}
+
+std::string timeOffsetSentence(const CalibrationConfig& config, const SessionFit& fit)
+{
+  if (!config.estimate_time_offset)
+    return "";
+  char text[200];
+  const CalibrationJobResult& job = fit.job;
+  if (!fit.offset_estimated) {
+    std::snprintf(text, sizeof(text),
+                  " Time offset: not estimated (no continuous encoder history since the start or "
+                  "the last ~reset), kept %.4f s.",
+                  job.time_offset_s);
+  } else if (!job.time_offset || job.time_offset->flat) {
+    std::snprintf(text, sizeof(text),
+                  " Time offset: not observable from this drive (flat cost), kept %.4f s.",
+                  job.time_offset_s);
+  } else {
+    std::snprintf(text, sizeof(text),
+                  " Time offset: tau = %.4f +- %.4f s (encoder values at scan time + tau), used "
+                  "for new pairs.",
+                  job.time_offset_s, job.time_offset->sigma_s);
+  }
+  return text;
+}
+
+}  // namespace odometry_calibration

@@ -1,0 +1,303 @@
+// The calibration session without ROS (issue 31): a simulated drive's messages fed in stamp
+// order, as the node and calibrate_bag feed it; what the node's topics and services show is
+// asserted on the session itself.
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "odometry_calibration/session/calibration_session.h"
+#include "odometry_calibration/sim/robot.h"
+#include "odometry_calibration/sim/scenario.h"
+#include "odometry_calibration/sim/simulator.h"
+#include "odometry_calibration/sim/world.h"
+#include "support/sim_recording.h"
+
+namespace odometry_calibration {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kConfig = ODOMETRY_CALIBRATION_CONFIG_DIR;
+
+/// A simulated drive's messages in stamp order.
+struct Recording : sim::SimulationSink
+{
+  struct Message
+  {
+    double stamp_s;
+    bool joints;
+    std::size_t index;
+  };
+  std::vector<sim::JointStateSample> joints;
+  std::vector<sim::ScanSample> scans;
+  std::vector<std::string> joint_names;
+  void onJointState(const sim::JointStateSample& s) override { joints.push_back(s); }
+  void onScan(const sim::ScanSample& s) override { scans.push_back(s); }
+  void onTruth(const sim::TruthSample&) override {}
+
+  std::vector<Message> inOrder() const
+  {
+    std::vector<Message> messages;
+    for (std::size_t i = 0; i < joints.size(); ++i)
+      messages.push_back({joints[i].stamp_s, true, i});
+    for (std::size_t i = 0; i < scans.size(); ++i)
+      messages.push_back({scans[i].stamp_s, false, i});
+    std::stable_sort(messages.begin(), messages.end(),
+                     [](const Message& a, const Message& b) { return a.stamp_s < b.stamp_s; });
+    return messages;
+  }
+};
+
+/// The 120 s simulated office drive (truth: r_L 0.0765, r_R 0.0775, b 0.32 m, laser (0.145,
+/// 0.01, 0.02)), recorded once for the suite.
+const Recording& officeDrive()
+{
+  static const Recording recording = [] {
+    Recording r;
+    sim::Scenario scenario = sim::loadScenarioYaml(
+        kConfig + "/sim/scenarios/diff_drive_office.yaml", kConfig + "/sim/worlds");
+    scenario.duration_s = 60.0;
+    const sim::World world = sim::loadWorldYaml(scenario.world_path);
+    const auto robot = sim::makeRobot(scenario.robot);
+    r.joint_names = sim::publishedJointNames(scenario, *robot);
+    sim::simulate(scenario, world, *robot, r);
+    return r;
+  }();
+  return recording;
+}
+
+std::string readFile(const std::string& path)
+{
+  std::ifstream in(path);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+class Session : public ::testing::Test
+{
+protected:
+  void SetUp() override
+  {
+    char pattern[] = "/tmp/calibration_session_test.XXXXXX";
+    directory_ = mkdtemp(pattern);
+    config_text_ = readFile(kConfig + "/diff_drive.yaml");
+    config_ = parseCalibrationConfig(config_text_, "diff_drive.yaml");
+    options_.output_directory = directory_ + "/out";
+    options_.wall_clock = [this] { return clock_s_; };
+    options_.log = [this](SessionLogLevel level, const std::string& text) {
+      log_.push_back((level == SessionLogLevel::kInfo ? "INFO " : "WARN ") + text);
+    };
+  }
+  void TearDown() override { fs::remove_all(directory_); }
+
+  std::unique_ptr<CalibrationSession> makeSession(SessionListener listener = {})
+  {
+    return std::make_unique<CalibrationSession>(config_, config_text_, "diff_drive.yaml", options_,
+                                                listener);
+  }
+
+  /// Feeds the drive up to `until_s` (its stamps), the clock following the stamps.
+  void feed(CalibrationSession& session, double until_s = 1e9, double stamp_shift_s = 0.0)
+  {
+    const Recording& drive = officeDrive();
+    for (const Recording::Message& message : drive.inOrder()) {
+      if (message.stamp_s > until_s)
+        break;
+      clock_s_ = message.stamp_s;
+      const double stamp_s = message.stamp_s + stamp_shift_s;
+      if (message.joints) {
+        const auto& positions = drive.joints[message.index].positions;
+        session.addJointPositions(
+            stamp_s, Eigen::Map<const Eigen::VectorXd>(positions.data(), positions.size()));
+      } else {
+        session.addScan(stamp_s, test::toScan(drive.scans[message.index]), "laser");
+      }
+    }
+    session.flush();
+  }
+
+  std::string directory_, config_text_;
+  CalibrationConfig config_;
+  SessionOptions options_;
+  double clock_s_ = 0.0;
+  std::vector<std::string> log_;
+};
+
+TEST_F(Session, PairsAndCalibratesADriveToItsTruth)
+{
+  std::size_t pairs_heard = 0, odometry_heard = 0;
+  SessionListener listener;
+  listener.pair = [&](const MotionPair&) { ++pairs_heard; };
+  listener.odometry = [&](const OdometryState& state) {
+    ++odometry_heard;
+    EXPECT_TRUE(std::isfinite(state.pose.x()));
+  };
+  auto session = makeSession(listener);
+  ASSERT_EQ(officeDrive().joint_names, (std::vector<std::string>{"left_wheel", "right_wheel"}));
+  feed(*session);
+  const std::vector<MotionPair> pairs = session->pairs();
+  EXPECT_GT(pairs.size(), 100u);
+  EXPECT_EQ(pairs_heard, pairs.size());
+  EXPECT_GT(odometry_heard, 2000u);  // one per JointState (50 Hz over 60 s)
+  const CalibrateOutcome outcome = session->calibrate({});
+  ASSERT_TRUE(outcome.success) << outcome.message;
+  const ModelReport& report = outcome.fit->job.report;
+  EXPECT_NEAR(report.parameters[0].value, 0.0765, 0.0765 * 0.005);
+  EXPECT_NEAR(report.parameters[1].value, 0.0775, 0.0775 * 0.005);
+  EXPECT_NEAR(report.parameters[2].value, 0.32, 0.32 * 0.005);
+  ASSERT_TRUE(session->sensorPose());
+  EXPECT_NEAR(session->sensorPose()->x(), 0.145, 0.005);
+  EXPECT_NEAR(session->sensorPose()->y(), 0.01, 0.005);
+  EXPECT_NE(outcome.message.find("diff_drive fitted to"), std::string::npos);
+  EXPECT_NE(outcome.message.find("Guidance: "), std::string::npos);
+  EXPECT_TRUE(fs::exists(options_.output_directory + "/last_fit.yaml"));
+  // The corrected path was integrated again with the fit: it follows the scan-matched one.
+  const OdometryPaths paths = session->paths();
+  ASSERT_GT(paths.corrected.size(), 100u);
+  ASSERT_GT(paths.scan_matched.size(), 100u);
+  const Pose2& corrected = paths.corrected.back().pose;
+  const Pose2& matched = paths.scan_matched.back().pose;
+  EXPECT_LT(std::hypot(corrected.x() - matched.x(), corrected.y() - matched.y()), 0.1);
+}
+
+TEST_F(Session, KeepsPairsInItsFileAndResumesThemWithTheSavedCalibration)
+{
+  std::size_t pairs = 0;
+  {
+    auto session = makeSession();
+    feed(*session);
+    pairs = session->pairs().size();
+    EXPECT_FALSE(session->save().first);  // nothing fitted yet
+    ASSERT_TRUE(session->calibrate({}).success);
+    const auto [saved, message] = session->save();
+    ASSERT_TRUE(saved) << message;
+    for (const char* file : {"/pairs.csv", "/result.yaml", "/controller.yaml", "/laser_joint.urdf"})
+      EXPECT_TRUE(fs::exists(options_.output_directory + file)) << file;
+  }
+  auto resumed = makeSession();
+  EXPECT_EQ(resumed->pairs().size(), pairs);
+  EXPECT_EQ(resumed->counts().pairs_resumed, pairs);
+  ASSERT_TRUE(resumed->sensorPose());  // the saved calibration's
+  EXPECT_NEAR(resumed->sensorPose()->x(), 0.145, 0.005);
+  const auto statuses = resumed->statusReports(1.0);
+  ASSERT_GE(statuses.size(), 2u);  // calibration, guidance, health (watching the saved model)
+  bool watching = false;
+  for (const SessionStatusReport& status : statuses)
+    watching = watching || status.name == "calibration health";
+  EXPECT_TRUE(watching);
+  const std::string reply = resumed->reset();
+  EXPECT_NE(reply.find(std::to_string(pairs) + " pairs set aside in"), std::string::npos) << reply;
+  EXPECT_TRUE(resumed->pairs().empty());
+  std::size_t archived = 0;
+  for (const auto& entry : fs::directory_iterator(options_.output_directory))
+    archived += entry.path().filename().string().rfind("pairs-", 0) == 0;
+  EXPECT_EQ(archived, 1u);
+}
+
+TEST_F(Session, RefusesTooFewPairsAndUnknownModelsWithoutChangingTheActiveModel)
+{
+  auto session = makeSession();
+  feed(*session, 3.0);
+  CalibrateOutcome outcome = session->calibrate({});
+  EXPECT_FALSE(outcome.success);
+  EXPECT_NE(outcome.message.find("pairs collected, 10 needed"), std::string::npos)
+      << outcome.message;
+  CalibrationRequest unknown;
+  unknown.model = "bicycle";
+  outcome = session->calibrate(unknown);
+  EXPECT_FALSE(outcome.success);
+  EXPECT_NE(outcome.message.find("bicycle"), std::string::npos) << outcome.message;
+  CalibrationRequest tricycle;
+  tricycle.model = "tricycle";  // two wheel joints: no steering joint for it
+  outcome = session->calibrate(tricycle);
+  EXPECT_FALSE(outcome.success);
+  EXPECT_NE(outcome.message.find("cannot fit tricycle"), std::string::npos) << outcome.message;
+  EXPECT_FALSE(session->sensorPose());
+}
+
+TEST_F(Session, CountsBadInputAndWarnsAboutASilentTopic)
+{
+  options_.silent_topic_timeout_s = 5.0;
+  auto session = makeSession();
+  session->skipJointState("joint 'left_wheel' missing");
+  Scan empty = test::toScan(officeDrive().scans.front());
+  std::fill(empty.ranges_m.begin(), empty.ranges_m.end(), std::nanf(""));
+  session->addScan(0.1, empty, "laser");
+  const SessionCounts counts = session->counts();
+  EXPECT_EQ(counts.bad_encoder_messages, 1u);
+  EXPECT_EQ(counts.bad_ego_messages, 1u);
+  EXPECT_NE(counts.first_bad_ego_message.find("ranges are usable"), std::string::npos);
+  clock_s_ = 6.0;
+  session->tick();
+  const auto silent = std::count_if(log_.begin(), log_.end(), [](const std::string& line) {
+    return line.find("no message on 'joint states' after 6 s") != std::string::npos;
+  });
+  EXPECT_EQ(silent, 0);  // a message (skipped) came: it is silent, not absent
+  EXPECT_NE(std::find(log_.begin(), log_.end(), "WARN 'joint states' has been silent for 6 s"),
+            log_.end());
+  const auto statuses = session->statusReports(1.0);
+  EXPECT_EQ(statuses.front().level, SessionStatusReport::Level::kWarn);
+  EXPECT_NE(statuses.front().message.find("no input on"), std::string::npos);
+}
+
+TEST_F(Session, TimeGoingBackwardsRestartsPairingAndStopsTheTimeOffsetSearch)
+{
+  config_.estimate_time_offset = true;
+  auto session = makeSession();
+  feed(*session, 30.0);
+  const std::size_t before = session->pairs().size();
+  ASSERT_GT(before, 40u);
+  feed(*session, 30.0);  // the same drive again: time goes back to its start
+  EXPECT_EQ(session->counts().restarts.size(), 1u);
+  EXPECT_GT(session->pairs().size(), before + 40);
+  EXPECT_TRUE(session->encoderHistory().empty());
+  const CalibrateOutcome outcome = session->calibrate({});
+  ASSERT_TRUE(outcome.fit);
+  EXPECT_NE(outcome.message.find("Time offset: not estimated"), std::string::npos)
+      << outcome.message;
+  // After a reset the history is continuous again.
+  session->reset();
+  feed(*session, 30.0);
+  EXPECT_GT(session->encoderHistory().size(), 1000u);
+}
+
+TEST_F(Session, ChoosesTheFitIntervalAmongItsCandidates)
+{
+  config_.fit_intervals_s = {0.5, 1.0};
+  auto session = makeSession();
+  feed(*session);
+  const std::vector<IntervalPairs> candidates = session->candidatePairs();
+  ASSERT_EQ(candidates.size(), 1u);
+  EXPECT_DOUBLE_EQ(candidates[0].interval_s, 1.0);
+  EXPECT_NEAR(static_cast<double>(candidates[0].pairs.size()), session->pairs().size() / 2.0, 5.0);
+  const CalibrateOutcome outcome = session->calibrate({});
+  ASSERT_TRUE(outcome.success) << outcome.message;
+  ASSERT_TRUE(outcome.fit->choice);
+  EXPECT_EQ(outcome.fit->choice->curve.size(), 2u);
+  EXPECT_NE(outcome.message.find("chosen by time-blocked cross-validation"), std::string::npos)
+      << outcome.message;
+}
+
+TEST_F(Session, TheSameMessagesGiveTheSamePairsAndFit)
+{
+  options_.output_directory.clear();  // memory only, as calibrate_bag's
+  auto first = makeSession();
+  auto second = makeSession();
+  feed(*first);
+  feed(*second);
+  const auto a = first->pairs(), b = second->pairs();
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i].start_stamp_s, b[i].start_stamp_s);
+    EXPECT_EQ(a[i].sensor_motion.x(), b[i].sensor_motion.x());
+  }
+  const auto fit_a = first->calibrate({}), fit_b = second->calibrate({});
+  ASSERT_TRUE(fit_a.success && fit_b.success);
+  for (std::size_t p = 0; p < fit_a.fit->job.report.parameters.size(); ++p) {
+    EXPECT_EQ(fit_a.fit->job.report.parameters[p].value, fit_b.fit->job.report.parameters[p].value);
+  }
+}
+
+}  // namespace
+}  // namespace odometry_calibration
