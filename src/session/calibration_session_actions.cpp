@@ -1,4 +1,6 @@
 // The session's actions: calibrate (a fit that becomes the active model), save, reset.
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 
 #include "odometry_calibration/calibration/calibration_result.h"
@@ -14,9 +16,29 @@ namespace {
 
 namespace fs = std::filesystem;
 
+/// Beyond this difference [s] between the estimated time offset and the pairs', the reply says
+/// how to get pairs made at the estimate (calibrate_bag pairs again beyond it too).
+constexpr double kRepairingToleranceS = 0.01;
+
 std::string absolutePath(const std::string& directory, const std::string& name)
 {
   return fs::absolute(directory + "/" + name).lexically_normal().string();
+}
+
+/// When the estimated offset is far from the one the pairs were made at: what to do for pairs
+/// made at the estimate (their scans' sweep compensation and the matchers' guesses use it).
+std::string repairingAdvice(double paired_at_s, const SessionFit& fit)
+{
+  if (!fit.offset_estimated || !fit.job.time_offset || fit.job.time_offset->flat ||
+      !(std::abs(fit.job.time_offset_s - paired_at_s) > kRepairingToleranceS))
+    return "";
+  char text[400];
+  std::snprintf(text, sizeof(text),
+                " The pairs so far were made at time offset %.3f s: for pairs made at the "
+                "estimate, set keyframes.time_offset_s: %.3f, or ~reset and drive again (new "
+                "pairs use it; calibrate_bag pairs a bag again at it).",
+                paired_at_s, fit.job.time_offset_s);
+  return text;
 }
 
 }  // namespace
@@ -98,7 +120,8 @@ CalibrateOutcome CalibrationSession::calibrate(const CalibrationRequest& request
     return outcome;
   }
   outcome.success = true;
-  outcome.message = successMessage(name, fit) + timeOffsetSentence(config, fit);
+  outcome.message = successMessage(name, fit) + timeOffsetSentence(config, fit) +
+                    repairingAdvice(config.collector.time_offset_s, fit);
   for (const std::string& warning : fit.job.report.warnings)
     outcome.message += " WARNING: " + warning;
   outcome.message += guidance;

@@ -1,0 +1,110 @@
+// rostest (test/node_parity.test, issue 31): the live node and calibrate_bag are one calibration
+// session fed from two readers, so the same bag through both gives the same pairs and the same
+// fit: with a fixed keyframe interval, with the fit interval chosen among candidates, and with
+// the time offset estimated.
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <iterator>
+#include <string>
+
+#include <sys/wait.h>
+
+#include <gtest/gtest.h>
+#include <ros/ros.h>
+#include <yaml-cpp/yaml.h>
+
+#include "node_test_support.h"
+#include "odometry_calibration/Calibrate.h"
+
+namespace odometry_calibration {
+namespace {
+
+using test::waitFor;
+
+std::size_t lines(const std::string& path)
+{
+  std::ifstream in(path);
+  std::size_t count = 0;
+  for (std::string line; std::getline(in, line);)
+    ++count;
+  return count;
+}
+
+class NodeParity : public ::testing::TestWithParam<std::string>
+{
+protected:
+  static void SetUpTestSuite()
+  {
+    ASSERT_TRUE(waitFor([] { return test::nodeRunning("/player"); }, 60));
+    ASSERT_TRUE(waitFor([] { return !test::nodeRunning("/player"); }, 300));
+    waitFor([] { return false; }, 3.0);  // the last messages
+  }
+};
+
+TEST_P(NodeParity, NodeAndCalibrateBagGiveTheSamePairsAndParameters)
+{
+  const std::string name = GetParam();
+  ros::NodeHandle private_handle("~");
+  std::string bag, configs, output_directory;
+  ASSERT_TRUE(private_handle.getParam("bag", bag));
+  ASSERT_TRUE(private_handle.getParam("configs", configs));
+  ASSERT_TRUE(private_handle.getParam("output_directory", output_directory));
+  const std::string config = configs + "/parity_" + name + ".yaml";
+  const std::string node_output = output_directory + "/" + name;
+
+  odometry_calibration::Calibrate fit;
+  ASSERT_TRUE(ros::service::waitForService("/" + name + "/calibrate", ros::Duration(30)));
+  ASSERT_TRUE(ros::service::call("/" + name + "/calibrate", fit));
+  ASSERT_TRUE(fit.response.success) << fit.response.message;
+
+  const std::string bag_output = output_directory + "/calibrate_bag_" + name;
+  const std::string command = std::string(ODOMETRY_CALIBRATION_TOOLS_DIR) +
+                              "/calibrate_bag --quiet --config " + config + " --output-dir " +
+                              bag_output + " " + bag + " > " + bag_output + ".log 2>&1";
+  const int status = std::system(command.c_str());
+  ASSERT_TRUE(WIFEXITED(status) && (WEXITSTATUS(status) == 0 || WEXITSTATUS(status) == 4))
+      << command;
+
+  // The same pairs collected (the node's file holds every pair at keyframes.interval_s)...
+  const YAML::Node node_fit = YAML::LoadFile(node_output + "/last_fit.yaml");
+  const YAML::Node bag_fit = YAML::LoadFile(bag_output + "/result.yaml");
+  EXPECT_EQ(fit.response.report.pairs_collected + 1, lines(node_output + "/pairs.csv"));
+  if (name == "fixed") {  // the bag tool writes the fitted pairs: all of them here, as collected
+    std::ifstream node_pairs(node_output + "/pairs.csv"), bag_pairs(bag_output + "/pairs.csv");
+    const std::string node_text((std::istreambuf_iterator<char>(node_pairs)),
+                                std::istreambuf_iterator<char>());
+    const std::string bag_text((std::istreambuf_iterator<char>(bag_pairs)),
+                               std::istreambuf_iterator<char>());
+    EXPECT_GT(node_text.size(), 1000u);
+    EXPECT_EQ(node_text, bag_text);
+  }
+  // ... the same pairs fitted, at the same interval and time offset ...
+  EXPECT_EQ(node_fit["fit"]["pairs"].as<int>(), bag_fit["fit"]["pairs"].as<int>());
+  EXPECT_EQ(node_fit["fit"]["outliers"].as<int>(), bag_fit["fit"]["outliers"].as<int>());
+  EXPECT_EQ(node_fit["fit_interval_s"].as<double>(), bag_fit["fit_interval_s"].as<double>());
+  EXPECT_NEAR(node_fit["time_offset_s"].as<double>(), bag_fit["time_offset_s"].as<double>(), 1e-6);
+  // ... and the same parameters within 0.01 %.
+  for (const auto& entry : bag_fit["parameters"]) {
+    const std::string parameter = entry.first.as<std::string>();
+    const double bag_value = entry.second["value"].as<double>();
+    const double node_value = node_fit["parameters"][parameter]["value"].as<double>();
+    EXPECT_NEAR(node_value, bag_value, 1e-4 * std::max(std::abs(bag_value), 1e-3))
+        << name << ": " << parameter;
+  }
+  RecordProperty("pairs_fitted", node_fit["fit"]["pairs"].as<std::string>());
+}
+
+INSTANTIATE_TEST_SUITE_P(Configurations, NodeParity,
+                         ::testing::Values("fixed", "intervals", "offset"));
+
+}  // namespace
+}  // namespace odometry_calibration
+
+int main(int argc, char** argv)
+{
+  ::testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "node_parity_test");
+  ros::NodeHandle handle;
+  return RUN_ALL_TESTS();
+}
