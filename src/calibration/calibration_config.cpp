@@ -152,16 +152,15 @@ void resolveSensor(CalibrationConfig& c)
   }
   CloudToScanOptions& cloud = c.cloud;
   if (!(cloud.band_min_m < cloud.band_max_m)) {
-    throw std::runtime_error("ego_motion.cloud.band_m: " +
-                             formatConfigValue(std::vector<double>{cloud.band_min_m,
-                                                                   cloud.band_max_m}) +
-                             ": need band_min_m < band_max_m");
+    throw std::runtime_error(
+        "ego_motion.cloud.band_m: " +
+        formatConfigValue(std::vector<double>{cloud.band_min_m, cloud.band_max_m}) +
+        ": need band_min_m < band_max_m");
   }
   if (!(cloud.range_min_m < cloud.range_max_m)) {
-    throw std::runtime_error("ego_motion.cloud.range_max_m: " +
-                             formatConfigValue(cloud.range_max_m) +
-                             " must exceed ego_motion.cloud.range_min_m (" +
-                             formatConfigValue(cloud.range_min_m) + ")");
+    throw std::runtime_error(
+        "ego_motion.cloud.range_max_m: " + formatConfigValue(cloud.range_max_m) +
+        " must exceed ego_motion.cloud.range_min_m (" + formatConfigValue(cloud.range_min_m) + ")");
   }
   // A cloud is rejected where its scan would be: with fewer rays than the matcher needs.
   cloud.min_points = static_cast<std::size_t>(std::max(1, c.collector.plicp.min_points));
@@ -294,10 +293,9 @@ void resolveModelChoices(CalibrationConfig& c, const GivenValues& given)
   c.prior_model = givenString(given, "prior_model", has_start_values ? c.model : "diff_drive");
   const LinearModelOptions& linear = c.models.linear;
   if (!(linear.outlier_threshold > linear.huber_threshold)) {
-    throw std::runtime_error("linear.outlier_threshold: " +
-                             formatConfigValue(linear.outlier_threshold) +
-                             " must exceed linear.huber_threshold (" +
-                             formatConfigValue(linear.huber_threshold) + ")");
+    throw std::runtime_error(
+        "linear.outlier_threshold: " + formatConfigValue(linear.outlier_threshold) +
+        " must exceed linear.huber_threshold (" + formatConfigValue(linear.huber_threshold) + ")");
   }
   inSection("gp", [&] { validate(c.models.gp); });
 }

@@ -16,8 +16,11 @@ using Entry = ConfigSchemaEntry<CalibrationConfig>;
 using JointEntry = ConfigSchemaEntry<JointConfig>;
 
 /// A field of the target, for both the setter and the getter (const or not).
-#define AT(member) [](auto& target) -> auto& { return target.member; }
-
+#define AT(member)          \
+  [](auto& target) -> auto& \
+  {                         \
+    return target.member;   \
+  }
 
 ConfigRange closed(double min, double max)
 {
@@ -34,7 +37,8 @@ ConfigRange open(double min, double max)
   return {min, max, true, true};
 }
 
-ConfigKeySpec spec(const std::string& key, ConfigType type, const char* unit, const char* description)
+ConfigKeySpec spec(const std::string& key, ConfigType type, const char* unit,
+                   const char* description)
 {
   ConfigKeySpec s;
   s.key = key;
@@ -178,14 +182,17 @@ std::vector<Entry> fitOptions(const std::string& section, ConfigRange huber, con
                               int yaw_starts, Options options)
 {
   return {
-      number(section + ".huber_threshold", 3.0, "sigma", huber,
-             huber_note, [options](auto& c) -> auto& { return options(c).huber_threshold; }),
-      integer(section + ".max_iterations", 500, closed(1, 10000),
-              "Levenberg-Marquardt iteration cap per solve",
-              [options](auto& c) -> auto& { return options(c).max_iterations; }),
-      integer(section + ".yaw_starts", yaw_starts, closed(1, 360),
-              "global starts: sensor yaws tried, 360/n deg apart (1: sensor_pose only)",
-              [options](auto& c) -> auto& { return options(c).yaw_starts; }),
+      number(
+          section + ".huber_threshold", 3.0, "sigma", huber,
+          huber_note, [options](auto& c) -> auto& { return options(c).huber_threshold; }),
+      integer(
+          section + ".max_iterations", 500, closed(1, 10000),
+          "Levenberg-Marquardt iteration cap per solve",
+          [options](auto& c) -> auto& { return options(c).max_iterations; }),
+      integer(
+          section + ".yaw_starts", yaw_starts, closed(1, 360),
+          "global starts: sensor yaws tried, 360/n deg apart (1: sensor_pose only)",
+          [options](auto& c) -> auto& { return options(c).yaw_starts; }),
   };
 }
 
@@ -319,8 +326,8 @@ std::vector<Entry> cloudFilterEntries()
              "its threshold: mean distance + this many sigma", AT(cloud.outlier_stddev)),
       number("ego_motion.cloud.range_min_m", 0.3, "m", closed(0.0, 1000.0),
              "nearer points (the robot itself) dropped", AT(cloud.range_min_m)),
-      number("ego_motion.cloud.range_max_m", 60.0, "m", positive(1000.0),
-             "farther points dropped", AT(cloud.range_max_m)),
+      number("ego_motion.cloud.range_max_m", 60.0, "m", positive(1000.0), "farther points dropped",
+             AT(cloud.range_max_m)),
   };
 }
 
@@ -380,7 +387,8 @@ std::vector<Entry> keyframeEntries()
            "compare each keyframe match with the composed consecutive matches",
            AT(collector.check_consistency)),
       number("keyframes.consistency_translation_m", 0.03, "m", positive(10.0),
-             "largest disagreement of the two, translation", AT(collector.consistency_translation_m)),
+             "largest disagreement of the two, translation",
+             AT(collector.consistency_translation_m)),
       number("keyframes.consistency_rotation_rad", 0.02, "rad", positive(M_PI),
              "largest disagreement of the two, rotation", AT(collector.consistency_rotation_rad)),
       flag("keyframes.estimate_time_offset", false,
@@ -426,7 +434,8 @@ std::vector<Entry> scanMatchingEntries()
 {
   return {
       number("scan_matching.max_correspondence_distance_m", 0.5, "m", positive(10.0),
-             "farthest point-to-line correspondence", AT(collector.plicp.max_correspondence_distance_m)),
+             "farthest point-to-line correspondence",
+             AT(collector.plicp.max_correspondence_distance_m)),
       integer("scan_matching.max_iterations", 50, closed(1, 1000), "PLICP iteration cap",
               AT(collector.plicp.max_iterations)),
       number("scan_matching.range_sigma_m", 0.01, "m", positive(1.0),
@@ -445,7 +454,8 @@ std::vector<Entry> scanMatchingEntries()
       integer("scan_matching.segment_fallback_max_surface_points", 0, closed(0, 100000),
               "two-point segments only on surfaces of at most this many points (0: any)",
               AT(collector.plicp.line_fit.segment_fallback_max_surface_points)),
-      number("scan_matching.veiling_min_angle_rad", 0.0, "rad", ConfigRange{0.0, M_PI / 2, false, true},
+      number("scan_matching.veiling_min_angle_rad", 0.0, "rad",
+             ConfigRange{0.0, M_PI / 2, false, true},
              "drop veiling points at depth steps seen below this angle (0: off)",
              AT(collector.plicp.line_fit.veiling_min_angle_rad)),
       number("scan_matching.trim_keep_fraction", 0.95, "", positive(1.0),
@@ -479,8 +489,9 @@ std::vector<Entry> diffDriveEntries()
              AT(models.diff_drive.initial_separation_m)),
       sensorPose("diff_drive.sensor_pose", AT(models.diff_drive.initial_T_base_sensor)),
   };
-  append(entries, fitOptions("diff_drive", kHuberRange, "Huber threshold on a pair's whitened error",
-                             8, AT(models.diff_drive)));
+  append(entries,
+         fitOptions("diff_drive", kHuberRange, "Huber threshold on a pair's whitened error", 8,
+                    AT(models.diff_drive)));
   return entries;
 }
 
@@ -498,7 +509,8 @@ std::vector<Entry> tricycleEntries()
              "Kt: front-wheel travel per wheel turn (start value)",
              AT(models.tricycle.initial.traction_scale_m_per_turn)),
       number("tricycle.axis_length_m", 1.0, "m", positive(50.0),
-             "a: front wheel to rear axle (start value)", AT(models.tricycle.initial.axis_length_m)),
+             "a: front wheel to rear axle (start value)",
+             AT(models.tricycle.initial.axis_length_m)),
       number("tricycle.steering_offset_rad", 0.0, "rad", closed(-M_PI, M_PI),
              "ds: steering angle at a zero reading (start value)",
              AT(models.tricycle.initial.steering_offset_rad)),
@@ -548,10 +560,11 @@ std::vector<Entry> mecanumEntries()
         };
         return radius;
       }(),
-      derived(radii, "wheel_radius_m for each", [](const CalibrationConfig& c) {
-        const auto& r = c.models.mecanum.initial_radius_m;
-        return ConfigValue(std::vector<double>(r.begin(), r.end()));
-      }),
+      derived(radii, "wheel_radius_m for each",
+              [](const CalibrationConfig& c) {
+                const auto& r = c.models.mecanum.initial_radius_m;
+                return ConfigValue(std::vector<double>(r.begin(), r.end()));
+              }),
       number("mecanum.lx_plus_ly_m", 0.35, "m", positive(50.0),
              "nominal half wheelbase + half track (start value)",
              AT(models.mecanum.initial_lx_plus_ly_m)),
@@ -576,9 +589,9 @@ std::vector<Entry> skidSteerEntries()
              AT(models.skid_steer.wheel_separation_m)),
       sensorPose("skid_steer.sensor_pose", AT(models.skid_steer.initial_T_base_sensor)),
   };
-  append(entries, fitOptions("skid_steer", kHuberRange,
-                             "Huber threshold on a pair's whitened error", 8,
-                             AT(models.skid_steer)));
+  append(entries,
+         fitOptions("skid_steer", kHuberRange, "Huber threshold on a pair's whitened error", 8,
+                    AT(models.skid_steer)));
   return entries;
 }
 
@@ -627,10 +640,10 @@ const std::vector<ConfigSchemaEntry<CalibrationConfig>>& calibrationConfigSchema
 {
   static const std::vector<Entry> entries = [] {
     std::vector<Entry> all;
-    for (auto section : {topLevelEntries, egoMotionEntries, cloudScanEntries, cloudFilterEntries,
-                         keyframeEntries, keyframeListEntries, scanMatchingEntries,
-                         diffDriveEntries, tricycleEntries, mecanumEntries, skidSteerEntries,
-                         linearAndGpEntries})
+    for (auto section :
+         {topLevelEntries, egoMotionEntries, cloudScanEntries, cloudFilterEntries, keyframeEntries,
+          keyframeListEntries, scanMatchingEntries, diffDriveEntries, tricycleEntries,
+          mecanumEntries, skidSteerEntries, linearAndGpEntries})
       append(all, section());
     return all;
   }();

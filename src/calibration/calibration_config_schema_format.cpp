@@ -88,15 +88,14 @@ std::string formatEffectiveConfig(const CalibrationConfig& config)
 
 std::string formatConfigSchemaMarkdown()
 {
-  static const char* const kTypes[] = {"bool",   "int",          "double",
+  static const char* const kTypes[] = {"bool",   "int",         "double",
                                        "string", "double list", "string list"};
   std::ostringstream out;
   out << "| key | type | default | unit | allowed | meaning |\n"
       << "|---|---|---|---|---|---|\n";
   for (const ConfigKeySpec* spec : calibrationConfigSpecs()) {
-    const std::string default_text = spec->default_value
-                                         ? "`" + formatConfigDefault(*spec) + "`"
-                                         : formatConfigDefault(*spec);
+    const std::string default_text =
+        spec->default_value ? "`" + formatConfigDefault(*spec) + "`" : formatConfigDefault(*spec);
     out << "| `" << spec->key << "` | " << kTypes[static_cast<int>(spec->type)] << " | "
         << default_text << " | " << spec->unit << " | " << describeAllowed(*spec) << " | "
         << spec->description << " |\n";

@@ -25,8 +25,8 @@ std::string shown(const YAML::Node& node)
 [[noreturn]] void refuse(const ConfigKeySpec& spec, const std::string& key,
                          const std::string& value, const std::string& problem)
 {
-  throw std::runtime_error(key + ": " + value + " " + problem + "; allowed: " +
-                           describeAllowed(spec));
+  throw std::runtime_error(key + ": " + value + " " + problem +
+                           "; allowed: " + describeAllowed(spec));
 }
 
 std::string formatNumber(double value)
@@ -217,10 +217,9 @@ std::string describeAllowed(const ConfigKeySpec& spec)
   }
   if (spec.type != ConfigType::kDoubleList && spec.type != ConfigType::kStringList)
     return element;
-  const std::string size = spec.min_size == spec.max_size
-                               ? std::to_string(spec.min_size)
-                               : std::to_string(spec.min_size) + " to " +
-                                     std::to_string(spec.max_size);
+  const std::string size = spec.min_size == spec.max_size ? std::to_string(spec.min_size)
+                                                          : std::to_string(spec.min_size) + " to " +
+                                                                std::to_string(spec.max_size);
   return "a list of " + size + ", each " + element + (spec.increasing ? ", increasing" : "");
 }
 
@@ -312,9 +311,8 @@ void refuseUnknownKeys(const YAML::Node& node, const std::vector<std::string>& k
       for (std::size_t i = 0; i < entry.second.size(); ++i)
         refuseUnknownKeys(entry.second[i], keys, shown_key + "[" + std::to_string(i) + "]");
     } else {
-      throw std::runtime_error((prefix.empty() ? std::string() : prefix + ": ") +
-                               "unknown key '" + name + "' (known:" + knownBelow(keys, pattern) +
-                               ")");
+      throw std::runtime_error((prefix.empty() ? std::string() : prefix + ": ") + "unknown key '" +
+                               name + "' (known:" + knownBelow(keys, pattern) + ")");
     }
   }
 }

@@ -40,160 +40,192 @@ std::string refusal(const std::string& text)
   return "";
 }
 
-const std::vector<Malformed>& malformedConfigurations()
+/// Keyframes: positive, at least a fast sensor's period, bounded.
+const std::vector<Malformed> kKeyframeCases = {
+    {kJoints + "keyframes: {interval_s: -0.5}\n", "keyframes.interval_s", "-0.5",
+     "allowed: a number in [0.01, 60] s"},
+    {kJoints + "keyframes: {interval_s: 1e-300}\n", "keyframes.interval_s", "1e-300", "[0.01, 60]"},
+    {kJoints + "keyframes: {interval_s: 0}\n", "keyframes.interval_s", "0", "[0.01, 60]"},
+    {kJoints + "keyframes: {interval_s: .nan}\n", "keyframes.interval_s", ".nan", "finite"},
+    {kJoints + "keyframes: {interval_s: .inf}\n", "keyframes.interval_s", ".inf", "finite"},
+    {kJoints + "keyframes: {interval_s: 3600}\n", "keyframes.interval_s", "3600", "[0.01, 60]"},
+    {kJoints + "keyframes: {interval_s: fast}\n", "keyframes.interval_s", "fast", "not a number"},
+    {kJoints + "keyframes: {interval_s: }\n", "keyframes.interval_s", "(no value)", "allowed"},
+    {kJoints + "keyframes: {time_offset_s: 10}\n", "keyframes.time_offset_s", "10", "(-5, 5) s"},
+    {kJoints + "keyframes: {time_offset_search_s: [0.4, -0.4]}\n", "keyframes.time_offset_search_s",
+     "[0.4, -0.4]", "increasing"},
+    {kJoints + "keyframes: {time_offset_search_s: [-0.4]}\n", "keyframes.time_offset_search_s",
+     "[-0.4]", "a list of 2"},
+    {kJoints + "keyframes: {fit_intervals_s: [0.001, 0.5]}\n", "keyframes.fit_intervals_s[0]",
+     "0.001", "[0.01, 60] s"},
+    {kJoints + "keyframes: {fit_intervals_s: [0.5, 0.3]}\n", "keyframes.fit_intervals_s",
+     "[0.5, 0.3]", "must increase"},
+    {kJoints + "keyframes: {max_encoder_gap_s: 0}\n", "keyframes.max_encoder_gap_s", "0",
+     "(0, 60] s"},
+    {kJoints + "keyframes: {consistency_translation_m: -0.03}\n",
+     "keyframes.consistency_translation_m", "-0.03", "(0, 10] m"},
+    {kJoints + "keyframes: {consistency_rotation_rad: 0}\n", "keyframes.consistency_rotation_rad",
+     "0", "rad"},
+    {kJoints + "keyframes: {min_translation_m: -1}\n", "keyframes.min_translation_m", "-1",
+     "[0, 100] m"},
+    {kJoints + "keyframes: {check_consistency: maybe}\n", "keyframes.check_consistency", "maybe",
+     "true or false"},
+    {kJoints + "keyframes: 0.5\n", "keyframes", "expected a map", ""},
+    {kJoints + "keyframes: {interval: 0.5}\n", "keyframes", "unknown key 'interval'", "interval_s"},
+};
+
+/// The differential drive: positive lengths, bounded counts.
+const std::vector<Malformed> kDiffDriveCases = {
+    {kJoints + "diff_drive: {wheel_separation_m: -0.33}\n", "diff_drive.wheel_separation_m",
+     "-0.33", "(0, 50] m"},
+    {kJoints + "diff_drive: {wheel_radius_m: 1e308}\n", "diff_drive.wheel_radius_m", "1e308",
+     "(0, 5] m"},
+    {kJoints + "diff_drive: {wheel_radius_m: 0}\n", "diff_drive.wheel_radius_m", "0", "(0, 5] m"},
+    {kJoints + "diff_drive: {wheel_radius_m: 0.05m}\n", "diff_drive.wheel_radius_m", "0.05m",
+     "not a number"},
+    {kJoints + "diff_drive: {huber_threshold: -1}\n", "diff_drive.huber_threshold", "-1",
+     "(0, 100] sigma"},
+    {kJoints + "diff_drive: {max_iterations: 0}\n", "diff_drive.max_iterations", "0", "[1, 10000]"},
+    {kJoints + "diff_drive: {max_iterations: 2000000000}\n", "diff_drive.max_iterations",
+     "2000000000", "[1, 10000]"},
+    {kJoints + "diff_drive: {yaw_starts: 361}\n", "diff_drive.yaw_starts", "361", "[1, 360]"},
+    {kJoints + "diff_drive: {yaw_starts: 2.5}\n", "diff_drive.yaw_starts", "2.5", "not an integer"},
+    {kJoints + "diff_drive: {sensor_pose: [0, 0]}\n", "diff_drive.sensor_pose", "[0, 0]",
+     "a list of 3"},
+    {kJoints + "diff_drive: {sensor_pose: [0, 0, .nan]}\n", "diff_drive.sensor_pose[2]", ".nan",
+     "finite"},
+    {kJoints + "diff_drive: {sensor_pose: [1e9, 0, 0]}\n", "diff_drive.sensor_pose[0]", "1e9",
+     "[-100, 100]"},
+    {kJoints + "diff_drive: {left_joint: front}\n", "diff_drive.left_joint", "front", "joints"},
+};
+
+/// The Gaussian process: counts that bound memory and time.
+const std::vector<Malformed> kGpCases = {
+    {kJoints + "gp: {starts: 2000000000}\n", "gp.starts", "2000000000", "[1, 64]"},
+    {kJoints + "gp: {starts: 0}\n", "gp.starts", "0", "[1, 64]"},
+    {kJoints + "gp: {starts: 99999999999999999999}\n", "gp.starts", "99999999999999999999",
+     "[1, 64]"},
+    {kJoints + "gp: {inducing_points: 1000000}\n", "gp.inducing_points", "1000000", "[1, 2000]"},
+    {kJoints + "gp: {max_exact_pairs: 1e9}\n", "gp.max_exact_pairs", "1e9", "not an integer"},
+    {kJoints + "gp: {max_exact_pairs: -5}\n", "gp.max_exact_pairs", "-5", "[1, 10000]"},
+    {kJoints + "gp: {outlier_threshold: -1}\n", "gp.outlier_threshold", "-1", "[0, 1000]"},
+    {kJoints + "gp: {kernel: cubic}\n", "gp.kernel", "cubic", "rbf, linear, rbf+linear"},
+    {kJoints + "gp: {mean: quadratic}\n", "gp.mean", "quadratic", "linear, zero"},
+    {kJoints + "linear: {huber_threshold: -1.345}\n", "linear.huber_threshold", "-1.345",
+     "(0, 100]"},
+    {kJoints + "linear: {huber_threshold: 6, outlier_threshold: 5}\n", "linear.outlier_threshold",
+     "5", "linear.huber_threshold (6)"},
+};
+
+/// Duplicated keys: YAML would keep one silently.
+const std::vector<Malformed> kDuplicateKeyCases = {
+    {kJoints + "model: diff_drive\nmodel: gp\n", "model", "appears twice", ""},
+    {kJoints + "keyframes: {interval_s: 0.5, interval_s: 0.3}\n", "keyframes.interval_s",
+     "appears twice", ""},
+    {"joints: [{name: l, name: r}, {name: x}]\n", "joints[0].name", "appears twice", ""},
+    {kJoints + "gp: {starts: 4}\ngp: {starts: 8}\n", "gp", "appears twice", ""},
+};
+
+/// Joints.
+const std::vector<Malformed> kJointsCases = {
+    {"joints: [{name: l, units_per_turn: -100}, {name: r}]\n", "joints[0].units_per_turn", "-100",
+     "in (0, 1000000000] units/turn"},
+    {"joints: [{name: l, units_per_turn: 1e308}, {name: r}]\n", "joints[0].units_per_turn", "1e308",
+     "(0, 1000000000]"},
+    {"joints: [{name: l, counter_bits: 64}, {name: r}]\n", "joints[0].counter_bits", "64",
+     "[0, 52]"},
+    {"joints: [{name: l}, {name: r, sign: 0.5}]\n", "joints[1].sign", "0.5", "1 or -1"},
+    {"joints: [{name: l, max_turns_per_s: -1}, {name: r}]\n", "joints[0].max_turns_per_s", "-1",
+     "[0, 10000] turns/s"},
+    {"joints: [{name: l, kind: sideways}, {name: r}]\n", "joints[0].kind", "sideways",
+     "incremental, absolute"},
+    {"joints: [{kind: incremental}, {name: r}]\n", "joints[0].name", "required", ""},
+    {"joints: [{name: l}, {name: l}]\n", "joints[1].name", "'l'", "joints[0]"},
+    {"joints: []\n", "joints", "required", ""},
+    {"joints: [{name: l, wheel: 1}, {name: r}]\n", "joints[0]", "unknown key 'wheel'", ""},
+    {"model: linear\n", "joints", "required", ""},
+};
+
+/// Scan matching.
+const std::vector<Malformed> kScanMatchingCases = {
+    {kJoints + "scan_matching: {max_iterations: 2000000000}\n", "scan_matching.max_iterations",
+     "2000000000", "[1, 1000]"},
+    {kJoints + "scan_matching: {min_points: 2}\n", "scan_matching.min_points", "2", "[3, 100000]"},
+    {kJoints + "scan_matching: {trim_keep_fraction: 0}\n", "scan_matching.trim_keep_fraction", "0",
+     "(0, 1]"},
+    {kJoints + "scan_matching: {veiling_min_angle_rad: 1.5708}\n",
+     "scan_matching.veiling_min_angle_rad", "1.5708", "rad"},
+    {kJoints + "scan_matching: {max_correspondence_distance_m: -0.5}\n",
+     "scan_matching.max_correspondence_distance_m", "-0.5", "(0, 10] m"},
+    {kJoints + "scan_matching: {range_sigma_m: 0}\n", "scan_matching.range_sigma_m", "0",
+     "(0, 1] m"},
+    {kJoints + "scan_matching: {max_correction_rotation_rad: 10}\n",
+     "scan_matching.max_correction_rotation_rad", "10", "rad"},
+    {kJoints + "scan_matching: {segment_fallback_max_surface_points: -1}\n",
+     "scan_matching.segment_fallback_max_surface_points", "-1", "[0, 100000]"},
+};
+
+/// The ego-motion source and the cloud.
+const std::vector<Malformed> kEgoMotionCases = {
+    {kJoints + "ego_motion: {source: sonar}\n", "ego_motion.source", "sonar", "scan, cloud"},
+    {kJoints + "ego_motion: {source: pose}\n", "ego_motion.topic", "pose", "needs 'topic'"},
+    {kJoints + "ego_motion: {sigma_m: -0.005}\n", "ego_motion.sigma_m", "-0.005", "(0, 1] m"},
+    {kJoints + "ego_motion: {source: cloud, topic: /p, cloud: {band_m: [1, 0]}}\n",
+     "ego_motion.cloud.band_m", "[1, 0]", "band_min_m < band_max_m"},
+    {kJoints + "ego_motion: {cloud: {voxel_size_m: -1}}\n", "ego_motion.cloud.voxel_size_m", "-1",
+     "[0, 10] m"},
+    {kJoints + "ego_motion: {cloud: {range_min_m: 50, range_max_m: 40}}\n",
+     "ego_motion.cloud.range_max_m", "40", "range_min_m (50)"},
+    {kJoints + "ego_motion: {cloud: {angular_resolution_rad: 0}}\n",
+     "ego_motion.cloud.angular_resolution_rad", "0", "(0, 0.1] rad"},
+    {kJoints + "ego_motion: {cloud: {point_time_unit: fortnights}}\n",
+     "ego_motion.cloud.point_time_unit", "fortnights", "auto, s, ms, us, ns"},
+    {kJoints + "ego_motion: {cloud: {roll_rad: 2}}\n", "ego_motion.cloud.roll_rad", "2", "rad"},
+    {kJoints + "ego_motion: {cloud: {outlier_neighbours: -3}}\n",
+     "ego_motion.cloud.outlier_neighbours", "-3", "[0, 1000]"},
+    {kJoints + "ego_motion: {cloud: {band: 1}}\n", "ego_motion.cloud", "unknown key 'band'", ""},
+};
+
+/// The other models' start values and options.
+const std::vector<Malformed> kOtherModelCases = {
+    {kTricycleJoints + "tricycle: {axis_length_m: -1.5}\n", "tricycle.axis_length_m", "-1.5",
+     "(0, 50] m"},
+    {kTricycleJoints + "tricycle: {steering_scale: 0}\n", "tricycle.steering_scale", "0",
+     "(0, 100]"},
+    {kTricycleJoints + "tricycle: {huber_threshold: -3}\n", "tricycle.huber_threshold", "-3",
+     "[0, 100]"},
+    {kTricycleJoints + "tricycle: {translation_sigma_m: 0}\n", "tricycle.translation_sigma_m", "0",
+     "(0, 10] m"},
+    {kJoints + "mecanum: {wheel_radii_m: [0.05, 0.05, -0.05, 0.05]}\n", "mecanum.wheel_radii_m[2]",
+     "-0.05", "(0, 5] m"},
+    {kJoints + "mecanum: {lx_plus_ly_m: 0}\n", "mecanum.lx_plus_ly_m", "0", "(0, 50] m"},
+    {kJoints + "skid_steer: {wheel_separation_m: -0.5}\n", "skid_steer.wheel_separation_m", "-0.5",
+     "(0, 50] m"},
+    {kJoints + "skid_steer: {left_joints: []}\n", "skid_steer.left_joints", "[]", "a list of 1"},
+};
+
+/// The top-level keys.
+const std::vector<Malformed> kTopLevelCases = {
+    {kJoints + "prior_model: magic\n", "prior_model", "magic", "none, diff_drive"},
+    {kJoints + "model: magic\n", "model", "magic", "linear, diff_drive, gp"},
+    {kJoints + "compare_models: [linear, gpp]\n", "compare_models[1]", "gpp", "one of"},
+    {kJoints + "output_directory: \"\"\n", "output_directory", "\"\"", "non-empty"},
+    {kJoints + "joint_state_topic: [a, b]\n", "joint_state_topic", "[a, b]", "not a string"},
+};
+
+std::vector<Malformed> malformedConfigurations()
 {
-  static const std::vector<Malformed> cases = {
-      // Keyframes: positive, at least a fast sensor's period, bounded.
-      {kJoints + "keyframes: {interval_s: -0.5}\n", "keyframes.interval_s", "-0.5",
-       "allowed: a number in [0.01, 60] s"},
-      {kJoints + "keyframes: {interval_s: 1e-300}\n", "keyframes.interval_s", "1e-300", "[0.01, 60]"},
-      {kJoints + "keyframes: {interval_s: 0}\n", "keyframes.interval_s", "0", "[0.01, 60]"},
-      {kJoints + "keyframes: {interval_s: .nan}\n", "keyframes.interval_s", ".nan", "finite"},
-      {kJoints + "keyframes: {interval_s: .inf}\n", "keyframes.interval_s", ".inf", "finite"},
-      {kJoints + "keyframes: {interval_s: 3600}\n", "keyframes.interval_s", "3600", "[0.01, 60]"},
-      {kJoints + "keyframes: {interval_s: fast}\n", "keyframes.interval_s", "fast", "not a number"},
-      {kJoints + "keyframes: {interval_s: }\n", "keyframes.interval_s", "(no value)", "allowed"},
-      {kJoints + "keyframes: {time_offset_s: 10}\n", "keyframes.time_offset_s", "10", "(-5, 5) s"},
-      {kJoints + "keyframes: {time_offset_search_s: [0.4, -0.4]}\n",
-       "keyframes.time_offset_search_s", "[0.4, -0.4]", "increasing"},
-      {kJoints + "keyframes: {time_offset_search_s: [-0.4]}\n", "keyframes.time_offset_search_s",
-       "[-0.4]", "a list of 2"},
-      {kJoints + "keyframes: {fit_intervals_s: [0.001, 0.5]}\n", "keyframes.fit_intervals_s[0]",
-       "0.001", "[0.01, 60] s"},
-      {kJoints + "keyframes: {fit_intervals_s: [0.5, 0.3]}\n", "keyframes.fit_intervals_s",
-       "[0.5, 0.3]", "must increase"},
-      {kJoints + "keyframes: {max_encoder_gap_s: 0}\n", "keyframes.max_encoder_gap_s", "0", "(0, 60] s"},
-      {kJoints + "keyframes: {consistency_translation_m: -0.03}\n",
-       "keyframes.consistency_translation_m", "-0.03", "(0, 10] m"},
-      {kJoints + "keyframes: {consistency_rotation_rad: 0}\n", "keyframes.consistency_rotation_rad",
-       "0", "rad"},
-      {kJoints + "keyframes: {min_translation_m: -1}\n", "keyframes.min_translation_m", "-1",
-       "[0, 100] m"},
-      {kJoints + "keyframes: {check_consistency: maybe}\n", "keyframes.check_consistency", "maybe",
-       "true or false"},
-      {kJoints + "keyframes: 0.5\n", "keyframes", "expected a map", ""},
-      {kJoints + "keyframes: {interval: 0.5}\n", "keyframes", "unknown key 'interval'", "interval_s"},
-      // The differential drive: positive lengths, bounded counts.
-      {kJoints + "diff_drive: {wheel_separation_m: -0.33}\n", "diff_drive.wheel_separation_m",
-       "-0.33", "(0, 50] m"},
-      {kJoints + "diff_drive: {wheel_radius_m: 1e308}\n", "diff_drive.wheel_radius_m", "1e308",
-       "(0, 5] m"},
-      {kJoints + "diff_drive: {wheel_radius_m: 0}\n", "diff_drive.wheel_radius_m", "0", "(0, 5] m"},
-      {kJoints + "diff_drive: {wheel_radius_m: 0.05m}\n", "diff_drive.wheel_radius_m", "0.05m",
-       "not a number"},
-      {kJoints + "diff_drive: {huber_threshold: -1}\n", "diff_drive.huber_threshold", "-1",
-       "(0, 100] sigma"},
-      {kJoints + "diff_drive: {max_iterations: 0}\n", "diff_drive.max_iterations", "0", "[1, 10000]"},
-      {kJoints + "diff_drive: {max_iterations: 2000000000}\n", "diff_drive.max_iterations",
-       "2000000000", "[1, 10000]"},
-      {kJoints + "diff_drive: {yaw_starts: 361}\n", "diff_drive.yaw_starts", "361", "[1, 360]"},
-      {kJoints + "diff_drive: {yaw_starts: 2.5}\n", "diff_drive.yaw_starts", "2.5", "not an integer"},
-      {kJoints + "diff_drive: {sensor_pose: [0, 0]}\n", "diff_drive.sensor_pose", "[0, 0]",
-       "a list of 3"},
-      {kJoints + "diff_drive: {sensor_pose: [0, 0, .nan]}\n", "diff_drive.sensor_pose[2]", ".nan",
-       "finite"},
-      {kJoints + "diff_drive: {sensor_pose: [1e9, 0, 0]}\n", "diff_drive.sensor_pose[0]", "1e9",
-       "[-100, 100]"},
-      {kJoints + "diff_drive: {left_joint: front}\n", "diff_drive.left_joint", "front", "joints"},
-      // The Gaussian process: counts that bound memory and time.
-      {kJoints + "gp: {starts: 2000000000}\n", "gp.starts", "2000000000", "[1, 64]"},
-      {kJoints + "gp: {starts: 0}\n", "gp.starts", "0", "[1, 64]"},
-      {kJoints + "gp: {starts: 99999999999999999999}\n", "gp.starts", "99999999999999999999",
-       "[1, 64]"},
-      {kJoints + "gp: {inducing_points: 1000000}\n", "gp.inducing_points", "1000000", "[1, 2000]"},
-      {kJoints + "gp: {max_exact_pairs: 1e9}\n", "gp.max_exact_pairs", "1e9", "not an integer"},
-      {kJoints + "gp: {max_exact_pairs: -5}\n", "gp.max_exact_pairs", "-5", "[1, 10000]"},
-      {kJoints + "gp: {outlier_threshold: -1}\n", "gp.outlier_threshold", "-1", "[0, 1000]"},
-      {kJoints + "gp: {kernel: cubic}\n", "gp.kernel", "cubic", "rbf, linear, rbf+linear"},
-      {kJoints + "gp: {mean: quadratic}\n", "gp.mean", "quadratic", "linear, zero"},
-      {kJoints + "linear: {huber_threshold: -1.345}\n", "linear.huber_threshold", "-1.345",
-       "(0, 100]"},
-      {kJoints + "linear: {huber_threshold: 6, outlier_threshold: 5}\n", "linear.outlier_threshold",
-       "5", "linear.huber_threshold (6)"},
-      // Duplicated keys: YAML would keep one silently.
-      {kJoints + "model: diff_drive\nmodel: gp\n", "model", "appears twice", ""},
-      {kJoints + "keyframes: {interval_s: 0.5, interval_s: 0.3}\n", "keyframes.interval_s",
-       "appears twice", ""},
-      {"joints: [{name: l, name: r}, {name: x}]\n", "joints[0].name", "appears twice", ""},
-      {kJoints + "gp: {starts: 4}\ngp: {starts: 8}\n", "gp", "appears twice", ""},
-      // Joints.
-      {"joints: [{name: l, units_per_turn: -100}, {name: r}]\n", "joints[0].units_per_turn", "-100",
-       "in (0, 1000000000] units/turn"},
-      {"joints: [{name: l, units_per_turn: 1e308}, {name: r}]\n", "joints[0].units_per_turn",
-       "1e308", "(0, 1000000000]"},
-      {"joints: [{name: l, counter_bits: 64}, {name: r}]\n", "joints[0].counter_bits", "64",
-       "[0, 52]"},
-      {"joints: [{name: l}, {name: r, sign: 0.5}]\n", "joints[1].sign", "0.5", "1 or -1"},
-      {"joints: [{name: l, max_turns_per_s: -1}, {name: r}]\n", "joints[0].max_turns_per_s", "-1",
-       "[0, 10000] turns/s"},
-      {"joints: [{name: l, kind: sideways}, {name: r}]\n", "joints[0].kind", "sideways",
-       "incremental, absolute"},
-      {"joints: [{kind: incremental}, {name: r}]\n", "joints[0].name", "required", ""},
-      {"joints: [{name: l}, {name: l}]\n", "joints[1].name", "'l'", "joints[0]"},
-      {"joints: []\n", "joints", "required", ""},
-      {"joints: [{name: l, wheel: 1}, {name: r}]\n", "joints[0]", "unknown key 'wheel'", ""},
-      {"model: linear\n", "joints", "required", ""},
-      // Scan matching.
-      {kJoints + "scan_matching: {max_iterations: 2000000000}\n", "scan_matching.max_iterations",
-       "2000000000", "[1, 1000]"},
-      {kJoints + "scan_matching: {min_points: 2}\n", "scan_matching.min_points", "2", "[3, 100000]"},
-      {kJoints + "scan_matching: {trim_keep_fraction: 0}\n", "scan_matching.trim_keep_fraction",
-       "0", "(0, 1]"},
-      {kJoints + "scan_matching: {veiling_min_angle_rad: 1.5708}\n",
-       "scan_matching.veiling_min_angle_rad", "1.5708", "rad"},
-      {kJoints + "scan_matching: {max_correspondence_distance_m: -0.5}\n",
-       "scan_matching.max_correspondence_distance_m", "-0.5", "(0, 10] m"},
-      {kJoints + "scan_matching: {range_sigma_m: 0}\n", "scan_matching.range_sigma_m", "0",
-       "(0, 1] m"},
-      {kJoints + "scan_matching: {max_correction_rotation_rad: 10}\n",
-       "scan_matching.max_correction_rotation_rad", "10", "rad"},
-      {kJoints + "scan_matching: {segment_fallback_max_surface_points: -1}\n",
-       "scan_matching.segment_fallback_max_surface_points", "-1", "[0, 100000]"},
-      // The ego-motion source and the cloud.
-      {kJoints + "ego_motion: {source: sonar}\n", "ego_motion.source", "sonar", "scan, cloud"},
-      {kJoints + "ego_motion: {source: pose}\n", "ego_motion.topic", "pose", "needs 'topic'"},
-      {kJoints + "ego_motion: {sigma_m: -0.005}\n", "ego_motion.sigma_m", "-0.005", "(0, 1] m"},
-      {kJoints + "ego_motion: {source: cloud, topic: /p, cloud: {band_m: [1, 0]}}\n",
-       "ego_motion.cloud.band_m", "[1, 0]", "band_min_m < band_max_m"},
-      {kJoints + "ego_motion: {cloud: {voxel_size_m: -1}}\n", "ego_motion.cloud.voxel_size_m", "-1",
-       "[0, 10] m"},
-      {kJoints + "ego_motion: {cloud: {range_min_m: 50, range_max_m: 40}}\n",
-       "ego_motion.cloud.range_max_m", "40", "range_min_m (50)"},
-      {kJoints + "ego_motion: {cloud: {angular_resolution_rad: 0}}\n",
-       "ego_motion.cloud.angular_resolution_rad", "0", "(0, 0.1] rad"},
-      {kJoints + "ego_motion: {cloud: {point_time_unit: fortnights}}\n",
-       "ego_motion.cloud.point_time_unit", "fortnights", "auto, s, ms, us, ns"},
-      {kJoints + "ego_motion: {cloud: {roll_rad: 2}}\n", "ego_motion.cloud.roll_rad", "2", "rad"},
-      {kJoints + "ego_motion: {cloud: {outlier_neighbours: -3}}\n",
-       "ego_motion.cloud.outlier_neighbours", "-3", "[0, 1000]"},
-      {kJoints + "ego_motion: {cloud: {band: 1}}\n", "ego_motion.cloud", "unknown key 'band'", ""},
-      // The other models' start values and options.
-      {kTricycleJoints + "tricycle: {axis_length_m: -1.5}\n", "tricycle.axis_length_m", "-1.5",
-       "(0, 50] m"},
-      {kTricycleJoints + "tricycle: {steering_scale: 0}\n", "tricycle.steering_scale", "0", "(0, 100]"},
-      {kTricycleJoints + "tricycle: {huber_threshold: -3}\n", "tricycle.huber_threshold", "-3",
-       "[0, 100]"},
-      {kTricycleJoints + "tricycle: {translation_sigma_m: 0}\n", "tricycle.translation_sigma_m", "0",
-       "(0, 10] m"},
-      {kJoints + "mecanum: {wheel_radii_m: [0.05, 0.05, -0.05, 0.05]}\n", "mecanum.wheel_radii_m[2]",
-       "-0.05", "(0, 5] m"},
-      {kJoints + "mecanum: {lx_plus_ly_m: 0}\n", "mecanum.lx_plus_ly_m", "0", "(0, 50] m"},
-      {kJoints + "skid_steer: {wheel_separation_m: -0.5}\n", "skid_steer.wheel_separation_m", "-0.5",
-       "(0, 50] m"},
-      {kJoints + "skid_steer: {left_joints: []}\n", "skid_steer.left_joints", "[]", "a list of 1"},
-      // The top-level keys.
-      {kJoints + "prior_model: magic\n", "prior_model", "magic", "none, diff_drive"},
-      {kJoints + "model: magic\n", "model", "magic", "linear, diff_drive, gp"},
-      {kJoints + "compare_models: [linear, gpp]\n", "compare_models[1]", "gpp", "one of"},
-      {kJoints + "output_directory: \"\"\n", "output_directory", "\"\"", "non-empty"},
-      {kJoints + "joint_state_topic: [a, b]\n", "joint_state_topic", "[a, b]", "not a string"},
-  };
-  return cases;
+  std::vector<Malformed> all;
+  for (const auto* cases :
+       {&kKeyframeCases, &kDiffDriveCases, &kGpCases, &kDuplicateKeyCases, &kJointsCases,
+        &kScanMatchingCases, &kEgoMotionCases, &kOtherModelCases, &kTopLevelCases})
+    all.insert(all.end(), cases->begin(), cases->end());
+  return all;
 }
 
 TEST(CalibrationConfigSchema, RefusesEachMalformedConfigurationNamingKeyAndValue)
 {
-  const auto& cases = malformedConfigurations();
+  const std::vector<Malformed> cases = malformedConfigurations();
   EXPECT_GE(cases.size(), 60u);
   for (const Malformed& c : cases) {
     const std::string message = refusal(c.text);
@@ -264,8 +296,9 @@ TEST(CalibrationConfigSchema, EveryKeyIsDeclaredOnceWithADescriptionAndAValidDef
 TEST(CalibrationConfigSchema, TheEffectiveConfigurationReadsBackAndCommentsEveryKey)
 {
   const CalibrationConfig config = parseCalibrationConfig(
-      kJoints + "keyframes: {interval_s: 0.3, fit_intervals_s: [0.3, 0.6]}\ngp: {starts: 6}\n"
-                "ego_motion: {source: cloud, topic: /points, cloud: {point_time_field: \"\"}}\n",
+      kJoints +
+          "keyframes: {interval_s: 0.3, fit_intervals_s: [0.3, 0.6]}\ngp: {starts: 6}\n"
+          "ego_motion: {source: cloud, topic: /points, cloud: {point_time_field: \"\"}}\n",
       "c.yaml");
   const std::string text = formatEffectiveConfig(config);
   EXPECT_NE(text.find("  interval_s: 0.3"), std::string::npos) << text;
@@ -306,7 +339,8 @@ TEST(CalibrationConfigSchema, TheReadmeTableIsTheSchemas)
   // On a change of the schema, run this test with ODOMETRY_CALIBRATION_WRITE_EXPECTED=1: it
   // writes the new table into README.md (between the markers), to be reviewed and committed.
   const std::string table = readmeTable(readme.str());
-  if (std::getenv("ODOMETRY_CALIBRATION_WRITE_EXPECTED") != nullptr && table != "(markers missing)") {
+  if (std::getenv("ODOMETRY_CALIBRATION_WRITE_EXPECTED") != nullptr &&
+      table != "(markers missing)") {
     std::string updated = readme.str();
     const std::size_t at = updated.find(kTableBegin) + kTableBegin.size();
     updated.replace(at, table.size(), formatConfigSchemaMarkdown());

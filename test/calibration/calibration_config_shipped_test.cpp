@@ -1,6 +1,7 @@
 // The shipped configurations parse to the values they parsed to before the configuration schema
 // (calibration_config_schema.h): every field of CalibrationConfig, printed with 17 digits, is
-// compared with test/calibration/data/shipped_configs.txt, written by the parser of commit 0257d0b.
+// compared with test/calibration/data/shipped_configs.txt, written by the parser before the schema
+// (commit 0257d0b); and the effective configuration (--print-config) reads back to the same values.
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -8,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "odometry_calibration/calibration/calibration_config.h"
+#include "odometry_calibration/calibration/calibration_config_schema.h"
 
 namespace odometry_calibration {
 namespace {
@@ -202,10 +204,14 @@ std::string fingerprint(const CalibrationConfig& config)
 
 /// The calibration configurations shipped or used by the rostests (config/node.yaml holds the
 /// node's ROS parameters, config/sim/ scenarios and worlds: not calibration configurations).
-const std::vector<std::string> kShipped = {
-    "config/diff_drive.yaml",      "config/diff_drive_demo.yaml", "config/diff_drive_lidar3d.yaml",
-    "config/mecanum.yaml",         "config/mines.yaml",           "config/skid_steer.yaml",
-    "config/tricycle.yaml",        "test/ros/config/tricycle_tracker.yaml"};
+const std::vector<std::string> kShipped = {"config/diff_drive.yaml",
+                                           "config/diff_drive_demo.yaml",
+                                           "config/diff_drive_lidar3d.yaml",
+                                           "config/mecanum.yaml",
+                                           "config/mines.yaml",
+                                           "config/skid_steer.yaml",
+                                           "config/tricycle.yaml",
+                                           "test/ros/config/tricycle_tracker.yaml"};
 
 std::string allFingerprints()
 {
@@ -239,6 +245,17 @@ TEST(ShippedConfigurations, ParseToTheValuesOfTheParserBeforeTheSchema)
   std::stringstream expected;
   expected << file.rdbuf();
   EXPECT_EQ(actual, expected.str());
+}
+
+TEST(ShippedConfigurations, TheirEffectiveConfigurationReadsBackToTheSameValues)
+{
+  for (const std::string& path : kShipped) {
+    const CalibrationConfig config = loadCalibrationConfig(kRoot + "/" + path);
+    const std::string effective = formatEffectiveConfig(config);
+    EXPECT_EQ(fingerprint(parseCalibrationConfig(effective, path + " (effective)")),
+              fingerprint(config))
+        << effective;
+  }
 }
 
 }  // namespace
