@@ -16,6 +16,7 @@
 
 #include <glog/logging.h>
 
+#include "odometry_calibration/calibration/calibration_config_schema.h"
 #include "odometry_calibration/calibration/calibration_job.h"
 #include "odometry_calibration/calibration/fit_interval.h"
 #include "odometry_calibration/common/arguments.h"
@@ -58,6 +59,9 @@ const char* kUsage =
     "                       time-blocked cross-validation (the bags are paired once per\n"
     "                       interval); held-out and validation scores always use pairs at\n"
     "                       keyframes.interval_s\n"
+    "  --print-config       print the effective configuration (every key, commented with its\n"
+    "                       unit, range and default; with --model, as that model needs it)\n"
+    "                       and exit 0; no bag needed\n"
     "  --quiet              no progress display\n"
     "  --single-thread      no matching thread: every match in the pairing thread (same\n"
     "                       results, slower)\n"
@@ -166,6 +170,7 @@ int main(int argc, char** argv)
   double start_s = 0.0, end_s = 0.0, holdout = 0.0;
   bool quiet = !isatty(STDERR_FILENO);
   bool single_thread = false;
+  bool print_config = false;
   try {
     ArgumentParser parser;
     parser.option("--config", &config_path)
@@ -179,12 +184,13 @@ int main(int argc, char** argv)
         .option("--interval", &interval_option)
         .flag("--quiet", &quiet)
         .flag("--single-thread", &single_thread)
+        .flag("--print-config", &print_config)
         .positionals(&bags);
     if (!parser.parse(argc, argv)) {
       std::cout << kUsage;
       return 0;
     }
-    if (config_path.empty() || bags.empty()) {
+    if (config_path.empty() || (bags.empty() && !print_config)) {
       throw std::invalid_argument("give --config and at least one bag");
     }
     if (end_s > 0.0 && end_s <= start_s) {
@@ -219,6 +225,10 @@ int main(int argc, char** argv)
                                    ? loadCalibrationConfig(config_path)
                                    : configForModel(readTextFile(config_path, "the configuration"),
                                                     model_name, "", config_path);
+    if (print_config) {
+      std::cout << formatEffectiveConfig(config);
+      return 0;
+    }
     config.collector.background_matching = !single_thread;
     if (output_dir.empty())
       output_dir = config.output_directory;
