@@ -16,11 +16,11 @@ std::vector<std::string> keyParts(const std::string& key)
   return parts;
 }
 
-/// "description [unit]; allowed: ...; default: ..." for the comment of a key.
+/// "description; allowed: ... (with the unit); default: ..." for the comment of a key.
 std::string comment(const ConfigKeySpec& spec)
 {
-  return spec.description + (spec.unit.empty() ? "" : " [" + spec.unit + "]") +
-         "; allowed: " + describeAllowed(spec) + "; default: " + formatConfigDefault(spec);
+  return spec.description + "; allowed: " + describeAllowed(spec) +
+         "; default: " + formatConfigDefault(spec);
 }
 
 /// Whether `value` is one the key allows (a model's joint names are not resolved, and show as
@@ -68,7 +68,8 @@ std::string formatEffectiveConfig(const CalibrationConfig& config)
 {
   std::ostringstream out;
   out << "# The effective calibration configuration: every key with its value; the comments say\n"
-         "# what it is [unit], the values allowed and the default (calibration_config_schema.h).\n";
+         "# what it is, the values allowed (with the unit) and the default\n"
+         "# (calibration_config_schema.h).\n";
   writeJoints(out, config);
   std::vector<std::string> open;  // the sections written last
   for (const auto& entry : calibrationConfigSchema()) {

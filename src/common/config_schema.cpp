@@ -232,11 +232,17 @@ std::string formatConfigValue(const ConfigValue& value)
     std::string operator()(double v) const { return formatNumber(v); }
     std::string operator()(const std::string& v) const
     {
+      // Plain when YAML reads the text back as the same string, double-quoted otherwise.
+      bool plain = !v.empty() && v.find_first_of(":#,[]{}&*!|>'\"%@`") == std::string::npos;
+      try {
+        const YAML::Node read = plain ? YAML::Load(v) : YAML::Node();
+        plain = plain && read.IsScalar() && read.Scalar() == v;
+      } catch (const YAML::Exception&) {
+        plain = false;
+      }
       YAML::Emitter out;
       out << YAML::DoubleQuoted << v;
-      return v.empty() || YAML::Load(v).Scalar() != v || v.find_first_of(":#,[]{}") != v.npos
-                 ? out.c_str()
-                 : v;
+      return plain ? v : out.c_str();
     }
     std::string operator()(const std::vector<double>& v) const
     {
