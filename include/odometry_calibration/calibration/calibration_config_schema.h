@@ -5,31 +5,23 @@
 // (checked by the calibration_config_schema test) all come from these declarations.
 #pragma once
 
-#include <functional>
 #include <string>
 #include <vector>
 
 #include "odometry_calibration/calibration/calibration_config.h"
-#include "odometry_calibration/common/config_schema.h"
+#include "odometry_calibration/common/config_schema_entry.h"
 
 namespace odometry_calibration {
-
-/// One key: its declaration; `set` stores a value read for it (empty for the keys whose
-/// default depends on other keys, e.g. a model's joint names: the parser resolves those from the
-/// values read); `get` gives the value a configuration holds.
-template <typename Target>
-struct ConfigSchemaEntry
-{
-  ConfigKeySpec spec;
-  std::function<void(Target&, const ConfigValue&)> set;
-  std::function<ConfigValue(const Target&)> get;
-};
 
 /// The keys of one entry of `joints` ("joints[].name", ...), in the README's order.
 const std::vector<ConfigSchemaEntry<JointConfig>>& jointConfigSchema();
 
 /// Every other key ("joint_state_topic", "keyframes.interval_s", ...), section by section.
 const std::vector<ConfigSchemaEntry<CalibrationConfig>>& calibrationConfigSchema();
+
+/// The keys of the model sections (diff_drive, tricycle, mecanum, skid_steer, linear, gp): the
+/// last part of calibrationConfigSchema().
+const std::vector<ConfigSchemaEntry<CalibrationConfig>>& modelConfigSchema();
 
 /// Every declaration, the joints' first.
 std::vector<const ConfigKeySpec*> calibrationConfigSpecs();
