@@ -1,3 +1,6 @@
+// Reads a calibration configuration from its schema (calibration_config_schema.h): duplicated
+// and unknown keys refused, every key read and range-checked as declared (its default when
+// absent), then the checks across keys and the models' joints resolved.
 #include "odometry_calibration/calibration/calibration_config.h"
 
 #include <algorithm>
@@ -164,6 +167,8 @@ void resolveSensor(CalibrationConfig& c)
   }
   // A cloud is rejected where its scan would be: with fewer rays than the matcher needs.
   cloud.min_points = static_cast<std::size_t>(std::max(1, c.collector.plicp.min_points));
+  // The option structs' own checks (PairCollector runs the collector's again, for options not
+  // read from a file); the schema's ranges are inside theirs, so on a file they only guard.
   inSection("ego_motion.cloud", [&] { validate(cloud); });
   inSection("keyframes", [&] { validate(c.collector); });
 }
