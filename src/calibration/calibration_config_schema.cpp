@@ -151,9 +151,9 @@ std::vector<Entry> cloudFilterEntries()
       number<CalibrationConfig>(
           "ego_motion.cloud.outlier_stddev", 1.0, "sigma", rangePositive(100.0),
           "its threshold: mean distance + this many sigma", AT(cloud.outlier_stddev)),
-      number<CalibrationConfig>("ego_motion.cloud.range_min_m", 0.3, "m", rangeClosed(0.0, 1000.0),
+      number<CalibrationConfig>("ego_motion.cloud.range_min_m", 0.3, "m", rangeClosed(0.0, 100.0),
                                 "nearer points (the robot itself) dropped", AT(cloud.range_min_m)),
-      number<CalibrationConfig>("ego_motion.cloud.range_max_m", 60.0, "m", rangePositive(1000.0),
+      number<CalibrationConfig>("ego_motion.cloud.range_max_m", 60.0, "m", rangeClosed(0.1, 1000.0),
                                 "farther points dropped", AT(cloud.range_max_m)),
   };
 }
@@ -166,9 +166,10 @@ std::vector<Entry> cloudScanEntries()
           "bins: nearest point per bearing bin; points: every voxel at its own bearing",
           [](CalibrationConfig& c, const std::string& v) { c.cloud.scan_from = scanFromName(v); },
           [](const CalibrationConfig& c) { return toString(c.cloud.scan_from); }),
-      number<CalibrationConfig>(
-          "ego_motion.cloud.angular_resolution_rad", 0.00349, "rad", rangePositive(0.1),
-          "bearing bin, one ray of the scan (scan_from: bins)", AT(cloud.angular_resolution_rad)),
+      number<CalibrationConfig>("ego_motion.cloud.angular_resolution_rad", 0.00349, "rad",
+                                ConfigRange{1e-5, 0.1, true, false},
+                                "bearing bin, one ray of the scan (scan_from: bins)",
+                                AT(cloud.angular_resolution_rad)),
       text<CalibrationConfig>("ego_motion.cloud.point_time_field", "", true,
                               "per-point time field (\"\": the first of time, t, timestamp)",
                               AT(cloud.point_times.field)),

@@ -239,7 +239,7 @@ std::vector<Entry> linearAndGpEntries()
                                 "Huber threshold on scaled residuals",
                                 AT(models.linear.huber_threshold)),
       number<CalibrationConfig>(
-          "linear.outlier_threshold", 5.0, "sigma", rangePositive(1000.0),
+          "linear.outlier_threshold", 5.0, "sigma", rangeClosed(1.0, 1000.0),
           "pairs beyond this many robust sigma are rejected (> huber_threshold)",
           AT(models.linear.outlier_threshold)),
       choice<CalibrationConfig>(

@@ -2,8 +2,10 @@
 // the full key, the value and what is allowed; the per-call options checked the same way; the
 // effective configuration printed and read back; the README's table generated from it.
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <map>
 #include <regex>
 #include <set>
 #include <sstream>
@@ -177,7 +179,7 @@ const std::vector<Malformed> kEgoMotionCases = {
     {kJoints + "ego_motion: {cloud: {range_min_m: 50, range_max_m: 40}}\n",
      "ego_motion.cloud.range_max_m", "40", "range_min_m (50)"},
     {kJoints + "ego_motion: {cloud: {angular_resolution_rad: 0}}\n",
-     "ego_motion.cloud.angular_resolution_rad", "0", "(0, 0.1] rad"},
+     "ego_motion.cloud.angular_resolution_rad", "0", "(1e-05, 0.1] rad"},
     {kJoints + "ego_motion: {cloud: {point_time_unit: fortnights}}\n",
      "ego_motion.cloud.point_time_unit", "fortnights", "auto, s, ms, us, ns"},
     {kJoints + "ego_motion: {cloud: {roll_rad: 2}}\n", "ego_motion.cloud.roll_rad", "2", "rad"},
@@ -314,6 +316,74 @@ TEST(CalibrationConfigSchema, TheEffectiveConfigurationReadsBackAndCommentsEvery
     const std::string name = spec->key.substr(spec->key.find_last_of(".") + 1);
     EXPECT_NE(text.find(name + ": "), std::string::npos) << spec->key;
   }
+}
+
+/// Joints every model can use: diff_drive (the first two), mecanum (the first four), skid_steer
+/// (*left* / *right*), tricycle (steer, left_front); all fitted or compared.
+const std::string kEveryModel =
+    "joints: [{name: left_front}, {name: right_front}, {name: left_rear}, {name: right_rear},\n"
+    "         {name: steer, kind: absolute}]\n"
+    "compare_models: [tricycle, mecanum, skid_steer, linear, gp]\n"
+    "tricycle: {steering_joint: steer, traction_joint: left_front}\n";
+
+/// `base` with `key` (dotted) set to `value`.
+std::string withValue(const std::string& base, const std::string& key, const std::string& value)
+{
+  YAML::Node root = YAML::Load(base);
+  YAML::Node node = root;
+  std::istringstream parts(key);
+  std::vector<std::string> names;
+  for (std::string part; std::getline(parts, part, '.');)
+    names.push_back(part);
+  for (std::size_t i = 0; i + 1 < names.size(); ++i) {
+    if (!node[names[i]])
+      node[names[i]] = YAML::Node(YAML::NodeType::Map);
+    node.reset(node[names[i]]);
+  }
+  node[names.back()] = YAML::Load(value);
+  YAML::Emitter out;
+  out << root;
+  return out.c_str();
+}
+
+/// The smallest and largest value `spec` allows.
+std::vector<double> rangeEnds(const ConfigKeySpec& spec)
+{
+  const double low = spec.range.min_open ? std::nextafter(spec.range.min, 1e300) : spec.range.min;
+  const double high = spec.range.max_open ? std::nextafter(spec.range.max, -1e300) : spec.range.max;
+  if (spec.type == ConfigType::kInt)
+    return {std::ceil(low), std::floor(high)};
+  return {low, high};
+}
+
+// Every value the schema allows passes the option structs' own checks too (so that a refusal
+// always comes from the schema, naming the full key): each number at both ends of its range.
+TEST(CalibrationConfigSchema, EveryNumberTheSchemaAllowsIsAccepted)
+{
+  // Checks across keys: a partner set so that both ends of the key are consistent with it.
+  const std::map<std::string, std::pair<std::string, std::string>> partners = {
+      {"linear.huber_threshold", {"linear.outlier_threshold", "1000"}},
+      {"linear.outlier_threshold", {"linear.huber_threshold", "0.5"}},
+      {"ego_motion.cloud.range_min_m", {"ego_motion.cloud.range_max_m", "1000"}},
+      {"ego_motion.cloud.range_max_m", {"ego_motion.cloud.range_min_m", "0"}}};
+  std::size_t tried = 0;
+  for (const auto& entry : calibrationConfigSchema()) {
+    const ConfigKeySpec& spec = entry.spec;
+    if (spec.type != ConfigType::kDouble && spec.type != ConfigType::kInt)
+      continue;
+    for (double end : rangeEnds(spec)) {
+      const std::string value = spec.type == ConfigType::kInt
+                                    ? formatConfigValue(static_cast<long long>(end))
+                                    : formatConfigValue(end);
+      std::string text = withValue(kEveryModel, spec.key, value);
+      const auto partner = partners.find(spec.key);
+      if (partner != partners.end())
+        text = withValue(text, partner->second.first, partner->second.second);
+      EXPECT_EQ(refusal(text), "") << spec.key << ": " << value;
+      ++tried;
+    }
+  }
+  EXPECT_GT(tried, 100u);
 }
 
 const std::string kTableBegin = "<!-- configuration table: generated from the schema -->\n";
