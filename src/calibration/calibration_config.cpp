@@ -201,8 +201,13 @@ void resolveTricycle(CalibrationConfig& c, const GivenValues& given)
   const JointConfig& steering = c.joints[static_cast<std::size_t>(t.layout.steering_index)];
   const JointConfig& traction = c.joints[static_cast<std::size_t>(t.layout.traction_index)];
   if (steering.kind != EncoderKind::kAbsolute || traction.kind != EncoderKind::kIncremental) {
+    const bool steering_wrong = steering.kind != EncoderKind::kAbsolute;
+    const JointConfig& wrong = steering_wrong ? steering : traction;
     throw std::runtime_error(
-        "tricycle: the steering joint must be kind: absolute and the traction joint incremental");
+        std::string("tricycle.") + (steering_wrong ? "steering_joint" : "traction_joint") + ": '" +
+        wrong.name + "' is kind: " + (steering_wrong ? "incremental" : "absolute") +
+        "; the steering joint must be kind: absolute and the traction joint "
+        "incremental");
   }
   t.layout.steering_ticks_per_turn = steering.units_per_turn;
   t.layout.traction_ticks_per_turn = traction.units_per_turn;

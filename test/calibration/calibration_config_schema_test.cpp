@@ -190,6 +190,10 @@ const std::vector<Malformed> kEgoMotionCases = {
 
 /// The other models' start values and options.
 const std::vector<Malformed> kOtherModelCases = {
+    {"joints: [{name: s}, {name: t}]\nmodel: tricycle\n", "tricycle.steering_joint", "'s'",
+     "must be kind: absolute"},
+    {"joints: [{name: s, kind: absolute}, {name: t, kind: absolute}]\nmodel: tricycle\n",
+     "tricycle.traction_joint", "'t'", "traction joint incremental"},
     {kTricycleJoints + "tricycle: {axis_length_m: -1.5}\n", "tricycle.axis_length_m", "-1.5",
      "(0, 50] m"},
     {kTricycleJoints + "tricycle: {steering_scale: 0}\n", "tricycle.steering_scale", "0",
