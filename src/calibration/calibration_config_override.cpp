@@ -5,6 +5,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "odometry_calibration/calibration/calibration_config.h"
+#include "odometry_calibration/common/config_schema.h"
 
 namespace odometry_calibration {
 namespace {
@@ -22,16 +23,28 @@ void mergeInto(YAML::Node into, const YAML::Node& from)
   }
 }
 
-/// The configuration's and the options' YAML (an empty options text is an empty mapping).
+/// The configuration's and the options' YAML (an empty options text is an empty mapping), each
+/// without a duplicated key (merging would hide it).
 std::pair<YAML::Node, YAML::Node> loadBoth(const std::string& config_text,
-                                           const std::string& override_yaml)
+                                           const std::string& override_yaml,
+                                           const std::string& source)
 {
   YAML::Node root, overrides;
   try {
     root = YAML::Load(config_text);
+    refuseDuplicateKeys(root);
+  } catch (const std::runtime_error& error) {  // also YAML::Exception
+    throw std::runtime_error(source + ": " + error.what());
+  }
+  try {
     overrides = YAML::Load(override_yaml);
   } catch (const YAML::Exception& error) {
     throw std::runtime_error("options are not YAML: " + std::string(error.what()));
+  }
+  try {
+    refuseDuplicateKeys(overrides);
+  } catch (const std::runtime_error& error) {
+    throw std::runtime_error("options: " + std::string(error.what()));
   }
   if (overrides.IsNull())
     overrides = YAML::Node(YAML::NodeType::Map);
@@ -64,14 +77,14 @@ CalibrationConfig merged(YAML::Node root, const YAML::Node& overrides, const std
 CalibrationConfig overrideModelOptions(const std::string& config_text,
                                        const std::string& override_yaml, const std::string& source)
 {
-  auto [root, overrides] = loadBoth(config_text, override_yaml);
+  auto [root, overrides] = loadBoth(config_text, override_yaml, source);
   return merged(root, overrides, overrides.size() > 0 ? source + " + options" : source);
 }
 
 CalibrationConfig configForModel(const std::string& config_text, const std::string& model,
                                  const std::string& override_yaml, const std::string& source)
 {
-  auto [root, overrides] = loadBoth(config_text, override_yaml);
+  auto [root, overrides] = loadBoth(config_text, override_yaml, source);
   const std::string where =
       source + " (model " + model + (overrides.size() > 0 ? ", with options)" : ")");
   overrides["model"] = model;

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "odometry_calibration/calibration/calibration_config_schema.h"
 #include "odometry_calibration/common/text_file.h"
 #include "odometry_calibration/data/holdout.h"
 #include "odometry_calibration/eval/model_report.h"
@@ -165,7 +166,7 @@ void writeFiles(const std::string& output_dir, ResultFiles files, std::ostream& 
 
 void checkBagCalibrationOptions(const BagCalibrationOptions& options)
 {
-  if (options.config_path.empty() || options.bags.empty())
+  if (options.config_path.empty() || (options.bags.empty() && !options.print_config))
     throw std::invalid_argument("give --config and at least one bag");
   if (options.end_s > 0.0 && options.end_s <= options.start_s)
     throw std::invalid_argument("--end must come after --start");
@@ -191,6 +192,10 @@ void checkBagCalibrationOptions(const BagCalibrationOptions& options)
 int calibrateBags(const BagCalibrationOptions& options, std::ostream& out)
 {
   CalibrationConfig config = loadConfig(options);
+  if (options.print_config) {
+    out << formatEffectiveConfig(config);
+    return 0;
+  }
   const std::string output_dir =
       options.output_dir.empty() ? config.output_directory : options.output_dir;
   const IntervalPlan plan = planIntervals(options.interval, config);

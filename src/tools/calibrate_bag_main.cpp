@@ -40,6 +40,9 @@ const char* kUsage =
     "                       interval); held-out and validation scores always use pairs at\n"
     "                       keyframes.interval_s\n"
     "  --quiet              no progress display\n"
+    "  --print-config       print the effective configuration (every key, commented with its\n"
+    "                       unit, range and default; with --model, as that model needs it)\n"
+    "                       and exit 0; no bag needed\n"
     "  --single-thread      no matching thread: every match in the pairing thread (same\n"
     "                       results, slower)\n"
     "  --gnuplot PROGRAM    the plotting program (default: gnuplot from PATH; without it the\n"
@@ -72,6 +75,7 @@ int main(int argc, char** argv)
         .option("--interval", &o.interval)
         .flag("--quiet", &o.quiet)
         .flag("--single-thread", &o.single_thread)
+        .flag("--print-config", &o.print_config)
         .positionals(&o.bags);
     if (!parser.parse(argc, argv)) {
       std::cout << kUsage;

@@ -121,7 +121,7 @@ TEST(CalibrationConfig, ErrorsNameTheKey)
   EXPECT_NE(message("model: linear\n").find("joints"), std::string::npos);
   EXPECT_NE(message(joints + "keyframes: {interval: 0.5}\n").find("unknown key 'interval'"),
             std::string::npos);
-  EXPECT_NE(message(joints + "keyframes: {interval_s: -1}\n").find("keyframe_interval_s"),
+  EXPECT_NE(message(joints + "keyframes: {interval_s: -1}\n").find("keyframes.interval_s: -1"),
             std::string::npos);
   EXPECT_NE(message("joints: [{name: l, kind: sideways}]\n").find("joints[0]"), std::string::npos);
   EXPECT_NE(message(joints + "diff_drive: {left_joint: front}\n").find("front"), std::string::npos);

@@ -24,6 +24,7 @@ struct BagCalibrationOptions
   std::string interval;                ///< --interval: "", "auto" or seconds
   bool quiet = false;                  ///< no progress display
   bool single_thread = false;          ///< no matching thread
+  bool print_config = false;           ///< print the effective configuration, read no bag
   GnuplotOptions gnuplot;              ///< --gnuplot
 };
 

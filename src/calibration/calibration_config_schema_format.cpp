@@ -1,0 +1,107 @@
+// The effective configuration as commented YAML, and the README's table, from the schema.
+#include <sstream>
+
+#include "odometry_calibration/calibration/calibration_config_schema.h"
+
+namespace odometry_calibration {
+namespace {
+
+/// The parts of a full key: "ego_motion.cloud.band_m" -> {ego_motion, cloud, band_m}.
+std::vector<std::string> keyParts(const std::string& key)
+{
+  std::vector<std::string> parts;
+  std::istringstream in(key);
+  for (std::string part; std::getline(in, part, '.');)
+    parts.push_back(part);
+  return parts;
+}
+
+/// "description; allowed: ... (with the unit); default: ..." for the comment of a key.
+std::string comment(const ConfigKeySpec& spec)
+{
+  return spec.description + "; allowed: " + describeAllowed(spec) +
+         "; default: " + formatConfigDefault(spec);
+}
+
+/// Whether `value` is one the key allows (a model's joint names are not resolved, and show as
+/// none, when the configuration does not use the model).
+bool allowed(const std::string& value, const ConfigKeySpec& spec)
+{
+  try {
+    readConfigValue(YAML::Load(value), spec, spec.key);
+    return true;
+  } catch (const std::runtime_error&) {
+    return false;
+  }
+}
+
+/// "<indent><name>: <value>" padded, then "# <comment>"; the key commented out when the
+/// configuration holds no value for it.
+void writeLine(std::ostringstream& out, std::size_t depth, const std::string& name,
+               const std::string& value, const ConfigKeySpec& spec)
+{
+  const bool unset = !allowed(value, spec);
+  std::string line = std::string(2 * depth, ' ') + (unset ? "# " : "") + name + ": " +
+                     (unset ? "(unused)" : value);
+  if (line.size() < 40)
+    line.resize(40, ' ');
+  out << line << "  # " << comment(spec) << "\n";
+}
+
+void writeJoints(std::ostringstream& out, const CalibrationConfig& config)
+{
+  out << "joints:\n";
+  for (const JointConfig& joint : config.joints) {
+    bool first = true;
+    for (const auto& entry : jointConfigSchema()) {
+      const std::string name = entry.spec.key.substr(entry.spec.key.find("].") + 2);
+      writeLine(out, 1, (first ? "- " : "  ") + name, formatConfigValue(entry.get(joint)),
+                entry.spec);
+      first = false;
+    }
+  }
+}
+
+}  // namespace
+
+std::string formatEffectiveConfig(const CalibrationConfig& config)
+{
+  std::ostringstream out;
+  out << "# The effective calibration configuration: every key with its value; the comments say\n"
+         "# what it is, the values allowed (with the unit) and the default\n"
+         "# (calibration_config_schema.h).\n";
+  writeJoints(out, config);
+  std::vector<std::string> open;  // the sections written last
+  for (const auto& entry : calibrationConfigSchema()) {
+    std::vector<std::string> parts = keyParts(entry.spec.key);
+    const std::string name = parts.back();
+    parts.pop_back();
+    std::size_t common = 0;
+    while (common < open.size() && common < parts.size() && open[common] == parts[common])
+      ++common;
+    for (std::size_t depth = common; depth < parts.size(); ++depth)
+      out << std::string(2 * depth, ' ') << parts[depth] << ":\n";
+    open = parts;
+    writeLine(out, parts.size(), name, formatConfigValue(entry.get(config)), entry.spec);
+  }
+  return out.str();
+}
+
+std::string formatConfigSchemaMarkdown()
+{
+  static const char* const kTypes[] = {"bool",   "int",         "double",
+                                       "string", "double list", "string list"};
+  std::ostringstream out;
+  out << "| key | type | default | unit | allowed | meaning |\n"
+      << "|---|---|---|---|---|---|\n";
+  for (const ConfigKeySpec* spec : calibrationConfigSpecs()) {
+    const std::string default_text =
+        spec->default_value ? "`" + formatConfigDefault(*spec) + "`" : formatConfigDefault(*spec);
+    out << "| `" << spec->key << "` | " << kTypes[static_cast<int>(spec->type)] << " | "
+        << default_text << " | " << spec->unit << " | " << describeAllowed(*spec) << " | "
+        << spec->description << " |\n";
+  }
+  return out.str();
+}
+
+}  // namespace odometry_calibration
