@@ -10,6 +10,71 @@
 
 namespace odometry_calibration {
 
+namespace {
+
+/// The time-offset search (or the one given), its warnings, and the pairs re-cut at the offset.
+void estimateJobTimeOffset(const CalibrationConfig& config, const std::vector<MotionPair>& pairs,
+                           const std::vector<EncoderSample>& encoder_history,
+                           const CalibrationJobOptions& options, CalibrationJobResult* job,
+                           std::vector<std::string>* warnings)
+{
+  if (encoder_history.empty()) {
+    throw std::runtime_error(
+        "time offset estimation needs one continuous encoder stream "
+        "(the bags went back in time)");
+  }
+  TimeOffsetOptions search;
+  search.min_s = config.time_offset_search_min_s;
+  search.max_s = config.time_offset_search_max_s;
+  search.interpolation = config.collector.encoder_interpolation;
+  // The grid refits the model per offset from the configured start only: the global yaw
+  // starts (issue 23) are for the final fit and would multiply the search's cost.
+  ModelFactoryOptions search_models = config.models;
+  search_models.diff_drive.yaw_starts = 1;
+  search_models.tricycle.calibration.yaw_starts = 1;
+  search_models.mecanum.yaw_starts = 1;
+  job->time_offset = options.time_offset_search
+                         ? *options.time_offset_search
+                         : estimateTimeOffset(
+                               pairs, encoder_history,
+                               [&]() { return makeModel(config.model, search_models); }, search);
+  const TimeOffsetResult& offset = *job->time_offset;
+  if (offset.flat) {
+    warnings->push_back(
+        "the time offset is not observable from this drive (flat cost curve): kept the "
+        "configured " +
+        std::to_string(job->time_offset_s) + " s");
+  } else {
+    job->time_offset_s = offset.offset_s;
+    if (offset.at_boundary) {
+      warnings->push_back("the time offset estimate " + std::to_string(job->time_offset_s) +
+                          " s lies at the edge of time_offset_search_s: widen it");
+    }
+  }
+  job->pairs = rewindowPairs(pairs, encoder_history, job->time_offset_s,
+                             config.collector.encoder_interpolation);
+}
+
+/// The evidence: the calibrated model against the scan matches, and the nominal robot (the
+/// prior's start values, no time offset) when there is one.
+void compareJobTrajectories(const CalibrationConfig& config, const std::vector<MotionPair>& pairs,
+                            const std::vector<EncoderSample>& encoder_history,
+                            CalibrationJobResult* job)
+{
+  const std::shared_ptr<MotionModel> nominal = priorModel(config);
+  std::vector<MotionPair> nominal_pairs;
+  if (nominal) {
+    job->nominal_at_zero_offset = !encoder_history.empty();
+    nominal_pairs =
+        job->nominal_at_zero_offset ? rewindowPairs(pairs, encoder_history, 0.0) : pairs;
+    job->nominal_description =
+        "the " + config.prior_model + " start values of the configuration at time offset 0";
+  }
+  job->trajectories = compareTrajectories(job->pairs, *job->model, nominal_pairs, nominal.get());
+}
+
+}  // namespace
+
 CalibrationJobResult runCalibrationJob(const CalibrationConfig& config,
                                        const std::vector<MotionPair>& pairs,
                                        const std::vector<EncoderSample>& encoder_history,
@@ -20,63 +85,15 @@ CalibrationJobResult runCalibrationJob(const CalibrationConfig& config,
   job.pairs = pairs;
   job.time_offset_s = config.collector.time_offset_s;
   std::vector<std::string> offset_warnings;
-  if (options.allow_time_offset && config.estimate_time_offset) {
-    if (encoder_history.empty()) {
-      throw std::runtime_error(
-          "time offset estimation needs one continuous encoder stream "
-          "(the bags went back in time)");
-    }
-    TimeOffsetOptions search;
-    search.min_s = config.time_offset_search_min_s;
-    search.max_s = config.time_offset_search_max_s;
-    search.interpolation = config.collector.encoder_interpolation;
-    // The grid refits the model per offset from the configured start only: the global yaw
-    // starts (issue 23) are for the final fit and would multiply the search's cost.
-    ModelFactoryOptions search_models = config.models;
-    search_models.diff_drive.yaw_starts = 1;
-    search_models.tricycle.calibration.yaw_starts = 1;
-    search_models.mecanum.yaw_starts = 1;
-    job.time_offset = options.time_offset_search
-                          ? *options.time_offset_search
-                          : estimateTimeOffset(
-                                pairs, encoder_history,
-                                [&]() { return makeModel(config.model, search_models); }, search);
-    const TimeOffsetResult& offset = *job.time_offset;
-    if (offset.flat) {
-      offset_warnings.push_back(
-          "the time offset is not observable from this drive (flat cost curve): kept the "
-          "configured " +
-          std::to_string(job.time_offset_s) + " s");
-    } else {
-      job.time_offset_s = offset.offset_s;
-      if (offset.at_boundary) {
-        offset_warnings.push_back("the time offset estimate " + std::to_string(job.time_offset_s) +
-                                  " s lies at the edge of time_offset_search_s: widen it");
-      }
-    }
-    job.pairs = rewindowPairs(pairs, encoder_history, job.time_offset_s,
-                              config.collector.encoder_interpolation);
-  }
+  if (options.allow_time_offset && config.estimate_time_offset)
+    estimateJobTimeOffset(config, pairs, encoder_history, options, &job, &offset_warnings);
   job.model = makeModel(config.model, config.models);
   job.report = job.model->fit(job.pairs);
   job.report.warnings.insert(job.report.warnings.end(), offset_warnings.begin(),
                              offset_warnings.end());
   job.fit_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-
-  if (options.compare_trajectories) {
-    // The evidence: the calibrated model against the scan matches, and the nominal robot (the
-    // prior's start values, no time offset) when there is one.
-    const std::shared_ptr<MotionModel> nominal = priorModel(config);
-    std::vector<MotionPair> nominal_pairs;
-    if (nominal) {
-      job.nominal_at_zero_offset = !encoder_history.empty();
-      nominal_pairs =
-          job.nominal_at_zero_offset ? rewindowPairs(pairs, encoder_history, 0.0) : pairs;
-      job.nominal_description =
-          "the " + config.prior_model + " start values of the configuration at time offset 0";
-    }
-    job.trajectories = compareTrajectories(job.pairs, *job.model, nominal_pairs, nominal.get());
-  }
+  if (options.compare_trajectories)
+    compareJobTrajectories(config, pairs, encoder_history, &job);
   return job;
 }
 

@@ -43,34 +43,44 @@ std::string repairingAdvice(double paired_at_s, const SessionFit& fit)
 
 }  // namespace
 
+SessionFitRequest CalibrationSession::snapshot(std::string* guidance) const
+{
+  std::lock_guard<std::mutex> lock(mutex_);
+  SessionFitRequest fit_request;
+  fit_request.config = config_;
+  fit_request.pairs = store_->pairs();
+  if (candidates_)
+    fit_request.candidates = candidates_->pairs();
+  if (!history_broken_)
+    fit_request.encoder_history = encoder_history_;
+  fit_request.compare_trajectories = options_.compare_trajectories;
+  *guidance = assistant_ ? assistant_->guidanceSummary() : std::string();
+  return fit_request;
+}
+
+void CalibrationSession::configureModel(const std::string& name, const std::string& options,
+                                        CalibrationConfig* config) const
+{
+  requireKnownModel(name, "model");
+  // The model sections as this model needs them (its joints resolved and checked); the
+  // configuration's own model has them already.
+  if (name != config->model || !options.empty()) {
+    if (config_text_.empty())
+      throw std::invalid_argument("the session has no configuration text to read it from");
+    config->models = configForModel(config_text_, name, options, config_source_).models;
+  }
+  config->model = name;
+}
+
 CalibrateOutcome CalibrationSession::calibrate(const CalibrationRequest& request)
 {
   CalibrateOutcome outcome;
-  SessionFitRequest fit_request;
   std::string guidance;
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    fit_request.config = config_;
-    fit_request.pairs = store_->pairs();
-    if (candidates_)
-      fit_request.candidates = candidates_->pairs();
-    if (!history_broken_)
-      fit_request.encoder_history = encoder_history_;
-    guidance = assistant_ ? assistant_->guidanceSummary() : std::string();
-  }
+  SessionFitRequest fit_request = snapshot(&guidance);
   outcome.pairs_collected = fit_request.pairs.size();
-  CalibrationConfig& config = fit_request.config;
-  const std::string name = request.model.empty() ? config.model : request.model;
+  const std::string name = request.model.empty() ? fit_request.config.model : request.model;
   try {
-    requireKnownModel(name, "model");
-    // The model sections as this model needs them (its joints resolved and checked); the
-    // configuration's own model has them already.
-    if (name != config.model || !request.options.empty()) {
-      if (config_text_.empty())
-        throw std::invalid_argument("the session has no configuration text to read it from");
-      config.models = configForModel(config_text_, name, request.options, config_source_).models;
-    }
-    config.model = name;
+    configureModel(name, request.options, &fit_request.config);
   } catch (const std::exception& error) {
     outcome.message =
         "cannot fit " + name + " with this configuration and options: " + error.what();
@@ -87,18 +97,24 @@ CalibrateOutcome CalibrationSession::calibrate(const CalibrationRequest& request
   fit_request.fixed_interval_s = request.fixed_interval_s;
   fit_request.fit_until_stamp_s = request.fit_until_stamp_s;
   fit_request.offset_search = request.offset_search;
-  fit_request.compare_trajectories = options_.compare_trajectories;
   try {
     outcome.fit = fitSessionPairs(fit_request);
   } catch (const std::exception& error) {
     outcome.message = name + " fit failed: " + error.what();
     return outcome;
   }
-  const SessionFit& fit = *outcome.fit;
+  adopt(name, fit_request.config, guidance, &outcome);
+  return outcome;
+}
+
+void CalibrationSession::adopt(const std::string& name, const CalibrationConfig& config,
+                               const std::string& guidance, CalibrateOutcome* outcome)
+{
+  const SessionFit& fit = *outcome->fit;
   if (!fit.job.report.converged) {
-    outcome.message = name + " fit did not converge (" + fit.job.report.termination +
-                      "); the active model is unchanged";
-    return outcome;
+    outcome->message = name + " fit did not converge (" + fit.job.report.termination +
+                       "); the active model is unchanged";
+    return;
   }
   const std::string result_yaml =
       calibrationResultYaml(fit.job.report, *fit.job.model, options_.source, fit.job.time_offset_s,
@@ -115,17 +131,16 @@ CalibrateOutcome CalibrationSession::calibrate(const CalibrationRequest& request
     std::lock_guard<std::mutex> lock(mutex_);
     activate(name, fit, fit.job.model, result_yaml);
   } catch (const std::exception& error) {
-    outcome.message = name + " fitted, but its odometry failed: " + error.what() +
-                      "; the active model is unchanged";
-    return outcome;
+    outcome->message = name + " fitted, but its odometry failed: " + error.what() +
+                       "; the active model is unchanged";
+    return;
   }
-  outcome.success = true;
-  outcome.message = successMessage(name, fit) + timeOffsetSentence(config, fit) +
-                    repairingAdvice(config.collector.time_offset_s, fit);
+  outcome->success = true;
+  outcome->message = successMessage(name, fit) + timeOffsetSentence(config, fit) +
+                     repairingAdvice(config.collector.time_offset_s, fit);
   for (const std::string& warning : fit.job.report.warnings)
-    outcome.message += " WARNING: " + warning;
-  outcome.message += guidance;
-  return outcome;
+    outcome->message += " WARNING: " + warning;
+  outcome->message += guidance;
 }
 
 std::string CalibrationSession::successMessage(const std::string& name, const SessionFit& fit) const

@@ -180,6 +180,14 @@ private:
   void say(SessionLogLevel level, const std::string& text) const;
   double now() const;
   std::string collectionStatus(SessionStatusReport* status) const;
+  /// What a fit needs, taken under the lock (and the guidance's summary for the reply).
+  SessionFitRequest snapshot(std::string* guidance) const;
+  /// `config`'s model sections for model `name` with the call's `options`; throws naming why.
+  void configureModel(const std::string& name, const std::string& options,
+                      CalibrationConfig* config) const;
+  /// A converged fit becomes the active model; the outcome's message says what happened.
+  void adopt(const std::string& name, const CalibrationConfig& config, const std::string& guidance,
+             CalibrateOutcome* outcome);
   void activate(const std::string& name, const SessionFit& fit,
                 const std::shared_ptr<MotionModel>& model, const std::string& result_yaml);
   void applyTimeOffset(double time_offset_s);
