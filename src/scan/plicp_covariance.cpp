@@ -150,27 +150,18 @@ Degeneracy analyzeDegeneracy(const Eigen::Matrix3d& information, double lever_ar
   return report;
 }
 
-Eigen::Matrix3d plicpCovariance(const ScanPoints& reference, const ScanLines& reference_lines,
-                                const ScanPoints& current,
-                                const std::vector<Correspondence>& correspondences,
-                                const Pose2& T_ref_new, double range_sigma_m)
+namespace {
+
+/// Adds the correspondences' information (d2J/dx2 / 2) and their new points' range effects to
+/// `spread`; sums per reference line J_i and s_i J_i over the new points matched to it, s_i the
+/// matched point's along-line offset from the line's centroid.
+void addCorrespondences(const ScanLines& reference_lines, const ScanPoints& current,
+                        const std::vector<Correspondence>& correspondences, const Pose2& T_ref_new,
+                        CovarianceBuffers& buffers, Eigen::Matrix3d& information,
+                        Eigen::Matrix3d& spread)
 {
   const Eigen::Matrix2d R = Eigen::Rotation2Dd(T_ref_new.theta()).toRotationMatrix();
   const Eigen::Vector2d t(T_ref_new.x(), T_ref_new.y());
-  Eigen::Matrix3d information = Eigen::Matrix3d::Zero();  // d2J/dx2 / 2
-  Eigen::Matrix3d spread = Eigen::Matrix3d::Zero();       // (d2J/dzdx)(d2J/dzdx)^T / 4
-
-  // Per reference line: sums of J_i and of s_i J_i over the new points matched to it, s_i the
-  // matched point's along-line offset from the line's centroid.
-  const std::size_t reference_count = reference.size();
-  CovarianceBuffers& buffers = threadBuffers();
-  Vector3dList& line_sum = buffers.line_sum;
-  Vector3dList& line_moment = buffers.line_moment;
-  std::vector<std::uint8_t>& line_used = buffers.line_used;
-  line_sum.assign(reference_count, Eigen::Vector3d::Zero());
-  line_moment.assign(reference_count, Eigen::Vector3d::Zero());
-  line_used.assign(reference_count, 0);
-
   for (const Correspondence& c : correspondences) {
     const int j = c.reference_index;
     const Eigen::Vector2d& normal = reference_lines.normals[j];
@@ -182,18 +173,24 @@ Eigen::Matrix3d plicpCovariance(const ScanPoints& reference, const ScanLines& re
     addOuterProduct(spread, J, d_residual_d_range * d_residual_d_range);
     const Eigen::Vector2d tangent(-normal.y(), normal.x());
     const double along_m = tangent.dot(Rp + t - reference_lines.centroids_m[j]);
-    line_sum[j] += J;
-    line_moment[j] += along_m * J;
-    line_used[j] = 1;
+    buffers.line_sum[j] += J;
+    buffers.line_moment[j] += along_m * J;
+    buffers.line_used[j] = 1;
   }
+}
 
-  // A reference range moves the perpendicular offset d_k of its point by n^T u_k per metre; the
-  // total-least-squares line through the window moves by dd_k / K at the centroid and tilts by
-  // s_k dd_k / sum(s^2), so a residual at along-offset s changes by -(1/K + s s_k / sum(s^2)) dd_k.
+/// Adds the reference ranges' effects to `spread`. A reference range moves the perpendicular
+/// offset d_k of its point by n^T u_k per metre; the total-least-squares line through the window
+/// moves by dd_k / K at the centroid and tilts by s_k dd_k / sum(s^2), so a residual at
+/// along-offset s changes by -(1/K + s s_k / sum(s^2)) dd_k.
+void addReferenceReadings(const ScanPoints& reference, const ScanLines& reference_lines,
+                          CovarianceBuffers& buffers, Eigen::Matrix3d& spread)
+{
+  const std::size_t reference_count = reference.size();
   Vector3dList& reading_effect = buffers.reading_effect;
   reading_effect.assign(reference_count, Eigen::Vector3d::Zero());
   for (std::size_t j = 0; j < reference_count; ++j) {
-    if (line_used[j] == 0) {
+    if (buffers.line_used[j] == 0) {
       continue;
     }
     const Eigen::Vector2d& normal = reference_lines.normals[j];
@@ -207,13 +204,33 @@ Eigen::Matrix3d plicpCovariance(const ScanPoints& reference, const ScanLines& re
     for (int k = first; k <= last; ++k) {
       const double offset_per_range = normal.dot(reference.directions[k]);
       const double along_k_m = tangent.dot(reference.points_m[k] - centroid);
-      reading_effect[k] -= offset_per_range * (inverse_count * line_sum[j] +
-                                               (along_k_m * inverse_spread) * line_moment[j]);
+      reading_effect[k] -=
+          offset_per_range * (inverse_count * buffers.line_sum[j] +
+                              (along_k_m * inverse_spread) * buffers.line_moment[j]);
     }
   }
   for (std::size_t k = 0; k < reference_count; ++k) {
     addOuterProduct(spread, reading_effect[k]);
   }
+}
+
+}  // namespace
+
+Eigen::Matrix3d plicpCovariance(const ScanPoints& reference, const ScanLines& reference_lines,
+                                const ScanPoints& current,
+                                const std::vector<Correspondence>& correspondences,
+                                const Pose2& T_ref_new, double range_sigma_m)
+{
+  Eigen::Matrix3d information = Eigen::Matrix3d::Zero();  // d2J/dx2 / 2
+  Eigen::Matrix3d spread = Eigen::Matrix3d::Zero();       // (d2J/dzdx)(d2J/dzdx)^T / 4
+  const std::size_t reference_count = reference.size();
+  CovarianceBuffers& buffers = threadBuffers();
+  buffers.line_sum.assign(reference_count, Eigen::Vector3d::Zero());
+  buffers.line_moment.assign(reference_count, Eigen::Vector3d::Zero());
+  buffers.line_used.assign(reference_count, 0);
+  addCorrespondences(reference_lines, current, correspondences, T_ref_new, buffers, information,
+                     spread);
+  addReferenceReadings(reference, reference_lines, buffers, spread);
 
   const Eigen::Matrix3d H = information.selfadjointView<Eigen::Upper>();
   const Eigen::Matrix3d G = spread.selfadjointView<Eigen::Upper>();
