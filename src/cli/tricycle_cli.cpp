@@ -1,7 +1,6 @@
 #include "odometry_calibration/cli/tricycle_cli.h"
 
 #include <cmath>
-#include <type_traits>
 
 #include "odometry_calibration/common/arguments.h"
 #include "odometry_calibration/common/atomic_file.h"
@@ -70,30 +69,13 @@ std::string tricycleCliUsage()
          "this drive (see WARNINGS): the YAML is written, do not use those numbers blindly\n";
 }
 
-TricycleCliOptions parseTricycleCliArguments(const std::vector<std::string>& arguments)
+namespace {
+
+/// --interval (a number > 0, or auto), --interval-candidates and --folds (whole numbers in
+/// [2, 100]) into the options, checked together.
+void setIntervalOptions(const std::string& interval, const std::vector<std::string>& candidates,
+                        const std::vector<std::string>& folds, TricycleCliOptions& options)
 {
-  TricycleCliOptions options;
-  std::vector<std::string> datasets;
-  double max_iterations = options.calibration.max_iterations;
-  std::string interval = "auto";
-  std::vector<std::string> candidates;
-  std::vector<std::string> folds;
-  ArgumentParser parser;
-  parser.option("--output", &options.output_path)
-      .option("--interval", &interval)
-      .listOption("--interval-candidates", &candidates)
-      .listOption("--folds", &folds)
-      .number("--holdout", &options.holdout_fraction)
-      .number("--window-stride", &options.interval_selection.stride_s, 0.0)
-      .number("--translation-sigma", &options.calibration.translation_sigma_m)
-      .number("--rotation-sigma", &options.calibration.rotation_sigma_rad)
-      .number("--huber", &options.calibration.huber_threshold)
-      .number("--max-iterations", &max_iterations)
-      .positionals(&datasets);
-  if (!parser.parse(arguments)) {
-    options.help = true;
-    return options;
-  }
   if (interval != "auto") {
     options.keyframe_interval_s = parseNumberArgument("--interval", interval);
     if (!(options.keyframe_interval_s > 0.0)) {
@@ -123,6 +105,12 @@ TricycleCliOptions parseTricycleCliArguments(const std::vector<std::string>& arg
   } catch (const std::invalid_argument& error) {
     throw ArgumentError(std::string("option --interval-candidates / --folds: ") + error.what());
   }
+}
+
+/// Refuses a holdout share outside [0, 1), sigmas not > 0, a negative Huber threshold and an
+/// iteration cap that is not a whole number in [1, 1e6]; sets the cap.
+void setFitOptions(double max_iterations, TricycleCliOptions& options)
+{
   if (!(options.holdout_fraction >= 0.0 && options.holdout_fraction < 1.0)) {
     throw ArgumentError("option --holdout: expected a fraction in (0, 1) (0 = none)");
   }
@@ -139,6 +127,36 @@ TricycleCliOptions parseTricycleCliArguments(const std::vector<std::string>& arg
     throw ArgumentError("option --max-iterations: expected a whole number in [1, 1e6]");
   }
   options.calibration.max_iterations = static_cast<int>(max_iterations);
+}
+
+}  // namespace
+
+TricycleCliOptions parseTricycleCliArguments(const std::vector<std::string>& arguments)
+{
+  TricycleCliOptions options;
+  std::vector<std::string> datasets;
+  double max_iterations = options.calibration.max_iterations;
+  std::string interval = "auto";
+  std::vector<std::string> candidates;
+  std::vector<std::string> folds;
+  ArgumentParser parser;
+  parser.option("--output", &options.output_path)
+      .option("--interval", &interval)
+      .listOption("--interval-candidates", &candidates)
+      .listOption("--folds", &folds)
+      .number("--holdout", &options.holdout_fraction)
+      .number("--window-stride", &options.interval_selection.stride_s, 0.0)
+      .number("--translation-sigma", &options.calibration.translation_sigma_m)
+      .number("--rotation-sigma", &options.calibration.rotation_sigma_rad)
+      .number("--huber", &options.calibration.huber_threshold)
+      .number("--max-iterations", &max_iterations)
+      .positionals(&datasets);
+  if (!parser.parse(arguments)) {
+    options.help = true;
+    return options;
+  }
+  setIntervalOptions(interval, candidates, folds, options);
+  setFitOptions(max_iterations, options);
   if (datasets.empty()) {
     throw ArgumentError("missing the dataset file");
   }
@@ -155,6 +173,117 @@ TricycleCliOptions parseTricycleCliArguments(const std::vector<std::string>& arg
   return options;
 }
 
+namespace {
+
+/// The first `count` elements of `all`, or the rest after them.
+template <typename T>
+std::vector<T> head(const std::vector<T>& all, std::size_t count)
+{
+  return std::vector<T>(all.begin(), all.begin() + static_cast<std::ptrdiff_t>(count));
+}
+template <typename T>
+std::vector<T> tail(const std::vector<T>& all, std::size_t count)
+{
+  return std::vector<T>(all.begin() + static_cast<std::ptrdiff_t>(count), all.end());
+}
+
+/// The keyframe interval: the options' when given, else chosen by time-blocked cross-validation
+/// on the training samples, else (too short a drive) the fixed interval of earlier versions.
+TricycleValidation chooseInterval(const std::vector<EncoderSample>& samples,
+                                  const std::vector<Pose2>& reference,
+                                  const TricycleEncoderLayout& layout,
+                                  const TricycleParameters& nominal,
+                                  const Eigen::Matrix3d& covariance,
+                                  const TricycleCliOptions& options)
+{
+  TricycleValidation validation;
+  validation.interval_s = options.keyframe_interval_s;
+  if (validation.interval_s > 0.0) {
+    return validation;
+  }
+  try {
+    const IntervalChoice choice =
+        chooseTricycleInterval(samples, reference, layout, nominal, options.calibration, covariance,
+                               options.interval_selection);
+    validation.interval_s = choice.interval_s;
+    validation.interval_chosen = true;
+    validation.fold_counts = options.interval_selection.fold_counts;
+    validation.curve = choice.curve;
+  } catch (const std::invalid_argument& error) {
+    // Too short a drive to cross-validate: the fixed interval of earlier versions, and why.
+    validation.interval_s = kFallbackIntervalS;
+    validation.fallback_reason = error.what();
+  }
+  return validation;
+}
+
+/// Prints the run (and writes the result YAML when asked); the exit status: 3 not converged,
+/// 4 converged with warnings, 0 otherwise.
+int reportTricycleRun(const TricycleCliOptions& options, std::size_t dataset_samples,
+                      std::size_t fitted_samples, std::size_t pair_count,
+                      const TricycleValidation& validation, const TricycleCalibrationResult& result,
+                      const TricycleEvaluation& evaluation, std::ostream& out)
+{
+  out << "dataset: " << options.dataset_path << " (" << dataset_samples << " samples";
+  if (options.holdout_fraction > 0.0) {
+    out << ", the first " << fitted_samples << " fitted";
+  }
+  out << ", " << pair_count << " keyframe pairs at T = " << validation.interval_s << " s)\n\n";
+  out << formatTricycleValidation(validation) << "\n";
+  out << formatTricycleReport(result, evaluation);
+  if (!options.output_path.empty()) {
+    writeFileAtomically(
+        options.output_path,
+        tricycleResultToYaml(result, evaluation, options.dataset_path, &validation));
+    out << "\nresult written to " << options.output_path << "\n";
+  }
+  if (!result.converged)
+    return 3;
+  return result.warnings.empty() ? 0 : 4;
+}
+
+/// Calibrates on a loaded dataset of at least two samples: interval, pairs, fit, evaluation
+/// (and on the held-out samples), report.
+int calibrateDataset(const TricycleDataset& dataset, const TricycleCliOptions& options,
+                     std::ostream& out)
+{
+  const TricycleEncoderLayout layout = tricycleLayoutFromHeader(dataset.header);
+  const TricycleParameters nominal = tricycleNominalFromHeader(dataset.header);
+  const std::vector<EncoderSample> all_samples = decodeTricycleEncoders(dataset, layout);
+  const std::vector<Pose2> all_reference = tricycleTrackerPoses(dataset);
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  covariance.diagonal() << std::pow(options.calibration.translation_sigma_m, 2),
+      std::pow(options.calibration.translation_sigma_m, 2),
+      std::pow(options.calibration.rotation_sigma_rad, 2);
+  // The fit sees the first samples only; the held-out ones score it.
+  const std::size_t training_end = options.holdout_fraction > 0.0
+                                       ? holdoutStart(all_samples.size(), options.holdout_fraction)
+                                       : all_samples.size();
+  const std::vector<EncoderSample> samples = head(all_samples, training_end);
+  const std::vector<Pose2> reference = head(all_reference, training_end);
+  TricycleValidation validation =
+      chooseInterval(samples, reference, layout, nominal, covariance, options);
+  const std::vector<MotionPair> pairs = referencePairs(
+      samples, reference, validation.interval_s, covariance, options.interval_selection.stride_s);
+  const TricycleCalibrationResult result =
+      calibrateTricycle(pairs, layout, nominal, options.calibration);
+  const TricycleEvaluation evaluation = evaluateTricycle(
+      result, layout, samples, reference, keyframeIndices(samples, validation.interval_s));
+  if (options.holdout_fraction > 0.0) {
+    const std::vector<EncoderSample> test_samples = tail(all_samples, training_end);
+    validation.holdout_fraction = options.holdout_fraction;
+    validation.training_samples = samples.size();
+    validation.held_out_samples = test_samples.size();
+    validation.held_out =
+        evaluateTricycle(result, layout, test_samples, tail(all_reference, training_end),
+                         keyframeIndices(test_samples, validation.interval_s));
+  }
+  return reportTricycleRun(options, dataset.rows.size(), samples.size(), pairs.size(), validation,
+                           result, evaluation, out);
+}
+
+}  // namespace
+
 int runTricycleCli(const TricycleCliOptions& options, std::ostream& out, std::ostream& err)
 {
   try {
@@ -170,79 +299,7 @@ int runTricycleCli(const TricycleCliOptions& options, std::ostream& out, std::os
           << "; a calibration needs a drive of many samples\n";
       return 1;
     }
-    const TricycleEncoderLayout layout = tricycleLayoutFromHeader(dataset.header);
-    const TricycleParameters nominal = tricycleNominalFromHeader(dataset.header);
-    const std::vector<EncoderSample> all_samples = decodeTricycleEncoders(dataset, layout);
-    const std::vector<Pose2> all_reference = tricycleTrackerPoses(dataset);
-    Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
-    covariance.diagonal() << std::pow(options.calibration.translation_sigma_m, 2),
-        std::pow(options.calibration.translation_sigma_m, 2),
-        std::pow(options.calibration.rotation_sigma_rad, 2);
-
-    // The fit sees the first samples only; the held-out ones score it.
-    const std::size_t training_end =
-        options.holdout_fraction > 0.0 ? holdoutStart(all_samples.size(), options.holdout_fraction)
-                                       : all_samples.size();
-    const auto head = [training_end](const auto& all) {
-      return std::vector<typename std::decay_t<decltype(all)>::value_type>(
-          all.begin(), all.begin() + static_cast<std::ptrdiff_t>(training_end));
-    };
-    const auto tail = [training_end](const auto& all) {
-      return std::vector<typename std::decay_t<decltype(all)>::value_type>(
-          all.begin() + static_cast<std::ptrdiff_t>(training_end), all.end());
-    };
-    const std::vector<EncoderSample> samples = head(all_samples);
-    const std::vector<Pose2> reference = head(all_reference);
-
-    TricycleValidation validation;
-    validation.interval_s = options.keyframe_interval_s;
-    if (!(validation.interval_s > 0.0)) {
-      try {
-        const IntervalChoice choice =
-            chooseTricycleInterval(samples, reference, layout, nominal, options.calibration,
-                                   covariance, options.interval_selection);
-        validation.interval_s = choice.interval_s;
-        validation.interval_chosen = true;
-        validation.fold_counts = options.interval_selection.fold_counts;
-        validation.curve = choice.curve;
-      } catch (const std::invalid_argument& error) {
-        // Too short a drive to cross-validate: the fixed interval of earlier versions, and why.
-        validation.interval_s = kFallbackIntervalS;
-        validation.fallback_reason = error.what();
-      }
-    }
-    const std::vector<MotionPair> pairs = referencePairs(
-        samples, reference, validation.interval_s, covariance, options.interval_selection.stride_s);
-
-    const TricycleCalibrationResult result =
-        calibrateTricycle(pairs, layout, nominal, options.calibration);
-    const TricycleEvaluation evaluation = evaluateTricycle(
-        result, layout, samples, reference, keyframeIndices(samples, validation.interval_s));
-    if (options.holdout_fraction > 0.0) {
-      const std::vector<EncoderSample> test_samples = tail(all_samples);
-      validation.holdout_fraction = options.holdout_fraction;
-      validation.training_samples = samples.size();
-      validation.held_out_samples = test_samples.size();
-      validation.held_out = evaluateTricycle(result, layout, test_samples, tail(all_reference),
-                                             keyframeIndices(test_samples, validation.interval_s));
-    }
-
-    out << "dataset: " << options.dataset_path << " (" << dataset.rows.size() << " samples";
-    if (options.holdout_fraction > 0.0) {
-      out << ", the first " << samples.size() << " fitted";
-    }
-    out << ", " << pairs.size() << " keyframe pairs at T = " << validation.interval_s << " s)\n\n";
-    out << formatTricycleValidation(validation) << "\n";
-    out << formatTricycleReport(result, evaluation);
-    if (!options.output_path.empty()) {
-      writeFileAtomically(
-          options.output_path,
-          tricycleResultToYaml(result, evaluation, options.dataset_path, &validation));
-      out << "\nresult written to " << options.output_path << "\n";
-    }
-    if (!result.converged)
-      return 3;
-    return result.warnings.empty() ? 0 : 4;
+    return calibrateDataset(dataset, options, out);
   } catch (const std::exception& error) {
     err << "error: " << error.what() << "\n";
     return 1;

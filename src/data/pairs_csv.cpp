@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <functional>
 #include <iterator>
 #include <sstream>
 
@@ -79,82 +80,107 @@ std::string pairsCsvRow(const MotionPair& pair)
   return row + "\n";
 }
 
+namespace {
+
+/// Reports a malformed line (throws, naming the file and the line).
+using LineFailure = std::function<void(const std::string& what)>;
+
+/// The joints of a '# joints: <name>:<kind> ...' line into `joints`.
+void parseJointsLine(const std::string& line, const LineFailure& fail, JointLayout& joints)
+{
+  std::istringstream entries(line.substr(9));
+  std::string entry;
+  while (entries >> entry) {
+    const std::size_t colon = entry.rfind(':');
+    const std::string kind = colon == std::string::npos ? "" : entry.substr(colon + 1);
+    if (kind != "incremental" && kind != "absolute") {
+      fail("joints: expected <name>:incremental or <name>:absolute, got '" + entry + "'");
+    }
+    joints.names.push_back(entry.substr(0, colon));
+    joints.kinds.push_back(kind == "incremental" ? EncoderKind::kIncremental
+                                                 : EncoderKind::kAbsolute);
+  }
+}
+
+/// The samples field: ';'-separated samples, each a stamp and `joint_count` values.
+std::vector<EncoderSample> parseSamples(const std::string& field, std::size_t joint_count,
+                                        const LineFailure& fail)
+{
+  std::vector<EncoderSample> samples;
+  for (const std::string& text : split(field, ';')) {
+    std::istringstream stream(text);
+    std::vector<double> numbers;
+    std::string token;
+    while (stream >> token) {
+      double value = 0.0;
+      if (!parseNumber(token, &value))
+        fail("samples: '" + token + "' is not a number");
+      numbers.push_back(value);
+    }
+    if (numbers.size() != joint_count + 1) {
+      fail("samples: each sample needs a stamp and " + std::to_string(joint_count) +
+           " joint values, got '" + text + "'");
+    }
+    samples.push_back(
+        {numbers[0], Eigen::Map<const Eigen::VectorXd>(numbers.data() + 1,
+                                                       static_cast<Eigen::Index>(joint_count))});
+  }
+  return samples;
+}
+
+/// One row: stamps, motion, covariance (upper triangle) and the samples.
+MotionPair parsePairRow(const std::string& line, std::size_t joint_count, const LineFailure& fail)
+{
+  const auto fields = split(line, ',');
+  if (fields.size() != 12) {
+    fail("expected 12 comma-separated fields, found " + std::to_string(fields.size()));
+  }
+  double values[11];
+  for (int i = 0; i < 11; ++i) {
+    if (!parseNumber(fields[static_cast<std::size_t>(i)], &values[i])) {
+      fail("field " + std::to_string(i + 1) + ": expected a finite number, got '" +
+           fields[static_cast<std::size_t>(i)] + "'");
+    }
+  }
+  MotionPair pair;
+  pair.start_stamp_s = values[0];
+  pair.end_stamp_s = values[1];
+  pair.sensor_motion = Pose2(values[2], values[3], values[4]);
+  pair.covariance << values[5], values[6], values[7], values[6], values[8], values[9], values[7],
+      values[9], values[10];
+  pair.encoder_samples = parseSamples(fields[11], joint_count, fail);
+  if (pair.encoder_samples.size() < 2)
+    fail("a pair needs at least two encoder samples");
+  return pair;
+}
+
+}  // namespace
+
 PairsFile parsePairsCsv(std::istream& input, const std::string& source)
 {
   PairsFile file;
   bool has_joints = false;
   std::string line;
   std::size_t number_of_line = 0;
-  auto fail = [&](const std::string& what) {
+  const LineFailure fail = [&](const std::string& what) {
     throw std::runtime_error(source + ":" + std::to_string(number_of_line) + ": " + what);
   };
   while (std::getline(input, line)) {
     ++number_of_line;
     if (!line.empty() && line.back() == '\r')
       line.pop_back();
-    if (line.empty())
+    if (line.empty() || line == kColumns)
       continue;
     if (line[0] == '#') {
       if (line.rfind("# joints:", 0) == 0) {
-        std::istringstream joints(line.substr(9));
-        std::string entry;
-        while (joints >> entry) {
-          const std::size_t colon = entry.rfind(':');
-          const std::string kind = colon == std::string::npos ? "" : entry.substr(colon + 1);
-          if (kind != "incremental" && kind != "absolute") {
-            fail("joints: expected <name>:incremental or <name>:absolute, got '" + entry + "'");
-          }
-          file.joints.names.push_back(entry.substr(0, colon));
-          file.joints.kinds.push_back(kind == "incremental" ? EncoderKind::kIncremental
-                                                            : EncoderKind::kAbsolute);
-        }
+        parseJointsLine(line, fail, file.joints);
         has_joints = true;
       }
       continue;
     }
-    if (line == kColumns)
-      continue;
     if (!has_joints)
       fail("a '# joints: ...' line must come before the rows");
-    const auto fields = split(line, ',');
-    if (fields.size() != 12) {
-      fail("expected 12 comma-separated fields, found " + std::to_string(fields.size()));
-    }
-    double values[11];
-    for (int i = 0; i < 11; ++i) {
-      if (!parseNumber(fields[static_cast<std::size_t>(i)], &values[i])) {
-        fail("field " + std::to_string(i + 1) + ": expected a finite number, got '" +
-             fields[static_cast<std::size_t>(i)] + "'");
-      }
-    }
-    MotionPair pair;
-    pair.start_stamp_s = values[0];
-    pair.end_stamp_s = values[1];
-    pair.sensor_motion = Pose2(values[2], values[3], values[4]);
-    pair.covariance << values[5], values[6], values[7], values[6], values[8], values[9], values[7],
-        values[9], values[10];
-    for (const std::string& text : split(fields[11], ';')) {
-      std::istringstream stream(text);
-      std::vector<double> numbers;
-      std::string token;
-      while (stream >> token) {
-        double value = 0.0;
-        if (!parseNumber(token, &value))
-          fail("samples: '" + token + "' is not a number");
-        numbers.push_back(value);
-      }
-      if (numbers.size() != file.joints.names.size() + 1) {
-        fail("samples: each sample needs a stamp and " + std::to_string(file.joints.names.size()) +
-             " joint values, got '" + text + "'");
-      }
-      pair.encoder_samples.push_back(
-          {numbers[0],
-           Eigen::Map<const Eigen::VectorXd>(numbers.data() + 1,
-                                             static_cast<Eigen::Index>(file.joints.names.size()))});
-    }
-    if (pair.encoder_samples.size() < 2)
-      fail("a pair needs at least two encoder samples");
-    file.pairs.push_back(std::move(pair));
+    file.pairs.push_back(parsePairRow(line, file.joints.names.size(), fail));
   }
   if (!has_joints) {
     throw std::runtime_error(source + (number_of_line == 0

@@ -136,6 +136,62 @@ void parseHeaderLine(const std::string& body, std::size_t line, const std::strin
   // Other comment lines carry no data we use.
 }
 
+/// Refuses a sample line that is not 13 tokens with the four labels in their places.
+void checkRowLayout(const std::vector<std::string>& tokens, const std::string& source,
+                    std::size_t line)
+{
+  static const char* kLabels[] = {"time:", "ticks:", "model_pose:", "tracker_pose:"};
+  static const std::size_t kLabelPositions[] = {0, 2, 5, 9};
+  const char* kExpected =
+      "'time: <t> ticks: <steer> <traction> model_pose: <x> <y> <theta> "
+      "tracker_pose: <x> <y> <theta>'";
+  if (tokens.size() != 13) {
+    throw DatasetParseError(source, line,
+                            "expected 13 tokens " + std::string(kExpected) + ", found " +
+                                std::to_string(tokens.size()));
+  }
+  for (std::size_t i = 0; i < 4; ++i) {
+    if (tokens[kLabelPositions[i]] != kLabels[i]) {
+      throw DatasetParseError(source, line,
+                              "expected label '" + std::string(kLabels[i]) + "' at token " +
+                                  std::to_string(kLabelPositions[i] + 1) + ", found '" +
+                                  tokens[kLabelPositions[i]] + "'");
+    }
+  }
+}
+
+/// One sample line's tokens: its stamp into `stamp`, the ticks and the two poses into the row
+/// (its stamp_s is left to the caller, relative to the first row).
+TricycleDatasetRow parseRow(const std::vector<std::string>& tokens, const std::string& source,
+                            std::size_t line, SplitStamp* stamp)
+{
+  checkRowLayout(tokens, source, line);
+  TricycleDatasetRow row;
+  row.line = line;
+  if (!parseStamp(tokens[1], stamp)) {
+    throw DatasetParseError(
+        source, line, "time: expected a non-negative number of seconds, found '" + tokens[1] + "'");
+  }
+  if (!parseTicks(tokens[3], &row.steering_ticks) || !parseTicks(tokens[4], &row.traction_ticks)) {
+    throw DatasetParseError(
+        source, line,
+        "ticks: expected two integers in [0, 2^32), found '" + tokens[3] + " " + tokens[4] + "'");
+  }
+  double values[6];
+  const std::size_t value_tokens[] = {6, 7, 8, 10, 11, 12};
+  for (std::size_t i = 0; i < 6; ++i) {
+    if (!parseDouble(tokens[value_tokens[i]], &values[i])) {
+      throw DatasetParseError(source, line,
+                              std::string(i < 3 ? "model_pose" : "tracker_pose") +
+                                  ": expected a finite number, found '" + tokens[value_tokens[i]] +
+                                  "'");
+    }
+  }
+  row.T_odom_base_model = Pose2(values[0], values[1], values[2]);
+  row.T_world_sensor = Pose2(values[3], values[4], values[5]);
+  return row;
+}
+
 }  // namespace
 
 TricycleDataset parseTricycleDataset(std::istream& input, const std::string& source)
@@ -146,12 +202,6 @@ TricycleDataset parseTricycleDataset(std::istream& input, const std::string& sou
   std::size_t line = 0;
   bool expect_sensor_pose = false;
   SplitStamp first_stamp;
-  static const char* kLabels[] = {"time:", "ticks:", "model_pose:", "tracker_pose:"};
-  static const std::size_t kLabelPositions[] = {0, 2, 5, 9};
-  const char* kExpected =
-      "'time: <t> ticks: <steer> <traction> model_pose: <x> <y> <theta> "
-      "tracker_pose: <x> <y> <theta>'";
-
   while (std::getline(input, text)) {
     ++line;
     // getline stops at EOF without a line end only on the last, unterminated line.
@@ -172,45 +222,8 @@ TricycleDataset parseTricycleDataset(std::istream& input, const std::string& sou
                       &dataset.header);
       continue;
     }
-    if (tokens.size() != 13) {
-      throw DatasetParseError(source, line,
-                              "expected 13 tokens " + std::string(kExpected) + ", found " +
-                                  std::to_string(tokens.size()));
-    }
-    for (std::size_t i = 0; i < 4; ++i) {
-      if (tokens[kLabelPositions[i]] != kLabels[i]) {
-        throw DatasetParseError(source, line,
-                                "expected label '" + std::string(kLabels[i]) + "' at token " +
-                                    std::to_string(kLabelPositions[i] + 1) + ", found '" +
-                                    tokens[kLabelPositions[i]] + "'");
-      }
-    }
-    TricycleDatasetRow row;
-    row.line = line;
     SplitStamp stamp;
-    if (!parseStamp(tokens[1], &stamp)) {
-      throw DatasetParseError(
-          source, line,
-          "time: expected a non-negative number of seconds, found '" + tokens[1] + "'");
-    }
-    if (!parseTicks(tokens[3], &row.steering_ticks) ||
-        !parseTicks(tokens[4], &row.traction_ticks)) {
-      throw DatasetParseError(
-          source, line,
-          "ticks: expected two integers in [0, 2^32), found '" + tokens[3] + " " + tokens[4] + "'");
-    }
-    double values[6];
-    const std::size_t value_tokens[] = {6, 7, 8, 10, 11, 12};
-    for (std::size_t i = 0; i < 6; ++i) {
-      if (!parseDouble(tokens[value_tokens[i]], &values[i])) {
-        throw DatasetParseError(source, line,
-                                std::string(i < 3 ? "model_pose" : "tracker_pose") +
-                                    ": expected a finite number, found '" +
-                                    tokens[value_tokens[i]] + "'");
-      }
-    }
-    row.T_odom_base_model = Pose2(values[0], values[1], values[2]);
-    row.T_world_sensor = Pose2(values[3], values[4], values[5]);
+    TricycleDatasetRow row = parseRow(tokens, source, line, &stamp);
     if (dataset.rows.empty()) {
       first_stamp = stamp;
       dataset.first_stamp_unix_s = static_cast<double>(stamp.whole_s) + stamp.fraction_s;

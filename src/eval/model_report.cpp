@@ -7,38 +7,35 @@
 
 namespace odometry_calibration {
 
-std::string formatModelReport(const ModelReport& r)
+namespace {
+
+/// The parameter table: initial value, estimate, sigma and unit of each parameter.
+std::string parameterTable(const std::vector<ParameterEstimate>& parameters)
 {
   std::string text;
   char line[512];
-  std::snprintf(line, sizeof(line), "Model '%s': %zu pairs, %zu rejected, %zu down-weighted\n",
-                r.model.c_str(), r.pairs_used, r.rejected, r.down_weighted);
+  std::snprintf(line, sizeof(line), "\n%-29s %12s %14s %12s  %s\n", "parameter", "initial",
+                "estimate", "sigma", "unit");
   text += line;
-  std::snprintf(line, sizeof(line), "fit: %s after %d iterations, %.3f s (%s)\n",
-                r.converged ? "converged" : "NOT converged", r.iterations, r.fit_time_s,
-                r.termination.c_str());
-  text += line;
-  if (r.starts > 1) {
-    std::snprintf(line, sizeof(line), "starts: %d of %d sensor-yaw starts reached the best fit\n",
-                  r.starts_agreed, r.starts);
+  for (const ParameterEstimate& p : parameters) {
+    // Learned quantities without a start value or a sigma (GP hyperparameters) show "-".
+    char initial[32] = "-", sigma[32] = "-";
+    if (std::isfinite(p.initial))
+      std::snprintf(initial, sizeof(initial), "%.6g", p.initial);
+    if (std::isfinite(p.sigma))
+      std::snprintf(sigma, sizeof(sigma), "%.3g", p.sigma);
+    std::snprintf(line, sizeof(line), "%-29s %12s %14.7g %12s  %s\n", p.name.c_str(), initial,
+                  p.value, sigma, p.unit.c_str());
     text += line;
   }
-  if (!r.parameters.empty()) {
-    std::snprintf(line, sizeof(line), "\n%-29s %12s %14s %12s  %s\n", "parameter", "initial",
-                  "estimate", "sigma", "unit");
-    text += line;
-    for (const ParameterEstimate& p : r.parameters) {
-      // Learned quantities without a start value or a sigma (GP hyperparameters) show "-".
-      char initial[32] = "-", sigma[32] = "-";
-      if (std::isfinite(p.initial))
-        std::snprintf(initial, sizeof(initial), "%.6g", p.initial);
-      if (std::isfinite(p.sigma))
-        std::snprintf(sigma, sizeof(sigma), "%.3g", p.sigma);
-      std::snprintf(line, sizeof(line), "%-29s %12s %14.7g %12s  %s\n", p.name.c_str(), initial,
-                    p.value, sigma, p.unit.c_str());
-      text += line;
-    }
-  }
+  return text;
+}
+
+/// The residual RMS per pair before and after the fit, per axis, and the sensor pose.
+std::string residualLines(const ModelReport& r)
+{
+  std::string text;
+  char line[512];
   // A "before" exists only for models with start values (the parametric ones); the model-free
   // fits have none, and the nominal model's numbers are in the comparison lines instead.
   if (r.before.count > 0) {
@@ -64,17 +61,36 @@ std::string formatModelReport(const ModelReport& r)
                   r.T_base_sensor.x(), r.T_base_sensor.y(), r.T_base_sensor.theta());
     text += line;
   }
-  if (r.warnings.empty()) {
-    text += "observability: no warning\n";
-    for (const std::string& note : r.notes)
-      text += "  note: " + note + "\n";
-  } else {
-    text += "WARNINGS:\n";
-    for (const std::string& warning : r.warnings)
-      text += "  - " + warning + "\n";
-    for (const std::string& note : r.notes)
-      text += "  note: " + note + "\n";
+  return text;
+}
+
+}  // namespace
+
+std::string formatModelReport(const ModelReport& r)
+{
+  std::string text;
+  char line[512];
+  std::snprintf(line, sizeof(line), "Model '%s': %zu pairs, %zu rejected, %zu down-weighted\n",
+                r.model.c_str(), r.pairs_used, r.rejected, r.down_weighted);
+  text += line;
+  std::snprintf(line, sizeof(line), "fit: %s after %d iterations, %.3f s (%s)\n",
+                r.converged ? "converged" : "NOT converged", r.iterations, r.fit_time_s,
+                r.termination.c_str());
+  text += line;
+  if (r.starts > 1) {
+    std::snprintf(line, sizeof(line), "starts: %d of %d sensor-yaw starts reached the best fit\n",
+                  r.starts_agreed, r.starts);
+    text += line;
   }
+  if (!r.parameters.empty()) {
+    text += parameterTable(r.parameters);
+  }
+  text += residualLines(r);
+  text += r.warnings.empty() ? "observability: no warning\n" : "WARNINGS:\n";
+  for (const std::string& warning : r.warnings)
+    text += "  - " + warning + "\n";
+  for (const std::string& note : r.notes)
+    text += "  note: " + note + "\n";
   return text;
 }
 

@@ -310,40 +310,72 @@ std::optional<CollectorEvent> PairCollector::unpairedInput(
   return std::nullopt;
 }
 
-CollectorEvent PairCollector::processScan(double stamp_s,
-                                          std::shared_ptr<LazyPreparedScan> prepared)
+void PairCollector::compensateSweep(double stamp_s, LazyPreparedScan& prepared_scan)
 {
   // The sweep's motion: the prior model's prediction over the sweep itself [stamp, stamp +
   // sweep duration], as a constant velocity (SE(2) logarithm over the interval), set before
   // anything prepares the scan. Without the encoders of the whole sweep (the stream ended), the
   // prediction since the previous scan: one sweep late, it misjudges the motion while the robot
   // accelerates (on a simulated 10 Hz, 16-beam lidar it biased the radii 0.6 % low).
-  if (options_.compensate_sweep && predictor_ && prepared->hasRayTimes()) {
-    std::string reason;
-    const double sweep_end_s = stamp_s + prepared->sweepDuration();
-    const bool sweep_covered = prepared->sweepDuration() > 0.0 && !track_.empty() &&
-                               track_.lastStamp() >= sweep_end_s + options_.time_offset_s;
-    const double from_s =
-        sweep_covered ? stamp_s : (previous_scan_ ? previous_scan_stamp_s_ : stamp_s);
-    const double to_s = sweep_covered ? sweep_end_s : stamp_s;
-    if (to_s > from_s) {
-      if (const auto window = encoderWindow(from_s, to_s, &reason)) {
-        const Eigen::Vector3d xi = se2Log(predict(*window)) / (to_s - from_s);
-        prepared->setSweepVelocity({xi(0), xi(1), xi(2)});
-      }
+  if (!(options_.compensate_sweep && predictor_ && prepared_scan.hasRayTimes()))
+    return;
+  std::string reason;
+  const double sweep_end_s = stamp_s + prepared_scan.sweepDuration();
+  const bool sweep_covered = prepared_scan.sweepDuration() > 0.0 && !track_.empty() &&
+                             track_.lastStamp() >= sweep_end_s + options_.time_offset_s;
+  const double from_s =
+      sweep_covered ? stamp_s : (previous_scan_ ? previous_scan_stamp_s_ : stamp_s);
+  const double to_s = sweep_covered ? sweep_end_s : stamp_s;
+  if (to_s > from_s) {
+    if (const auto window = encoderWindow(from_s, to_s, &reason)) {
+      const Eigen::Vector3d xi = se2Log(predict(*window)) / (to_s - from_s);
+      prepared_scan.setSweepVelocity({xi(0), xi(1), xi(2)});
     }
   }
+}
+
+void PairCollector::submitConsecutiveMatch(double stamp_s,
+                                           const std::shared_ptr<LazyPreparedScan>& prepared)
+{
   // Consecutive-scan chain: the reference for the keyframe match's consistency. The match is
   // submitted now, with the guess from the encoders as they are now, and folded in before the
   // next keyframe decision; while its predecessors are unfolded, whether the chain is still
   // valid is not known yet, so it is submitted and the fold applies the rule.
-  if (options_.check_consistency && previous_scan_ && (chain_valid_ || !consecutive_.empty())) {
-    std::string reason;
-    const auto window = encoderWindow(previous_scan_stamp_s_, stamp_s, &reason);
-    const Pose2 guess = window ? predict(*window) : Pose2();
-    consecutive_.push_back(
-        matches_->submit(previous_scan_, prepared, guess, consecutive_options_, options_.matcher));
+  if (!(options_.check_consistency && previous_scan_ && (chain_valid_ || !consecutive_.empty())))
+    return;
+  std::string reason;
+  const auto window = encoderWindow(previous_scan_stamp_s_, stamp_s, &reason);
+  const Pose2 guess = window ? predict(*window) : Pose2();
+  consecutive_.push_back(
+      matches_->submit(previous_scan_, prepared, guess, consecutive_options_, options_.matcher));
+}
+
+bool PairCollector::consistentWithChain(const PlicpResult& match)
+{
+  const Pose2 difference = between(chain_, match.T_ref_new);
+  if (std::hypot(difference.x(), difference.y()) > options_.consistency_translation_m ||
+      std::abs(difference.theta()) > options_.consistency_rotation_rad) {
+    return false;
   }
+  const Eigen::Vector2d chain_m(chain_.x(), chain_.y());
+  if (chain_m.norm() >= kScaleCheckMinChain_m) {
+    const double keyframe_m =
+        Eigen::Vector2d(match.T_ref_new.x(), match.T_ref_new.y()).dot(chain_m) / chain_m.norm();
+    ++statistics_.scale_check_pairs;
+    statistics_.chained_m += chain_m.norm();
+    statistics_.keyframe_along_chain_m += keyframe_m;
+    statistics_.chained_m2 += chain_m.squaredNorm();
+    statistics_.keyframe_along_chain_m2 += keyframe_m * keyframe_m;
+    statistics_.chained_times_keyframe_m2 += keyframe_m * chain_m.norm();
+  }
+  return true;
+}
+
+CollectorEvent PairCollector::processScan(double stamp_s,
+                                          std::shared_ptr<LazyPreparedScan> prepared)
+{
+  compensateSweep(stamp_s, *prepared);
+  submitConsecutiveMatch(stamp_s, prepared);
   previous_scan_ = prepared;
   previous_scan_stamp_s_ = stamp_s;
 
@@ -370,23 +402,8 @@ CollectorEvent PairCollector::processScan(double stamp_s,
     return start_keyframe(reject("a consecutive match failed (pair motion from the chain)"));
   if (options_.check_consistency && !chain_valid_) {
     ++statistics_.unverified_pairs;  // a consecutive match failed: nothing to compare with
-  } else if (options_.check_consistency) {
-    const Pose2 difference = between(chain_, match.T_ref_new);
-    if (std::hypot(difference.x(), difference.y()) > options_.consistency_translation_m ||
-        std::abs(difference.theta()) > options_.consistency_rotation_rad) {
-      return start_keyframe(reject("keyframe match disagrees with consecutive matches"));
-    }
-    const Eigen::Vector2d chain_m(chain_.x(), chain_.y());
-    if (chain_m.norm() >= kScaleCheckMinChain_m) {
-      const double keyframe_m =
-          Eigen::Vector2d(match.T_ref_new.x(), match.T_ref_new.y()).dot(chain_m) / chain_m.norm();
-      ++statistics_.scale_check_pairs;
-      statistics_.chained_m += chain_m.norm();
-      statistics_.keyframe_along_chain_m += keyframe_m;
-      statistics_.chained_m2 += chain_m.squaredNorm();
-      statistics_.keyframe_along_chain_m2 += keyframe_m * keyframe_m;
-      statistics_.chained_times_keyframe_m2 += keyframe_m * chain_m.norm();
-    }
+  } else if (options_.check_consistency && !consistentWithChain(match)) {
+    return start_keyframe(reject("keyframe match disagrees with consecutive matches"));
   }
   if (options_.pair_motion_from_chain)
     return start_keyframe(pairEvent(stamp_s, std::move(window), chain_, match.covariance));

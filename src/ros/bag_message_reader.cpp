@@ -84,6 +84,141 @@ boost::shared_ptr<T> deserialiseChecked(const rosbag::MessageInstance& message,
   return deserialised;
 }
 
+/// Where the reading thread's time goes: reading and deserialising, converting, filtering
+/// clouds. `start` is when the current stretch of reading began.
+struct ReadTimers
+{
+  Clock::duration reading{}, converting{}, filtering{};
+  Clock::time_point start = Clock::now();
+
+  /// Ends the stretch of reading now; returns now.
+  Clock::time_point endReading()
+  {
+    const auto now = Clock::now();
+    reading += now - start;
+    return now;
+  }
+  /// Ends a conversion begun at `from`; the next stretch of reading starts now.
+  void endConverting(Clock::time_point from)
+  {
+    start = Clock::now();
+    converting += start - from;
+  }
+};
+
+/// A JointState into `input` (raw positions with the configured signs, or the reason they are
+/// unusable); false when the message is not one.
+bool readJointState(const rosbag::MessageInstance& message, const CalibrationConfig& config,
+                    const std::vector<EncoderChannelOptions>& channels,
+                    std::vector<std::uint8_t>& bytes, ReadTimers& timers, BagInput& input)
+{
+  const auto joints = deserialiseChecked<sensor_msgs::JointState>(
+      message, ros_conversions::WireMessage::kJointState, bytes);
+  if (!joints)
+    return false;
+  const auto converted = timers.endReading();
+  input.stamp_s = joints->header.stamp.toSec();
+  try {
+    input.raw = applySigns(config, ros_conversions::rawJointPositions(*joints, channels));
+  } catch (const std::invalid_argument& error) {
+    input.kind = BagInput::Kind::kBadJoints;
+    input.problem = error.what();
+  }
+  timers.endConverting(converted);
+  return true;
+}
+
+/// A LaserScan into `input`; false when the message is not one.
+bool readLaserScan(const rosbag::MessageInstance& message, std::vector<std::uint8_t>& bytes,
+                   ReadTimers& timers, BagInput& input)
+{
+  const auto scan = deserialiseChecked<sensor_msgs::LaserScan>(
+      message, ros_conversions::WireMessage::kLaserScan, bytes);
+  if (!scan)
+    return false;
+  const auto converted = timers.endReading();
+  input.kind = BagInput::Kind::kScan;
+  input.stamp_s = scan->header.stamp.toSec();
+  input.scan = ros_conversions::fromLaserScanMsg(*scan);
+  input.frame = scan->header.frame_id;
+  timers.endConverting(converted);
+  return true;
+}
+
+/// Why a cloud in `frame_id` is not the sensor's: no frame, or another than the first cloud's
+/// (`sensor_frame`, empty before the first); empty when it is.
+std::string cloudFrameProblem(const std::string& frame_id, const std::string& sensor_frame)
+{
+  if (frame_id.empty())
+    return "PointCloud2 names no frame (header.frame_id is empty)";
+  if (!sensor_frame.empty() && frame_id != sensor_frame) {
+    return "PointCloud2 in frame '" + frame_id + "', not the sensor's frame '" + sensor_frame +
+           "' (the first cloud's)";
+  }
+  return "";
+}
+
+/// A PointCloud2 into `input`: converted and cut into a planar scan, or a bad scan with the
+/// reason; false when the message is not one. The first cloud's frame becomes the sensor's.
+bool readCloud(const rosbag::MessageInstance& message, const CalibrationConfig& config,
+               std::vector<std::uint8_t>& bytes, std::string& sensor_frame, ReadTimers& timers,
+               BagInput& input)
+{
+  const auto cloud = deserialiseChecked<sensor_msgs::PointCloud2>(
+      message, ros_conversions::WireMessage::kPointCloud2, bytes);
+  if (!cloud)
+    return false;
+  const auto converted = timers.endReading();
+  input.stamp_s = cloud->header.stamp.toSec();
+  input.kind = BagInput::Kind::kBadScan;
+  input.problem = cloudFrameProblem(cloud->header.frame_id, sensor_frame);
+  if (!input.problem.empty()) {
+    timers.endConverting(converted);
+    return true;
+  }
+  sensor_frame = cloud->header.frame_id;
+  input.frame = sensor_frame;
+  try {
+    const auto lidar = ros_conversions::fromPointCloud2Msg(*cloud, config.cloud.point_times);
+    const auto filtered = Clock::now();
+    timers.converting += filtered - converted;
+    try {
+      input.scan = cloudToScan(lidar.cloud, lidar.has_times, config.cloud);
+      input.kind = BagInput::Kind::kScan;
+      input.problem = lidar.time_problem;
+    } catch (const std::invalid_argument& error) {
+      input.problem = "PointCloud2 skipped: " + std::string(error.what());
+    }
+    timers.start = Clock::now();
+    timers.filtering += timers.start - filtered;
+  } catch (const std::invalid_argument& error) {
+    input.problem = "PointCloud2 skipped: " + std::string(error.what());
+    timers.endConverting(converted);
+  }
+  return true;
+}
+
+/// An Odometry's or a PoseStamped's pose into `input`; false when the message is neither.
+bool readPose(const rosbag::MessageInstance& message, std::vector<std::uint8_t>& bytes,
+              BagInput& input)
+{
+  input.kind = BagInput::Kind::kPose;
+  if (const auto odometry = deserialiseChecked<nav_msgs::Odometry>(
+          message, ros_conversions::WireMessage::kOdometry, bytes)) {
+    input.stamp_s = odometry->header.stamp.toSec();
+    input.pose = ros_conversions::fromPoseMsg(odometry->pose.pose);
+    input.frame = odometry->child_frame_id;
+    return true;
+  }
+  if (const auto stamped = deserialiseChecked<geometry_msgs::PoseStamped>(
+          message, ros_conversions::WireMessage::kPoseStamped, bytes)) {
+    input.stamp_s = stamped->header.stamp.toSec();
+    input.pose = ros_conversions::fromPoseMsg(stamped->pose);
+    return true;
+  }
+  return false;
+}
+
 }  // namespace
 
 void containBagReadFaults()
@@ -161,9 +296,8 @@ void BagMessageReader::read(rosbag::View& view, const CalibrationConfig& config)
   const std::vector<EncoderChannelOptions> channels = encoderChannels(config);
   const double begin_s = view.getBeginTime().toSec();
   const double span_s = std::max(1e-9, (view.getEndTime() - view.getBeginTime()).toSec());
-  Clock::duration reading{}, converting{}, filtering{};
+  ReadTimers timers;
   std::vector<BagInput> batch;
-  auto start = Clock::now();
   for (const rosbag::MessageInstance& message : view) {
     {
       std::lock_guard<std::mutex> lock(mutex_);
@@ -172,104 +306,30 @@ void BagMessageReader::read(rosbag::View& view, const CalibrationConfig& config)
     }
     BagInput input;
     input.fraction = (message.getTime().toSec() - begin_s) / span_s;
-    if (message.getTopic() == config.joint_state_topic) {
-      const auto joints = deserialiseChecked<sensor_msgs::JointState>(
-          message, ros_conversions::WireMessage::kJointState, message_bytes_);
-      if (!joints)
-        continue;
-      const auto converted = Clock::now();
-      reading += converted - start;
-      input.stamp_s = joints->header.stamp.toSec();
-      try {
-        input.raw = applySigns(config, ros_conversions::rawJointPositions(*joints, channels));
-      } catch (const std::invalid_argument& error) {
-        input.kind = BagInput::Kind::kBadJoints;
-        input.problem = error.what();
-      }
-      start = Clock::now();
-      converting += start - converted;
-    } else if (config.ego_motion == EgoMotionSource::kScan) {
-      const auto scan = deserialiseChecked<sensor_msgs::LaserScan>(
-          message, ros_conversions::WireMessage::kLaserScan, message_bytes_);
-      if (!scan)
-        continue;
-      const auto converted = Clock::now();
-      reading += converted - start;
-      input.kind = BagInput::Kind::kScan;
-      input.stamp_s = scan->header.stamp.toSec();
-      input.scan = ros_conversions::fromLaserScanMsg(*scan);
-      input.frame = scan->header.frame_id;
-      start = Clock::now();
-      converting += start - converted;
-    } else if (config.ego_motion == EgoMotionSource::kCloud) {
-      const auto cloud = deserialiseChecked<sensor_msgs::PointCloud2>(
-          message, ros_conversions::WireMessage::kPointCloud2, message_bytes_);
-      if (!cloud)
-        continue;
-      const auto converted = Clock::now();
-      reading += converted - start;
-      input.stamp_s = cloud->header.stamp.toSec();
-      input.kind = BagInput::Kind::kBadScan;
-      if (cloud->header.frame_id.empty()) {
-        input.problem = "PointCloud2 names no frame (header.frame_id is empty)";
-      } else if (!cloud_frame_.empty() && cloud->header.frame_id != cloud_frame_) {
-        input.problem = "PointCloud2 in frame '" + cloud->header.frame_id +
-                        "', not the sensor's frame '" + cloud_frame_ + "' (the first cloud's)";
-      }
-      if (input.problem.empty()) {
-        cloud_frame_ = cloud->header.frame_id;
-        input.frame = cloud_frame_;
-        try {
-          const auto lidar = ros_conversions::fromPointCloud2Msg(*cloud, config.cloud.point_times);
-          const auto filtered = Clock::now();
-          converting += filtered - converted;
-          try {
-            input.scan = cloudToScan(lidar.cloud, lidar.has_times, config.cloud);
-            input.kind = BagInput::Kind::kScan;
-            input.problem = lidar.time_problem;
-          } catch (const std::invalid_argument& error) {
-            input.problem = "PointCloud2 skipped: " + std::string(error.what());
-          }
-          start = Clock::now();
-          filtering += start - filtered;
-        } catch (const std::invalid_argument& error) {
-          input.problem = "PointCloud2 skipped: " + std::string(error.what());
-          start = Clock::now();
-          converting += start - converted;
-        }
-      } else {
-        start = Clock::now();
-        converting += start - converted;
-      }
-    } else {
-      input.kind = BagInput::Kind::kPose;
-      if (const auto odometry = deserialiseChecked<nav_msgs::Odometry>(
-              message, ros_conversions::WireMessage::kOdometry, message_bytes_)) {
-        input.stamp_s = odometry->header.stamp.toSec();
-        input.pose = ros_conversions::fromPoseMsg(odometry->pose.pose);
-        input.frame = odometry->child_frame_id;
-      } else if (const auto stamped = deserialiseChecked<geometry_msgs::PoseStamped>(
-                     message, ros_conversions::WireMessage::kPoseStamped, message_bytes_)) {
-        input.stamp_s = stamped->header.stamp.toSec();
-        input.pose = ros_conversions::fromPoseMsg(stamped->pose);
-      } else {
-        continue;
-      }
-    }
+    const bool read_one =
+        message.getTopic() == config.joint_state_topic
+            ? readJointState(message, config, channels, message_bytes_, timers, input)
+        : config.ego_motion == EgoMotionSource::kScan
+            ? readLaserScan(message, message_bytes_, timers, input)
+        : config.ego_motion == EgoMotionSource::kCloud
+            ? readCloud(message, config, message_bytes_, cloud_frame_, timers, input)
+            : readPose(message, message_bytes_, input);
+    if (!read_one)
+      continue;  // another message type on the topic
     batch.push_back(std::move(input));
     if (batch.size() == kBatchSize) {
-      reading += Clock::now() - start;
+      timers.reading += Clock::now() - timers.start;
       push(std::move(batch));
       batch.clear();
-      start = Clock::now();
+      timers.start = Clock::now();
     }
   }
-  reading += Clock::now() - start;
+  timers.reading += Clock::now() - timers.start;
   if (!batch.empty())
     push(std::move(batch));
-  read_time_s_ = seconds(reading);
-  conversion_time_s_ = seconds(converting);
-  filtering_time_s_ = seconds(filtering);
+  read_time_s_ = seconds(timers.reading);
+  conversion_time_s_ = seconds(timers.converting);
+  filtering_time_s_ = seconds(timers.filtering);
 }
 
 }  // namespace odometry_calibration

@@ -276,6 +276,124 @@ ByteSource chunkContents(const FileDescriptor& file, ByteSource& bag, const Reco
   return ByteSource(std::move(records));
 }
 
+/// Refuses a file that does not start as a bag of format 2.0 (naming the old format 1.2).
+void checkMagic(ByteSource& bag)
+{
+  const std::uint8_t* magic = bag.at(0, kMagicBytes);
+  if (magic && std::memcmp(magic, kOldMagic, kMagicBytes) == 0)
+    throw UnsupportedBagFormat(
+        "it is in the bag format 1.2 of ROS before 2010, which is not read "
+        "here; 'rosbag filter OLD.bag NEW.bag True' rewrites it in 2.0");
+  if (!magic || std::memcmp(magic, kMagic, kMagicBytes) != 0)
+    fail("it does not start as a ROS bag of format 2.0 ('#ROSBAG V2.0')");
+}
+
+/// What the bag header says of the index section.
+struct BagIndexPosition
+{
+  std::uint64_t position = 0;  ///< of the first connection record [byte]
+  std::uint32_t connections = 0;
+  std::uint32_t chunks = 0;
+};
+
+/// The bag header record: not encrypted, with an index that was written and lies in the bag.
+BagIndexPosition readBagHeader(ByteSource& bag)
+{
+  const Record header = expectRecord(bag, kMagicBytes, kOpBagHeader, "the bag header record");
+  const auto encryptor = header.fields.find("encryptor");
+  if (encryptor != header.fields.end() && !encryptor->second.empty() &&
+      encryptor->second != "rosbag/NoEncryptor")
+    throw UnsupportedBagFormat("it is encrypted (" + encryptor->second +
+                               "), which is not read here; 'rosbag decrypt' writes a plain copy");
+  BagIndexPosition index;
+  index.position = expectNumber<std::uint64_t>(header, "index_pos", "the bag header");
+  index.connections = expectNumber<std::uint32_t>(header, "conn_count", "the bag header");
+  index.chunks = expectNumber<std::uint32_t>(header, "chunk_count", "the bag header");
+  if (index.position == 0)
+    fail(
+        "its index was never written (a recording that was not closed); 'rosbag reindex' "
+        "rebuilds it");
+  if (index.position < header.end() || index.position >= bag.size())
+    fail("the bag header puts the index at byte " + std::to_string(index.position) +
+         ", outside the bag's " + std::to_string(bag.size()) + " bytes");
+  return index;
+}
+
+/// One chunk info record: where the chunk is and how many connections it indexes.
+struct ChunkInfo
+{
+  std::uint64_t position;
+  std::uint32_t connections;
+};
+
+/// The index section, as rosbag reads it: the connections, then one info per chunk.
+std::vector<ChunkInfo> readChunkInfos(ByteSource& bag, const BagIndexPosition& index)
+{
+  std::uint64_t offset = index.position;
+  for (std::uint32_t i = 0; i < index.connections; ++i)
+    offset = expectRecord(bag, offset, kOpConnection, placeOf("connection record", offset)).end();
+  std::vector<ChunkInfo> infos;
+  for (std::uint32_t i = 0; i < index.chunks; ++i) {
+    const std::string where = placeOf("chunk info record", offset);
+    const Record info = expectRecord(bag, offset, kOpChunkInfo, where);
+    infos.push_back({expectNumber<std::uint64_t>(info, "chunk_pos", where),
+                     expectNumber<std::uint32_t>(info, "count", where)});
+    if (std::uint64_t{infos.back().connections} * 8 != info.data_bytes)  // (conn, count) pairs
+      fail(where + " claims " + std::to_string(infos.back().connections) + " connections in " +
+           std::to_string(info.data_bytes) + " bytes");
+    offset = info.end();
+  }
+  return infos;
+}
+
+/// The chunk's records, which must tile it: the op of the record at each start (chunk
+/// offset). Counts them.
+std::map<std::uint64_t, std::uint8_t> chunkRecordStarts(ByteSource& contents,
+                                                        const std::string& where,
+                                                        BagRecordCheckSummary& summary)
+{
+  std::map<std::uint64_t, std::uint8_t> starts;
+  Record record;
+  for (std::uint64_t inner = 0; inner < contents.size(); inner = record.end()) {
+    const std::string problem = readRecord(contents, inner, record);
+    if (!problem.empty())
+      fail(where + ": record at chunk offset " + std::to_string(inner) + " " + problem);
+    if (record.op != kOpMessageData && record.op != kOpConnection)
+      fail(where + ": record at chunk offset " + std::to_string(inner) + " is of type 0x" +
+           std::to_string(record.op) + ", which a chunk does not hold");
+    starts[inner] = record.op;
+    ++summary.records;
+  }
+  return starts;
+}
+
+/// The chunk's index records (one per connection, after the chunk): each entry must point at a
+/// message data record's start. Counts the entries.
+void checkChunkIndex(ByteSource& bag, const Record& chunk, const ChunkInfo& info,
+                     const std::map<std::uint64_t, std::uint8_t>& starts, const std::string& where,
+                     BagRecordCheckSummary& summary)
+{
+  std::uint64_t index_offset = chunk.end();
+  for (std::uint32_t c = 0; c < info.connections; ++c) {
+    const std::string index_where = placeOf("index record", index_offset);
+    const Record index = expectRecord(bag, index_offset, kOpIndexData, index_where);
+    const auto count = expectNumber<std::uint32_t>(index, "count", index_where);
+    if (std::uint64_t{count} * kIndexEntryBytes != index.data_bytes)
+      fail(index_where + " claims " + std::to_string(count) + " entries in " +
+           std::to_string(index.data_bytes) + " bytes");
+    for (std::uint32_t e = 0; e < count; ++e) {
+      const std::uint32_t entry =
+          bag.u32(index.data_offset + std::uint64_t{e} * kIndexEntryBytes + 8);
+      const auto start = starts.find(entry);
+      if (start == starts.end() || start->second != kOpMessageData)
+        fail(index_where + ": entry " + std::to_string(e) + " points at chunk offset " +
+             std::to_string(entry) + ", where no message record of " + where + " starts");
+    }
+    summary.index_entries += count;
+    index_offset = index.end();
+  }
+}
+
 }  // namespace
 
 BagRecordCheckSummary checkBagRecords(const std::string& path)
@@ -286,88 +404,15 @@ BagRecordCheckSummary checkBagRecords(const std::string& path)
   if (::fstat(file.get(), &status) != 0)
     fail("cannot read '" + path + "': " + std::strerror(errno));
   ByteSource bag(file.get(), 0, static_cast<std::uint64_t>(status.st_size));
-  const std::uint8_t* magic = bag.at(0, kMagicBytes);
-  if (magic && std::memcmp(magic, kOldMagic, kMagicBytes) == 0)
-    throw UnsupportedBagFormat(
-        "it is in the bag format 1.2 of ROS before 2010, which is not read "
-        "here; 'rosbag filter OLD.bag NEW.bag True' rewrites it in 2.0");
-  if (!magic || std::memcmp(magic, kMagic, kMagicBytes) != 0)
-    fail("it does not start as a ROS bag of format 2.0 ('#ROSBAG V2.0')");
-
-  const Record header = expectRecord(bag, kMagicBytes, kOpBagHeader, "the bag header record");
-  const auto encryptor = header.fields.find("encryptor");
-  if (encryptor != header.fields.end() && !encryptor->second.empty() &&
-      encryptor->second != "rosbag/NoEncryptor")
-    throw UnsupportedBagFormat("it is encrypted (" + encryptor->second +
-                               "), which is not read here; 'rosbag decrypt' writes a plain copy");
-  const auto index_position = expectNumber<std::uint64_t>(header, "index_pos", "the bag header");
-  const auto connections = expectNumber<std::uint32_t>(header, "conn_count", "the bag header");
-  const auto chunks = expectNumber<std::uint32_t>(header, "chunk_count", "the bag header");
-  if (index_position == 0)
-    fail(
-        "its index was never written (a recording that was not closed); 'rosbag reindex' "
-        "rebuilds it");
-  if (index_position < header.end() || index_position >= bag.size())
-    fail("the bag header puts the index at byte " + std::to_string(index_position) +
-         ", outside the bag's " + std::to_string(bag.size()) + " bytes");
-
-  // The index section, as rosbag reads it: the connections, then one info per chunk.
-  std::uint64_t offset = index_position;
-  for (std::uint32_t i = 0; i < connections; ++i)
-    offset = expectRecord(bag, offset, kOpConnection, placeOf("connection record", offset)).end();
-  struct ChunkInfo
-  {
-    std::uint64_t position;
-    std::uint32_t connections;
-  };
-  std::vector<ChunkInfo> infos;
-  for (std::uint32_t i = 0; i < chunks; ++i) {
-    const std::string where = placeOf("chunk info record", offset);
-    const Record info = expectRecord(bag, offset, kOpChunkInfo, where);
-    infos.push_back({expectNumber<std::uint64_t>(info, "chunk_pos", where),
-                     expectNumber<std::uint32_t>(info, "count", where)});
-    if (std::uint64_t{infos.back().connections} * 8 != info.data_bytes)  // (conn, count) pairs
-      fail(where + " claims " + std::to_string(infos.back().connections) + " connections in " +
-           std::to_string(info.data_bytes) + " bytes");
-    offset = info.end();
-  }
-
+  checkMagic(bag);
+  const std::vector<ChunkInfo> infos = readChunkInfos(bag, readBagHeader(bag));
   for (const ChunkInfo& info : infos) {
     const std::string where = placeOf("chunk", info.position);
     const Record chunk = expectRecord(bag, info.position, kOpChunk, where);
     ByteSource contents = chunkContents(file, bag, chunk, where);
     // Its records must tile it; the index may point only at message data records' starts.
-    std::map<std::uint64_t, std::uint8_t> starts;
-    Record record;
-    for (std::uint64_t inner = 0; inner < contents.size(); inner = record.end()) {
-      const std::string problem = readRecord(contents, inner, record);
-      if (!problem.empty())
-        fail(where + ": record at chunk offset " + std::to_string(inner) + " " + problem);
-      if (record.op != kOpMessageData && record.op != kOpConnection)
-        fail(where + ": record at chunk offset " + std::to_string(inner) + " is of type 0x" +
-             std::to_string(record.op) + ", which a chunk does not hold");
-      starts[inner] = record.op;
-      ++summary.records;
-    }
-    std::uint64_t index_offset = chunk.end();
-    for (std::uint32_t c = 0; c < info.connections; ++c) {
-      const std::string index_where = placeOf("index record", index_offset);
-      const Record index = expectRecord(bag, index_offset, kOpIndexData, index_where);
-      const auto count = expectNumber<std::uint32_t>(index, "count", index_where);
-      if (std::uint64_t{count} * kIndexEntryBytes != index.data_bytes)
-        fail(index_where + " claims " + std::to_string(count) + " entries in " +
-             std::to_string(index.data_bytes) + " bytes");
-      for (std::uint32_t e = 0; e < count; ++e) {
-        const std::uint32_t entry =
-            bag.u32(index.data_offset + std::uint64_t{e} * kIndexEntryBytes + 8);
-        const auto start = starts.find(entry);
-        if (start == starts.end() || start->second != kOpMessageData)
-          fail(index_where + ": entry " + std::to_string(e) + " points at chunk offset " +
-               std::to_string(entry) + ", where no message record of " + where + " starts");
-      }
-      summary.index_entries += count;
-      index_offset = index.end();
-    }
+    const auto starts = chunkRecordStarts(contents, where, summary);
+    checkChunkIndex(bag, chunk, info, starts, where, summary);
     ++summary.chunks;
   }
   return summary;

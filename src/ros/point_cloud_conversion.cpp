@@ -108,23 +108,25 @@ void checkLayout(const sensor_msgs::PointCloud2& message)
   }
 }
 
-}  // namespace
-
-LidarCloud fromPointCloud2Msg(const sensor_msgs::PointCloud2& message,
-                              const PointTimeOptions& time_options)
+/// The field of the per-point times: the configured one, else the first of the usual names
+/// the cloud has; nullptr when there is none.
+const Field* timeField(const sensor_msgs::PointCloud2& message,
+                       const PointTimeOptions& time_options)
 {
-  checkLayout(message);
-  const Field* time = nullptr;
-  if (time_options.field.empty()) {
-    for (const std::string& name : defaultPointTimeFields()) {
-      if ((time = findField(message, name)))
-        break;
-    }
-  } else {
-    time = findField(message, time_options.field);
+  if (!time_options.field.empty())
+    return findField(message, time_options.field);
+  for (const std::string& name : defaultPointTimeFields()) {
+    if (const Field* time = findField(message, name))
+      return time;
   }
-  // PCL fills PointXYZI's fields by name: the cloud's own intensity is set aside and x stands in
-  // for it (so that PCL finds every field); the intensities are overwritten below.
+  return nullptr;
+}
+
+/// The message as PCL's, readable as PointXYZI: PCL fills PointXYZI's fields by name, so the
+/// cloud's own intensity is set aside and x stands in for it (so that PCL finds every field);
+/// the intensities are overwritten afterwards.
+pcl::PCLPointCloud2 withStandInIntensity(const sensor_msgs::PointCloud2& message)
+{
   pcl::PCLPointCloud2 pcl_message;
   pcl_conversions::toPCL(message, pcl_message);
   for (auto& field : pcl_message.fields) {
@@ -137,43 +139,60 @@ LidarCloud fromPointCloud2Msg(const sensor_msgs::PointCloud2& message,
   stand_in.datatype = pcl::PCLPointField::FLOAT32;
   stand_in.count = 1;
   pcl_message.fields.push_back(stand_in);
+  return pcl_message;
+}
+
+/// The points' times after the stamp [s] into the intensities of result.cloud, when the field's
+/// values convert (else result.time_problem says why).
+void readPointTimes(const sensor_msgs::PointCloud2& message, const Field& time,
+                    const PointTimeOptions& time_options, LidarCloud& result)
+{
+  TimedCloud& cloud = *result.cloud;
+  result.time_field = time.name;
+  std::vector<double> times;
+  times.reserve(cloud.size());
+  for (std::uint32_t row = 0; row < message.height; ++row) {
+    const std::uint8_t* row_data = message.data.data() + row * message.row_step;
+    for (std::uint32_t column = 0; column < message.width; ++column)
+      times.push_back(
+          readValue(row_data + column * message.point_step + time.offset, time.datatype));
+  }
+  const bool integer_field = time.datatype != Field::FLOAT32 && time.datatype != Field::FLOAT64;
+  const PointTimeConversion conversion =
+      toTimesAfterStamp(times, integer_field, message.header.stamp.toSec(), time_options);
+  result.time_unit = conversion.unit;
+  result.time_reference = conversion.reference;
+  if (conversion.usable() && times.size() == cloud.size()) {
+    result.has_times = true;
+    for (std::size_t i = 0; i < times.size(); ++i)
+      cloud[i].intensity = static_cast<float>(times[i]);
+  } else {
+    result.time_problem = "per-point times of field '" + time.name +
+                          "' ignored (no sweep compensation for this cloud): " + conversion.problem;
+  }
+}
+
+}  // namespace
+
+LidarCloud fromPointCloud2Msg(const sensor_msgs::PointCloud2& message,
+                              const PointTimeOptions& time_options)
+{
+  checkLayout(message);
+  const Field* time = timeField(message, time_options);
+  const pcl::PCLPointCloud2 pcl_message = withStandInIntensity(message);
   LidarCloud result;
   result.cloud = std::make_shared<TimedCloud>();
   if (std::size_t{message.width} * message.height == 0)
     return result;  // no points (PCL's conversion would index the empty cloud's first point)
   pcl::fromPCLPointCloud2(pcl_message, *result.cloud);
-  TimedCloud& cloud = *result.cloud;
-
   if (time) {
-    result.time_field = time->name;
-    std::vector<double> times;
-    times.reserve(cloud.size());
-    for (std::uint32_t row = 0; row < message.height; ++row) {
-      const std::uint8_t* row_data = message.data.data() + row * message.row_step;
-      for (std::uint32_t column = 0; column < message.width; ++column)
-        times.push_back(
-            readValue(row_data + column * message.point_step + time->offset, time->datatype));
-    }
-    const bool integer_field = time->datatype != Field::FLOAT32 && time->datatype != Field::FLOAT64;
-    const PointTimeConversion conversion =
-        toTimesAfterStamp(times, integer_field, message.header.stamp.toSec(), time_options);
-    result.time_unit = conversion.unit;
-    result.time_reference = conversion.reference;
-    if (conversion.usable() && times.size() == cloud.size()) {
-      result.has_times = true;
-      for (std::size_t i = 0; i < times.size(); ++i)
-        cloud[i].intensity = static_cast<float>(times[i]);
-    } else {
-      result.time_problem =
-          "per-point times of field '" + time->name +
-          "' ignored (no sweep compensation for this cloud): " + conversion.problem;
-    }
+    readPointTimes(message, *time, time_options, result);
   } else if (!time_options.field.empty()) {
     result.time_problem = "the configured point_time_field '" + time_options.field +
                           "' is not in the cloud: no sweep compensation";
   }
   if (!result.has_times) {
-    for (auto& point : cloud.points)
+    for (auto& point : result.cloud->points)
       point.intensity = 0.0f;
   }
   return result;

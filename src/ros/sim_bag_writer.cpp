@@ -15,6 +15,7 @@
 
 #include "odometry_calibration/common/atomic_file.h"
 #include "odometry_calibration/ros/conversions.h"
+#include "odometry_calibration/sim/tricycle_log_sink.h"
 #include "odometry_calibration/sim/world.h"
 
 namespace odometry_calibration {
@@ -225,6 +226,44 @@ sim::SimulationSummary simulateToBag(const sim::Scenario& scenario, const std::s
     writeFileAtomically(truth_path, sim::scenarioTruthYaml(scenario, *robot));
   }
   return summary;
+}
+
+int simulateToFiles(const sim::Scenario& scenario, SimulationFiles files, std::ostream& out,
+                    std::ostream& err)
+{
+  if (files.bag_path.empty())
+    files.bag_path = defaultSimulationBagPath(scenario);
+  if (files.truth_path.empty())
+    files.truth_path = defaultTruthPath(files.bag_path);
+  std::unique_ptr<sim::TricycleLogSink> log_sink;
+  if (!files.tricycle_log_path.empty()) {
+    if (!sim::canWriteTricycleLog(scenario)) {
+      err << "error: --tricycle-log needs a tricycle robot with 'tracker: {enabled: "
+             "true}' in the scenario\n";
+      return 2;
+    }
+    log_sink = sim::makeTricycleLogSink(scenario);
+  }
+  const sim::SimulationSummary summary =
+      simulateToBag(scenario, files.bag_path, files.truth_path, log_sink.get());
+  if (log_sink) {
+    writeFileAtomically(files.tricycle_log_path, log_sink->text());
+  }
+  out << "simulated " << scenario.duration_s << " s of '" << scenario.name << "' ("
+      << scenario.robot.type << "): " << summary.joint_states << " joint states, " << summary.scans
+      << " scans, " << summary.distance_m << " m driven, " << summary.rotation_rad
+      << " rad turned, " << summary.counter_wraps << " counter wrap-arounds\n"
+      << "bag:   " << files.bag_path << "\ntruth: " << files.truth_path << "\n";
+  if (sim::droveTooLittle(scenario, summary)) {
+    err << "warning: the robot drove only " << summary.distance_m
+        << " m (a script that stands still, or a random planner boxed in near the start "
+           "pose: move start_pose or lower motion.clearance_m); a calibration needs "
+           "motion\n";
+  }
+  if (log_sink) {
+    out << "tricycle log: " << files.tricycle_log_path << " (" << log_sink->rows() << " rows)\n";
+  }
+  return 0;
 }
 
 }  // namespace odometry_calibration

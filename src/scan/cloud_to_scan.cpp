@@ -87,34 +87,19 @@ Scan pointsByBearing(const TimedCloud& kept, bool has_times, const CloudToScanOp
   return scan;
 }
 
-}  // namespace
-
-Scan cloudToScan(const TimedCloud::ConstPtr& input, bool has_times,
-                 const CloudToScanOptions& options, CloudToScanCounts* counts_out)
+/// The finite points of `input` (copied only when some are not), levelled (R_y(pitch) R_x(roll):
+/// the plane becomes z = 0). Counts the finite points.
+TimedCloud::ConstPtr finiteLevelled(const TimedCloud::ConstPtr& input,
+                                    const CloudToScanOptions& options, CloudToScanCounts& counts)
 {
-  validate(options);
-  CloudToScanCounts counts;
-  auto report = [&] {
-    if (counts_out)
-      *counts_out = counts;
-  };
-  const TimedCloud& cloud = *input;
-  counts.input = cloud.size();
-  if (cloud.empty()) {
-    report();
-    throw std::invalid_argument("the cloud is empty");
-  }
-
-  // Finite points only (copied only when some are not), levelled (R_y(pitch) R_x(roll): the
-  // plane becomes z = 0).
   TimedCloud::ConstPtr points = input;
   counts.finite = 0;
-  for (const auto& p : cloud.points)
+  for (const auto& p : input->points)
     counts.finite += std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) ? 1 : 0;
   if (counts.finite < counts.input) {
     auto finite = std::make_shared<TimedCloud>();
     finite->reserve(counts.finite);
-    for (const auto& p : cloud.points) {
+    for (const auto& p : input->points) {
       if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z))
         finite->push_back(p);
     }
@@ -128,8 +113,13 @@ Scan cloudToScan(const TimedCloud::ConstPtr& input, bool has_times,
     pcl::transformPointCloud(*points, *levelled, level);
     points = levelled;
   }
+  return points;
+}
 
-  // The height band, and the range limits as a box (the exact circle comes with the binning).
+/// The height band, and the range limits as a box (the exact circle comes with the binning);
+/// projected onto the plane when the scan is made of the points themselves.
+TimedCloud::Ptr heightBand(const TimedCloud::ConstPtr& points, const CloudToScanOptions& options)
+{
   auto band = std::make_shared<TimedCloud>();
   pcl::CropBox<pcl::PointXYZI> crop;
   const float r = static_cast<float>(options.range_max_m);
@@ -137,47 +127,78 @@ Scan cloudToScan(const TimedCloud::ConstPtr& input, bool has_times,
   crop.setMax(Eigen::Vector4f(r, r, static_cast<float>(options.band_max_m), 1.0f));
   crop.setInputCloud(points);
   crop.filter(*band);
-  counts.band = band->size();
   if (options.scan_from == ScanFrom::kPoints) {
     for (auto& p : band->points)
       p.z = 0.0f;  // projected onto the plane: the rings that see a wall share its voxels
   }
+  return band;
+}
 
-  auto thinned = band;
+/// The voxel grid's centroids (the cloud itself without a voxel size), then the statistical
+/// outlier removal (the cloud itself without neighbours or with too few points).
+TimedCloud::Ptr thinned(const TimedCloud::Ptr& band, const CloudToScanOptions& options,
+                        CloudToScanCounts& counts)
+{
+  auto voxels = band;
   if (options.voxel_size_m > 0.0 && !band->empty()) {
-    thinned = std::make_shared<TimedCloud>();
+    voxels = std::make_shared<TimedCloud>();
     pcl::VoxelGrid<pcl::PointXYZI> grid;
     const float leaf = static_cast<float>(options.voxel_size_m);
     grid.setLeafSize(leaf, leaf, leaf);
     grid.setInputCloud(band);
-    grid.filter(*thinned);
+    grid.filter(*voxels);
   }
-  counts.voxels = thinned->size();
-
-  auto kept = thinned;
+  counts.voxels = voxels->size();
+  auto kept = voxels;
   if (options.outlier_neighbours > 0 &&
-      thinned->size() > static_cast<std::size_t>(options.outlier_neighbours)) {
+      voxels->size() > static_cast<std::size_t>(options.outlier_neighbours)) {
     kept = std::make_shared<TimedCloud>();
     pcl::StatisticalOutlierRemoval<pcl::PointXYZI> outliers;
     outliers.setMeanK(options.outlier_neighbours);
     outliers.setStddevMulThresh(options.outlier_stddev);
-    outliers.setInputCloud(thinned);
+    outliers.setInputCloud(voxels);
     outliers.filter(*kept);
   }
   counts.kept = kept->size();
+  return kept;
+}
 
+/// Why a scan of too few bearings was refused, with the counts of each stage.
+std::string tooFewPointsMessage(const CloudToScanCounts& counts, const CloudToScanOptions& options)
+{
+  std::ostringstream text;
+  text << "too few points in the height band " << describeBand(options) << ": " << counts.rays
+       << " bearings left (" << options.min_points << " needed) of " << counts.input << " points ("
+       << counts.finite << " finite, " << counts.band << " in the band, " << counts.voxels
+       << " after the voxel grid, " << counts.kept << " after the outlier removal)";
+  return text.str();
+}
+
+}  // namespace
+
+Scan cloudToScan(const TimedCloud::ConstPtr& input, bool has_times,
+                 const CloudToScanOptions& options, CloudToScanCounts* counts_out)
+{
+  validate(options);
+  CloudToScanCounts counts;
+  auto report = [&] {
+    if (counts_out)
+      *counts_out = counts;
+  };
+  counts.input = input->size();
+  if (input->empty()) {
+    report();
+    throw std::invalid_argument("the cloud is empty");
+  }
+  const TimedCloud::Ptr band = heightBand(finiteLevelled(input, options, counts), options);
+  counts.band = band->size();
+  const TimedCloud::Ptr kept = thinned(band, options, counts);
   Scan scan = options.scan_from == ScanFrom::kPoints ? pointsByBearing(*kept, has_times, options)
                                                      : binnedByBearing(*kept, has_times, options);
   counts.rays = countUsableReadings(scan);
   report();
   if (counts.rays < options.min_points) {
-    std::ostringstream text;
-    text << "too few points in the height band " << describeBand(options) << ": " << counts.rays
-         << " bearings left (" << options.min_points << " needed) of " << counts.input
-         << " points (" << counts.finite << " finite, " << counts.band << " in the band, "
-         << counts.voxels << " after the voxel grid, " << counts.kept
-         << " after the outlier removal)";
-    throw std::invalid_argument(text.str());
+    throw std::invalid_argument(tooFewPointsMessage(counts, options));
   }
   return scan;
 }

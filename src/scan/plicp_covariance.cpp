@@ -150,27 +150,28 @@ Degeneracy analyzeDegeneracy(const Eigen::Matrix3d& information, double lever_ar
   return report;
 }
 
-Eigen::Matrix3d plicpCovariance(const ScanPoints& reference, const ScanLines& reference_lines,
-                                const ScanPoints& current,
-                                const std::vector<Correspondence>& correspondences,
-                                const Pose2& T_ref_new, double range_sigma_m)
+namespace {
+
+/// The two sides of the sandwich: information = d2J/dx2 / 2, spread = (d2J/dzdx)(d2J/dzdx)^T / 4
+/// (upper triangles).
+struct CovarianceSums
 {
+  Eigen::Matrix3d information;
+  Eigen::Matrix3d spread;
+};
+
+/// The correspondences' information and their new points' range effects on the spread; sums
+/// per reference line J_i and s_i J_i over the new points matched to it, s_i the matched
+/// point's along-line offset from the line's centroid.
+CovarianceSums sumCorrespondences(const ScanLines& reference_lines, const ScanPoints& current,
+                                  const std::vector<Correspondence>& correspondences,
+                                  const Pose2& T_ref_new, CovarianceBuffers& buffers)
+{
+  // Locals, not the caller's: the compiler keeps them apart from the buffers' memory.
+  Eigen::Matrix3d information = Eigen::Matrix3d::Zero();
+  Eigen::Matrix3d spread = Eigen::Matrix3d::Zero();
   const Eigen::Matrix2d R = Eigen::Rotation2Dd(T_ref_new.theta()).toRotationMatrix();
   const Eigen::Vector2d t(T_ref_new.x(), T_ref_new.y());
-  Eigen::Matrix3d information = Eigen::Matrix3d::Zero();  // d2J/dx2 / 2
-  Eigen::Matrix3d spread = Eigen::Matrix3d::Zero();       // (d2J/dzdx)(d2J/dzdx)^T / 4
-
-  // Per reference line: sums of J_i and of s_i J_i over the new points matched to it, s_i the
-  // matched point's along-line offset from the line's centroid.
-  const std::size_t reference_count = reference.size();
-  CovarianceBuffers& buffers = threadBuffers();
-  Vector3dList& line_sum = buffers.line_sum;
-  Vector3dList& line_moment = buffers.line_moment;
-  std::vector<std::uint8_t>& line_used = buffers.line_used;
-  line_sum.assign(reference_count, Eigen::Vector3d::Zero());
-  line_moment.assign(reference_count, Eigen::Vector3d::Zero());
-  line_used.assign(reference_count, 0);
-
   for (const Correspondence& c : correspondences) {
     const int j = c.reference_index;
     const Eigen::Vector2d& normal = reference_lines.normals[j];
@@ -182,18 +183,25 @@ Eigen::Matrix3d plicpCovariance(const ScanPoints& reference, const ScanLines& re
     addOuterProduct(spread, J, d_residual_d_range * d_residual_d_range);
     const Eigen::Vector2d tangent(-normal.y(), normal.x());
     const double along_m = tangent.dot(Rp + t - reference_lines.centroids_m[j]);
-    line_sum[j] += J;
-    line_moment[j] += along_m * J;
-    line_used[j] = 1;
+    buffers.line_sum[j] += J;
+    buffers.line_moment[j] += along_m * J;
+    buffers.line_used[j] = 1;
   }
+  return {information, spread};
+}
 
-  // A reference range moves the perpendicular offset d_k of its point by n^T u_k per metre; the
-  // total-least-squares line through the window moves by dd_k / K at the centroid and tilts by
-  // s_k dd_k / sum(s^2), so a residual at along-offset s changes by -(1/K + s s_k / sum(s^2)) dd_k.
+/// `spread` with the reference ranges' effects added. A reference range moves the perpendicular
+/// offset d_k of its point by n^T u_k per metre; the total-least-squares line through the window
+/// moves by dd_k / K at the centroid and tilts by s_k dd_k / sum(s^2), so a residual at
+/// along-offset s changes by -(1/K + s s_k / sum(s^2)) dd_k.
+Eigen::Matrix3d addReferenceReadings(const ScanPoints& reference, const ScanLines& reference_lines,
+                                     CovarianceBuffers& buffers, Eigen::Matrix3d spread)
+{
+  const std::size_t reference_count = reference.size();
   Vector3dList& reading_effect = buffers.reading_effect;
   reading_effect.assign(reference_count, Eigen::Vector3d::Zero());
   for (std::size_t j = 0; j < reference_count; ++j) {
-    if (line_used[j] == 0) {
+    if (buffers.line_used[j] == 0) {
       continue;
     }
     const Eigen::Vector2d& normal = reference_lines.normals[j];
@@ -204,16 +212,39 @@ Eigen::Matrix3d plicpCovariance(const ScanPoints& reference, const ScanLines& re
     const double inverse_count = 1.0 / static_cast<double>(last - first + 1);
     const double inverse_spread =
         reference_lines.spread_m2[j] > 0.0 ? 1.0 / reference_lines.spread_m2[j] : 0.0;
+    // Copies: the stores into reading_effect could otherwise be the sums' memory.
+    const Eigen::Vector3d line_sum = buffers.line_sum[j];
+    const Eigen::Vector3d line_moment = buffers.line_moment[j];
     for (int k = first; k <= last; ++k) {
       const double offset_per_range = normal.dot(reference.directions[k]);
       const double along_k_m = tangent.dot(reference.points_m[k] - centroid);
-      reading_effect[k] -= offset_per_range * (inverse_count * line_sum[j] +
-                                               (along_k_m * inverse_spread) * line_moment[j]);
+      reading_effect[k] -= offset_per_range *
+                           (inverse_count * line_sum + (along_k_m * inverse_spread) * line_moment);
     }
   }
   for (std::size_t k = 0; k < reference_count; ++k) {
     addOuterProduct(spread, reading_effect[k]);
   }
+  return spread;
+}
+
+}  // namespace
+
+Eigen::Matrix3d plicpCovariance(const ScanPoints& reference, const ScanLines& reference_lines,
+                                const ScanPoints& current,
+                                const std::vector<Correspondence>& correspondences,
+                                const Pose2& T_ref_new, double range_sigma_m)
+{
+  const std::size_t reference_count = reference.size();
+  CovarianceBuffers& buffers = threadBuffers();
+  buffers.line_sum.assign(reference_count, Eigen::Vector3d::Zero());
+  buffers.line_moment.assign(reference_count, Eigen::Vector3d::Zero());
+  buffers.line_used.assign(reference_count, 0);
+  const CovarianceSums sums =
+      sumCorrespondences(reference_lines, current, correspondences, T_ref_new, buffers);
+  const Eigen::Matrix3d& information = sums.information;
+  const Eigen::Matrix3d spread =
+      addReferenceReadings(reference, reference_lines, buffers, sums.spread);
 
   const Eigen::Matrix3d H = information.selfadjointView<Eigen::Upper>();
   const Eigen::Matrix3d G = spread.selfadjointView<Eigen::Upper>();

@@ -85,9 +85,8 @@ const std::vector<Eigen::Vector2d, Eigen::aligned_allocator<Eigen::Vector2d>>& r
   return table.directions;
 }
 
-}  // namespace
-
-void validate(const Scan& scan)
+/// The nominal angles: a non-zero increment, every ray within two turns either way.
+void validateAngles(const Scan& scan)
 {
   if (!std::isfinite(scan.angle_increment_rad) || scan.angle_increment_rad == 0.0) {
     throw std::invalid_argument("scan angle_increment_rad must be a non-zero number of radians");
@@ -104,6 +103,57 @@ void validate(const Scan& scan)
                                 std::to_string(scan.angle_min_rad) + ", last ray at " +
                                 std::to_string(last_rad));
   }
+}
+
+/// The per-ray times, if any: one finite time per ray.
+void validateRayTimes(const Scan& scan)
+{
+  if (scan.ray_times_s.empty()) {
+    return;
+  }
+  if (scan.ray_times_s.size() != scan.ranges_m.size()) {
+    throw std::invalid_argument("scan ray_times_s has " + std::to_string(scan.ray_times_s.size()) +
+                                " entries for " + std::to_string(scan.ranges_m.size()) +
+                                " rays: give one per ray, or leave it empty");
+  }
+  for (const double t : scan.ray_times_s) {
+    if (!std::isfinite(t))
+      throw std::invalid_argument("scan ray_times_s must be finite numbers of seconds");
+  }
+}
+
+/// The per-ray angles, if any: one per ray, within two turns, non-decreasing, with a positive
+/// nominal increment.
+void validateRayAngles(const Scan& scan)
+{
+  if (scan.ray_angles_rad.empty()) {
+    return;
+  }
+  if (scan.ray_angles_rad.size() != scan.ranges_m.size()) {
+    throw std::invalid_argument(
+        "scan ray_angles_rad has " + std::to_string(scan.ray_angles_rad.size()) + " entries for " +
+        std::to_string(scan.ranges_m.size()) + " rays: give one per ray, or leave it empty");
+  }
+  if (scan.angle_increment_rad < 0.0) {
+    throw std::invalid_argument(
+        "scan with ray_angles_rad needs a positive (nominal) angle_increment_rad");
+  }
+  for (std::size_t i = 0; i < scan.ray_angles_rad.size(); ++i) {
+    const double angle = scan.ray_angles_rad[i];
+    if (!(std::abs(angle) <= 4.0 * M_PI) || (i > 0 && angle < scan.ray_angles_rad[i - 1])) {
+      throw std::invalid_argument(
+          "scan ray_angles_rad must be finite, within [-4 pi, 4 pi] rad and non-decreasing "
+          "(ray " +
+          std::to_string(i) + ": " + std::to_string(angle) + ")");
+    }
+  }
+}
+
+}  // namespace
+
+void validate(const Scan& scan)
+{
+  validateAngles(scan);
   if (!std::isfinite(scan.range_min_m) || scan.range_min_m < 0.0) {
     throw std::invalid_argument("scan range_min_m must be a finite number of metres >= 0");
   }
@@ -114,38 +164,8 @@ void validate(const Scan& scan)
   if (!std::isfinite(scan.time_increment_s)) {
     throw std::invalid_argument("scan time_increment_s must be a finite number of seconds");
   }
-  if (!scan.ray_times_s.empty()) {
-    if (scan.ray_times_s.size() != scan.ranges_m.size()) {
-      throw std::invalid_argument(
-          "scan ray_times_s has " + std::to_string(scan.ray_times_s.size()) + " entries for " +
-          std::to_string(scan.ranges_m.size()) + " rays: give one per ray, or leave it empty");
-    }
-    for (const double t : scan.ray_times_s) {
-      if (!std::isfinite(t))
-        throw std::invalid_argument("scan ray_times_s must be finite numbers of seconds");
-    }
-  }
-  if (!scan.ray_angles_rad.empty()) {
-    if (scan.ray_angles_rad.size() != scan.ranges_m.size()) {
-      throw std::invalid_argument("scan ray_angles_rad has " +
-                                  std::to_string(scan.ray_angles_rad.size()) + " entries for " +
-                                  std::to_string(scan.ranges_m.size()) +
-                                  " rays: give one per ray, or leave it empty");
-    }
-    if (scan.angle_increment_rad < 0.0) {
-      throw std::invalid_argument(
-          "scan with ray_angles_rad needs a positive (nominal) angle_increment_rad");
-    }
-    for (std::size_t i = 0; i < scan.ray_angles_rad.size(); ++i) {
-      const double angle = scan.ray_angles_rad[i];
-      if (!(std::abs(angle) <= 4.0 * M_PI) || (i > 0 && angle < scan.ray_angles_rad[i - 1])) {
-        throw std::invalid_argument(
-            "scan ray_angles_rad must be finite, within [-4 pi, 4 pi] rad and non-decreasing "
-            "(ray " +
-            std::to_string(i) + ": " + std::to_string(angle) + ")");
-      }
-    }
-  }
+  validateRayTimes(scan);
+  validateRayAngles(scan);
   if (!scan.valid.empty() && scan.valid.size() != scan.ranges_m.size()) {
     throw std::invalid_argument("scan valid mask has " + std::to_string(scan.valid.size()) +
                                 " entries for " + std::to_string(scan.ranges_m.size()) +

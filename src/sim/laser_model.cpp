@@ -58,19 +58,62 @@ double LaserModel::trueRange(const World& world, const Eigen::Vector2d& origin, 
   return near + unit_(realism_rng_) * (far - near);
 }
 
-ScanSample LaserModel::measure(const World& world, double stamp_s,
-                               const std::function<Pose2(double)>& T_world_laser_at)
+ScanSample LaserModel::scanHeader(double stamp_s) const
 {
-  const float angle_min = static_cast<float>(-0.5 * options_.fov_rad);
   ScanSample scan;
   scan.stamp_s = stamp_s;
-  scan.angle_min_rad = angle_min;
+  scan.angle_min_rad = static_cast<float>(-0.5 * options_.fov_rad);
   scan.angle_increment_rad = static_cast<float>(angle_increment_rad_);
   scan.range_min_m = static_cast<float>(options_.min_range_m);
   scan.range_max_m = static_cast<float>(options_.max_range_m);
   scan.time_increment_s = time_increment_s_;
   scan.scan_time_s = 1.0 / options_.rate_hz;
   scan.ranges.resize(static_cast<std::size_t>(options_.rays));
+  return scan;
+}
+
+double LaserModel::withNoise(double range, int ray, double unit_noise)
+{
+  if (options_.range_ripple_m > 0.0)
+    range +=
+        options_.range_ripple_m * std::sin(2.0 * M_PI * ray / options_.range_ripple_period_rays);
+  if (options_.range_noise_correlation > 0.0) {
+    range += (options_.range_noise_m + options_.range_noise_per_m * range) * unit_noise;
+  } else if (options_.range_noise_per_m > 0.0) {
+    range +=
+        (options_.range_noise_m + options_.range_noise_per_m * range) * unit_normal_(realism_rng_);
+  } else if (options_.range_noise_m > 0.0) {
+    range += range_noise_(rng_);
+  }
+  return range;
+}
+
+double LaserModel::reported(double range, double cos_incidence)
+{
+  bool dropout = options_.dropout_probability > 0.0 && unit_(rng_) < options_.dropout_probability;
+  if (!dropout && std::isfinite(range) && options_.dark_dropout_probability > 0.0) {
+    const double relative = range / options_.max_range_m;
+    const double chance =
+        options_.dark_dropout_probability * relative * relative / std::max(cos_incidence, 1e-6);
+    dropout = unit_(realism_rng_) < std::min(chance, 1.0);
+  }
+  if (std::isfinite(range) && options_.range_resolution_m > 0.0)
+    range = std::round(range / options_.range_resolution_m) * options_.range_resolution_m;
+  if (dropout) {
+    return std::numeric_limits<double>::quiet_NaN();
+  } else if (range > options_.max_range_m) {
+    return std::numeric_limits<double>::infinity();
+  } else if (range < options_.min_range_m) {
+    return -std::numeric_limits<double>::infinity();
+  }
+  return range;
+}
+
+ScanSample LaserModel::measure(const World& world, double stamp_s,
+                               const std::function<Pose2(double)>& T_world_laser_at)
+{
+  ScanSample scan = scanHeader(stamp_s);
+  const float angle_min = scan.angle_min_rad;
   Pose2 T_world_laser = T_world_laser_at(0.0);
   const double rho = options_.range_noise_correlation;
   const double innovation_scale = std::sqrt(1.0 - rho * rho);
@@ -89,36 +132,9 @@ ScanSample LaserModel::measure(const World& world, double stamp_s,
       unit_noise = chain_started ? rho * unit_noise + innovation_scale * z : z;
       chain_started = true;
     }
-    if (std::isfinite(range)) {
-      if (options_.range_ripple_m > 0.0)
-        range +=
-            options_.range_ripple_m * std::sin(2.0 * M_PI * i / options_.range_ripple_period_rays);
-      if (rho > 0.0) {
-        range += (options_.range_noise_m + options_.range_noise_per_m * range) * unit_noise;
-      } else if (options_.range_noise_per_m > 0.0) {
-        range += (options_.range_noise_m + options_.range_noise_per_m * range) *
-                 unit_normal_(realism_rng_);
-      } else if (options_.range_noise_m > 0.0) {
-        range += range_noise_(rng_);
-      }
-    }
-    bool dropout = options_.dropout_probability > 0.0 && unit_(rng_) < options_.dropout_probability;
-    if (!dropout && std::isfinite(range) && options_.dark_dropout_probability > 0.0) {
-      const double relative = range / options_.max_range_m;
-      const double chance =
-          options_.dark_dropout_probability * relative * relative / std::max(cos_incidence, 1e-6);
-      dropout = unit_(realism_rng_) < std::min(chance, 1.0);
-    }
-    if (std::isfinite(range) && options_.range_resolution_m > 0.0)
-      range = std::round(range / options_.range_resolution_m) * options_.range_resolution_m;
-    if (dropout) {
-      range = std::numeric_limits<double>::quiet_NaN();
-    } else if (range > options_.max_range_m) {
-      range = std::numeric_limits<double>::infinity();
-    } else if (range < options_.min_range_m) {
-      range = -std::numeric_limits<double>::infinity();
-    }
-    scan.ranges[static_cast<std::size_t>(i)] = static_cast<float>(range);
+    if (std::isfinite(range))
+      range = withNoise(range, i, unit_noise);
+    scan.ranges[static_cast<std::size_t>(i)] = static_cast<float>(reported(range, cos_incidence));
   }
   return scan;
 }

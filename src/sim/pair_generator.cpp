@@ -25,14 +25,10 @@ struct Collector : SimulationSink
   }
 };
 
-}  // namespace
-
-GeneratedPairs generatePairs(const PairGeneratorOptions& options)
+/// The run's encoder instants and truth: the options' robot driving in an open field (the
+/// scans are not used: two rays, one scan).
+Collector simulateInOpenField(const PairGeneratorOptions& options, const Robot& robot)
 {
-  if (!(options.interval_s > 0.0) || options.translation_noise_m < 0.0 ||
-      options.rotation_noise_rad < 0.0) {
-    throw std::invalid_argument("pair generator: interval_s must be > 0 and noise >= 0");
-  }
   Scenario scenario;
   scenario.seed = options.seed;
   scenario.duration_s = options.duration_s;
@@ -45,28 +41,48 @@ GeneratedPairs generatePairs(const PairGeneratorOptions& options)
   scenario.laser.rate_hz = 1.0 / options.duration_s;
   const World field = parseWorldYaml(
       "polygons:\n  - [[-200, -200], [200, -200], [200, 200], [-200, 200]]\n", "open field");
-  const auto robot = makeRobot(options.robot);
   Collector collector;
-  simulate(scenario, field, *robot, collector);
+  simulate(scenario, field, robot, collector);
+  return collector;
+}
 
-  GeneratedPairs generated;
+/// The joint states decoded (incremental counters of 32 bits), into `samples` and `stamps`;
+/// the joints' names and kinds into `joints`.
+void decodeJointStates(const Robot& robot, const std::vector<JointStateSample>& joint_states,
+                       JointLayout& joints, std::vector<EncoderSample>& samples,
+                       std::vector<double>& stamps)
+{
   std::vector<EncoderChannelOptions> channels;
-  for (const JointEncoderSpec& spec : robot->joints()) {
-    generated.joints.names.push_back(spec.name);
-    generated.joints.kinds.push_back(spec.kind);
+  for (const JointEncoderSpec& spec : robot.joints()) {
+    joints.names.push_back(spec.name);
+    joints.kinds.push_back(spec.kind);
     channels.push_back({spec.name, spec.kind,
                         spec.kind == EncoderKind::kIncremental ? 4294967296.0 : 0.0,
                         spec.kind == EncoderKind::kAbsolute ? spec.ticks_per_rev : 0.0});
   }
   EncoderDecoder decoder(channels);
-  std::vector<EncoderSample> samples;
-  std::vector<double> stamps;
-  for (const JointStateSample& joint : collector.joints) {
+  for (const JointStateSample& joint : joint_states) {
     samples.push_back({joint.stamp_s, decoder.decode(Eigen::Map<const Eigen::VectorXd>(
                                           joint.positions.data(),
                                           static_cast<Eigen::Index>(joint.positions.size())))});
     stamps.push_back(joint.stamp_s);
   }
+}
+
+}  // namespace
+
+GeneratedPairs generatePairs(const PairGeneratorOptions& options)
+{
+  if (!(options.interval_s > 0.0) || options.translation_noise_m < 0.0 ||
+      options.rotation_noise_rad < 0.0) {
+    throw std::invalid_argument("pair generator: interval_s must be > 0 and noise >= 0");
+  }
+  const auto robot = makeRobot(options.robot);
+  const Collector collector = simulateInOpenField(options, *robot);
+  GeneratedPairs generated;
+  std::vector<EncoderSample> samples;
+  std::vector<double> stamps;
+  decodeJointStates(*robot, collector.joints, generated.joints, samples, stamps);
   std::mt19937_64 rng(options.seed ^ 0xfa1c0ULL);
   std::normal_distribution<double> normal(0.0, 1.0);
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();

@@ -149,6 +149,283 @@ CloudSample castSweep(const LaserOptions& laser, const World& world, const PoseH
   return cloud;
 }
 
+/// Refuses a start pose inside an obstacle, outside the walls or closer to a wall than the
+/// robot's footprint [m].
+void checkStartPose(const Scenario& scenario, const World& world, double footprint_m)
+{
+  const Eigen::Vector2d start(scenario.start_pose.x(), scenario.start_pose.y());
+  if (!world.isFree(start)) {
+    throw std::invalid_argument("start_pose (" + std::to_string(start.x()) + ", " +
+                                std::to_string(start.y()) +
+                                ") is inside an obstacle or outside the world's walls");
+  }
+  if (world.clearance(start) < footprint_m) {
+    throw std::invalid_argument("start_pose is closer to a wall than the robot's footprint (" +
+                                std::to_string(footprint_m) + " m)");
+  }
+}
+
+/// The robots after each change of the scenario (cumulative parameters); a change may not
+/// change the joints.
+std::vector<std::unique_ptr<Robot>> changedRobots(const Scenario& scenario, std::size_t joint_count)
+{
+  std::vector<std::unique_ptr<Robot>> robots;
+  RobotOptions changed_options = scenario.robot;
+  for (const ParameterChange& change : scenario.changes) {
+    for (const auto& [key, value] : change.robot_parameters)
+      changed_options.parameters[key] = value;
+    robots.push_back(makeRobot(changed_options));
+    if (robots.back()->joints().size() != joint_count)
+      throw std::invalid_argument("changes: a change may not change the robot's joints");
+  }
+  return robots;
+}
+
+/// Period of each incremental output in its units (0: never wraps), to count wrap-arounds.
+std::vector<double> wrapPeriods(const EncoderOptions& encoders,
+                                const std::vector<JointEncoderSpec>& specs)
+{
+  std::vector<double> wrap_period(specs.size(), 0.0);
+  if (encoders.counter_bits > 0) {
+    for (std::size_t j = 0; j < specs.size(); ++j) {
+      wrap_period[j] = std::ldexp(1.0, encoders.counter_bits) *
+                       (encoders.output_ticks ? 1.0 : 2.0 * M_PI / specs[j].ticks_per_rev);
+    }
+  }
+  return wrap_period;
+}
+
+/// Ramps `command` towards `target` over dt [s] with the plan's bounded accelerations.
+void rampCommand(const Twist2& target, const DrivePlanOptions& motion, double dt, Twist2& command)
+{
+  auto approach = [dt](double current, double goal, double rate) {
+    if (rate <= 0.0)
+      return goal;
+    const double step = rate * dt;
+    return current + std::clamp(goal - current, -step, step);
+  };
+  command.vx_mps = approach(command.vx_mps, target.vx_mps, motion.max_acceleration_mps2);
+  command.vy_mps = approach(command.vy_mps, target.vy_mps, motion.max_acceleration_mps2);
+  command.omega_radps =
+      approach(command.omega_radps, target.omega_radps, motion.max_angular_acceleration_radps2);
+}
+
+/// One integration step of the motion over the last sweep of the planar laser: the pose and
+/// the (constant) body velocity at its start.
+struct MotionStep
+{
+  std::int64_t start_ns;
+  Pose2 T_world_base;
+  Twist2 twist;
+};
+
+/// The laser's world pose at `at_ns` [ns] within the sweep that ends now: the step the instant
+/// falls in, its start pose moved by its velocity for the rest. Before the recorded steps, the
+/// first one's start pose; at or after now, the pose now.
+Pose2 laserPoseDuringSweep(const std::deque<MotionStep>& recent_steps, const Pose2& T_world_base,
+                           const Pose2& T_base_laser, std::int64_t now_ns, double at_ns)
+{
+  if (at_ns >= static_cast<double>(now_ns))
+    return T_world_base * T_base_laser;
+  auto step = std::upper_bound(
+      recent_steps.begin(), recent_steps.end(), at_ns,
+      [](double t, const MotionStep& s) { return t < static_cast<double>(s.start_ns); });
+  if (step == recent_steps.begin())
+    return recent_steps.empty() ? T_world_base * T_base_laser
+                                : recent_steps.front().T_world_base * T_base_laser;
+  --step;
+  const double into_s = (at_ns - static_cast<double>(step->start_ns)) / kNanoseconds;
+  return step->T_world_base * integrateTwist(step->twist, into_s) * T_base_laser;
+}
+
+/// One run of the simulator: the robot driven by the planner in integration steps, the events
+/// (control, encoders with the truth and the tracker, scans or sweeps) at their instants.
+class SimulationRun
+{
+public:
+  SimulationRun(const Scenario& scenario, const World& world, const Robot& robot,
+                SimulationSink& sink, double footprint_m)
+      : scenario_(scenario),
+        laser_(scenario.laser),
+        world_(world),
+        sink_(sink),
+        specs_(robot.joints()),
+        planner_(scenario.motion, robot, world, footprint_m, scenario.seed),
+        rng_(scenario.seed ^ 0x5eed5eedULL),
+        range_noise_(0.0, laser_.range_noise_m),
+        tracker_rng_(scenario.seed ^ 0x7ac4e7ULL),
+        laser_model_(laser_, scenario.seed),
+        end_ns_(std::llround(scenario.duration_s * 1e9)),
+        encoder_period_(periodNs(scenario.encoders.rate_hz)),
+        scan_period_(periodNs(laser_.rate_hz)),
+        T_world_base_(scenario.start_pose),
+        joints_(robot.initialJoints()),
+        changed_robots_(changedRobots(scenario, specs_.size())),
+        current_robot_(&robot),
+        T_base_laser_(laser_.T_base_laser),
+        previous_reading_(specs_.size(), std::numeric_limits<double>::quiet_NaN()),
+        wrap_period_(wrapPeriods(scenario.encoders, specs_)),
+        multibeam_(laser_.type == "multibeam"),
+        sweep_ns_(multibeam_ ? 0 : std::llround(laser_model_.sweepDuration() * 1e9))
+  {
+    if (multibeam_)
+      history_.add(0, T_world_base_, 2 * scan_period_);
+  }
+
+  SimulationSummary run()
+  {
+    while (true) {
+      const std::int64_t next_event = std::min({next_encoder_, next_scan_, next_control_});
+      if (next_event > end_ns_)
+        break;
+      integrateTo(next_event);
+      applyChanges();
+      const double t = static_cast<double>(now_) / kNanoseconds;
+      if (now_ == next_control_) {
+        target_ = planner_.command(t, T_world_base_);
+        next_control_ += kControlPeriodNs;
+      }
+      if (now_ == next_encoder_) {
+        publishEncoderInstant(t);
+        next_encoder_ += encoder_period_;
+      }
+      if (now_ == next_scan_ && multibeam_) {
+        if (now_ >= scan_period_) {  // a sweep that began at the start or later
+          sink_.onCloud(
+              castSweep(laser_, world_, history_, now_, scan_period_, rng_, range_noise_, unit_));
+          ++summary_.scans;
+        }
+        next_scan_ += scan_period_;
+      } else if (now_ == next_scan_) {
+        publishScan();
+        next_scan_ += scan_period_;
+      }
+    }
+    return summary_;
+  }
+
+private:
+  /// The changes due by now: the robot after them, the laser turned by them.
+  void applyChanges()
+  {
+    while (next_change_ < scenario_.changes.size() &&
+           now_ >= std::llround(scenario_.changes[next_change_].at_s * 1e9)) {
+      current_robot_ = changed_robots_[next_change_].get();
+      T_base_laser_ = Pose2(T_base_laser_.x(), T_base_laser_.y(),
+                            normalizeAngle(T_base_laser_.theta() +
+                                           scenario_.changes[next_change_].laser_yaw_change_rad));
+      ++next_change_;
+    }
+  }
+
+  /// Integrates up to the event in short steps (wheel-angle-dependent deformations).
+  void integrateTo(std::int64_t next_event)
+  {
+    while (now_ < next_event) {
+      const std::int64_t step = std::min(kMaxSubstepNs, next_event - now_);
+      const double dt = static_cast<double>(step) / kNanoseconds;
+      applyChanges();
+      rampCommand(target_, scenario_.motion, dt, command_);
+      realised_ = current_robot_->step(command_, dt, &joints_);
+      if (sweep_ns_ > 0) {
+        recent_steps_.push_back({now_, T_world_base_, realised_});
+        while (recent_steps_.size() > 1 && recent_steps_[1].start_ns <= now_ - sweep_ns_)
+          recent_steps_.pop_front();
+      }
+      const Pose2 motion = integrateTwist(realised_, dt);
+      summary_.distance_m += std::hypot(motion.x(), motion.y());
+      summary_.rotation_rad += std::abs(motion.theta());
+      T_world_base_ = T_world_base_ * motion;
+      now_ += step;
+      if (multibeam_)
+        history_.add(now_, T_world_base_, 2 * scan_period_);
+    }
+  }
+
+  /// The encoders' joint state (counting the counters' wrap-arounds), the truth and, if
+  /// enabled, the tracker's noisy laser pose at time t [s].
+  void publishEncoderInstant(double t)
+  {
+    JointStateSample sample;
+    sample.stamp_s = t + scenario_.encoders.time_offset_s;
+    const Eigen::VectorXd shaft = current_robot_->encoderAngles(joints_);
+    for (std::size_t j = 0; j < specs_.size(); ++j) {
+      const double reading = encoderReading(specs_[j], scenario_.encoders, shaft(j));
+      if (specs_[j].kind == EncoderKind::kIncremental && wrap_period_[j] > 0.0 &&
+          std::abs(reading - previous_reading_[j]) > 0.5 * wrap_period_[j]) {
+        ++summary_.counter_wraps;
+      }
+      previous_reading_[j] = reading;
+      sample.positions.push_back(reading);
+    }
+    sink_.onJointState(sample);
+    ++summary_.joint_states;
+    sink_.onTruth({t, T_world_base_, realised_, T_base_laser_});
+    ++summary_.truth_samples;
+    if (scenario_.tracker.enabled) {
+      const double noise_x = scenario_.tracker.translation_noise_m * unit_normal_(tracker_rng_);
+      const double noise_y = scenario_.tracker.translation_noise_m * unit_normal_(tracker_rng_);
+      const double noise_theta = scenario_.tracker.rotation_noise_rad * unit_normal_(tracker_rng_);
+      const Pose2 noise(noise_x, noise_y, noise_theta);
+      sink_.onTracker({t, T_world_base_ * T_base_laser_ * noise});
+    }
+  }
+
+  /// The planar laser's scan, complete now: its first ray was taken one sweep ago (a driver
+  /// stamps the first ray). Before t = 0 the robot stood at its start pose; the first scan
+  /// whose sweep would begin before then is not taken.
+  void publishScan()
+  {
+    const std::int64_t first_ray_ns = now_ - sweep_ns_;
+    if (first_ray_ns < 0)
+      return;
+    auto T_world_laser_at = [&](double tau_s) {
+      if (sweep_ns_ == 0)
+        return T_world_base_ * T_base_laser_;
+      return laserPoseDuringSweep(recent_steps_, T_world_base_, T_base_laser_, now_,
+                                  static_cast<double>(first_ray_ns) + tau_s * 1e9);
+    };
+    sink_.onScan(laser_model_.measure(world_, static_cast<double>(first_ray_ns) / kNanoseconds,
+                                      T_world_laser_at));
+    ++summary_.scans;
+  }
+
+  const Scenario& scenario_;
+  const LaserOptions& laser_;
+  const World& world_;
+  SimulationSink& sink_;
+  const std::vector<JointEncoderSpec> specs_;
+  DrivePlanner planner_;
+  std::mt19937_64 rng_;
+  std::normal_distribution<double> range_noise_;
+  std::uniform_real_distribution<double> unit_{0.0, 1.0};
+  // A stream of its own, so that enabling the tracker leaves the scans unchanged.
+  std::mt19937_64 tracker_rng_;
+  std::normal_distribution<double> unit_normal_{0.0, 1.0};
+  // The planar laser's rays (and its realism effects, sim/laser_model.h); the multi-beam
+  // lidar draws from rng_ above.
+  LaserModel laser_model_;
+  const std::int64_t end_ns_;
+  const std::int64_t encoder_period_;
+  const std::int64_t scan_period_;
+  std::int64_t next_encoder_ = 0, next_scan_ = 0, next_control_ = 0;
+  std::int64_t now_ = 0;
+  Pose2 T_world_base_;
+  Eigen::VectorXd joints_;
+  std::vector<std::unique_ptr<Robot>> changed_robots_;
+  std::size_t next_change_ = 0;
+  const Robot* current_robot_;
+  Pose2 T_base_laser_;  // the laser's pose now (changes turn it)
+  Twist2 target_, command_, realised_;
+  SimulationSummary summary_;
+  std::vector<double> previous_reading_;
+  std::vector<double> wrap_period_;
+  const bool multibeam_;
+  PoseHistory history_;
+  std::deque<MotionStep> recent_steps_;
+  const std::int64_t sweep_ns_;
+};
+
 }  // namespace
 
 SimulationSummary simulate(const Scenario& scenario, const World& world, const Robot& robot,
@@ -159,194 +436,8 @@ SimulationSummary simulate(const Scenario& scenario, const World& world, const R
   const LaserOptions& laser = scenario.laser;
   const double footprint = std::max(
       robot.footprintRadius(), std::hypot(laser.T_base_laser.x(), laser.T_base_laser.y()) + 0.1);
-  const Eigen::Vector2d start(scenario.start_pose.x(), scenario.start_pose.y());
-  if (!world.isFree(start)) {
-    throw std::invalid_argument("start_pose (" + std::to_string(start.x()) + ", " +
-                                std::to_string(start.y()) +
-                                ") is inside an obstacle or outside the world's walls");
-  }
-  if (world.clearance(start) < footprint) {
-    throw std::invalid_argument("start_pose is closer to a wall than the robot's footprint (" +
-                                std::to_string(footprint) + " m)");
-  }
-
-  const auto specs = robot.joints();
-  DrivePlanner planner(scenario.motion, robot, world, footprint, scenario.seed);
-  std::mt19937_64 rng(scenario.seed ^ 0x5eed5eedULL);
-  std::normal_distribution<double> range_noise(0.0, laser.range_noise_m);
-  std::uniform_real_distribution<double> unit(0.0, 1.0);
-  // A stream of its own, so that enabling the tracker leaves the scans unchanged.
-  std::mt19937_64 tracker_rng(scenario.seed ^ 0x7ac4e7ULL);
-  std::normal_distribution<double> unit_normal(0.0, 1.0);
-  // The planar laser's rays (and its realism effects, sim/laser_model.h); the multi-beam
-  // lidar draws from rng above.
-  LaserModel laser_model(laser, scenario.seed);
-
-  const std::int64_t end_ns = std::llround(scenario.duration_s * 1e9);
-  const std::int64_t encoder_period = periodNs(scenario.encoders.rate_hz);
-  const std::int64_t scan_period = periodNs(laser.rate_hz);
-  std::int64_t next_encoder = 0, next_scan = 0, next_control = 0;
-  std::int64_t now = 0;
-
-  Pose2 T_world_base = scenario.start_pose;
-  Eigen::VectorXd joints = robot.initialJoints();
-  // The robots after each change (cumulative parameters) and the laser's pose now.
-  std::vector<std::unique_ptr<Robot>> changed_robots;
-  RobotOptions changed_options = scenario.robot;
-  for (const ParameterChange& change : scenario.changes) {
-    for (const auto& [key, value] : change.robot_parameters)
-      changed_options.parameters[key] = value;
-    changed_robots.push_back(makeRobot(changed_options));
-    if (changed_robots.back()->joints().size() != specs.size())
-      throw std::invalid_argument("changes: a change may not change the robot's joints");
-  }
-  std::size_t next_change = 0;
-  const Robot* current_robot = &robot;
-  Pose2 T_base_laser = laser.T_base_laser;
-  auto applyChanges = [&]() {
-    while (next_change < scenario.changes.size() &&
-           now >= std::llround(scenario.changes[next_change].at_s * 1e9)) {
-      current_robot = changed_robots[next_change].get();
-      T_base_laser = Pose2(T_base_laser.x(), T_base_laser.y(),
-                           normalizeAngle(T_base_laser.theta() +
-                                          scenario.changes[next_change].laser_yaw_change_rad));
-      ++next_change;
-    }
-  };
-  Twist2 target, command, realised;
-  // Ramp the command towards the planner's target with bounded accelerations.
-  auto ramp = [&](double dt) {
-    auto approach = [dt](double current, double goal, double rate) {
-      if (rate <= 0.0)
-        return goal;
-      const double step = rate * dt;
-      return current + std::clamp(goal - current, -step, step);
-    };
-    command.vx_mps = approach(command.vx_mps, target.vx_mps, scenario.motion.max_acceleration_mps2);
-    command.vy_mps = approach(command.vy_mps, target.vy_mps, scenario.motion.max_acceleration_mps2);
-    command.omega_radps = approach(command.omega_radps, target.omega_radps,
-                                   scenario.motion.max_angular_acceleration_radps2);
-  };
-  SimulationSummary summary;
-  std::vector<double> previous_reading(specs.size(), std::numeric_limits<double>::quiet_NaN());
-  // Period of each incremental output in its units (0: never wraps), to count wrap-arounds.
-  std::vector<double> wrap_period(specs.size(), 0.0);
-  if (scenario.encoders.counter_bits > 0) {
-    for (std::size_t j = 0; j < specs.size(); ++j) {
-      wrap_period[j] = std::ldexp(1.0, scenario.encoders.counter_bits) *
-                       (scenario.encoders.output_ticks ? 1.0 : 2.0 * M_PI / specs[j].ticks_per_rev);
-    }
-  }
-
-  const bool multibeam = laser.type == "multibeam";
-  PoseHistory history;
-  if (multibeam)
-    history.add(0, T_world_base, 2 * scan_period);
-  // The motion over the last sweep of the planar laser, for the rays taken while the robot
-  // moves (laser.sweep): the pose and the (constant) body velocity at the start of each step.
-  struct Step
-  {
-    std::int64_t start_ns;
-    Pose2 T_world_base;
-    Twist2 twist;
-  };
-  std::deque<Step> recent_steps;
-  const std::int64_t sweep_ns = multibeam ? 0 : std::llround(laser_model.sweepDuration() * 1e9);
-
-  while (true) {
-    const std::int64_t next_event = std::min({next_encoder, next_scan, next_control});
-    if (next_event > end_ns)
-      break;
-    // Integrate up to the event in short steps (wheel-angle-dependent deformations).
-    while (now < next_event) {
-      const std::int64_t step = std::min(kMaxSubstepNs, next_event - now);
-      const double dt = static_cast<double>(step) / kNanoseconds;
-      applyChanges();
-      ramp(dt);
-      realised = current_robot->step(command, dt, &joints);
-      if (sweep_ns > 0) {
-        recent_steps.push_back({now, T_world_base, realised});
-        while (recent_steps.size() > 1 && recent_steps[1].start_ns <= now - sweep_ns)
-          recent_steps.pop_front();
-      }
-      const Pose2 motion = integrateTwist(realised, dt);
-      summary.distance_m += std::hypot(motion.x(), motion.y());
-      summary.rotation_rad += std::abs(motion.theta());
-      T_world_base = T_world_base * motion;
-      now += step;
-      if (multibeam)
-        history.add(now, T_world_base, 2 * scan_period);
-    }
-    applyChanges();
-    const double t = static_cast<double>(now) / kNanoseconds;
-    if (now == next_control) {
-      target = planner.command(t, T_world_base);
-      next_control += kControlPeriodNs;
-    }
-    if (now == next_encoder) {
-      JointStateSample sample;
-      sample.stamp_s = t + scenario.encoders.time_offset_s;
-      const Eigen::VectorXd shaft = current_robot->encoderAngles(joints);
-      for (std::size_t j = 0; j < specs.size(); ++j) {
-        const double reading = encoderReading(specs[j], scenario.encoders, shaft(j));
-        if (specs[j].kind == EncoderKind::kIncremental && wrap_period[j] > 0.0 &&
-            std::abs(reading - previous_reading[j]) > 0.5 * wrap_period[j]) {
-          ++summary.counter_wraps;
-        }
-        previous_reading[j] = reading;
-        sample.positions.push_back(reading);
-      }
-      sink.onJointState(sample);
-      ++summary.joint_states;
-      sink.onTruth({t, T_world_base, realised, T_base_laser});
-      ++summary.truth_samples;
-      if (scenario.tracker.enabled) {
-        const double noise_x = scenario.tracker.translation_noise_m * unit_normal(tracker_rng);
-        const double noise_y = scenario.tracker.translation_noise_m * unit_normal(tracker_rng);
-        const double noise_theta = scenario.tracker.rotation_noise_rad * unit_normal(tracker_rng);
-        const Pose2 noise(noise_x, noise_y, noise_theta);
-        sink.onTracker({t, T_world_base * T_base_laser * noise});
-      }
-      next_encoder += encoder_period;
-    }
-    if (now == next_scan && multibeam) {
-      if (now >= scan_period) {  // a sweep that began at the start or later
-        sink.onCloud(castSweep(laser, world, history, now, scan_period, rng, range_noise, unit));
-        ++summary.scans;
-      }
-      next_scan += scan_period;
-    } else if (now == next_scan) {
-      // The scan is complete now: its first ray was taken one sweep ago (a driver stamps the
-      // first ray). Before t = 0 the robot stood at its start pose; the first scan whose sweep
-      // would begin before then is not taken.
-      const std::int64_t first_ray_ns = now - sweep_ns;
-      auto T_world_laser_at = [&](double tau_s) {
-        if (sweep_ns == 0)
-          return T_world_base * T_base_laser;
-        const double at_ns = static_cast<double>(first_ray_ns) + tau_s * 1e9;
-        if (at_ns >= static_cast<double>(now))
-          return T_world_base * T_base_laser;
-        // The step the instant falls in: its start pose moved by its velocity for the rest.
-        auto step = std::upper_bound(
-            recent_steps.begin(), recent_steps.end(), at_ns,
-            [](double t, const Step& s) { return t < static_cast<double>(s.start_ns); });
-        if (step == recent_steps.begin())
-          return recent_steps.empty() ? T_world_base * T_base_laser
-                                      : recent_steps.front().T_world_base * T_base_laser;
-        --step;
-        const double into_s = (at_ns - static_cast<double>(step->start_ns)) / kNanoseconds;
-        return step->T_world_base * integrateTwist(step->twist, into_s) * T_base_laser;
-      };
-      if (first_ray_ns >= 0) {
-        const ScanSample scan = laser_model.measure(
-            world, static_cast<double>(first_ray_ns) / kNanoseconds, T_world_laser_at);
-        sink.onScan(scan);
-        ++summary.scans;
-      }
-      next_scan += scan_period;
-    }
-  }
-  return summary;
+  checkStartPose(scenario, world, footprint);
+  return SimulationRun(scenario, world, robot, sink, footprint).run();
 }
 
 bool droveTooLittle(const Scenario& scenario, const SimulationSummary& summary)

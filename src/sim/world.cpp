@@ -169,6 +169,108 @@ Eigen::Vector2d point2(const YAML::Node& node, const std::string& what)
   return Eigen::Vector2d(node[0].as<double>(), node[1].as<double>());
 }
 
+/// Refuses a root that is not a map or has a key no world has.
+void checkWorldKeys(const YAML::Node& root)
+{
+  if (!root.IsMap()) {
+    throw std::runtime_error("expected a map with segments/polygons/boxes/circles");
+  }
+  for (const auto& key : root) {
+    const std::string name = key.first.as<std::string>();
+    if (name != "segments" && name != "polygons" && name != "boxes" && name != "circles" &&
+        name != "description" && name != "wall_height_m") {
+      throw std::runtime_error(
+          "unknown key '" + name +
+          "' (expected segments, polygons, boxes, circles, wall_height_m, description)");
+    }
+  }
+}
+
+/// An entry's own height [m], default wall_height_m.
+double heightOf(const YAML::Node& node, double wall_height_m)
+{
+  if (!node["height"])
+    return wall_height_m;
+  const double height = node["height"].as<double>();
+  if (!(height > 0.0))
+    throw std::runtime_error("height must be a positive number of metres");
+  return height;
+}
+
+/// segments: [x0, y0, x1, y1] each; `entry` names the one being read.
+void addSegments(const YAML::Node& segments, double wall_height_m, std::string& entry, World& world)
+{
+  std::size_t index = 0;
+  for (const YAML::Node& node : segments) {
+    entry = "segments[" + std::to_string(index++) + "]";
+    if (!node.IsSequence() || node.size() != 4) {
+      throw std::runtime_error("expected [x0, y0, x1, y1]");
+    }
+    world.addSegment({Eigen::Vector2d(node[0].as<double>(), node[1].as<double>()),
+                      Eigen::Vector2d(node[2].as<double>(), node[3].as<double>()), wall_height_m});
+  }
+}
+
+/// polygons: closed outlines of at least 3 corners; `entry` names the one being read.
+void addPolygons(const YAML::Node& polygons, double wall_height_m, std::string& entry, World& world)
+{
+  std::size_t index = 0;
+  for (const YAML::Node& node : polygons) {
+    entry = "polygons[" + std::to_string(index++) + "]";
+    std::vector<Eigen::Vector2d> corners;
+    for (const YAML::Node& corner : node) {
+      corners.push_back(point2(corner, "corner"));
+    }
+    if (corners.size() < 3) {
+      throw std::runtime_error("a polygon needs at least 3 corners");
+    }
+    world.addOutline(corners, wall_height_m);
+  }
+}
+
+/// boxes: solid rectangles (center, size, yaw); `entry` names the one being read.
+void addBoxes(const YAML::Node& boxes, double wall_height_m, std::string& entry, World& world)
+{
+  std::size_t index = 0;
+  for (const YAML::Node& node : boxes) {
+    entry = "boxes[" + std::to_string(index++) + "]";
+    const Eigen::Vector2d center = point2(node["center"], "center");
+    const Eigen::Vector2d size = point2(node["size"], "size");
+    const double yaw = node["yaw"] ? node["yaw"].as<double>() : 0.0;
+    if (!(size.x() > 0.0) || !(size.y() > 0.0)) {
+      throw std::runtime_error("size must be positive");
+    }
+    const Eigen::Rotation2Dd rotation(yaw);
+    std::vector<Eigen::Vector2d> corners;
+    for (const auto& sign : {Eigen::Vector2d(-1, -1), Eigen::Vector2d(1, -1), Eigen::Vector2d(1, 1),
+                             Eigen::Vector2d(-1, 1)}) {
+      corners.push_back(center + rotation * (0.5 * size.cwiseProduct(sign)));
+    }
+    world.addSolid(corners, heightOf(node, wall_height_m));
+  }
+}
+
+/// circles: solid regular polygons (center, radius, sides); `entry` names the one being read.
+void addCircles(const YAML::Node& circles, double wall_height_m, std::string& entry, World& world)
+{
+  std::size_t index = 0;
+  for (const YAML::Node& node : circles) {
+    entry = "circles[" + std::to_string(index++) + "]";
+    const Eigen::Vector2d center = point2(node["center"], "center");
+    const double radius = node["radius"].as<double>();
+    const int sides = node["sides"] ? node["sides"].as<int>() : 24;
+    if (!(radius > 0.0) || sides < 3) {
+      throw std::runtime_error("radius must be positive and sides >= 3");
+    }
+    std::vector<Eigen::Vector2d> corners;
+    for (int k = 0; k < sides; ++k) {
+      const double angle = 2.0 * M_PI * k / sides;
+      corners.push_back(center + radius * Eigen::Vector2d(std::cos(angle), std::sin(angle)));
+    }
+    world.addSolid(corners, heightOf(node, wall_height_m));
+  }
+}
+
 }  // namespace
 
 World parseWorldYaml(const std::string& text, const std::string& source)
@@ -177,18 +279,7 @@ World parseWorldYaml(const std::string& text, const std::string& source)
   std::string entry = source;
   try {
     const YAML::Node root = YAML::Load(text);
-    if (!root.IsMap()) {
-      throw std::runtime_error("expected a map with segments/polygons/boxes/circles");
-    }
-    for (const auto& key : root) {
-      const std::string name = key.first.as<std::string>();
-      if (name != "segments" && name != "polygons" && name != "boxes" && name != "circles" &&
-          name != "description" && name != "wall_height_m") {
-        throw std::runtime_error(
-            "unknown key '" + name +
-            "' (expected segments, polygons, boxes, circles, wall_height_m, description)");
-      }
-    }
+    checkWorldKeys(root);
     double wall_height_m = std::numeric_limits<double>::infinity();
     if (root["wall_height_m"]) {
       entry = "wall_height_m";
@@ -196,70 +287,10 @@ World parseWorldYaml(const std::string& text, const std::string& source)
       if (!(wall_height_m > 0.0))
         throw std::runtime_error("must be a positive number of metres");
     }
-    // An entry's own height, default wall_height_m.
-    auto heightOf = [&](const YAML::Node& node) {
-      if (!node["height"])
-        return wall_height_m;
-      const double height = node["height"].as<double>();
-      if (!(height > 0.0))
-        throw std::runtime_error("height must be a positive number of metres");
-      return height;
-    };
-    std::size_t index = 0;
-    for (const YAML::Node& node : root["segments"]) {
-      entry = "segments[" + std::to_string(index++) + "]";
-      if (!node.IsSequence() || node.size() != 4) {
-        throw std::runtime_error("expected [x0, y0, x1, y1]");
-      }
-      world.addSegment({Eigen::Vector2d(node[0].as<double>(), node[1].as<double>()),
-                        Eigen::Vector2d(node[2].as<double>(), node[3].as<double>()),
-                        wall_height_m});
-    }
-    index = 0;
-    for (const YAML::Node& node : root["polygons"]) {
-      entry = "polygons[" + std::to_string(index++) + "]";
-      std::vector<Eigen::Vector2d> corners;
-      for (const YAML::Node& corner : node) {
-        corners.push_back(point2(corner, "corner"));
-      }
-      if (corners.size() < 3) {
-        throw std::runtime_error("a polygon needs at least 3 corners");
-      }
-      world.addOutline(corners, wall_height_m);
-    }
-    index = 0;
-    for (const YAML::Node& node : root["boxes"]) {
-      entry = "boxes[" + std::to_string(index++) + "]";
-      const Eigen::Vector2d center = point2(node["center"], "center");
-      const Eigen::Vector2d size = point2(node["size"], "size");
-      const double yaw = node["yaw"] ? node["yaw"].as<double>() : 0.0;
-      if (!(size.x() > 0.0) || !(size.y() > 0.0)) {
-        throw std::runtime_error("size must be positive");
-      }
-      const Eigen::Rotation2Dd rotation(yaw);
-      std::vector<Eigen::Vector2d> corners;
-      for (const auto& sign : {Eigen::Vector2d(-1, -1), Eigen::Vector2d(1, -1),
-                               Eigen::Vector2d(1, 1), Eigen::Vector2d(-1, 1)}) {
-        corners.push_back(center + rotation * (0.5 * size.cwiseProduct(sign)));
-      }
-      world.addSolid(corners, heightOf(node));
-    }
-    index = 0;
-    for (const YAML::Node& node : root["circles"]) {
-      entry = "circles[" + std::to_string(index++) + "]";
-      const Eigen::Vector2d center = point2(node["center"], "center");
-      const double radius = node["radius"].as<double>();
-      const int sides = node["sides"] ? node["sides"].as<int>() : 24;
-      if (!(radius > 0.0) || sides < 3) {
-        throw std::runtime_error("radius must be positive and sides >= 3");
-      }
-      std::vector<Eigen::Vector2d> corners;
-      for (int k = 0; k < sides; ++k) {
-        const double angle = 2.0 * M_PI * k / sides;
-        corners.push_back(center + radius * Eigen::Vector2d(std::cos(angle), std::sin(angle)));
-      }
-      world.addSolid(corners, heightOf(node));
-    }
+    addSegments(root["segments"], wall_height_m, entry, world);
+    addPolygons(root["polygons"], wall_height_m, entry, world);
+    addBoxes(root["boxes"], wall_height_m, entry, world);
+    addCircles(root["circles"], wall_height_m, entry, world);
   } catch (const YAML::Exception& error) {
     throw std::runtime_error(source + ": " + entry + ": " + error.what());
   } catch (const std::runtime_error& error) {

@@ -55,6 +55,92 @@ std::string joinNames(const std::vector<std::string>& names)
   return text;
 }
 
+/// score_calibration's arguments.
+struct ScoreArguments
+{
+  std::string config_path, result_path;
+  std::vector<std::string> bags, pairs_files;
+  double start_s = 0.0, end_s = 0.0;
+  bool quiet = !isatty(STDERR_FILENO);
+};
+
+/// Parses the arguments; returns -1 to go on, else the exit status (0 after the usage asked
+/// for, 2 after a usage error).
+int parseArguments(int argc, char** argv, ScoreArguments& arguments)
+{
+  try {
+    ArgumentParser parser;
+    parser.option("--config", &arguments.config_path)
+        .option("--result", &arguments.result_path)
+        .repeatedOption("--pairs", &arguments.pairs_files)
+        .number("--start", &arguments.start_s, 0.0)
+        .number("--end", &arguments.end_s, 0.0)
+        .flag("--quiet", &arguments.quiet)
+        .positionals(&arguments.bags);
+    if (!parser.parse(argc, argv)) {
+      std::cout << kUsage;
+      return 0;
+    }
+    if (arguments.config_path.empty() || arguments.result_path.empty())
+      throw std::invalid_argument("give --config and --result");
+    if (arguments.bags.empty() == arguments.pairs_files.empty())
+      throw std::invalid_argument("give either bags or --pairs files");
+    if (arguments.end_s > 0.0 && arguments.end_s <= arguments.start_s)
+      throw std::invalid_argument("--end must come after --start");
+  } catch (const std::exception& error) {
+    std::cerr << "error: " << error.what() << "\n\n" << kUsage;
+    return 2;
+  }
+  return -1;
+}
+
+/// What the saved calibration is scored on: the pairs, the encoder history (bags only) and a
+/// description of where they came from.
+struct ScoringData
+{
+  std::vector<MotionPair> pairs;
+  std::vector<EncoderSample> history;
+  std::string description;
+};
+
+/// The pairs of the bags, paired at the saved time offset as calibrate_bag does (set in
+/// `config`, which the scoring then uses too).
+ScoringData pairsFromBags(const ScoreArguments& arguments, CalibrationConfig& config,
+                          const CalibrationResult& saved, const std::vector<std::string>& joints)
+{
+  config.collector.time_offset_s = saved.time_offset_s;
+  BagRunResult run;
+  try {
+    run =
+        runBags(arguments.bags, config, arguments.start_s, arguments.end_s,
+                arguments.quiet ? nullptr : std::function<void(const BagProgress&)>(showProgress));
+  } catch (const std::runtime_error& error) {
+    const std::string what = error.what();
+    if (what.rfind("no usable JointState", 0) != 0)
+      throw;
+    throw std::runtime_error(
+        "the bags' JointState messages do not carry the calibration's "
+        "joints (" +
+        joinNames(joints) + "): " + what);
+  }
+  return {run.pairs, run.encoder_history,
+          std::to_string(run.pairs.size()) + " pairs from " +
+              std::to_string(arguments.bags.size()) + " bag(s)"};
+}
+
+/// The pairs of the pairs files, whose joints must be the calibration's.
+ScoringData pairsFromFiles(const ScoreArguments& arguments, const CalibrationResult& saved,
+                           const std::vector<std::string>& joints)
+{
+  const PairsFile file = readPairsCsvFiles(arguments.pairs_files);
+  requireCalibrationJoints(saved.joints.empty() ? joints : saved.joints, file.joints.names,
+                           "the pairs file " + arguments.pairs_files.front());
+  return {file.pairs,
+          {},
+          std::to_string(file.pairs.size()) + " pairs from " +
+              std::to_string(arguments.pairs_files.size()) + " pairs file(s)"};
+}
+
 }  // namespace
 
 int main(int argc, char** argv)
@@ -62,73 +148,22 @@ int main(int argc, char** argv)
   google::InitGoogleLogging(argv[0]);
   containBagReadFaults();
   FLAGS_minloglevel = google::GLOG_FATAL;
-  std::string config_path, result_path;
-  std::vector<std::string> bags, pairs_files;
-  double start_s = 0.0, end_s = 0.0;
-  bool quiet = !isatty(STDERR_FILENO);
+  ScoreArguments arguments;
+  if (const int status = parseArguments(argc, argv, arguments); status >= 0)
+    return status;
   try {
-    ArgumentParser parser;
-    parser.option("--config", &config_path)
-        .option("--result", &result_path)
-        .repeatedOption("--pairs", &pairs_files)
-        .number("--start", &start_s, 0.0)
-        .number("--end", &end_s, 0.0)
-        .flag("--quiet", &quiet)
-        .positionals(&bags);
-    if (!parser.parse(argc, argv)) {
-      std::cout << kUsage;
-      return 0;
-    }
-    if (config_path.empty() || result_path.empty())
-      throw std::invalid_argument("give --config and --result");
-    if (bags.empty() == pairs_files.empty())
-      throw std::invalid_argument("give either bags or --pairs files");
-    if (end_s > 0.0 && end_s <= start_s)
-      throw std::invalid_argument("--end must come after --start");
-  } catch (const std::exception& error) {
-    std::cerr << "error: " << error.what() << "\n\n" << kUsage;
-    return 2;
-  }
-  try {
-    CalibrationConfig config = loadCalibrationConfig(config_path);
-    const CalibrationResult saved = readCalibrationResult(result_path);
+    CalibrationConfig config = loadCalibrationConfig(arguments.config_path);
+    const CalibrationResult saved = readCalibrationResult(arguments.result_path);
     const std::vector<std::string> joints = jointLayout(config).names;
-    requireCalibrationJoints(saved.joints, joints, "the configuration " + config_path);
-
-    std::vector<MotionPair> pairs;
-    std::vector<EncoderSample> history;
-    std::string data;
-    if (!bags.empty()) {
-      config.collector.time_offset_s = saved.time_offset_s;
-      BagRunResult run;
-      try {
-        run = runBags(bags, config, start_s, end_s,
-                      quiet ? nullptr : std::function<void(const BagProgress&)>(showProgress));
-      } catch (const std::runtime_error& error) {
-        const std::string what = error.what();
-        if (what.rfind("no usable JointState", 0) != 0)
-          throw;
-        throw std::runtime_error(
-            "the bags' JointState messages do not carry the calibration's "
-            "joints (" +
-            joinNames(joints) + "): " + what);
-      }
-      pairs = run.pairs;
-      history = run.encoder_history;
-      data =
-          std::to_string(pairs.size()) + " pairs from " + std::to_string(bags.size()) + " bag(s)";
-    } else {
-      const PairsFile file = readPairsCsvFiles(pairs_files);
-      requireCalibrationJoints(saved.joints.empty() ? joints : saved.joints, file.joints.names,
-                               "the pairs file " + pairs_files.front());
-      pairs = file.pairs;
-      data = std::to_string(pairs.size()) + " pairs from " + std::to_string(pairs_files.size()) +
-             " pairs file(s)";
-    }
-    const std::vector<ModelScore> scores = scoreSavedCalibration(config, saved, pairs, history);
+    requireCalibrationJoints(saved.joints, joints, "the configuration " + arguments.config_path);
+    const ScoringData data = arguments.bags.empty()
+                                 ? pairsFromFiles(arguments, saved, joints)
+                                 : pairsFromBags(arguments, config, saved, joints);
+    const std::vector<ModelScore> scores =
+        scoreSavedCalibration(config, saved, data.pairs, data.history);
     std::printf("saved calibration: %s (model %s, time offset %.6f s)\nscored on: %s\n\n",
-                result_path.c_str(), saved.model->name().c_str(), saved.time_offset_s,
-                data.c_str());
+                arguments.result_path.c_str(), saved.model->name().c_str(), saved.time_offset_s,
+                data.description.c_str());
     std::cout << formatComparisonTable(scores);
     std::cout << scores.front().model << ": the saved calibration, not refitted\n";
     if (scores.size() == 1)

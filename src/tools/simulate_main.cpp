@@ -1,14 +1,11 @@
 // simulate: runs a scenario and writes a rosbag plus a YAML with the true parameters.
 #include <iostream>
-#include <memory>
 #include <string>
 #include <vector>
 
 #include "odometry_calibration/common/arguments.h"
-#include "odometry_calibration/common/atomic_file.h"
 #include "odometry_calibration/ros/sim_bag_writer.h"
 #include "odometry_calibration/sim/scenario.h"
-#include "odometry_calibration/sim/tricycle_log_sink.h"
 
 namespace {
 
@@ -37,15 +34,16 @@ const char* kUsage =
 int main(int argc, char** argv)
 {
   using namespace odometry_calibration;
-  std::string bag_path, truth_path, tricycle_log_path, worlds = sim::shippedWorldsDirectory();
+  std::string worlds = sim::shippedWorldsDirectory();
+  SimulationFiles files;
   std::vector<std::string> scenario_paths;
   long long seed = -1;
   sim::ScenarioOverrides overrides;
   try {
     ArgumentParser parser;
-    parser.option("--output", &bag_path)
-        .option("--truth", &truth_path)
-        .option("--tricycle-log", &tricycle_log_path)
+    parser.option("--output", &files.bag_path)
+        .option("--truth", &files.truth_path)
+        .option("--tricycle-log", &files.tricycle_log_path)
         .option("--worlds", &worlds)
         .wholeNumber("--seed", &seed, 0)
         .positiveNumber("--duration", &overrides.duration_s)
@@ -62,43 +60,10 @@ int main(int argc, char** argv)
     return 2;
   }
   try {
-    const sim::Scenario scenario = sim::loadScenarioYaml(scenario_paths[0], worlds, overrides);
-    if (bag_path.empty())
-      bag_path = defaultSimulationBagPath(scenario);
-    if (truth_path.empty())
-      truth_path = defaultTruthPath(bag_path);
-    std::unique_ptr<sim::TricycleLogSink> log_sink;
-    if (!tricycle_log_path.empty()) {
-      if (!sim::canWriteTricycleLog(scenario)) {
-        std::cerr << "error: --tricycle-log needs a tricycle robot with 'tracker: {enabled: "
-                     "true}' in the scenario\n";
-        return 2;
-      }
-      log_sink = sim::makeTricycleLogSink(scenario);
-    }
-    const sim::SimulationSummary summary =
-        simulateToBag(scenario, bag_path, truth_path, log_sink.get());
-    if (log_sink) {
-      writeFileAtomically(tricycle_log_path, log_sink->text());
-    }
-    std::cout << "simulated " << scenario.duration_s << " s of '" << scenario.name << "' ("
-              << scenario.robot.type << "): " << summary.joint_states << " joint states, "
-              << summary.scans << " scans, " << summary.distance_m << " m driven, "
-              << summary.rotation_rad << " rad turned, " << summary.counter_wraps
-              << " counter wrap-arounds\n"
-              << "bag:   " << bag_path << "\ntruth: " << truth_path << "\n";
-    if (sim::droveTooLittle(scenario, summary)) {
-      std::cerr << "warning: the robot drove only " << summary.distance_m
-                << " m (a script that stands still, or a random planner boxed in near the start "
-                   "pose: move start_pose or lower motion.clearance_m); a calibration needs "
-                   "motion\n";
-    }
-    if (log_sink) {
-      std::cout << "tricycle log: " << tricycle_log_path << " (" << log_sink->rows() << " rows)\n";
-    }
+    return simulateToFiles(sim::loadScenarioYaml(scenario_paths[0], worlds, overrides), files,
+                           std::cout, std::cerr);
   } catch (const std::exception& error) {
     std::cerr << "error: " << error.what() << "\n";
     return 1;
   }
-  return 0;
 }

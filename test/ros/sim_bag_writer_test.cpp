@@ -1,6 +1,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <sstream>
 
 #include <gtest/gtest.h>
 #include <nav_msgs/Odometry.h>
@@ -162,6 +163,32 @@ TEST(SimBag, DefaultFileNames)
   EXPECT_EQ(defaultTruthPath("/tmp/run.2.bag"), "/tmp/run.2_truth.yaml");
   EXPECT_EQ(defaultTruthPath("run"), "run_truth.yaml");
   EXPECT_EQ(defaultTruthPath(".bag"), ".bag_truth.yaml");
+}
+
+TEST(SimBag, SimulateToFilesWritesTheRunAndRefusesALogItCannotGive)
+{
+  const Scratch scratch;
+  const std::string& directory = scratch;
+  const sim::Scenario scenario =
+      sim::loadScenarioYaml(writeScenario(directory, kScenario), kWorlds);
+  SimulationFiles files;
+  files.bag_path = directory + "/run.bag";
+  std::ostringstream out, err;
+  ASSERT_EQ(simulateToFiles(scenario, files, out, err), 0) << err.str();
+  EXPECT_NE(out.str().find("simulated 3 s of 'small' (diff_drive)"), std::string::npos)
+      << out.str();
+  EXPECT_NE(out.str().find("truth: " + directory + "/run_truth.yaml"), std::string::npos);
+  EXPECT_TRUE(std::ifstream(directory + "/run.bag").good());
+  EXPECT_TRUE(std::ifstream(directory + "/run_truth.yaml").good());
+
+  // A tricycle log needs a tricycle robot with the tracker: refused (usage, 2), nothing written.
+  files.bag_path = directory + "/refused.bag";
+  files.tricycle_log_path = directory + "/refused.log";
+  std::ostringstream refused_out, refused_err;
+  EXPECT_EQ(simulateToFiles(scenario, files, refused_out, refused_err), 2);
+  EXPECT_NE(refused_err.str().find("--tricycle-log needs a tricycle robot"), std::string::npos);
+  EXPECT_FALSE(std::ifstream(directory + "/refused.bag").good());
+  EXPECT_FALSE(std::ifstream(directory + "/refused.log").good());
 }
 }  // namespace
 }  // namespace odometry_calibration

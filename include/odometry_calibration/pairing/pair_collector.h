@@ -187,6 +187,13 @@ private:
       double stamp_s, const std::function<CollectorEvent(CollectorEvent)>& start_keyframe,
       std::vector<EncoderSample>* window);
   CollectorEvent processScan(double stamp_s, std::shared_ptr<LazyPreparedScan> prepared);
+  /// Sets the scan's sweep velocity from the prior model's prediction (compensate_sweep).
+  void compensateSweep(double stamp_s, LazyPreparedScan& prepared_scan);
+  /// Submits the match of the previous scan to this one, for the consecutive-scan chain.
+  void submitConsecutiveMatch(double stamp_s, const std::shared_ptr<LazyPreparedScan>& prepared);
+  /// Whether the keyframe match agrees with the chain of consecutive matches (within
+  /// consistency_translation_m and consistency_rotation_rad); counts the scale check's sums.
+  bool consistentWithChain(const PlicpResult& match);
   CollectorEvent processPose(double stamp_s, const Pose2& T_world_sensor,
                              const Eigen::Matrix3d& covariance);
   std::vector<CollectorEvent> processReadyScans(bool all);

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <memory>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -60,5 +61,21 @@ std::string defaultTruthPath(const std::string& bag_path);
 sim::SimulationSummary simulateToBag(const sim::Scenario& scenario, const std::string& bag_path,
                                      const std::string& truth_path,
                                      sim::SimulationSink* extra_sink = nullptr);
+
+/// Where the simulate tool writes a run: the bag and the truth ("" = the defaults above), and
+/// the tricycle dataset's text log ("" = none).
+struct SimulationFiles
+{
+  std::string bag_path;
+  std::string truth_path;
+  std::string tricycle_log_path;
+};
+
+/// The simulate tool's run: the scenario into its bag, truth and (if asked) tricycle log, the
+/// summary printed to `out`, a warning on `err` when the robot barely moved. Returns the exit
+/// status: 0 written; 2 a tricycle log asked of a scenario that cannot give one (a tricycle
+/// robot with the tracker enabled). Throws what loading or writing throws.
+int simulateToFiles(const sim::Scenario& scenario, SimulationFiles files, std::ostream& out,
+                    std::ostream& err);
 
 }  // namespace odometry_calibration

@@ -60,6 +60,16 @@ public:
                      const std::function<Pose2(double)>& T_world_laser_at);
 
 private:
+  /// A scan stamped `stamp_s` with the sensor's angles, limits and times, its ranges unset.
+  ScanSample scanHeader(double stamp_s) const;
+  /// A returned ray's range [m] with the ripple and the noise: the AR(1) chain's `unit_noise`
+  /// when correlated, else an independent draw (scaled with range when range_noise_per_m > 0).
+  double withNoise(double range, int ray, double unit_noise);
+  /// The range as the sensor reports it: NaN for a dropout (uniform, or on dark surfaces: more
+  /// likely far and at grazing incidence), rounded to the resolution, +inf beyond max_range,
+  /// -inf closer than min_range.
+  double reported(double range, double cos_incidence);
+
   /// The range of one ray (before noise): the centre's hit, or a mixed pixel.
   double trueRange(const World& world, const Eigen::Vector2d& origin, double angle_rad,
                    double* cos_incidence);
