@@ -13,7 +13,7 @@
 #include "odometry_calibration/common/text_file.h"
 #include "odometry_calibration/common/yaml_reading.h"
 
-#include "odometry_calibration/models/gp_options.h"
+#include "odometry_calibration/gp/gp_options.h"
 
 namespace odometry_calibration {
 namespace {

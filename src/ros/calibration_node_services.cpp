@@ -8,7 +8,7 @@
 #include "odometry_calibration/calibration/fit_interval.h"
 #include "odometry_calibration/common/atomic_file.h"
 #include "odometry_calibration/eval/model_report.h"
-#include "odometry_calibration/models/model_factory.h"
+#include "odometry_calibration/factory/model_factory.h"
 #include "odometry_calibration/report/controller_yaml.h"
 #include "odometry_calibration/ros/calibration_node.h"
 #include "odometry_calibration/ros/conversions.h"

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdio>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -12,6 +11,7 @@
 
 #include <Eigen/Geometry>
 
+#include "odometry_calibration/common/number_text.h"
 #include "odometry_calibration/scan/nearest_point_search.h"
 #include "odometry_calibration/scan/plicp_ambiguity.h"
 #include "odometry_calibration/scan/point_to_line_solver.h"
@@ -19,13 +19,6 @@
 
 namespace odometry_calibration {
 namespace {
-
-std::string formatNumber(double value)
-{
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%.3g", value);
-  return buffer;
-}
 
 /// The buffers of a Matcher, as long as the new scan. They live per thread and are reused by
 /// the next match: allocating them for every match and handing the memory back to the system

@@ -27,12 +27,12 @@
 #include <tf2_ros/transform_broadcaster.h>
 
 #include "odometry_calibration/Calibrate.h"
+#include "odometry_calibration/assistant/excitation_guidance.h"
+#include "odometry_calibration/assistant/health_monitor.h"
 #include "odometry_calibration/calibration/calibration_config.h"
 #include "odometry_calibration/calibration/candidate_collectors.h"
 #include "odometry_calibration/calibration/odometry_integrator.h"
 #include "odometry_calibration/data/pairs_csv.h"
-#include "odometry_calibration/models/excitation_guidance.h"
-#include "odometry_calibration/models/health_monitor.h"
 #include "odometry_calibration/pairing/pair_collector.h"
 
 namespace odometry_calibration {
