@@ -123,10 +123,6 @@ void noteRadiiDisagreement(const Eigen::Matrix<double, 5, 1>& intrinsics,
   }
 }
 
-}  // namespace
-
-namespace {
-
 /// The warnings of a mecanum fit: the coverage check's, which name the missing motion
 /// (strafing, turning on the spot, driving straight), then the general ones (`general`), less
 /// the general "no turning" warning when the coverage check made its own.
