@@ -18,7 +18,9 @@ std::string writeModelYaml(const std::string& model,
 
 YAML::Node loadModelYaml(const std::string& text, const std::string& model)
 {
-  YAML::Node node = YAML::Load(text);
+  // Read through a const node: a missing key is then an invalid node (named in yaml-cpp's
+  // error), not a null one added to the map.
+  const YAML::Node node = YAML::Load(text);
   if (node["model"].as<std::string>() != model)
     throw std::runtime_error("not a " + model + " model");
   return node;

@@ -80,6 +80,11 @@ TEST(ModelYaml, ErrorsNameTheModel)
   const std::string wrong_type = runtimeError("model: toy\nindex: one\nradius_m: 1\njoints: []\n");
   EXPECT_EQ(wrong_type.rfind("toy model YAML: ", 0), 0u) << wrong_type;
   EXPECT_EQ(runtimeError("model: [toy").rfind("toy model YAML: ", 0), 0u);
+  // No `model` key: yaml-cpp names it (the map is read as a const node, as the models always
+  // did, so the key is reported missing rather than read as null).
+  const std::string no_model = runtimeError("{}");
+  EXPECT_EQ(no_model.rfind("toy model YAML: ", 0), 0u) << no_model;
+  EXPECT_NE(no_model.find("\"model\""), std::string::npos) << no_model;
 }
 
 TEST(ModelYaml, AWrongSensorPoseCountIsRefused)
