@@ -12,8 +12,8 @@
 #include <random>
 #include <utility>
 
-#include "odometry_calibration/models/gp_inputs.h"
-#include "odometry_calibration/models/gp_model.h"
+#include "odometry_calibration/gp/gp_inputs.h"
+#include "odometry_calibration/gp/gp_model.h"
 #include "odometry_calibration/sim/pair_generator.h"
 
 namespace {

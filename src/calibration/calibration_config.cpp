@@ -14,7 +14,7 @@
 #include "odometry_calibration/common/config_schema.h"
 #include "odometry_calibration/common/text_file.h"
 
-#include "odometry_calibration/models/gp_options.h"
+#include "odometry_calibration/gp/gp_options.h"
 
 namespace odometry_calibration {
 namespace {

@@ -3,7 +3,7 @@
 #include <cmath>
 
 #include "odometry_calibration/calibration/calibration_config_schema.h"
-#include "odometry_calibration/models/gp_options.h"
+#include "odometry_calibration/gp/gp_options.h"
 
 namespace odometry_calibration {
 namespace {

@@ -6,7 +6,7 @@
 #include <stdexcept>
 
 #include "odometry_calibration/common/median.h"
-#include "odometry_calibration/models/model_factory.h"
+#include "odometry_calibration/factory/model_factory.h"
 
 namespace odometry_calibration {
 

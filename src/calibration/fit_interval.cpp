@@ -9,7 +9,7 @@
 
 #include "odometry_calibration/data/holdout.h"
 #include "odometry_calibration/eval/model_comparison.h"
-#include "odometry_calibration/models/model_factory.h"
+#include "odometry_calibration/factory/model_factory.h"
 
 namespace odometry_calibration {
 

@@ -13,7 +13,7 @@
 #include "odometry_calibration/common/text_file.h"
 #include "odometry_calibration/data/pairs_csv.h"
 #include "odometry_calibration/eval/model_comparison.h"
-#include "odometry_calibration/models/model_factory.h"
+#include "odometry_calibration/factory/model_factory.h"
 
 namespace odometry_calibration {
 

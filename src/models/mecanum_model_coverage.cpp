@@ -1,21 +1,10 @@
 // The motion coverage of a mecanum drive's pairs and the warnings naming what is missing.
 #include <cmath>
-#include <sstream>
 
+#include "odometry_calibration/common/number_text.h"
 #include "odometry_calibration/models/mecanum_model.h"
 
 namespace odometry_calibration {
-namespace {
-
-std::string formatNumber(double value)
-{
-  std::ostringstream stream;
-  stream.precision(3);
-  stream << value;
-  return stream.str();
-}
-
-}  // namespace
 
 MecanumMotionCoverage mecanumMotionCoverage(const std::vector<MotionPair>& pairs,
                                             const MecanumEncoderLayout& layout,

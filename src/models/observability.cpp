@@ -1,9 +1,9 @@
 #include "odometry_calibration/models/observability.h"
 
 #include <algorithm>
-
 #include <cmath>
-#include <sstream>
+
+#include "odometry_calibration/common/number_text.h"
 
 namespace odometry_calibration {
 namespace {
@@ -16,22 +16,9 @@ constexpr double kMaxAbsoluteSigmaM = 0.05;    // sigma of lengths without a nat
 constexpr double kMaxAbsoluteSigmaRad = 0.02;  // sigma of angles
 constexpr double kMaxCorrelation = 0.995;
 
-std::string formatNumber(double value)
-{
-  std::ostringstream stream;
-  stream.precision(3);
-  stream << value;
-  return stream.str();
-}
-
-}  // namespace
-
-std::vector<std::string> observabilityWarnings(const std::vector<MotionPair>& pairs,
-                                               const std::vector<ParameterEstimate>& estimates,
-                                               const Eigen::MatrixXd& covariance,
-                                               bool covariance_available,
-                                               const ObservabilityHints& hints,
-                                               std::vector<std::string>* notes)
+/// Warnings about the motion in `pairs`: too little travel, no turns, turns one way only.
+std::vector<std::string> motionWarnings(const std::vector<MotionPair>& pairs,
+                                        const ObservabilityHints& hints)
 {
   std::vector<std::string> warnings;
   double travel_m = 0.0;
@@ -56,34 +43,30 @@ std::vector<std::string> observabilityWarnings(const std::vector<MotionPair>& pa
                        " only: " + hints.confused_by_one_way_turns +
                        "; drive curves in the other direction too");
   }
+  return warnings;
+}
 
-  if (!covariance_available) {
-    warnings.push_back(
-        "parameter covariance unavailable (rank-deficient problem): at least one parameter is "
-        "not determined by this motion; sigmas are not reported");
-    return warnings;
-  }
-  std::vector<bool> poorly_determined(estimates.size(), false);
-  for (std::size_t i = 0; i < estimates.size(); ++i) {
-    const ParameterEstimate& estimate = estimates[i];
-    const bool relative =
-        std::find(hints.relative_parameters.begin(), hints.relative_parameters.end(),
-                  estimate.name) != hints.relative_parameters.end();
-    bool poor = false;
-    if (estimate.unit == "rad") {
-      poor = estimate.sigma > kMaxAbsoluteSigmaRad;
-    } else if (relative) {
-      poor = estimate.sigma > kMaxRelativeSigma * std::abs(estimate.value);
-    } else {
-      poor = estimate.sigma > kMaxAbsoluteSigmaM;
-    }
-    poorly_determined[i] = poor;
-    if (poor) {
-      warnings.push_back(estimate.name + " is poorly determined (sigma " +
-                         formatNumber(estimate.sigma) + " " + estimate.unit +
-                         "): record more varied motion (tight turns both ways, reversing)");
-    }
-  }
+/// Whether an estimate's sigma is too large: against its value for a relative parameter,
+/// against an absolute tolerance for an angle (0.02 rad) or another length (0.05 m).
+bool poorlyDetermined(const ParameterEstimate& estimate, const ObservabilityHints& hints)
+{
+  const bool relative =
+      std::find(hints.relative_parameters.begin(), hints.relative_parameters.end(),
+                estimate.name) != hints.relative_parameters.end();
+  if (estimate.unit == "rad")
+    return estimate.sigma > kMaxAbsoluteSigmaRad;
+  if (relative)
+    return estimate.sigma > kMaxRelativeSigma * std::abs(estimate.value);
+  return estimate.sigma > kMaxAbsoluteSigmaM;
+}
+
+/// Notes on pairs of parameters correlated beyond kMaxCorrelation that are each determined
+/// (a poorly determined one has its own warning).
+void noteStrongCorrelations(const std::vector<ParameterEstimate>& estimates,
+                            const Eigen::MatrixXd& covariance,
+                            const std::vector<bool>& poorly_determined,
+                            std::vector<std::string>* notes)
+{
   const auto n = static_cast<Eigen::Index>(estimates.size());
   for (Eigen::Index i = 0; i < n; ++i) {
     for (Eigen::Index j = i + 1; j < n; ++j) {
@@ -92,8 +75,6 @@ std::vector<std::string> observabilityWarnings(const std::vector<MotionPair>& pa
         continue;
       }
       const double correlation = covariance(i, j) / denominator;
-      // Information only, for two parameters that are each determined: a poorly determined one
-      // has its own warning above.
       if (notes != nullptr && std::abs(correlation) > kMaxCorrelation &&
           !poorly_determined[static_cast<std::size_t>(i)] &&
           !poorly_determined[static_cast<std::size_t>(j)]) {
@@ -103,6 +84,35 @@ std::vector<std::string> observabilityWarnings(const std::vector<MotionPair>& pa
       }
     }
   }
+}
+
+}  // namespace
+
+std::vector<std::string> observabilityWarnings(const std::vector<MotionPair>& pairs,
+                                               const std::vector<ParameterEstimate>& estimates,
+                                               const Eigen::MatrixXd& covariance,
+                                               bool covariance_available,
+                                               const ObservabilityHints& hints,
+                                               std::vector<std::string>* notes)
+{
+  std::vector<std::string> warnings = motionWarnings(pairs, hints);
+  if (!covariance_available) {
+    warnings.push_back(
+        "parameter covariance unavailable (rank-deficient problem): at least one parameter is "
+        "not determined by this motion; sigmas are not reported");
+    return warnings;
+  }
+  std::vector<bool> poorly_determined(estimates.size(), false);
+  for (std::size_t i = 0; i < estimates.size(); ++i) {
+    const ParameterEstimate& estimate = estimates[i];
+    poorly_determined[i] = poorlyDetermined(estimate, hints);
+    if (poorly_determined[i]) {
+      warnings.push_back(estimate.name + " is poorly determined (sigma " +
+                         formatNumber(estimate.sigma) + " " + estimate.unit +
+                         "): record more varied motion (tight turns both ways, reversing)");
+    }
+  }
+  noteStrongCorrelations(estimates, covariance, poorly_determined, notes);
   return warnings;
 }
 

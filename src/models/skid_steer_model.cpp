@@ -5,7 +5,8 @@
 #include <sstream>
 #include <stdexcept>
 
-#include <yaml-cpp/yaml.h>
+#include "odometry_calibration/models/model_checks.h"
+#include "odometry_calibration/models/model_yaml.h"
 
 namespace odometry_calibration {
 
@@ -23,19 +24,11 @@ void validate(const SkidSteerOptions& o)
       }
     }
   }
-  auto positive = [](double value, const char* name) {
-    if (!(value > 0.0) || !std::isfinite(value)) {
-      throw std::invalid_argument(std::string("skid_steer option '") + name + "' must be > 0");
-    }
-  };
-  positive(o.ticks_per_turn, "ticks_per_turn");
-  positive(o.wheel_radius_m, "wheel_radius_m");
-  positive(o.wheel_separation_m, "wheel_separation_m");
-  positive(o.huber_threshold, "huber_threshold");
-  if (o.max_iterations < 1)
-    throw std::invalid_argument("skid_steer option 'max_iterations' must be >= 1");
-  if (o.yaw_starts < 1 || o.yaw_starts > 360)
-    throw std::invalid_argument("skid_steer option 'yaw_starts' must be in [1, 360]");
+  requirePositiveOption(o.ticks_per_turn, "skid_steer", "ticks_per_turn");
+  requirePositiveOption(o.wheel_radius_m, "skid_steer", "wheel_radius_m");
+  requirePositiveOption(o.wheel_separation_m, "skid_steer", "wheel_separation_m");
+  requirePositiveOption(o.huber_threshold, "skid_steer", "huber_threshold");
+  requireSolverLimits(o.max_iterations, o.yaw_starts, "skid_steer");
 }
 
 std::vector<EncoderSample> averageSides(const std::vector<EncoderSample>& samples,
@@ -120,40 +113,42 @@ MotionPrediction SkidSteerModel::predict(const std::vector<EncoderSample>& sampl
   return wheels_.predict(averageSides(samples, options_.left_indices, options_.right_indices));
 }
 
+namespace {
+
+/// The values a skid_steer model saves besides its sides' differential drive, each key once:
+/// the joints of each side and the geometric values its multipliers refer to.
+template <class Options, class Visit>
+void visitSkidSteerYaml(Options& options, const Visit& visit)
+{
+  visit("left_indices", options.left_indices);
+  visit("right_indices", options.right_indices);
+  visit("geometric_wheel_radius_m", options.wheel_radius_m);
+  visit("geometric_wheel_separation_m", options.wheel_separation_m);
+}
+
+}  // namespace
+
 std::string SkidSteerModel::toYaml() const
 {
-  YAML::Emitter out;
-  out.SetDoublePrecision(17);
-  out << YAML::BeginMap;
-  out << YAML::Key << "model" << YAML::Value << name();
-  out << YAML::Key << "left_indices" << YAML::Value << YAML::Flow << options_.left_indices;
-  out << YAML::Key << "right_indices" << YAML::Value << YAML::Flow << options_.right_indices;
-  out << YAML::Key << "geometric_wheel_radius_m" << YAML::Value << options_.wheel_radius_m;
-  out << YAML::Key << "geometric_wheel_separation_m" << YAML::Value << options_.wheel_separation_m;
-  out << YAML::Key << "sides" << YAML::Value << YAML::Load(wheels_.toYaml());
-  out << YAML::EndMap;
-  return std::string(out.c_str()) + "\n";
+  return writeModelYaml(name(), [this](YAML::Emitter& out) {
+    visitSkidSteerYaml(options_, YamlKeyWriter(out));
+    out << YAML::Key << "sides" << YAML::Value << YAML::Load(wheels_.toYaml());
+  });
 }
 
 SkidSteerModel SkidSteerModel::fromYaml(const std::string& text)
 {
   try {
-    const YAML::Node node = YAML::Load(text);
-    if (node["model"].as<std::string>() != "skid_steer")
-      throw std::runtime_error("not a skid_steer model");
-    std::ostringstream sides;
-    sides << node["sides"];
-    DiffDriveModel wheels = DiffDriveModel::fromYaml(sides.str());
-    SkidSteerOptions options;
-    options.left_indices = node["left_indices"].as<std::vector<int>>();
-    options.right_indices = node["right_indices"].as<std::vector<int>>();
-    options.wheel_radius_m = node["geometric_wheel_radius_m"].as<double>();
-    options.wheel_separation_m = node["geometric_wheel_separation_m"].as<double>();
-    options.ticks_per_turn = YAML::Load(sides.str())["ticks_per_turn"].as<double>();
-    options.initial_T_base_sensor = wheels.T_base_sensor();
-    return SkidSteerModel(options, std::move(wheels));
-  } catch (const YAML::Exception& error) {
-    throw std::runtime_error(std::string("skid_steer model YAML: ") + error.what());
+    return readModelYaml(text, "skid_steer", [](const YAML::Node& node) {
+      std::ostringstream sides;
+      sides << node["sides"];
+      DiffDriveModel wheels = DiffDriveModel::fromYaml(sides.str());
+      SkidSteerOptions options;
+      visitSkidSteerYaml(options, YamlKeyReader(node));
+      options.ticks_per_turn = YAML::Load(sides.str())["ticks_per_turn"].as<double>();
+      options.initial_T_base_sensor = wheels.T_base_sensor();
+      return SkidSteerModel(options, std::move(wheels));
+    });
   } catch (const std::invalid_argument& error) {
     throw std::runtime_error(std::string("skid_steer model YAML: ") + error.what());
   }

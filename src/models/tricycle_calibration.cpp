@@ -7,9 +7,11 @@
 #include <memory>
 #include <stdexcept>
 
+#include "odometry_calibration/models/model_checks.h"
 #include "odometry_calibration/models/observability.h"
 #include "odometry_calibration/models/parameter_estimates.h"
 #include "odometry_calibration/models/parameter_layouts.h"
+#include "odometry_calibration/models/parametric_model.h"
 #include "odometry_calibration/models/tricycle_residual.h"
 
 namespace odometry_calibration {
@@ -137,17 +139,71 @@ void validateStartValues(const TricycleParameters& p)
   }
 }
 
+namespace {
+
+/// Keeps the physical one of the tricycle's symmetric solutions (which the global starts can
+/// land in): (Ks, -Kt, -a, ds) with the sensor at (-x, -y, theta + pi) predicts the same
+/// motions (the base motion is conjugated by a half turn), and so does (Ks, -Kt, a, ds + pi)
+/// (the wheel pointing the other way, rolling backwards). The physical solution has a positive
+/// axis length and traction scale; the covariance changes sign accordingly.
+void keepPhysicalTricycleSolution(SensorMotionFit<4>* fit)
+{
+  Eigen::Matrix<double, 7, 1> flip = Eigen::Matrix<double, 7, 1>::Ones();
+  if (fit->intrinsic(kAxisLength) < 0.0) {
+    fit->intrinsic(kTractionScale) = -fit->intrinsic(kTractionScale);
+    fit->intrinsic(kAxisLength) = -fit->intrinsic(kAxisLength);
+    fit->T_base_sensor = Pose2(-fit->T_base_sensor.x(), -fit->T_base_sensor.y(),
+                               normalizeAngle(fit->T_base_sensor.theta() + M_PI));
+    flip(kTractionScale) = -flip(kTractionScale);
+    flip(kAxisLength) = -1.0;
+    flip(4) = flip(5) = -1.0;
+  }
+  if (fit->intrinsic(kTractionScale) < 0.0) {
+    fit->intrinsic(kTractionScale) = -fit->intrinsic(kTractionScale);
+    fit->intrinsic(kSteeringOffset) = normalizeAngle(fit->intrinsic(kSteeringOffset) + M_PI);
+    flip(kTractionScale) = -flip(kTractionScale);
+  }
+  fit->covariance = flip.asDiagonal() * fit->covariance * flip.asDiagonal();
+}
+
+/// Copies the solver's solution and its run into `result` (which holds the start values), with
+/// the residuals after the fit, over all pairs and over the inliers, and the parameter rows.
+void reportTricycleFit(const std::vector<MotionPair>& pairs, const TricycleEncoderLayout& layout,
+                       const SensorMotionFit<4>& fit, TricycleCalibrationResult* result)
+{
+  result->solve_time_s = fit.solve_time_s;
+  result->iterations = fit.iterations;
+  result->converged = fit.converged;
+  result->termination = fit.termination;
+  result->calibrated = TricycleParameters::fromVectors(fit.intrinsic, fit.T_base_sensor.vector());
+  result->after = tricycleResidualRms(pairs, layout, result->calibrated);
+  std::vector<MotionPair> inliers;
+  for (std::size_t i = 0; i < pairs.size(); ++i) {
+    if (fit.inlier[i])
+      inliers.push_back(pairs[i]);
+  }
+  result->outlier_count = fit.outliers;
+  result->gross_outliers = fit.gross_outliers;
+  result->starts = fit.starts;
+  result->starts_agreed = fit.starts_agreed;
+  result->after_inliers = tricycleResidualRms(inliers, layout, result->calibrated);
+  result->chi2_per_dof = fit.chi2_per_dof;
+  result->covariance = fit.covariance;
+  result->covariance_available = fit.covariance_available;
+  result->estimates = makeEstimates(result->initial, result->calibrated, result->covariance,
+                                    result->covariance_available);
+}
+
+}  // namespace
+
 TricycleCalibrationResult calibrateTricycle(const std::vector<MotionPair>& pairs,
                                             const TricycleEncoderLayout& layout,
                                             const TricycleParameters& initial,
                                             const TricycleCalibrationOptions& options)
 {
   validate(options);
-  if (pairs.size() < 7) {
-    throw std::invalid_argument("tricycle calibration needs at least 7 keyframe pairs, got " +
-                                std::to_string(pairs.size()) +
-                                ": record a longer drive or shorten the keyframe interval");
-  }
+  requireEnoughPairs(pairs, 7, "tricycle calibration",
+                     "record a longer drive or shorten the keyframe interval");
   for (const MotionPair& pair : pairs) {
     if (pair.encoder_samples.size() < 2) {
       throw std::invalid_argument("every pair needs at least two encoder samples");
@@ -159,55 +215,11 @@ TricycleCalibrationResult calibrateTricycle(const std::vector<MotionPair>& pairs
   result.initial = initial;
   result.pair_count = pairs.size();
   result.before = tricycleResidualRms(pairs, layout, initial);
-
-  SensorMotionFitOptions fit_options;
-  fit_options.huber_threshold = options.huber_threshold;
-  fit_options.max_iterations = options.max_iterations;
-  fit_options.yaw_starts = options.yaw_starts;
   SensorMotionFit<4> fit = fitSensorMotion<TricycleKinematics>(
-      pairs, layout, initial.kinematicVector(), initial.T_base_sensor, fit_options);
-  // Symmetries (which the global starts can land in): (Ks, -Kt, -a, ds) with the sensor at
-  // (-x, -y, theta + pi) predicts the same motions (the base motion is conjugated by a half
-  // turn), and so does (Ks, -Kt, a, ds + pi) (the wheel pointing the other way, rolling
-  // backwards). Keep the physical solution, with a positive axis length and traction scale;
-  // the covariance changes sign accordingly.
-  Eigen::Matrix<double, 7, 1> flip = Eigen::Matrix<double, 7, 1>::Ones();
-  if (fit.intrinsic(kAxisLength) < 0.0) {
-    fit.intrinsic(kTractionScale) = -fit.intrinsic(kTractionScale);
-    fit.intrinsic(kAxisLength) = -fit.intrinsic(kAxisLength);
-    fit.T_base_sensor = Pose2(-fit.T_base_sensor.x(), -fit.T_base_sensor.y(),
-                              normalizeAngle(fit.T_base_sensor.theta() + M_PI));
-    flip(kTractionScale) = -flip(kTractionScale);
-    flip(kAxisLength) = -1.0;
-    flip(4) = flip(5) = -1.0;
-  }
-  if (fit.intrinsic(kTractionScale) < 0.0) {
-    fit.intrinsic(kTractionScale) = -fit.intrinsic(kTractionScale);
-    fit.intrinsic(kSteeringOffset) = normalizeAngle(fit.intrinsic(kSteeringOffset) + M_PI);
-    flip(kTractionScale) = -flip(kTractionScale);
-  }
-  fit.covariance = flip.asDiagonal() * fit.covariance * flip.asDiagonal();
-  result.solve_time_s = fit.solve_time_s;
-  result.iterations = fit.iterations;
-  result.converged = fit.converged;
-  result.termination = fit.termination;
-  result.calibrated = TricycleParameters::fromVectors(fit.intrinsic, fit.T_base_sensor.vector());
-  result.after = tricycleResidualRms(pairs, layout, result.calibrated);
-  std::vector<MotionPair> inliers;
-  for (std::size_t i = 0; i < pairs.size(); ++i) {
-    if (fit.inlier[i])
-      inliers.push_back(pairs[i]);
-  }
-  result.outlier_count = fit.outliers;
-  result.gross_outliers = fit.gross_outliers;
-  result.starts = fit.starts;
-  result.starts_agreed = fit.starts_agreed;
-  result.after_inliers = tricycleResidualRms(inliers, layout, result.calibrated);
-  result.chi2_per_dof = fit.chi2_per_dof;
-  result.covariance = fit.covariance;
-  result.covariance_available = fit.covariance_available;
-  result.estimates =
-      makeEstimates(initial, result.calibrated, result.covariance, result.covariance_available);
+      pairs, layout, initial.kinematicVector(), initial.T_base_sensor,
+      sensorMotionFitOptions(options.huber_threshold, options.max_iterations, options.yaw_starts));
+  keepPhysicalTricycleSolution(&fit);
+  reportTricycleFit(pairs, layout, fit, &result);
   ObservabilityHints hints;
   hints.unobservable_without_turning = "steering_scale, axis_length and sensor_y";
   hints.confused_by_one_way_turns = "steering_offset cannot be separated from steering_scale";

@@ -1,11 +1,10 @@
 #include "odometry_calibration/models/tricycle_model.h"
 
-#include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
-#include <yaml-cpp/yaml.h>
-
-#include "odometry_calibration/models/sensor_pose_yaml.h"
+#include "odometry_calibration/models/model_checks.h"
+#include "odometry_calibration/models/model_yaml.h"
 
 namespace odometry_calibration {
 
@@ -14,8 +13,7 @@ TricycleModel::TricycleModel(TricycleModelOptions options)
 {
   validate(options_.calibration);
   validateStartValues(options_.initial);
-  if (options_.layout.steering_index < 0 || options_.layout.traction_index < 0 ||
-      options_.layout.steering_index == options_.layout.traction_index) {
+  if (!distinctJointIndices({options_.layout.steering_index, options_.layout.traction_index})) {
     throw std::invalid_argument("tricycle: steering and traction must be two different joints");
   }
   if (!(options_.layout.steering_ticks_per_turn > 0.0) ||
@@ -26,14 +24,8 @@ TricycleModel::TricycleModel(TricycleModelOptions options)
 
 ModelReport TricycleModel::fit(const std::vector<MotionPair>& pairs)
 {
-  const int needed = std::max(options_.layout.steering_index, options_.layout.traction_index) + 1;
-  for (const MotionPair& pair : pairs) {
-    if (pair.encoder_samples.size() < 2 || pair.encoder_samples.front().values.size() < needed) {
-      throw std::invalid_argument(
-          "tricycle: every pair needs two or more encoder samples with the steering and "
-          "traction joints");
-    }
-  }
+  requirePairsWithJoints(pairs, {options_.layout.steering_index, options_.layout.traction_index},
+                         "tricycle", "the steering and traction joints");
   const TricycleCalibrationResult result =
       calibrateTricycle(pairs, options_.layout, parameters_, options_.calibration);
   ModelReport report;
@@ -67,61 +59,53 @@ ModelReport TricycleModel::fit(const std::vector<MotionPair>& pairs)
 
 MotionPrediction TricycleModel::predict(const std::vector<EncoderSample>& samples) const
 {
-  if (samples.size() < 2)
-    throw std::invalid_argument("tricycle prediction needs at least two encoder samples");
-  requireJointIndices(samples, {options_.layout.steering_index, options_.layout.traction_index},
-                      "tricycle", "joints");
+  requirePredictionSamples(samples,
+                           {options_.layout.steering_index, options_.layout.traction_index},
+                           "tricycle", "joints");
   MotionPrediction prediction;
   prediction.mean = predictTricycleSensorMotion(parameters_, options_.layout, samples);
   prediction.covariance = residual_covariance_;
   return prediction;
 }
 
+namespace {
+
+/// The numbers a tricycle model saves besides the sensor pose, each key once: the joints and
+/// the kinematic parameters (the fitted ones when written, the start values when read back).
+template <class Layout, class Parameters, class Visit>
+void visitTricycleYaml(Layout& layout, Parameters& parameters, const Visit& visit)
+{
+  visit("steering_index", layout.steering_index);
+  visit("traction_index", layout.traction_index);
+  visit("steering_ticks_per_turn", layout.steering_ticks_per_turn);
+  visit("traction_ticks_per_turn", layout.traction_ticks_per_turn);
+  visit("steering_scale", parameters.steering_scale);
+  visit("traction_scale_m_per_turn", parameters.traction_scale_m_per_turn);
+  visit("axis_length_m", parameters.axis_length_m);
+  visit("steering_offset_rad", parameters.steering_offset_rad);
+}
+
+}  // namespace
+
 std::string TricycleModel::toYaml() const
 {
-  YAML::Emitter out;
-  out.SetDoublePrecision(17);
-  const TricycleParameters& p = parameters_;
-  const TricycleEncoderLayout& l = options_.layout;
-  out << YAML::BeginMap;
-  out << YAML::Key << "model" << YAML::Value << name();
-  out << YAML::Key << "steering_index" << YAML::Value << l.steering_index;
-  out << YAML::Key << "traction_index" << YAML::Value << l.traction_index;
-  out << YAML::Key << "steering_ticks_per_turn" << YAML::Value << l.steering_ticks_per_turn;
-  out << YAML::Key << "traction_ticks_per_turn" << YAML::Value << l.traction_ticks_per_turn;
-  out << YAML::Key << "steering_scale" << YAML::Value << p.steering_scale;
-  out << YAML::Key << "traction_scale_m_per_turn" << YAML::Value << p.traction_scale_m_per_turn;
-  out << YAML::Key << "axis_length_m" << YAML::Value << p.axis_length_m;
-  out << YAML::Key << "steering_offset_rad" << YAML::Value << p.steering_offset_rad;
-  emitSensorPoseYaml(out, p.T_base_sensor, residual_covariance_);
-  out << YAML::EndMap;
-  return std::string(out.c_str()) + "\n";
+  return writeModelYaml(name(), [this](YAML::Emitter& out) {
+    visitTricycleYaml(options_.layout, parameters_, YamlKeyWriter(out));
+    emitSensorPoseYaml(out, parameters_.T_base_sensor, residual_covariance_);
+  });
 }
 
 TricycleModel TricycleModel::fromYaml(const std::string& text)
 {
-  try {
-    const YAML::Node node = YAML::Load(text);
-    if (node["model"].as<std::string>() != "tricycle")
-      throw std::runtime_error("not a tricycle model");
+  return readModelYaml(text, "tricycle", [](const YAML::Node& node) {
     TricycleModelOptions options;
-    options.layout.steering_index = node["steering_index"].as<int>();
-    options.layout.traction_index = node["traction_index"].as<int>();
-    options.layout.steering_ticks_per_turn = node["steering_ticks_per_turn"].as<double>();
-    options.layout.traction_ticks_per_turn = node["traction_ticks_per_turn"].as<double>();
-    TricycleParameters& p = options.initial;
-    p.steering_scale = node["steering_scale"].as<double>();
-    p.traction_scale_m_per_turn = node["traction_scale_m_per_turn"].as<double>();
-    p.axis_length_m = node["axis_length_m"].as<double>();
-    p.steering_offset_rad = node["steering_offset_rad"].as<double>();
+    visitTricycleYaml(options.layout, options.initial, YamlKeyReader(node));
     const SensorPoseYaml sensor = readSensorPoseYaml(node);
-    p.T_base_sensor = sensor.T_base_sensor;
+    options.initial.T_base_sensor = sensor.T_base_sensor;
     TricycleModel model(options);
     model.residual_covariance_ = sensor.prediction_covariance;
     return model;
-  } catch (const YAML::Exception& error) {
-    throw std::runtime_error(std::string("tricycle model YAML: ") + error.what());
-  }
+  });
 }
 
 }  // namespace odometry_calibration

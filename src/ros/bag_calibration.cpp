@@ -9,7 +9,7 @@
 #include "odometry_calibration/common/text_file.h"
 #include "odometry_calibration/data/holdout.h"
 #include "odometry_calibration/eval/model_report.h"
-#include "odometry_calibration/models/model_factory.h"
+#include "odometry_calibration/factory/model_factory.h"
 #include "odometry_calibration/report/result_files.h"
 #include "odometry_calibration/ros/bag_runner.h"
 

@@ -10,20 +10,13 @@
 
 #include <Eigen/Geometry>
 
+#include "odometry_calibration/common/number_text.h"
 #include "odometry_calibration/scan/nearest_point_search.h"
 #include "odometry_calibration/scan/plicp_matcher.h"
 #include "odometry_calibration/scan/point_to_line_solver.h"
 
 namespace odometry_calibration {
 namespace {
-
-/// A number in 3 significant digits, for messages.
-std::string formatNumber(double value)
-{
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%.3g", value);
-  return buffer;
-}
 
 /// Holds what the scene does not constrain at its initial-guess value.
 StepConstraint constraintFor(const Degeneracy& degeneracy, const Pose2& T_ref_new_guess)

@@ -7,7 +7,7 @@
 #include "odometry_calibration/calibration/candidate_collectors.h"
 #include "odometry_calibration/common/atomic_file.h"
 #include "odometry_calibration/eval/model_report.h"
-#include "odometry_calibration/models/model_factory.h"
+#include "odometry_calibration/factory/model_factory.h"
 #include "odometry_calibration/report/controller_yaml.h"
 #include "odometry_calibration/session/calibration_session.h"
 

@@ -2,14 +2,14 @@
 
 #include <cstdio>
 
+#include "odometry_calibration/common/number_text.h"
+
 namespace odometry_calibration {
 namespace {
 
 std::string formatValue(double value)
 {
-  char number[64];
-  std::snprintf(number, sizeof(number), "%.4g", value);
-  return number;
+  return formatNumber(value, 4);
 }
 
 }  // namespace

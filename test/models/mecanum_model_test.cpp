@@ -2,8 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "odometry_calibration/factory/model_factory.h"
 #include "odometry_calibration/models/mecanum_model.h"
-#include "odometry_calibration/models/model_factory.h"
 #include "odometry_calibration/sim/pair_generator.h"
 
 namespace odometry_calibration {

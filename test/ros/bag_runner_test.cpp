@@ -8,7 +8,7 @@
 #include <sensor_msgs/JointState.h>
 
 #include "odometry_calibration/calibration/time_offset.h"
-#include "odometry_calibration/models/model_factory.h"
+#include "odometry_calibration/factory/model_factory.h"
 #include "odometry_calibration/ros/bag_runner.h"
 #include "odometry_calibration/ros/sim_bag_writer.h"
 

@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "odometry_calibration/data/encoder.h"
+#include "odometry_calibration/factory/model_factory.h"
 #include "odometry_calibration/models/model.h"
-#include "odometry_calibration/models/model_factory.h"
 #include "odometry_calibration/pairing/pair_collector.h"
 #include "odometry_calibration/scan/cloud_to_scan_options.h"
 

@@ -9,8 +9,8 @@
 #include <Eigen/Core>
 
 #include "odometry_calibration/data/motion_pair.h"
+#include "odometry_calibration/factory/model_factory.h"
 #include "odometry_calibration/models/model.h"
-#include "odometry_calibration/models/model_factory.h"
 
 namespace odometry_calibration {
 

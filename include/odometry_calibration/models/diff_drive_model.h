@@ -9,6 +9,7 @@
 
 #include "odometry_calibration/models/diff_drive_kinematics.h"
 #include "odometry_calibration/models/model.h"
+#include "odometry_calibration/models/sensor_motion_state.h"
 
 namespace odometry_calibration {
 
@@ -53,17 +54,14 @@ public:
   static DiffDriveModel fromYaml(const std::string& text);
 
   /// (r_L, r_R, b) [m].
-  const Eigen::Vector3d& intrinsics() const { return intrinsics_; }
-  const Pose2& T_base_sensor() const { return T_base_sensor_; }
+  const Eigen::Vector3d& intrinsics() const { return state_.intrinsics; }
+  const Pose2& T_base_sensor() const { return state_.T_base_sensor; }
   /// Covariance of (r_L, r_R, b, x, y, theta); zero until a fit succeeds.
-  const Eigen::Matrix<double, 6, 6>& covariance() const { return covariance_; }
+  const Eigen::Matrix<double, 6, 6>& covariance() const { return state_.covariance; }
 
 private:
   DiffDriveOptions options_;
-  Eigen::Vector3d intrinsics_;
-  Pose2 T_base_sensor_;
-  Eigen::Matrix<double, 6, 6> covariance_ = Eigen::Matrix<double, 6, 6>::Zero();
-  Eigen::Matrix3d residual_covariance_ = Eigen::Matrix3d::Zero();  ///< per-pair spread
+  SensorMotionState<kDiffDriveParameterCount> state_;
 };
 
 }  // namespace odometry_calibration

@@ -12,6 +12,7 @@
 #include "odometry_calibration/data/pair_features.h"
 #include "odometry_calibration/models/mecanum_kinematics.h"
 #include "odometry_calibration/models/model.h"
+#include "odometry_calibration/models/sensor_motion_state.h"
 
 namespace odometry_calibration {
 
@@ -77,17 +78,14 @@ public:
   static MecanumModel fromYaml(const std::string& text);
 
   /// (r_FL, r_FR, r_RL, r_RR, lx + ly) [m].
-  const Eigen::Matrix<double, 5, 1>& intrinsics() const { return intrinsics_; }
-  const Pose2& T_base_sensor() const { return T_base_sensor_; }
+  const Eigen::Matrix<double, 5, 1>& intrinsics() const { return state_.intrinsics; }
+  const Pose2& T_base_sensor() const { return state_.T_base_sensor; }
   /// Covariance of (r_FL, r_FR, r_RL, r_RR, lx + ly, x, y, theta); zero until a fit succeeds.
-  const Eigen::Matrix<double, 8, 8>& covariance() const { return covariance_; }
+  const Eigen::Matrix<double, 8, 8>& covariance() const { return state_.covariance; }
 
 private:
   MecanumOptions options_;
-  Eigen::Matrix<double, 5, 1> intrinsics_;
-  Pose2 T_base_sensor_;
-  Eigen::Matrix<double, 8, 8> covariance_ = Eigen::Matrix<double, 8, 8>::Zero();
-  Eigen::Matrix3d residual_covariance_ = Eigen::Matrix3d::Zero();  ///< per-pair spread
+  SensorMotionState<kMecanumParameterCount> state_;
 };
 
 }  // namespace odometry_calibration

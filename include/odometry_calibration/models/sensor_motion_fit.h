@@ -181,7 +181,136 @@ ResidualRms sensorMotionResidualRms(const std::vector<MotionPair>& pairs,
   return rms;
 }
 
-/// Fits the intrinsics and the sensor pose from one start (no global starts).
+/// The solve of fitSensorMotionFrom: the problem of its last solve (which the covariance is
+/// computed on), that solve's summary, the iterations of all solves and the noise scale used.
+struct SensorMotionSolve
+{
+  std::unique_ptr<ceres::Problem> problem;
+  ceres::Solver::Summary summary;
+  int iterations = 0;
+  double noise_scale = 1.0;
+};
+
+/// The robust noise scale of a solution: the median whitened error norm of the pairs against
+/// that of unit Gaussian noise (3-D: sqrt(chi2_3 median 2.366) = 1.538), at least 1e-6.
+template <class Kinematics>
+double sensorMotionNoiseScale(const std::vector<MotionPair>& pairs,
+                              const typename Kinematics::Layout& layout, const double* intrinsic,
+                              const double* sensor_pose)
+{
+  std::vector<double> norms;
+  for (const MotionPair& pair : pairs) {
+    Eigen::Vector3d whitened;
+    SensorMotionResidual<Kinematics>(pair, layout)(intrinsic, sensor_pose, whitened.data());
+    norms.push_back(whitened.norm());
+  }
+  std::nth_element(norms.begin(), norms.begin() + norms.size() / 2, norms.end());
+  return std::max(norms[norms.size() / 2] / 1.538, 1e-6);
+}
+
+/// Solves for the blocks `intrinsic` and `sensor_pose` (start values in, solution out): a first
+/// solve with the supplied covariances; then, if options.estimate_noise_scale and there are at
+/// least 10 pairs, a second one with them rescaled by sensorMotionNoiseScale at the first
+/// solution.
+template <class Kinematics>
+SensorMotionSolve solveSensorMotion(const std::vector<MotionPair>& pairs,
+                                    const typename Kinematics::Layout& layout,
+                                    const SensorMotionFitOptions& options, double* intrinsic,
+                                    double* sensor_pose)
+{
+  SensorMotionSolve solve;
+  auto build = [&]() {
+    solve.problem = std::make_unique<ceres::Problem>();
+    addSensorMotionResiduals<Kinematics>(*solve.problem, pairs, layout, options.huber_threshold,
+                                         solve.noise_scale, intrinsic, sensor_pose);
+  };
+  build();
+  const ceres::Solver::Options solver_options =
+      sensorFitSolverOptions(options.max_iterations, 1e-12, 1e-12);
+  ceres::Solve(solver_options, solve.problem.get(), &solve.summary);
+  solve.iterations = static_cast<int>(solve.summary.iterations.size()) - 1;
+  if (options.estimate_noise_scale && std::isfinite(solve.summary.final_cost) &&
+      pairs.size() >= 10) {
+    solve.noise_scale = sensorMotionNoiseScale<Kinematics>(pairs, layout, intrinsic, sensor_pose);
+    build();
+    ceres::Solve(solver_options, solve.problem.get(), &solve.summary);
+    solve.iterations += static_cast<int>(solve.summary.iterations.size()) - 1;
+  }
+  return solve;
+}
+
+/// Marks each pair an inlier when its whitened error (noise scale applied) is within the Huber
+/// threshold, counts the outliers and the gross ones among them, and sets chi2_per_dof from the
+/// inliers' chi^2 (3 per pair less the N + 3 parameters).
+template <class Kinematics>
+void classifySensorMotionPairs(const std::vector<MotionPair>& pairs,
+                               const typename Kinematics::Layout& layout,
+                               const SensorMotionFitOptions& options, const double* intrinsic,
+                               const double* sensor_pose,
+                               SensorMotionFit<Kinematics::kIntrinsics>* fit)
+{
+  constexpr int N = Kinematics::kIntrinsics;
+  double chi2_inliers = 0.0;
+  std::size_t inlier_count = 0;
+  for (const MotionPair& pair : pairs) {
+    Eigen::Vector3d whitened;
+    SensorMotionResidual<Kinematics>(pair, layout, fit->noise_scale)(intrinsic, sensor_pose,
+                                                                     whitened.data());
+    const double chi2 = whitened.squaredNorm();
+    const bool is_inlier =
+        options.huber_threshold <= 0.0 || chi2 <= options.huber_threshold * options.huber_threshold;
+    fit->inlier.push_back(is_inlier);
+    if (is_inlier) {
+      chi2_inliers += chi2;
+      ++inlier_count;
+    } else if (chi2 > options.gross_threshold * options.gross_threshold) {
+      ++fit->gross_outliers;
+    }
+  }
+  fit->outliers = pairs.size() - inlier_count;
+  const double dof = 3.0 * static_cast<double>(inlier_count) - (N + 3);
+  if (dof > 0.0)
+    fit->chi2_per_dof = chi2_inliers / dof;
+}
+
+/// The covariance of (intrinsics, x, y, theta) at the solution of `problem` in the parameters'
+/// own coordinates, scaled by chi2_per_dof when that is known, into `fit`. DENSE_SVD with
+/// null_space_rank 0 refuses a rank-deficient problem instead of inventing a number for an
+/// unobservable direction: covariance_available stays false then.
+template <int N>
+void sensorMotionCovariance(ceres::Problem& problem, const double* intrinsic,
+                            const double* sensor_pose, SensorMotionFit<N>* fit)
+{
+  ceres::Covariance::Options covariance_options;
+  covariance_options.algorithm_type = ceres::DENSE_SVD;
+  covariance_options.null_space_rank = 0;
+  covariance_options.min_reciprocal_condition_number = 1e-14;
+  ceres::Covariance covariance(covariance_options);
+  const std::vector<std::pair<const double*, const double*>> blocks = {
+      {intrinsic, intrinsic}, {sensor_pose, sensor_pose}, {intrinsic, sensor_pose}};
+  if (!covariance.Compute(blocks, &problem))
+    return;
+  Eigen::Matrix<double, N, N, Eigen::RowMajor> kk;
+  Eigen::Matrix<double, 3, 3, Eigen::RowMajor> ss;
+  Eigen::Matrix<double, N, 3, Eigen::RowMajor> ks;
+  covariance.GetCovarianceBlock(intrinsic, intrinsic, kk.data());
+  covariance.GetCovarianceBlock(sensor_pose, sensor_pose, ss.data());
+  covariance.GetCovarianceBlock(intrinsic, sensor_pose, ks.data());
+  fit->covariance.template topLeftCorner<N, N>() = kk;
+  fit->covariance.template bottomRightCorner<3, 3>() = ss;
+  fit->covariance.template topRightCorner<N, 3>() = ks;
+  fit->covariance.template bottomLeftCorner<3, N>() = ks.transpose();
+  if (std::isfinite(fit->chi2_per_dof))
+    fit->covariance *= fit->chi2_per_dof;
+  // No residual at all (e.g. no motion: every prediction is zero) measures nothing.
+  fit->covariance_available =
+      fit->covariance.allFinite() && fit->covariance.diagonal().minCoeff() > 0.0;
+}
+
+/// Fits the intrinsics and the sensor pose from one start (no global starts): solveSensorMotion,
+/// then the inliers (classifySensorMotionPairs) and the covariance (sensorMotionCovariance) at
+/// the solution. A solution that is not finite is reported as not converged, without
+/// covariance and with every pair an outlier.
 template <class Kinematics>
 SensorMotionFit<Kinematics::kIntrinsics> fitSensorMotionFrom(
     const std::vector<MotionPair>& pairs, const typename Kinematics::Layout& layout,
@@ -189,47 +318,17 @@ SensorMotionFit<Kinematics::kIntrinsics> fitSensorMotionFrom(
     const Pose2& initial_T_base_sensor, const SensorMotionFitOptions& options)
 {
   constexpr int N = Kinematics::kIntrinsics;
-  using Residual = SensorMotionResidual<Kinematics>;
   SensorMotionFit<N> fit;
   Eigen::Matrix<double, N, 1> intrinsic = initial_intrinsic;
   Eigen::Vector3d sensor_pose = initial_T_base_sensor.vector();
-
-  // A first solve with the supplied covariances; then, if asked, a second one with them
-  // rescaled by the robust spread of the first solution's whitened errors.
-  std::unique_ptr<ceres::Problem> problem_holder;
-  double scale = 1.0;
-  auto build = [&]() {
-    problem_holder = std::make_unique<ceres::Problem>();
-    addSensorMotionResiduals<Kinematics>(*problem_holder, pairs, layout, options.huber_threshold,
-                                         scale, intrinsic.data(), sensor_pose.data());
-  };
-  build();
-
-  const ceres::Solver::Options solver_options =
-      sensorFitSolverOptions(options.max_iterations, 1e-12, 1e-12);
-  ceres::Solver::Summary summary;
   const auto start = std::chrono::steady_clock::now();
-  ceres::Solve(solver_options, problem_holder.get(), &summary);
-  int iterations = static_cast<int>(summary.iterations.size()) - 1;
-  if (options.estimate_noise_scale && std::isfinite(summary.final_cost) && pairs.size() >= 10) {
-    std::vector<double> norms;
-    for (const MotionPair& pair : pairs) {
-      Eigen::Vector3d whitened;
-      Residual(pair, layout)(intrinsic.data(), sensor_pose.data(), whitened.data());
-      norms.push_back(whitened.norm());
-    }
-    std::nth_element(norms.begin(), norms.begin() + norms.size() / 2, norms.end());
-    // Median of |e| for 3-D unit Gaussian noise: sqrt(chi2_3 median 2.366) = 1.538.
-    scale = std::max(norms[norms.size() / 2] / 1.538, 1e-6);
-    build();
-    ceres::Solve(solver_options, problem_holder.get(), &summary);
-    iterations += static_cast<int>(summary.iterations.size()) - 1;
-  }
-  ceres::Problem& problem = *problem_holder;
-  fit.noise_scale = scale;
+  const SensorMotionSolve solve =
+      solveSensorMotion<Kinematics>(pairs, layout, options, intrinsic.data(), sensor_pose.data());
+  const ceres::Solver::Summary& summary = solve.summary;
+  fit.noise_scale = solve.noise_scale;
   fit.solve_time_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  fit.iterations = iterations;
+  fit.iterations = solve.iterations;
   fit.converged = summary.termination_type == ceres::CONVERGENCE;
   fit.termination = summary.message;
   if (!std::isfinite(summary.final_cost) || !intrinsic.allFinite() || !sensor_pose.allFinite()) {
@@ -244,57 +343,9 @@ SensorMotionFit<Kinematics::kIntrinsics> fitSensorMotionFrom(
     return fit;
   }
   sensor_pose(2) = normalizeAngle(sensor_pose(2));
-
-  // Inliers: whitened error within the Huber threshold; their chi^2 scales the covariance.
-  double chi2_inliers = 0.0;
-  std::size_t inlier_count = 0;
-  for (const MotionPair& pair : pairs) {
-    Eigen::Vector3d whitened;
-    Residual(pair, layout, scale)(intrinsic.data(), sensor_pose.data(), whitened.data());
-    const double chi2 = whitened.squaredNorm();
-    const bool is_inlier =
-        options.huber_threshold <= 0.0 || chi2 <= options.huber_threshold * options.huber_threshold;
-    fit.inlier.push_back(is_inlier);
-    if (is_inlier) {
-      chi2_inliers += chi2;
-      ++inlier_count;
-    } else if (chi2 > options.gross_threshold * options.gross_threshold) {
-      ++fit.gross_outliers;
-    }
-  }
-  fit.outliers = pairs.size() - inlier_count;
-  const double dof = 3.0 * static_cast<double>(inlier_count) - (N + 3);
-  if (dof > 0.0)
-    fit.chi2_per_dof = chi2_inliers / dof;
-
-  // Covariance in the parameters' own coordinates; DENSE_SVD with null_space_rank 0 refuses a
-  // rank-deficient problem instead of inventing a number for an unobservable direction.
-  ceres::Covariance::Options covariance_options;
-  covariance_options.algorithm_type = ceres::DENSE_SVD;
-  covariance_options.null_space_rank = 0;
-  covariance_options.min_reciprocal_condition_number = 1e-14;
-  ceres::Covariance covariance(covariance_options);
-  const std::vector<std::pair<const double*, const double*>> blocks = {
-      {intrinsic.data(), intrinsic.data()},
-      {sensor_pose.data(), sensor_pose.data()},
-      {intrinsic.data(), sensor_pose.data()}};
-  if (covariance.Compute(blocks, &problem)) {
-    Eigen::Matrix<double, N, N, Eigen::RowMajor> kk;
-    Eigen::Matrix<double, 3, 3, Eigen::RowMajor> ss;
-    Eigen::Matrix<double, N, 3, Eigen::RowMajor> ks;
-    covariance.GetCovarianceBlock(intrinsic.data(), intrinsic.data(), kk.data());
-    covariance.GetCovarianceBlock(sensor_pose.data(), sensor_pose.data(), ss.data());
-    covariance.GetCovarianceBlock(intrinsic.data(), sensor_pose.data(), ks.data());
-    fit.covariance.template topLeftCorner<N, N>() = kk;
-    fit.covariance.template bottomRightCorner<3, 3>() = ss;
-    fit.covariance.template topRightCorner<N, 3>() = ks;
-    fit.covariance.template bottomLeftCorner<3, N>() = ks.transpose();
-    if (std::isfinite(fit.chi2_per_dof))
-      fit.covariance *= fit.chi2_per_dof;
-    // No residual at all (e.g. no motion: every prediction is zero) measures nothing.
-    fit.covariance_available =
-        fit.covariance.allFinite() && fit.covariance.diagonal().minCoeff() > 0.0;
-  }
+  classifySensorMotionPairs<Kinematics>(pairs, layout, options, intrinsic.data(),
+                                        sensor_pose.data(), &fit);
+  sensorMotionCovariance(*solve.problem, intrinsic.data(), sensor_pose.data(), &fit);
   fit.intrinsic = intrinsic;
   fit.T_base_sensor = Pose2(sensor_pose(0), sensor_pose(1), sensor_pose(2));
   return fit;

@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
+#include "odometry_calibration/assistant/excitation_guidance.h"
+#include "odometry_calibration/assistant/health_monitor.h"
 #include "odometry_calibration/calibration/calibration_config.h"
-#include "odometry_calibration/models/excitation_guidance.h"
-#include "odometry_calibration/models/health_monitor.h"
 #include "odometry_calibration/session/session_messages.h"
 
 namespace odometry_calibration {

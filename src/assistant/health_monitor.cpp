@@ -1,0 +1,196 @@
+#include "odometry_calibration/assistant/health_monitor.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+#include "odometry_calibration/common/median.h"
+
+namespace odometry_calibration {
+namespace {
+
+/// Siegmund's approximation of a one-sided CUSUM's in-control ARL (reference k, threshold h).
+double siegmundArl0(double k, double h)
+{
+  const double b = h + 1.166;
+  return (std::exp(2.0 * k * b) - 2.0 * k * b - 1.0) / (2.0 * k * k);
+}
+
+/// What a sustained shift of `signal` in direction `up` most likely means, in words.
+std::string shiftWords(HealthSignal signal, bool up)
+{
+  switch (signal) {
+    case kTravelSignal:
+      return up ? "travel reads long (the laser sees more distance than the wheels report): the "
+                  "wheel radii (or the traction scale) have grown"
+                : "travel reads short (the laser sees less distance than the wheels report): the "
+                  "wheel radii (or the traction scale) have shrunk";
+    case kSidewaysSignal:
+      return std::string("the laser sees sideways motion to the ") + (up ? "left" : "right") +
+             " while driving: its mounting yaw has changed";
+    case kRotationSignal:
+      return up ? "rotation reads long (the laser sees more turning than the wheels report): "
+                  "wheel separation or a radius has changed"
+                : "rotation reads short (the laser sees less turning than the wheels report): "
+                  "wheel separation or a radius has changed";
+    default:
+      return std::string("heading drifts to the ") + (up ? "left" : "right") +
+             " on straight runs: a wheel radius has changed (" +
+             (up ? "the left one smaller or the right one larger"
+                 : "the right one smaller or the left one larger") +
+             " than calibrated) or the steering offset has";
+  }
+}
+
+}  // namespace
+
+void validate(const HealthMonitorOptions& options)
+{
+  if (!(options.false_alarm_pairs >= 10.0) || !std::isfinite(options.false_alarm_pairs))
+    throw std::invalid_argument("health monitor: false_alarm_pairs must be >= 10");
+  if (!(options.design_shift_sigma > 0.0) || options.design_shift_sigma > 10.0)
+    throw std::invalid_argument("health monitor: design_shift_sigma must be in (0, 10]");
+  if (options.burn_in_pairs < 10)
+    throw std::invalid_argument("health monitor: burn_in_pairs must be >= 10");
+  if (!(options.clip_sigma > options.design_shift_sigma))
+    throw std::invalid_argument("health monitor: clip_sigma must exceed design_shift_sigma");
+  if (!(options.min_travel_m >= 0.0) || !(options.min_rotation_rad >= 0.0))
+    throw std::invalid_argument("health monitor: min_travel_m and min_rotation_rad must be >= 0");
+}
+
+double cusumThreshold(double k, double arl0)
+{
+  if (!(k > 0.0) || !(arl0 > 1.0))
+    throw std::invalid_argument("cusumThreshold: k must be > 0 and arl0 > 1");
+  double low = 0.0, high = 1.0;
+  while (siegmundArl0(k, high) < arl0) {
+    high *= 2.0;
+    if (high > 1e4)
+      throw std::invalid_argument("cusumThreshold: arl0 out of reach");
+  }
+  for (int i = 0; i < 100; ++i) {
+    const double middle = 0.5 * (low + high);
+    (siegmundArl0(k, middle) < arl0 ? low : high) = middle;
+  }
+  return high;
+}
+
+HealthMonitor::HealthMonitor(std::shared_ptr<const MotionModel> model, HealthMonitorOptions options)
+    : model_(std::move(model)), options_(options)
+{
+  if (!model_)
+    throw std::invalid_argument("health monitor: no model to watch");
+  validate(options_);
+  k_ = 0.5 * options_.design_shift_sigma;
+  // Two one-sided charts per signal share the false alarms (Bonferroni).
+  h_ = cusumThreshold(k_, 2.0 * kHealthSignalCount * options_.false_alarm_pairs);
+  const char* names[] = {"travel", "sideways", "rotation", "heading drift"};
+  const char* outputs[] = {"x", "y", "theta", "theta"};
+  for (int s = 0; s < kHealthSignalCount; ++s) {
+    charts_[static_cast<std::size_t>(s)].name = names[s];
+    charts_[static_cast<std::size_t>(s)].output = outputs[s];
+  }
+}
+
+bool HealthMonitor::addPair(const MotionPair& pair)
+{
+  MotionPrediction prediction;
+  try {
+    prediction = model_->predict(pair.encoder_samples);
+  } catch (const std::exception&) {
+    ++skipped_;
+    return false;
+  }
+  const Eigen::Matrix3d covariance = prediction.covariance + pair.covariance;
+  const Pose2& p = prediction.mean;
+  const Pose2& m = pair.sensor_motion;
+  const Eigen::Vector3d residual(m.x() - p.x(), m.y() - p.y(),
+                                 normalizeAngle(m.theta() - p.theta()));
+  const Eigen::Vector3d sigma = covariance.diagonal().cwiseMax(0.0).cwiseSqrt();
+  if (!residual.allFinite() || !p.vector().allFinite() || !(sigma.minCoeff() > 0.0) ||
+      !sigma.allFinite()) {
+    ++skipped_;
+    return false;
+  }
+  const Eigen::Vector3d z = residual.cwiseQuotient(sigma);
+  ++pairs_;
+  const bool was_alarm = alarm_;
+  const bool travels = std::abs(p.x()) > options_.min_travel_m;
+  const bool turns = std::abs(p.theta()) > options_.min_rotation_rad;
+  const double direction = p.x() > 0.0 ? 1.0 : -1.0;
+  if (travels) {
+    feed(kTravelSignal, direction * z(0), pair.end_stamp_s);
+    feed(kSidewaysSignal, direction * z(1), pair.end_stamp_s);
+    if (!turns)
+      feed(kHeadingDriftSignal, direction * z(2), pair.end_stamp_s);
+  }
+  if (turns)
+    feed(kRotationSignal, (p.theta() > 0.0 ? 1.0 : -1.0) * z(2), pair.end_stamp_s);
+  return alarm_ && !was_alarm;
+}
+
+void HealthMonitor::feed(HealthSignal signal, double value, double stamp_s)
+{
+  HealthChart& chart = charts_[static_cast<std::size_t>(signal)];
+  std::vector<double>& burn_in = burn_in_[static_cast<std::size_t>(signal)];
+  ++chart.count;
+  if (!chart.calibrated) {
+    burn_in.push_back(value);
+    if (burn_in.size() < static_cast<std::size_t>(options_.burn_in_pairs))
+      return;
+    // Robust centre and scale (median, 1.4826 MAD) of the burn-in values.
+    chart.centre = median(burn_in);
+    std::vector<double> deviations;
+    for (double v : burn_in)
+      deviations.push_back(std::abs(v - chart.centre));
+    chart.scale = std::max(1.4826 * median(deviations), 1e-6);
+    chart.calibrated = true;
+    burn_in.clear();
+    burn_in.shrink_to_fit();
+    return;
+  }
+  const double z =
+      std::clamp((value - chart.centre) / chart.scale, -options_.clip_sigma, options_.clip_sigma);
+  chart.mean_recent += (z - chart.mean_recent) / 20.0;
+  chart.upper = std::max(0.0, chart.upper + z - k_);
+  chart.lower = std::max(0.0, chart.lower - z - k_);
+  if (!alarm_ && (chart.upper > h_ || chart.lower > h_)) {
+    alarm_ = true;
+    alarm_output_ = chart.output;
+    alarm_stamp_s_ = stamp_s;
+    char where[120];
+    std::snprintf(where, sizeof(where),
+                  "output %s (%s chart, CUSUM %.1f > %.1f): ", chart.output.c_str(),
+                  chart.name.c_str(), std::max(chart.upper, chart.lower), h_);
+    alarm_message_ = where + shiftWords(signal, chart.upper > h_) +
+                     "; the calibration no longer fits the robot: refit (call ~calibrate)";
+  }
+}
+
+HealthStatus HealthMonitor::status() const
+{
+  HealthStatus status;
+  status.active = true;
+  status.alarm = alarm_;
+  status.pairs = pairs_;
+  status.threshold = h_;
+  status.charts.assign(charts_.begin(), charts_.end());
+  for (const HealthChart& chart : charts_)
+    status.statistic = std::max(status.statistic, std::max(chart.upper, chart.lower) / h_);
+  status.alarm_output = alarm_output_;
+  status.alarm_stamp_s = alarm_stamp_s_;
+  if (alarm_) {
+    status.message = alarm_message_;
+  } else {
+    const bool calibrated = std::any_of(charts_.begin(), charts_.end(),
+                                        [](const HealthChart& c) { return c.calibrated; });
+    char text[120];
+    std::snprintf(text, sizeof(text), "ok: statistic %.2f of 1 (%zu pairs scored%s)",
+                  status.statistic, pairs_, calibrated ? "" : ", still learning the noise");
+    status.message = text;
+  }
+  return status;
+}
+
+}  // namespace odometry_calibration
