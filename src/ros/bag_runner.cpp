@@ -114,8 +114,18 @@ std::shared_ptr<CalibrationSession> bagSession(const CalibrationConfig& config,
   options.candidate_intervals_s = candidate_intervals_s;
   options.keep_encoder_history = true;
   options.compare_trajectories = true;
+  options.adopt_fits = false;
+  options.min_pairs_name.clear();
   options.source = "calibrate_bag";
   return std::make_shared<CalibrationSession>(config, "", "", options);
+}
+
+/// The ego-motion messages' type, for messages.
+std::string egoMessageType(EgoMotionSource source)
+{
+  return source == EgoMotionSource::kScan    ? "LaserScan"
+         : source == EgoMotionSource::kCloud ? "PointCloud2"
+                                             : "pose";
 }
 
 /// One converted message into the session.
@@ -129,7 +139,7 @@ void feed(CalibrationSession& session, BagInput& input, EgoMotionSource source)
       session.addJointPositions(input.stamp_s, input.raw);
       break;
     case BagInput::Kind::kBadScan:
-      session.skipEgoMessage("PointCloud2", input.problem);
+      session.skipEgoMessage(egoMessageType(source), input.problem);
       break;
     case BagInput::Kind::kScan:
       if (source == EgoMotionSource::kCloud)
@@ -156,6 +166,7 @@ void takeCounts(const CalibrationSession& session, const std::string& ego_topic,
   result->bad_joint_states = counts.bad_encoder_messages;
   result->first_bad_joint_state = counts.first_bad_encoder_message;
   result->bad_clouds = counts.bad_ego_messages;
+  result->ego_message_type = egoMessageType(config.ego_motion);
   result->first_bad_cloud = counts.first_bad_ego_message;
   result->clouds_without_times = counts.clouds_without_times;
   result->first_cloud_time_problem = counts.first_cloud_time_problem;
@@ -167,11 +178,8 @@ void takeCounts(const CalibrationSession& session, const std::string& ego_topic,
   if (result->ego_motion_messages == 0)
     throw std::runtime_error("no ego-motion message (" + ego_topic + ") in the bags");
   if (result->bad_clouds > 0 && result->bad_clouds == result->ego_motion_messages) {
-    throw std::runtime_error(
-        "no usable " +
-        std::string(config.ego_motion == EgoMotionSource::kCloud ? "PointCloud2"
-                                                                 : "ego-motion message") +
-        " on '" + ego_topic + "': all were skipped, first: " + result->first_bad_cloud);
+    throw std::runtime_error("no usable " + egoMessageType(config.ego_motion) + " on '" +
+                             ego_topic + "': all were skipped, first: " + result->first_bad_cloud);
   }
   if (result->bad_joint_states == result->joint_state_messages)
     throw std::runtime_error("no usable JointState: " + result->first_bad_joint_state);
@@ -262,8 +270,8 @@ std::vector<std::string> bagRunNotes(const BagRunResult& run)
                     run.first_cloud_time_problem);
   }
   if (run.bad_clouds > 0) {
-    notes.push_back("skipped " + std::to_string(run.bad_clouds) +
-                    " PointCloud2 messages, first: " + run.first_bad_cloud);
+    notes.push_back("skipped " + std::to_string(run.bad_clouds) + " " + run.ego_message_type +
+                    " messages, first: " + run.first_bad_cloud);
   }
   for (const auto& [joint, count] : run.statistics.glitches) {
     notes.push_back("skipped " + std::to_string(count) + " encoder glitches on joint '" + joint +

@@ -1,4 +1,6 @@
 // The live node's services: ~calibrate, ~save, ~reset, each one call into the session.
+#include <tuple>
+
 #include "odometry_calibration/eval/model_report.h"
 #include "odometry_calibration/ros/calibration_node.h"
 #include "odometry_calibration/ros/report_messages.h"
@@ -40,8 +42,7 @@ bool CalibrationNode::onSave(std_srvs::Trigger::Request&, std_srvs::Trigger::Res
 
 bool CalibrationNode::onReset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& response)
 {
-  response.success = true;
-  response.message = session_->reset();
+  std::tie(response.success, response.message) = session_->reset();
   ROS_INFO("%s", response.message.c_str());
   return true;
 }

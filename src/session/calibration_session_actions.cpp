@@ -87,9 +87,11 @@ CalibrateOutcome CalibrationSession::calibrate(const CalibrationRequest& request
     return outcome;
   }
   if (static_cast<int>(fit_request.pairs.size()) < options_.min_pairs) {
-    outcome.message = "only " + std::to_string(fit_request.pairs.size()) + " pairs collected, " +
-                      std::to_string(options_.min_pairs) +
-                      " needed (~min_pairs): drive more, straight and turning both ways" + guidance;
+    outcome.message =
+        "only " + std::to_string(fit_request.pairs.size()) + " pairs collected, " +
+        std::to_string(options_.min_pairs) + " needed" +
+        (options_.min_pairs_name.empty() ? "" : " (" + options_.min_pairs_name + ")") +
+        ": drive more, straight and turning both ways" + guidance;
     return outcome;
   }
   fit_request.interval_mode = request.interval_mode.value_or(
@@ -116,6 +118,11 @@ void CalibrationSession::adopt(const std::string& name, const CalibrationConfig&
                        "); the active model is unchanged";
     return;
   }
+  if (!options_.adopt_fits) {  // calibrate_bag: the fit is the result, nothing runs on
+    outcome->success = true;
+    outcome->message = successMessage(name, fit);
+    return;
+  }
   const std::string result_yaml =
       calibrationResultYaml(fit.job.report, *fit.job.model, options_.source, fit.job.time_offset_s,
                             jointLayout(config).names, fit.fit_interval_s);
@@ -128,8 +135,9 @@ void CalibrationSession::adopt(const std::string& name, const CalibrationConfig&
     }
   }
   try {
+    OdometryReplay replay = replayOdometry(fit);
     std::lock_guard<std::mutex> lock(mutex_);
-    activate(name, fit, fit.job.model, result_yaml);
+    activate(name, fit, fit.job.model, result_yaml, std::move(replay));
   } catch (const std::exception& error) {
     outcome->message = name + " fitted, but its odometry failed: " + error.what() +
                        "; the active model is unchanged";
@@ -157,21 +165,40 @@ std::string CalibrationSession::successMessage(const std::string& name, const Se
   return message;
 }
 
-void CalibrationSession::activate(const std::string& name, const SessionFit& fit,
-                                  const std::shared_ptr<MotionModel>& model,
-                                  const std::string& result_yaml)
+OdometryReplay CalibrationSession::replayOdometry(const SessionFit& fit) const
+{
+  // The corrected odometry is integrated again over the kept samples with the new model, so
+  // that ~odom and its path show the calibrated trajectory (one jump at the fit); the samples
+  // are copied under the lock and integrated without it, so that the inputs keep flowing.
+  OdometryReplayInput input;
+  std::optional<Pose2> T_base_sensor;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!odometry_)
+      return {};
+    input = odometry_->replayInput();
+    T_base_sensor = fitSensorPose(fit);
+  }
+  auto integrator =
+      std::make_unique<OdometryIntegrator>(fit.job.model, T_base_sensor, fit.fit_interval_s);
+  integrator->setWindowCovarianceFloor(config_.collector.covariance_floor.asDiagonal());
+  return SessionOdometry::replay(input, std::move(integrator));
+}
+
+std::optional<Pose2> CalibrationSession::fitSensorPose(const SessionFit& fit) const
 {
   const ModelReport& report = fit.job.report;
-  const std::optional<Pose2> T_base_sensor =
-      report.has_extrinsic ? std::optional<Pose2>(report.T_base_sensor) : T_base_sensor_;
-  if (odometry_) {
-    // The corrected odometry is integrated again over the kept samples with the new model, so
-    // that ~odom and its path show the calibrated trajectory (one jump at the fit).
-    auto integrator =
-        std::make_unique<OdometryIntegrator>(model, T_base_sensor, fit.fit_interval_s);
-    integrator->setWindowCovarianceFloor(config_.collector.covariance_floor.asDiagonal());
-    odometry_->replayFinish(odometry_->replayStart(std::move(integrator)));
-  }
+  return report.has_extrinsic ? std::optional<Pose2>(report.T_base_sensor) : T_base_sensor_;
+}
+
+void CalibrationSession::activate(const std::string& name, const SessionFit& fit,
+                                  const std::shared_ptr<MotionModel>& model,
+                                  const std::string& result_yaml, OdometryReplay replay)
+{
+  const ModelReport& report = fit.job.report;
+  const std::optional<Pose2> T_base_sensor = fitSensorPose(fit);
+  if (odometry_ && replay.integrator)
+    odometry_->replayFinish(std::move(replay));
   T_base_sensor_ = T_base_sensor;
   fitted_model_ = model;
   fitted_result_yaml_ = result_yaml;
@@ -236,13 +263,19 @@ std::pair<bool, std::string> CalibrationSession::save()
   }
 }
 
-std::string CalibrationSession::reset()
+std::pair<bool, std::string> CalibrationSession::reset()
 {
   std::lock_guard<std::mutex> lock(mutex_);
+  std::string set_aside;
+  try {
+    set_aside = store_->reset();
+  } catch (const std::exception& error) {
+    return {false, std::string("cannot set the pairs aside (") + error.what() +
+                       "): nothing was reset, the pairs are kept"};
+  }
   collector_->reset();
   if (candidates_)
     candidates_->clear();
-  const std::string set_aside = store_->reset();
   if (odometry_)
     odometry_->restart();
   if (assistant_)
@@ -251,7 +284,7 @@ std::string CalibrationSession::reset()
   history_broken_ = false;
   if (history_decoder_)
     history_decoder_->reset();
-  return "collection restarted: " + set_aside + "; the active model is kept";
+  return {true, "collection restarted: " + set_aside + "; the active model is kept"};
 }
 
 }  // namespace odometry_calibration

@@ -7,6 +7,12 @@
 #include "odometry_calibration/session/calibration_session.h"
 
 namespace odometry_calibration {
+namespace {
+
+/// The first restarts (time going backwards) kept in words; the count goes on.
+constexpr std::size_t kRestartsKept = 100;
+
+}  // namespace
 
 void CalibrationSession::warnInput(const std::string& problem, const std::string& text)
 {
@@ -19,8 +25,9 @@ void CalibrationSession::addJointPositions(double stamp_s, const Eigen::VectorXd
   std::lock_guard<std::mutex> lock(mutex_);
   inputs_->received(SessionInput::kEncoders, now());
   Eigen::VectorXd accepted;
+  std::vector<CollectorEvent> events;
   try {
-    handleEvents(collector_->addEncoders(stamp_s, raw, &accepted), stamp_s);
+    events = collector_->addEncoders(stamp_s, raw, &accepted);
     if (candidates_)
       candidates_->addEncoders(stamp_s, raw);
   } catch (const std::invalid_argument& error) {
@@ -31,6 +38,7 @@ void CalibrationSession::addJointPositions(double stamp_s, const Eigen::VectorXd
                                 " rejected: " + error.what());
     return;
   }
+  handleEvents(events, stamp_s);
   if (accepted.size() == 0)  // an encoder glitch: not motion
     return;
   recordEncoderHistory(stamp_s, accepted);
@@ -75,7 +83,7 @@ void CalibrationSession::integrate(double stamp_s, const Eigen::VectorXd& accept
     listener_.odometry(*state);
 }
 
-void CalibrationSession::takeScan(double stamp_s, const Scan& scan)
+std::vector<CollectorEvent> CalibrationSession::takeScan(double stamp_s, const Scan& scan)
 {
   const std::size_t usable = countUsableReadings(scan);
   if (static_cast<int>(usable) < config_.collector.plicp.min_points) {
@@ -85,9 +93,10 @@ void CalibrationSession::takeScan(double stamp_s, const Scan& scan)
         "needs scan_matching.min_points = " +
         std::to_string(config_.collector.plicp.min_points));
   }
-  handleEvents(collector_->addScan(stamp_s, scan), stamp_s);
+  std::vector<CollectorEvent> events = collector_->addScan(stamp_s, scan);
   if (candidates_)
     candidates_->addScan(stamp_s, scan);
+  return events;
 }
 
 void CalibrationSession::noteFrame(const std::string& frame)
@@ -113,8 +122,9 @@ void CalibrationSession::addScan(double stamp_s, const Scan& scan, const std::st
   std::lock_guard<std::mutex> lock(mutex_);
   inputs_->received(SessionInput::kEgoMotion, now());
   noteFrame(frame);
+  std::vector<CollectorEvent> events;
   try {
-    takeScan(stamp_s, scan);
+    events = takeScan(stamp_s, scan);
   } catch (const std::invalid_argument& error) {
     if (counts_.bad_ego_messages++ == 0)
       counts_.first_bad_ego_message = error.what();
@@ -122,7 +132,9 @@ void CalibrationSession::addScan(double stamp_s, const Scan& scan, const std::st
     warnInput(error.what(), "LaserScan on " + inputs_->topic(SessionInput::kEgoMotion) +
                                 " skipped (" + std::to_string(counts_.bad_ego_messages) +
                                 " so far): " + error.what());
+    return;
   }
+  handleEvents(events, stamp_s);
 }
 
 void CalibrationSession::addCloudScan(double stamp_s, const Scan& scan, const std::string& frame,
@@ -151,15 +163,18 @@ void CalibrationSession::addCloudScan(double stamp_s, const Scan& scan, const st
               "PointCloud2 on " + inputs_->topic(SessionInput::kEgoMotion) + ": " + time_problem +
                   " (" + std::to_string(counts_.clouds_without_times) + " so far)");
   }
+  std::vector<CollectorEvent> events;
   try {
-    takeScan(stamp_s, scan);
+    events = takeScan(stamp_s, scan);
   } catch (const std::invalid_argument& error) {
     if (counts_.bad_ego_messages++ == 0)
       counts_.first_bad_ego_message = error.what();
     last_problem_ = "PointCloud2 skipped: " + std::string(error.what());
     warnInput(error.what(), "PointCloud2 on " + inputs_->topic(SessionInput::kEgoMotion) +
                                 " skipped: " + error.what());
+    return;
   }
+  handleEvents(events, stamp_s);
 }
 
 void CalibrationSession::skipEgoMessage(const std::string& what, const std::string& problem)
@@ -182,8 +197,9 @@ void CalibrationSession::addSensorPose(double stamp_s, const Pose2& T_world_sens
   const double sigma_m = config_.ego_motion_sigma_m, sigma_rad = config_.ego_motion_sigma_rad;
   const Eigen::Matrix3d covariance =
       Eigen::Vector3d(sigma_m * sigma_m, sigma_m * sigma_m, sigma_rad * sigma_rad).asDiagonal();
+  std::vector<CollectorEvent> events;
   try {
-    handleEvents(collector_->addSensorPose(stamp_s, T_world_sensor, covariance), stamp_s);
+    events = collector_->addSensorPose(stamp_s, T_world_sensor, covariance);
     if (candidates_)
       candidates_->addSensorPose(stamp_s, T_world_sensor, covariance);
   } catch (const std::invalid_argument& error) {
@@ -192,7 +208,9 @@ void CalibrationSession::addSensorPose(double stamp_s, const Pose2& T_world_sens
     last_problem_ = "sensor pose skipped: " + std::string(error.what());
     warnInput(error.what(),
               "pose on " + inputs_->topic(SessionInput::kEgoMotion) + " skipped: " + error.what());
+    return;
   }
+  handleEvents(events, stamp_s);
 }
 
 void CalibrationSession::flush()
@@ -211,6 +229,26 @@ void CalibrationSession::tick()
   store_->writePending();
 }
 
+void CalibrationSession::restart(const std::string& reason, double stamp_s)
+{
+  char text[200];
+  std::snprintf(text, sizeof(text), "at %.3f s: ", stamp_s);
+  ++counts_.restart_count;
+  if (counts_.restarts.size() < kRestartsKept)
+    counts_.restarts.push_back(text + reason);
+  warnInput("time went backwards",
+            "time went backwards " + std::string(text) + reason +
+                ": keyframe pairing and odometry restarted (" +
+                std::to_string(counts_.restart_count) + " times so far), the " +
+                std::to_string(store_->pairs().size()) + " pairs collected are kept");
+  last_problem_ = "time went backwards: " + reason;
+  // The offset search needs one continuous encoder stream: none until a reset.
+  history_broken_ = true;
+  encoder_history_.clear();
+  if (odometry_)
+    odometry_->restart();
+}
+
 void CalibrationSession::handleEvents(const std::vector<CollectorEvent>& events, double stamp_s)
 {
   for (const CollectorEvent& event : events) {
@@ -224,22 +262,9 @@ void CalibrationSession::handleEvents(const std::vector<CollectorEvent>& events,
         if (listener_.pair)
           listener_.pair(event.pair);
         break;
-      case CollectorEvent::Type::kRestarted: {
-        char text[200];
-        std::snprintf(text, sizeof(text), "at %.3f s: ", stamp_s);
-        counts_.restarts.push_back(text + event.reason);
-        say(SessionLogLevel::kWarn, "time went backwards " + counts_.restarts.back() +
-                                        ": keyframe pairing and odometry restarted, the " +
-                                        std::to_string(store_->pairs().size()) +
-                                        " pairs collected are kept");
-        last_problem_ = "time went backwards: " + event.reason;
-        // The offset search needs one continuous encoder stream: none until a reset.
-        history_broken_ = true;
-        encoder_history_.clear();
-        if (odometry_)
-          odometry_->restart();
+      case CollectorEvent::Type::kRestarted:
+        restart(event.reason, stamp_s);
         break;
-      }
       case CollectorEvent::Type::kGlitch:
         last_problem_ = event.reason;
         warnInput(event.reason.substr(0, event.reason.find(':')),

@@ -100,17 +100,20 @@ void PairsStore::writePending()
 std::string PairsStore::reset()
 {
   const std::size_t dropped = pairs_.size();
+  std::string archived;
+  if (!directory_.empty()) {
+    // The file first: when it cannot be moved aside, the pairs stay (in memory and file).
+    appender_.reset();
+    if (fs::exists(path()) && dropped > 0)
+      archived = archive("~reset");
+    else
+      fs::remove(path());  // only a header: nothing to keep
+  }
   pairs_.clear();
   resumed_ = 0;
   unwritten_ = 0;
   if (directory_.empty())
     return std::to_string(dropped) + " pairs set aside";
-  appender_.reset();
-  std::string archived;
-  if (fs::exists(path()) && dropped > 0)
-    archived = archive("~reset");
-  else
-    fs::remove(path());  // only a header: nothing to keep
   try {
     appender_ = std::make_unique<PairsCsvAppender>(path(), joints_);
     problem_.clear();

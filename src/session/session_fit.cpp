@@ -75,6 +75,7 @@ SessionFit fitSessionPairs(const SessionFitRequest& request)
   fit.fit_interval_s = config.collector.keyframe_interval_s;
   fit.offset_estimated = config.estimate_time_offset && !request.encoder_history.empty();
   std::vector<MotionPair> fit_pairs = pairsEndingBy(request.pairs, request.fit_until_stamp_s);
+  std::string interval_warning;
   if (request.interval_mode == FitIntervalMode::kFixed) {
     fit.fit_interval_s = request.fixed_interval_s;
     fit_pairs = pairsAt(request, request.fixed_interval_s);
@@ -85,10 +86,12 @@ SessionFit fitSessionPairs(const SessionFitRequest& request)
   } else if (request.interval_mode == FitIntervalMode::kChoose) {
     try {
       chooseInterval(request, fit.offset_estimated, &fit, &fit_pairs);
-    } catch (const std::invalid_argument& error) {
+    } catch (const std::exception& error) {
       fit.choice.reset();
-      fit.interval_text =
-          "fit interval: kept keyframes.interval_s (" + std::string(error.what()) + ")";
+      fit.interval_text.clear();
+      fit_pairs = pairsEndingBy(request.pairs, request.fit_until_stamp_s);
+      interval_warning = "the fit interval could not be chosen by cross-validation (" +
+                         std::string(error.what()) + "): fitted at keyframes.interval_s";
     }
   }
   if (!fit.interval_text.empty() && fit.interval_text.back() == '\n')
@@ -101,10 +104,12 @@ SessionFit fitSessionPairs(const SessionFitRequest& request)
   if (same_pairs)
     job_options.time_offset_search = request.offset_search;
   fit.job = runCalibrationJob(config, fit_pairs, request.encoder_history, job_options);
+  if (!interval_warning.empty())
+    fit.job.report.warnings.push_back(interval_warning);
   if (config.estimate_time_offset && !fit.offset_estimated) {
     fit.job.report.warnings.push_back(
         "the time offset was not estimated: it needs one continuous encoder stream (time went "
-        "backwards, or none since the start or the last reset); kept the configured " +
+        "backwards in the data); kept the configured " +
         std::to_string(fit.job.time_offset_s) + " s");
   }
   return fit;

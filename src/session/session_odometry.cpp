@@ -98,6 +98,7 @@ void SessionOdometry::addToPaths(const EncoderSample& sample, const Pose2& pose)
 
 void SessionOdometry::restart()
 {
+  ++generation_;
   decoder_.reset();
   last_encoder_stamp_s_ = -1e300;
   last_path_stamp_s_ = -1e300;
@@ -135,11 +136,17 @@ void SessionOdometry::addScanMatched(const MotionPair& pair)
   dropOldest(&scan_matched_sensor_poses_, options_.path_max_poses);
 }
 
-OdometryReplay SessionOdometry::replayStart(std::unique_ptr<OdometryIntegrator> integrator) const
+OdometryReplayInput SessionOdometry::replayInput() const
 {
-  OdometryReplay replay{std::move(integrator), {}};
-  replay.integrator->restartAt(path_samples_start_);
-  for (const EncoderSample& sample : path_samples_) {
+  return {{path_samples_.begin(), path_samples_.end()}, path_samples_start_, generation_};
+}
+
+OdometryReplay SessionOdometry::replay(const OdometryReplayInput& input,
+                                       std::unique_ptr<OdometryIntegrator> integrator)
+{
+  OdometryReplay replay{std::move(integrator), {}, input.generation};
+  replay.integrator->restartAt(input.start);
+  for (const EncoderSample& sample : input.samples) {
     if (replay.integrator->add(sample))
       replay.path.push_back({sample.stamp_s, replay.integrator->pose()});
   }
@@ -148,6 +155,10 @@ OdometryReplay SessionOdometry::replayStart(std::unique_ptr<OdometryIntegrator> 
 
 void SessionOdometry::replayFinish(OdometryReplay replay)
 {
+  if (replay.generation != generation_) {  // restarted while integrating: start afresh
+    replay.integrator->reset();
+    replay.path.clear();
+  }
   // What arrived while integrating (the integrator skips the samples it has), then the newest.
   for (const EncoderSample& sample : path_samples_) {
     if (replay.integrator->add(sample))

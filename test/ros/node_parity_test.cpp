@@ -7,6 +7,7 @@
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <vector>
 
 #include <sys/wait.h>
 
@@ -31,14 +32,41 @@ std::size_t lines(const std::string& path)
   return count;
 }
 
+const std::vector<std::string> kNodes = {"fixed", "intervals", "offset"};
+
+/// The line counts of the nodes' pairs files.
+std::vector<std::size_t> pairFileLines(const std::string& output_directory)
+{
+  std::vector<std::size_t> counts;
+  for (const std::string& name : kNodes)
+    counts.push_back(lines(output_directory + "/" + name + "/pairs.csv"));
+  return counts;
+}
+
 class NodeParity : public ::testing::TestWithParam<std::string>
 {
 protected:
+  /// Plays the bag once every node has subscribed (a node advertises its services after
+  /// subscribing), at real time, then waits until no node's pairs file grows for 5 s.
   static void SetUpTestSuite()
   {
-    ASSERT_TRUE(waitFor([] { return test::nodeRunning("/player"); }, 60));
-    ASSERT_TRUE(waitFor([] { return !test::nodeRunning("/player"); }, 300));
-    waitFor([] { return false; }, 3.0);  // the last messages
+    ros::NodeHandle private_handle("~");
+    std::string bag, output_directory;
+    ASSERT_TRUE(private_handle.getParam("bag", bag));
+    ASSERT_TRUE(private_handle.getParam("output_directory", output_directory));
+    for (const std::string& name : kNodes)
+      ASSERT_TRUE(ros::service::waitForService("/" + name + "/calibrate", ros::Duration(60)));
+    const std::string play = "rosbag play --clock --quiet -d 2 " + bag +
+                             " --wait-for-subscribers --topics /joint_states /scan > " +
+                             output_directory + "/play.log 2>&1";
+    ASSERT_EQ(std::system(play.c_str()), 0) << play;
+    std::vector<std::size_t> before = pairFileLines(output_directory);
+    for (int quiet_checks = 0, checks = 0; quiet_checks < 5 && checks < 60; ++checks) {
+      waitFor([] { return false; }, 1.0);
+      const std::vector<std::size_t> now = pairFileLines(output_directory);
+      quiet_checks = now == before ? quiet_checks + 1 : 0;
+      before = now;
+    }
   }
 };
 
@@ -54,7 +82,6 @@ TEST_P(NodeParity, NodeAndCalibrateBagGiveTheSamePairsAndParameters)
   const std::string node_output = output_directory + "/" + name;
 
   odometry_calibration::Calibrate fit;
-  ASSERT_TRUE(ros::service::waitForService("/" + name + "/calibrate", ros::Duration(30)));
   ASSERT_TRUE(ros::service::call("/" + name + "/calibrate", fit));
   ASSERT_TRUE(fit.response.success) << fit.response.message;
 

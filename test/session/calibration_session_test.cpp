@@ -186,7 +186,8 @@ TEST_F(Session, KeepsPairsInItsFileAndResumesThemWithTheSavedCalibration)
   for (const SessionStatusReport& status : statuses)
     watching = watching || status.name == "calibration health";
   EXPECT_TRUE(watching);
-  const std::string reply = resumed->reset();
+  const auto [reset, reply] = resumed->reset();
+  EXPECT_TRUE(reset);
   EXPECT_NE(reply.find(std::to_string(pairs) + " pairs set aside in"), std::string::npos) << reply;
   EXPECT_TRUE(resumed->pairs().empty());
   std::size_t archived = 0;

@@ -36,7 +36,8 @@ struct BagRunResult
   std::size_t ego_motion_messages = 0;
   std::size_t bad_joint_states = 0;   ///< skipped: missing joints, mismatched arrays, NaN
   std::string first_bad_joint_state;  ///< the first such problem, in words
-  std::size_t bad_clouds = 0;         ///< skipped PointCloud2 (cloud source): layout, band, frame
+  std::string ego_message_type;       ///< "LaserScan", "PointCloud2" or "pose", for messages
+  std::size_t bad_clouds = 0;         ///< skipped ego-motion messages (clouds: layout, band, frame)
   std::string first_bad_cloud;        ///< the first such problem, in words
   /// PointCloud2 used without their per-point times (a bad time, a missing configured field)
   std::size_t clouds_without_times = 0;

@@ -51,7 +51,12 @@ struct SessionOptions
   /// Keep every decoded encoder sample for the time-offset search (none: when the
   /// configuration estimates the offset).
   std::optional<bool> keep_encoder_history;
-  bool compare_trajectories = false;           ///< the report's trajectories in each fit
+  bool compare_trajectories = false;  ///< the report's trajectories in each fit
+  /// A converged fit becomes the active model (odometry, time offset for new pairs, monitor,
+  /// last_fit.yaml); calibrate_bag: off, the fit is the result.
+  bool adopt_fits = true;
+  /// How the reply names the minimum pair count ("" for a tool without such a parameter).
+  std::string min_pairs_name = "~min_pairs";
   std::string source = "calibration session";  ///< result.yaml's `source`
   std::string base_frame = "base_link";        ///< laser_joint.urdf's parent
   std::string default_sensor_frame = "laser";  ///< until an input names the sensor's frame
@@ -99,7 +104,8 @@ struct SessionCounts
   std::size_t encoder_messages = 0, ego_messages = 0;  ///< received (used or not)
   std::size_t bad_encoder_messages = 0, bad_ego_messages = 0, clouds_without_times = 0;
   std::string first_bad_encoder_message, first_bad_ego_message, first_cloud_time_problem;
-  std::vector<std::string> restarts;  ///< time going backwards, in words
+  std::vector<std::string> restarts;  ///< time going backwards, in words (the first 100)
+  std::size_t restart_count = 0;      ///< every restart
 };
 
 class CalibrationSession
@@ -141,7 +147,6 @@ public:
   std::vector<IntervalPairs> candidatePairs() const;
   std::vector<EncoderSample> encoderHistory() const;
   SessionCounts counts() const;
-  const CalibrationConfig& config() const { return config_; }
   double timeOffset() const;
   std::optional<Pose2> sensorPose() const;
   std::string sensorFrame() const;
@@ -163,8 +168,9 @@ public:
   /// mecanum), laser_joint.urdf (with a sensor pose). Returns {success, message}.
   std::pair<bool, std::string> save();
   /// A new collection: pairs set aside, pairing, odometry, history and guidance restarted; the
-  /// active model stays. Returns what was done, in words.
-  std::string reset();
+  /// active model stays. Returns {success, what was done in words}; when the pairs file cannot
+  /// be moved aside nothing is reset.
+  std::pair<bool, std::string> reset();
 
 private:
   void loadSavedCalibration();
@@ -173,7 +179,11 @@ private:
   void handleEvents(const std::vector<CollectorEvent>& events, double stamp_s);
   void recordEncoderHistory(double stamp_s, const Eigen::VectorXd& accepted);
   void integrate(double stamp_s, const Eigen::VectorXd& accepted);
-  void takeScan(double stamp_s, const Scan& scan);
+  /// The scan into the collectors (their events); throws std::invalid_argument for a scan
+  /// with too few usable readings or one the collector refuses.
+  std::vector<CollectorEvent> takeScan(double stamp_s, const Scan& scan);
+  /// Time went backwards: pairing, odometry and the encoder history start again.
+  void restart(const std::string& reason, double stamp_s);
   void noteFrame(const std::string& frame);
   void notifySensorPose() const;
   void warnInput(const std::string& problem, const std::string& text);
@@ -188,8 +198,13 @@ private:
   /// A converged fit becomes the active model; the outcome's message says what happened.
   void adopt(const std::string& name, const CalibrationConfig& config, const std::string& guidance,
              CalibrateOutcome* outcome);
+  /// The corrected odometry integrated again with the fit (empty without odometry).
+  OdometryReplay replayOdometry(const SessionFit& fit) const;
+  /// The sensor pose after `fit`: its own, or the one known before.
+  std::optional<Pose2> fitSensorPose(const SessionFit& fit) const;
   void activate(const std::string& name, const SessionFit& fit,
-                const std::shared_ptr<MotionModel>& model, const std::string& result_yaml);
+                const std::shared_ptr<MotionModel>& model, const std::string& result_yaml,
+                OdometryReplay replay);
   void applyTimeOffset(double time_offset_s);
   std::string successMessage(const std::string& name, const SessionFit& fit) const;
 

@@ -53,11 +53,20 @@ struct SessionOdometryOptions
   int path_max_poses = 20000;   ///< longest path kept (oldest poses dropped)
 };
 
+/// What integrating the kept samples again needs (copied, so that it runs without the lock).
+struct OdometryReplayInput
+{
+  std::vector<EncoderSample> samples;  ///< laser clock
+  Pose2 start;                         ///< the corrected path's pose at the first sample
+  std::size_t generation = 0;          ///< restarts so far
+};
+
 /// The active model's odometry, ready to replace the current one (SessionOdometry::replay).
 struct OdometryReplay
 {
   std::unique_ptr<OdometryIntegrator> integrator;
   std::vector<StampedPose2> path;
+  std::size_t generation = 0;
 };
 
 /// Not thread-safe: the session calls it with its lock held.
@@ -83,9 +92,14 @@ public:
   /// corrected odometry's sensor pose at the pair's start).
   void addScanMatched(const MotionPair& pair);
 
-  /// The corrected odometry integrated again over the kept samples with `integrator`.
-  OdometryReplay replayStart(std::unique_ptr<OdometryIntegrator> integrator) const;
-  /// Adds what arrived since replayStart and makes the replay the corrected odometry.
+  /// The kept samples, for replay().
+  OdometryReplayInput replayInput() const;
+  /// The corrected odometry integrated again over `input` with `integrator`; throws what the
+  /// model's prediction throws.
+  static OdometryReplay replay(const OdometryReplayInput& input,
+                               std::unique_ptr<OdometryIntegrator> integrator);
+  /// Adds what arrived since replayInput and makes the replay the corrected odometry (started
+  /// afresh when the odometry restarted meanwhile).
   void replayFinish(OdometryReplay replay);
 
   /// The paths; the scan-matched sensor poses drawn through `T_base_sensor` (inverted).
@@ -109,6 +123,7 @@ private:
   std::vector<std::pair<double, Pose2>> recent_sensor_poses_;
   std::deque<StampedPose2> scan_matched_sensor_poses_;
   std::optional<double> scan_matched_end_s_;
+  std::size_t generation_ = 0;  ///< restarts so far
 };
 
 }  // namespace odometry_calibration
