@@ -20,6 +20,18 @@ void CalibrationSession::warnInput(const std::string& problem, const std::string
     say(SessionLogLevel::kWarn, text);
 }
 
+void CalibrationSession::rejectInput(SessionInput input, const std::string& what,
+                                     const std::string& problem)
+{
+  const bool encoders = input == SessionInput::kEncoders;
+  std::size_t& count = encoders ? counts_.bad_encoder_messages : counts_.bad_ego_messages;
+  if (count++ == 0)
+    (encoders ? counts_.first_bad_encoder_message : counts_.first_bad_ego_message) = problem;
+  last_problem_ = what + " skipped: " + problem;
+  warnInput(problem, what + " on " + inputs_->topic(input) + " skipped (" + std::to_string(count) +
+                         " so far): " + problem);
+}
+
 void CalibrationSession::addJointPositions(double stamp_s, const Eigen::VectorXd& raw)
 {
   std::lock_guard<std::mutex> lock(mutex_);
@@ -31,11 +43,7 @@ void CalibrationSession::addJointPositions(double stamp_s, const Eigen::VectorXd
     if (candidates_)
       candidates_->addEncoders(stamp_s, raw);
   } catch (const std::invalid_argument& error) {
-    if (counts_.bad_encoder_messages++ == 0)
-      counts_.first_bad_encoder_message = error.what();
-    last_problem_ = "JointState rejected: " + std::string(error.what());
-    warnInput(error.what(), "JointState on " + inputs_->topic(SessionInput::kEncoders) +
-                                " rejected: " + error.what());
+    rejectInput(SessionInput::kEncoders, "JointState", error.what());
     return;
   }
   handleEvents(events, stamp_s);
@@ -49,11 +57,7 @@ void CalibrationSession::skipJointState(const std::string& problem)
 {
   std::lock_guard<std::mutex> lock(mutex_);
   inputs_->received(SessionInput::kEncoders, now());
-  if (counts_.bad_encoder_messages++ == 0)
-    counts_.first_bad_encoder_message = problem;
-  last_problem_ = "JointState skipped: " + problem;
-  warnInput(problem, "JointState on " + inputs_->topic(SessionInput::kEncoders) + " skipped (" +
-                         std::to_string(counts_.bad_encoder_messages) + " so far): " + problem);
+  rejectInput(SessionInput::kEncoders, "JointState", problem);
 }
 
 void CalibrationSession::recordEncoderHistory(double stamp_s, const Eigen::VectorXd& accepted)
@@ -126,12 +130,7 @@ void CalibrationSession::addScan(double stamp_s, const Scan& scan, const std::st
   try {
     events = takeScan(stamp_s, scan);
   } catch (const std::invalid_argument& error) {
-    if (counts_.bad_ego_messages++ == 0)
-      counts_.first_bad_ego_message = error.what();
-    last_problem_ = "LaserScan skipped: " + std::string(error.what());
-    warnInput(error.what(), "LaserScan on " + inputs_->topic(SessionInput::kEgoMotion) +
-                                " skipped (" + std::to_string(counts_.bad_ego_messages) +
-                                " so far): " + error.what());
+    rejectInput(SessionInput::kEgoMotion, "LaserScan", error.what());
     return;
   }
   handleEvents(events, stamp_s);
@@ -167,11 +166,7 @@ void CalibrationSession::addCloudScan(double stamp_s, const Scan& scan, const st
   try {
     events = takeScan(stamp_s, scan);
   } catch (const std::invalid_argument& error) {
-    if (counts_.bad_ego_messages++ == 0)
-      counts_.first_bad_ego_message = error.what();
-    last_problem_ = "PointCloud2 skipped: " + std::string(error.what());
-    warnInput(error.what(), "PointCloud2 on " + inputs_->topic(SessionInput::kEgoMotion) +
-                                " skipped: " + error.what());
+    rejectInput(SessionInput::kEgoMotion, "PointCloud2", error.what());
     return;
   }
   handleEvents(events, stamp_s);
@@ -181,11 +176,7 @@ void CalibrationSession::skipEgoMessage(const std::string& what, const std::stri
 {
   std::lock_guard<std::mutex> lock(mutex_);
   inputs_->received(SessionInput::kEgoMotion, now());
-  if (counts_.bad_ego_messages++ == 0)
-    counts_.first_bad_ego_message = problem;
-  last_problem_ = what + " skipped: " + problem;
-  warnInput(problem, what + " on " + inputs_->topic(SessionInput::kEgoMotion) + " skipped (" +
-                         std::to_string(counts_.bad_ego_messages) + " so far): " + problem);
+  rejectInput(SessionInput::kEgoMotion, what, problem);
 }
 
 void CalibrationSession::addSensorPose(double stamp_s, const Pose2& T_world_sensor,
@@ -203,11 +194,7 @@ void CalibrationSession::addSensorPose(double stamp_s, const Pose2& T_world_sens
     if (candidates_)
       candidates_->addSensorPose(stamp_s, T_world_sensor, covariance);
   } catch (const std::invalid_argument& error) {
-    if (counts_.bad_ego_messages++ == 0)
-      counts_.first_bad_ego_message = error.what();
-    last_problem_ = "sensor pose skipped: " + std::string(error.what());
-    warnInput(error.what(),
-              "pose on " + inputs_->topic(SessionInput::kEgoMotion) + " skipped: " + error.what());
+    rejectInput(SessionInput::kEgoMotion, "sensor pose", error.what());
     return;
   }
   handleEvents(events, stamp_s);

@@ -187,6 +187,8 @@ private:
   void noteFrame(const std::string& frame);
   void notifySensorPose() const;
   void warnInput(const std::string& problem, const std::string& text);
+  /// A message that could not be used: counted (the first one's problem kept) and warned.
+  void rejectInput(SessionInput input, const std::string& what, const std::string& problem);
   void say(SessionLogLevel level, const std::string& text) const;
   double now() const;
   std::string collectionStatus(SessionStatusReport* status) const;
