@@ -137,10 +137,15 @@ bool readLaserScan(const rosbag::MessageInstance& message, std::vector<std::uint
   if (!scan)
     return false;
   const auto converted = timers.endReading();
-  input.kind = BagInput::Kind::kScan;
   input.stamp_s = scan->header.stamp.toSec();
-  input.scan = ros_conversions::fromLaserScanMsg(*scan);
   input.frame = scan->header.frame_id;
+  try {  // an impossible geometry: skipped and counted, as the live node does
+    input.scan = ros_conversions::fromLaserScanMsg(*scan);
+    input.kind = BagInput::Kind::kScan;
+  } catch (const std::invalid_argument& error) {
+    input.kind = BagInput::Kind::kBadScan;
+    input.problem = error.what();
+  }
   timers.endConverting(converted);
   return true;
 }

@@ -6,6 +6,7 @@
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
 #include <sensor_msgs/JointState.h>
+#include <sensor_msgs/LaserScan.h>
 
 #include "odometry_calibration/calibration/time_offset.h"
 #include "odometry_calibration/factory/model_factory.h"
@@ -155,6 +156,35 @@ TEST_F(BagRunner, MismatchedJointStatesAreSkippedAndCounted)
   EXPECT_NE(run.first_bad_joint_state.find("2 names but 1 positions"), std::string::npos)
       << run.first_bad_joint_state;
   EXPECT_GT(run.pairs.size(), 60u);
+}
+
+TEST_F(BagRunner, ScansWithAnImpossibleGeometryAreSkippedAndCountedAsTheNodeDoes)
+{
+  const std::string bag_path = directory_ + "/broken_scans.bag";
+  {
+    rosbag::Bag in(bag_, rosbag::bagmode::Read);
+    rosbag::Bag out(bag_path, rosbag::bagmode::Write);
+    int count = 0;
+    for (const rosbag::MessageInstance& m : rosbag::View(in)) {
+      auto scan = m.instantiate<sensor_msgs::LaserScan>();
+      if (scan && ++count % 50 == 0) {
+        scan->angle_increment = 0.0f;  // no ray direction: the conversion refuses it
+        out.write(m.getTopic(), m.getTime(), *scan);
+      } else {
+        out.write(m.getTopic(), m.getTime(), m);
+      }
+    }
+  }
+  const BagRunResult clean = runBags({bag_}, config_);
+  const BagRunResult run = runBags({bag_path}, config_);
+  EXPECT_EQ(run.bad_clouds, 8u);  // 401 scans, every 50th
+  EXPECT_EQ(run.ego_message_type, "LaserScan");
+  EXPECT_NE(run.first_bad_cloud.find("angle_increment"), std::string::npos) << run.first_bad_cloud;
+  const std::vector<std::string> notes = bagRunNotes(run);
+  ASSERT_FALSE(notes.empty());
+  EXPECT_EQ(notes.front().rfind("skipped 8 LaserScan messages, first: ", 0), 0u) << notes.front();
+  // The keyframes move to the neighbouring scans: the run goes on with about as many pairs.
+  EXPECT_GT(run.pairs.size(), clean.pairs.size() - 20);
 }
 
 TEST(BagRunSummary, ScaleCheckLineAndTheLinesAfterIt)

@@ -31,7 +31,7 @@ struct BagInput
     kBadJoints,  ///< a JointState that could not be used (`problem` says why)
     kScan,       ///< `scan` (from a LaserScan, or a PointCloud2 of the cloud source; a
                  ///< non-empty `problem`: the cloud's per-point times were not used, and why)
-    kBadScan,    ///< a PointCloud2 that gave no scan (`problem` says why)
+    kBadScan,    ///< a LaserScan or PointCloud2 that gave no scan (`problem` says why)
     kPose,       ///< `pose`: the sensor's pose from an odometry or pose message
   };
   Kind kind = Kind::kJoints;
@@ -73,8 +73,8 @@ public:
   BagMessageReader(const BagMessageReader&) = delete;
   BagMessageReader& operator=(const BagMessageReader&) = delete;
 
-  /// The next batch of inputs in order (empty at the end). Rethrows what reading threw (e.g.
-  /// a LaserScan with an unusable geometry, a bag read error).
+  /// The next batch of inputs in order (empty at the end). Rethrows what reading threw (a bag
+  /// read error).
   std::vector<BagInput> next();
 
   /// Time the reading thread spent reading and deserialising, converting, and filtering clouds
