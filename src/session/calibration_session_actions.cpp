@@ -74,6 +74,8 @@ void CalibrationSession::configureModel(const std::string& name, const std::stri
 
 CalibrateOutcome CalibrationSession::calibrate(const CalibrationRequest& request)
 {
+  // One fit (or reset) at a time; the inputs go on meanwhile (they take mutex_ only).
+  std::lock_guard<std::mutex> fitting(fit_mutex_);
   CalibrateOutcome outcome;
   std::string guidance;
   SessionFitRequest fit_request = snapshot(&guidance);
@@ -265,6 +267,7 @@ std::pair<bool, std::string> CalibrationSession::save()
 
 std::pair<bool, std::string> CalibrationSession::reset()
 {
+  std::lock_guard<std::mutex> fitting(fit_mutex_);  // not while a fit of these pairs runs
   std::lock_guard<std::mutex> lock(mutex_);
   std::string set_aside;
   try {

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <future>
 
 #include <gtest/gtest.h>
 
@@ -278,6 +279,25 @@ TEST_F(Session, ChoosesTheFitIntervalAmongItsCandidates)
   EXPECT_EQ(outcome.fit->choice->curve.size(), 2u);
   EXPECT_NE(outcome.message.find("chosen by time-blocked cross-validation"), std::string::npos)
       << outcome.message;
+}
+
+TEST_F(Session, InputsKeepFlowingWhileAFitRuns)
+{
+  std::size_t odometry_heard = 0;
+  SessionListener listener;
+  listener.odometry = [&](const OdometryState&) { ++odometry_heard; };
+  auto session = makeSession(listener);
+  feed(*session, 30.0);
+  const std::size_t pairs_at_call = session->pairs().size();
+  auto fit = std::async(std::launch::async, [&] { return session->calibrate({}); });
+  feed(*session, 60.0, 30.0);  // the drive again, 30 s later: new pairs while fitting
+  const CalibrateOutcome outcome = fit.get();
+  ASSERT_TRUE(outcome.success) << outcome.message;
+  EXPECT_EQ(outcome.pairs_collected, pairs_at_call);  // the pairs held at the call
+  EXPECT_GT(session->pairs().size(), pairs_at_call + 40);
+  EXPECT_GT(odometry_heard, 2000u);
+  const auto [reset, reply] = session->reset();
+  EXPECT_TRUE(reset) << reply;
 }
 
 TEST_F(Session, TheSameMessagesGiveTheSamePairsAndFit)

@@ -210,7 +210,8 @@ private:
   void applyTimeOffset(double time_offset_s);
   std::string successMessage(const std::string& name, const SessionFit& fit) const;
 
-  mutable std::mutex mutex_;
+  mutable std::mutex mutex_;  ///< the state; inputs, queries and the fit's start and end
+  std::mutex fit_mutex_;      ///< held by calibrate() and reset(): taken before mutex_
   CalibrationConfig config_;
   std::string config_text_, config_source_;
   SessionOptions options_;
