@@ -5,15 +5,6 @@
 #include "odometry_calibration/common/number_text.h"
 
 namespace odometry_calibration {
-namespace {
-
-std::string formatValue(double value)
-{
-  return formatNumber(value, 4);
-}
-
-}  // namespace
-
 SessionAssistant::SessionAssistant(const SessionAssistantOptions& options,
                                    const CalibrationConfig& config, const std::string& config_text,
                                    const std::string& config_source, SessionLog log)
@@ -101,8 +92,8 @@ SessionStatusReport SessionAssistant::guidanceStatus() const
     status.add("missing motion " + std::to_string(i + 1), guidance.missing_motions[i]);
   for (const ParameterGuidance& p : guidance.parameters) {
     status.add(p.name + " [" + p.unit + "]", (p.enough ? "enough: sigma " : "collecting: sigma ") +
-                                                 formatValue(p.sigma) + " (target " +
-                                                 formatValue(p.target_sigma) + ")");
+                                                 formatNumber(p.sigma, 4) + " (target " +
+                                                 formatNumber(p.target_sigma, 4) + ")");
   }
   return status;
 }
@@ -115,14 +106,14 @@ SessionStatusReport SessionAssistant::healthStatus() const
   status.level = health.alarm ? SessionStatusReport::Level::kWarn : SessionStatusReport::Level::kOk;
   status.message = health.message;
   status.add("watching", health_model_origin_);
-  status.add("statistic (alarm at 1)", formatValue(health.statistic));
-  status.add("CUSUM threshold h [sigma]", formatValue(health.threshold));
+  status.add("statistic (alarm at 1)", formatNumber(health.statistic, 4));
+  status.add("CUSUM threshold h [sigma]", formatNumber(health.threshold, 4));
   status.add("pairs scored", std::to_string(health.pairs));
   for (const HealthChart& chart : health.charts) {
     status.add("chart " + chart.name + " (" + chart.output + ")",
                chart.calibrated
-                   ? "U " + formatValue(chart.upper) + ", L " + formatValue(chart.lower) +
-                         ", recent mean " + formatValue(chart.mean_recent) + " sigma"
+                   ? "U " + formatNumber(chart.upper, 4) + ", L " + formatNumber(chart.lower, 4) +
+                         ", recent mean " + formatNumber(chart.mean_recent, 4) + " sigma"
                    : "learning the noise (" + std::to_string(chart.count) + " pairs)");
   }
   return status;
