@@ -82,6 +82,28 @@ void validateLaserGeometry(const LaserOptions& laser)
           "laser.point_times must be relative or absolute");
 }
 
+/// The changes: in time order, mounting moves within reach, encoder stamps never going back.
+void validateChanges(const Scenario& s)
+{
+  double previous_change_s = 0.0, offset_s = s.encoders.time_offset_s;
+  for (const ParameterChange& change : s.changes) {
+    require(change.at_s >= previous_change_s && std::isfinite(change.at_s),
+            "changes must be in time order at times >= 0 s");
+    require(std::abs(change.laser_yaw_change_rad) < M_PI,
+            "changes: laser_yaw_change_rad must be within pi");
+    require(std::abs(change.laser_x_change_m) < 10.0 && std::abs(change.laser_y_change_m) < 10.0,
+            "changes: laser_x_change_m and laser_y_change_m must be within 10 m");
+    offset_s += change.time_offset_change_s;
+    require(std::abs(offset_s) < 10.0,
+            "changes: encoders.time_offset_s plus the time_offset_change_s so far must stay "
+            "within 10 s");
+    require(change.time_offset_change_s > -1.0 / s.encoders.rate_hz,
+            "changes: a negative time_offset_change_s must be shorter than one encoder period "
+            "(the encoder stamps would go backwards)");
+    previous_change_s = change.at_s;
+  }
+}
+
 }  // namespace
 
 void validate(const Scenario& s)
@@ -98,14 +120,7 @@ void validate(const Scenario& s)
   require(s.tracker.translation_noise_m >= 0.0 && s.tracker.rotation_noise_rad >= 0.0,
           "tracker noise must be >= 0");
   validate(s.motion);
-  double previous_change_s = 0.0;
-  for (const ParameterChange& change : s.changes) {
-    require(change.at_s >= previous_change_s && std::isfinite(change.at_s),
-            "changes must be in time order at times >= 0 s");
-    require(std::abs(change.laser_yaw_change_rad) < M_PI,
-            "changes: laser_yaw_change_rad must be within pi");
-    previous_change_s = change.at_s;
-  }
+  validateChanges(s);
 }
 
 namespace {
@@ -305,10 +320,16 @@ void readChangesYaml(const YAML::Node& changes, const std::string& path, std::st
   std::size_t index = 0;
   for (const YAML::Node& entry : changes) {
     where = path + ": changes[" + std::to_string(index++) + "]";
-    checkYamlKeys(entry, {"at_s", "robot", "laser_yaw_change_rad"}, where);
+    checkYamlKeys(entry,
+                  {"at_s", "robot", "laser_x_change_m", "laser_y_change_m", "laser_yaw_change_rad",
+                   "time_offset_change_s"},
+                  where);
     ParameterChange change;
     readYaml(entry, "at_s", &change.at_s);
+    readYaml(entry, "laser_x_change_m", &change.laser_x_change_m);
+    readYaml(entry, "laser_y_change_m", &change.laser_y_change_m);
     readYaml(entry, "laser_yaw_change_rad", &change.laser_yaw_change_rad);
+    readYaml(entry, "time_offset_change_s", &change.time_offset_change_s);
     if (const YAML::Node robot_change = entry["robot"]) {
       if (!robot_change.IsMap())
         throw std::runtime_error("robot: expected a map of robot keys to new values");

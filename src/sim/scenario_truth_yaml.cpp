@@ -99,7 +99,8 @@ void emitEncodersAndTracker(const Scenario& s, YAML::Emitter& out)
   out << YAML::EndMap;
 }
 
-/// changes: the robot and laser change mid-run (the parameters above hold until the first).
+/// changes: the robot, the laser's mounting and the encoders' clock change mid-run (the values
+/// above hold until the first).
 void emitChanges(const std::vector<ParameterChange>& changes, YAML::Emitter& out)
 {
   out << YAML::Key << "changes" << YAML::Value << YAML::BeginSeq;
@@ -112,7 +113,10 @@ void emitChanges(const std::vector<ParameterChange>& changes, YAML::Emitter& out
         out << YAML::Key << key << YAML::Value << value;
       out << YAML::EndMap;
     }
+    out << YAML::Key << "laser_x_change_m" << YAML::Value << change.laser_x_change_m;
+    out << YAML::Key << "laser_y_change_m" << YAML::Value << change.laser_y_change_m;
     out << YAML::Key << "laser_yaw_change_rad" << YAML::Value << change.laser_yaw_change_rad;
+    out << YAML::Key << "time_offset_change_s" << YAML::Value << change.time_offset_change_s;
     out << YAML::EndMap;
   }
   out << YAML::EndSeq;

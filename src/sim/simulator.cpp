@@ -97,10 +97,11 @@ struct PoseHistory
   }
 };
 
-/// One sweep of the multi-beam lidar over [end - period, end], from the poses of `history`.
-CloudSample castSweep(const LaserOptions& laser, const World& world, const PoseHistory& history,
-                      std::int64_t end_ns, std::int64_t period_ns, std::mt19937_64& rng,
-                      std::normal_distribution<double>& range_noise,
+/// One sweep of the multi-beam lidar over [end - period, end], from the poses of `history`, the
+/// lidar mounted at T_base_laser (its pose now: scenario changes move it).
+CloudSample castSweep(const LaserOptions& laser, const Pose2& T_base_laser, const World& world,
+                      const PoseHistory& history, std::int64_t end_ns, std::int64_t period_ns,
+                      std::mt19937_64& rng, std::normal_distribution<double>& range_noise,
                       std::uniform_real_distribution<double>& unit)
 {
   CloudSample cloud;
@@ -117,7 +118,7 @@ CloudSample castSweep(const LaserOptions& laser, const World& world, const PoseH
   for (int c = 0; c < columns; ++c) {
     const double tau_s = static_cast<double>(period_ns) * c / columns / 1e9;
     const Pose2 T_world_laser =
-        history.at(static_cast<double>(start_ns) + tau_s * 1e9) * laser.T_base_laser;
+        history.at(static_cast<double>(start_ns) + tau_s * 1e9) * T_base_laser;
     const Eigen::Vector2d origin(T_world_laser.x(), T_world_laser.y());
     const double azimuth = -M_PI + 2.0 * M_PI * c / columns;
     for (int r = 0; r < laser.rings; ++r) {
@@ -263,6 +264,7 @@ public:
         changed_robots_(changedRobots(scenario, specs_.size())),
         current_robot_(&robot),
         T_base_laser_(laser_.T_base_laser),
+        encoder_time_offset_s_(scenario.encoders.time_offset_s),
         previous_reading_(specs_.size(), std::numeric_limits<double>::quiet_NaN()),
         wrap_period_(wrapPeriods(scenario.encoders, specs_)),
         multibeam_(laser_.type == "multibeam"),
@@ -291,8 +293,8 @@ public:
       }
       if (now_ == next_scan_ && multibeam_) {
         if (now_ >= scan_period_) {  // a sweep that began at the start or later
-          sink_.onCloud(
-              castSweep(laser_, world_, history_, now_, scan_period_, rng_, range_noise_, unit_));
+          sink_.onCloud(castSweep(laser_, T_base_laser_, world_, history_, now_, scan_period_, rng_,
+                                  range_noise_, unit_));
           ++summary_.scans;
         }
         next_scan_ += scan_period_;
@@ -305,15 +307,18 @@ public:
   }
 
 private:
-  /// The changes due by now: the robot after them, the laser turned by them.
+  /// The changes due by now: the robot after them, the laser moved and turned by them, the
+  /// encoders' clock shifted by them.
   void applyChanges()
   {
     while (next_change_ < scenario_.changes.size() &&
            now_ >= std::llround(scenario_.changes[next_change_].at_s * 1e9)) {
+      const ParameterChange& change = scenario_.changes[next_change_];
       current_robot_ = changed_robots_[next_change_].get();
-      T_base_laser_ = Pose2(T_base_laser_.x(), T_base_laser_.y(),
-                            normalizeAngle(T_base_laser_.theta() +
-                                           scenario_.changes[next_change_].laser_yaw_change_rad));
+      T_base_laser_ = Pose2(T_base_laser_.x() + change.laser_x_change_m,
+                            T_base_laser_.y() + change.laser_y_change_m,
+                            normalizeAngle(T_base_laser_.theta() + change.laser_yaw_change_rad));
+      encoder_time_offset_s_ += change.time_offset_change_s;
       ++next_change_;
     }
   }
@@ -347,7 +352,7 @@ private:
   void publishEncoderInstant(double t)
   {
     JointStateSample sample;
-    sample.stamp_s = t + scenario_.encoders.time_offset_s;
+    sample.stamp_s = t + encoder_time_offset_s_;
     const Eigen::VectorXd shaft = current_robot_->encoderAngles(joints_);
     for (std::size_t j = 0; j < specs_.size(); ++j) {
       const double reading = encoderReading(specs_[j], scenario_.encoders, shaft(j));
@@ -415,7 +420,8 @@ private:
   std::vector<std::unique_ptr<Robot>> changed_robots_;
   std::size_t next_change_ = 0;
   const Robot* current_robot_;
-  Pose2 T_base_laser_;  // the laser's pose now (changes turn it)
+  Pose2 T_base_laser_;            // the laser's pose now (changes move and turn it)
+  double encoder_time_offset_s_;  // the encoders' stamp offset now (changes shift it) [s]
   Twist2 target_, command_, realised_;
   SimulationSummary summary_;
   std::vector<double> previous_reading_;

@@ -73,15 +73,39 @@ TEST(SimScenario, ChangesAreReadCheckedAndWrittenToTheTruth)
   };
   const Scenario s = load(
       "  - {at_s: 600, robot: {wheel_radius_right_m: 0.07623}}\n"
-      "  - {at_s: 900, laser_yaw_change_rad: 0.01745}\n");
-  ASSERT_EQ(s.changes.size(), 2u);
+      "  - {at_s: 900, laser_yaw_change_rad: 0.01745}\n"
+      "  - {at_s: 950, laser_x_change_m: 0.031, laser_y_change_m: -0.012, "
+      "time_offset_change_s: 0.047}\n");
+  ASSERT_EQ(s.changes.size(), 3u);
   EXPECT_DOUBLE_EQ(s.changes[0].at_s, 600.0);
   EXPECT_DOUBLE_EQ(s.changes[0].robot_parameters.at("wheel_radius_right_m"), 0.07623);
   EXPECT_DOUBLE_EQ(s.changes[1].laser_yaw_change_rad, 0.01745);
+  EXPECT_DOUBLE_EQ(s.changes[1].laser_x_change_m, 0.0);
+  EXPECT_DOUBLE_EQ(s.changes[2].laser_x_change_m, 0.031);
+  EXPECT_DOUBLE_EQ(s.changes[2].laser_y_change_m, -0.012);
+  EXPECT_DOUBLE_EQ(s.changes[2].time_offset_change_s, 0.047);
   const auto robot = makeRobot(s.robot);
   const std::string truth = scenarioTruthYaml(s, *robot);
   EXPECT_NE(truth.find("changes"), std::string::npos);
   EXPECT_NE(truth.find("0.07623"), std::string::npos);
+  EXPECT_NE(truth.find("laser_x_change_m: 0.031"), std::string::npos) << truth;
+  EXPECT_NE(truth.find("laser_y_change_m: -0.012"), std::string::npos) << truth;
+  EXPECT_NE(truth.find("time_offset_change_s: 0.047"), std::string::npos) << truth;
+  // A clock jumping back by more than an encoder period (50 Hz: 20 ms), a misspelt key: refused.
+  try {
+    load("  - {at_s: 10, time_offset_change_s: -0.03}\n");
+    ADD_FAILURE() << "a clock going backwards was accepted";
+  } catch (const std::exception& error) {
+    EXPECT_NE(std::string(error.what()).find("encoder period"), std::string::npos) << error.what();
+  }
+  EXPECT_NO_THROW(load("  - {at_s: 10, time_offset_change_s: -0.015}\n"));
+  try {
+    load("  - {at_s: 10, laser_z_change_m: 0.1}\n");
+    ADD_FAILURE() << "an unknown change key was accepted";
+  } catch (const std::exception& error) {
+    EXPECT_NE(std::string(error.what()).find("laser_z_change_m"), std::string::npos)
+        << error.what();
+  }
   // An unknown robot key, a change out of time order: refused, naming where.
   try {
     load("  - {at_s: 10, robot: {wheel_radius_middle_m: 0.1}}\n");

@@ -266,6 +266,41 @@ TEST(Simulator, ParameterChangesTakeEffectAtTheirTime)
   EXPECT_THROW(simulate(s, room(), *robot, recorder), std::invalid_argument);
 }
 
+TEST(Simulator, LaserShiftsAndClockJumpsTakeEffectAtTheirTime)
+{
+  // Straight ahead for 6 s; at 2 s the laser moves 3 cm forward and 1 cm left, at 4 s it yaws
+  // by 1.5 deg and the encoders' clock jumps 40 ms ahead; the changes add up.
+  Scenario s = smallScenario("diff_drive");
+  s.duration_s = 6.0;
+  s.start_pose = Pose2(-3.0, 0.0, 0.0);
+  s.motion.type = "scripted";
+  s.motion.script = {{6.0, {0.5, 0.0, 0.0}}};
+  s.encoders.time_offset_s = 0.01;
+  const Pose2 mounting = s.laser.T_base_laser;
+  ParameterChange shift, turn;
+  shift.at_s = 2.0;
+  shift.laser_x_change_m = 0.03;
+  shift.laser_y_change_m = 0.01;
+  turn.at_s = 4.0;
+  turn.laser_yaw_change_rad = 1.5 * M_PI / 180.0;
+  turn.time_offset_change_s = 0.04;
+  s.changes = {shift, turn};
+  const auto robot = makeRobot(s.robot);
+  Recorder recorder;
+  simulate(s, room(), *robot, recorder);
+  ASSERT_EQ(recorder.truth.size(), recorder.joints.size());
+  for (std::size_t i = 0; i < recorder.truth.size(); ++i) {
+    const TruthSample& t = recorder.truth[i];
+    const bool shifted = t.stamp_s >= 2.0 - 1e-9, turned = t.stamp_s >= 4.0 - 1e-9;
+    EXPECT_NEAR(t.T_base_laser.x(), mounting.x() + (shifted ? 0.03 : 0.0), 1e-12) << t.stamp_s;
+    EXPECT_NEAR(t.T_base_laser.y(), mounting.y() + (shifted ? 0.01 : 0.0), 1e-12) << t.stamp_s;
+    EXPECT_NEAR(t.T_base_laser.theta(), mounting.theta() + (turned ? 1.5 * M_PI / 180.0 : 0.0),
+                1e-12)
+        << t.stamp_s;
+    EXPECT_NEAR(recorder.joints[i].stamp_s - t.stamp_s, turned ? 0.05 : 0.01, 1e-9) << t.stamp_s;
+  }
+}
+
 TEST(Simulator, RejectsAStartInsideTheFurnitureAndWrongJointNames)
 {
   Scenario s = smallScenario("diff_drive");

@@ -27,6 +27,8 @@ struct PairGeneratorOptions
   double rotation_noise_rad = 0.002;    ///< sigma of the added heading noise [rad]
   unsigned seed = 1;
   /// The true robot or laser changing during the run (Scenario::changes); the truth follows.
+  /// Each pair's truth is taken at its encoder samples' instants, so a time_offset_change_s
+  /// shows in no pair.
   std::vector<ParameterChange> changes;
 };
 

@@ -92,14 +92,22 @@ struct TrackerOptions
   std::string frame_id = "tracker";     ///< header frame of the tracker poses
 };
 
-/// The true robot changing at a given time (issue 18: a worn tyre, a new load, a knocked laser):
-/// from `at_s` on, the robot has these parameters and the laser this extra yaw. The encoders and
-/// the drive carry on; only the physics (and the laser's pose) change.
+/// The true robot changing at a given time (issue 18: a worn tyre, a new load, a knocked laser;
+/// issue 34: a shifted laser, an encoder clock that jumps): from `at_s` on, the robot has these
+/// parameters, the laser's mounting pose in base_link these extra x, y and yaw, and the encoder
+/// stamps this extra offset. The encoders and the drive carry on; only the physics, the laser's
+/// pose and the encoders' clock change. Changes add up (each is relative to the pose and offset
+/// before it).
 struct ParameterChange
 {
   double at_s = 0.0;                               ///< simulated time of the change [s]
   std::map<std::string, double> robot_parameters;  ///< new values of robot keys (makeRobot)
+  double laser_x_change_m = 0.0;                   ///< added to the laser's mounting x [m]
+  double laser_y_change_m = 0.0;                   ///< added to the laser's mounting y [m]
   double laser_yaw_change_rad = 0.0;               ///< added to the laser's mounting yaw [rad]
+  /// Added to encoders.time_offset_s [s]: a negative change makes the encoder stamps jump back,
+  /// so it must be shorter than one encoder period.
+  double time_offset_change_s = 0.0;
 };
 
 /// Everything one simulation run needs.
