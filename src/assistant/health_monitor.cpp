@@ -17,31 +17,36 @@ double siegmundArl0(double k, double h)
   return (std::exp(2.0 * k * b) - 2.0 * k * b - 1.0) / (2.0 * k * k);
 }
 
-/// What a sustained shift of `signal` in direction `up` most likely means, in words.
-std::string shiftWords(HealthSignal signal, bool up)
+/// What a sustained shift of `signal` in direction `up` looks like, in words (the cause is the
+/// attribution's).
+std::string shiftWords(HealthSignal signal, bool up, const std::string& sensor)
 {
+  const std::string left_right = up ? "left" : "right";
   switch (signal) {
     case kTravelSignal:
-      return up ? "travel reads long (the laser sees more distance than the wheels report): the "
-                  "wheel radii (or the traction scale) have grown"
-                : "travel reads short (the laser sees less distance than the wheels report): the "
-                  "wheel radii (or the traction scale) have shrunk";
+      return up ? "travel reads long (the " + sensor + " sees more distance than the wheels report)"
+                : "travel reads short (the " + sensor +
+                      " sees less distance than the wheels report)";
     case kSidewaysSignal:
-      return std::string("the laser sees sideways motion to the ") + (up ? "left" : "right") +
-             " while driving: its mounting yaw has changed";
+      return "the " + sensor + " sees sideways motion to the " + left_right + " while driving";
     case kRotationSignal:
-      return up ? "rotation reads long (the laser sees more turning than the wheels report): "
-                  "wheel separation or a radius has changed"
-                : "rotation reads short (the laser sees less turning than the wheels report): "
-                  "wheel separation or a radius has changed";
+      return up ? "rotation reads long (the " + sensor +
+                      " sees more turning than the wheels report)"
+                : "rotation reads short (the " + sensor +
+                      " sees less turning than the wheels report)";
+    case kHeadingDriftSignal:
+      return "heading drifts to the " + left_right + " on straight runs";
+    case kTurnSidewaysSignal:
+      return "the " + sensor + " sees sideways motion " + (up ? "into" : "out of") +
+             " each turn while turning";
     default:
-      return std::string("heading drifts to the ") + (up ? "left" : "right") +
-             " on straight runs: a wheel radius has changed (" +
-             (up ? "the left one smaller or the right one larger"
-                 : "the right one smaller or the left one larger") +
-             " than calibrated) or the steering offset has";
+      return "the " + sensor + " sees " + (up ? "forward" : "backward") +
+             " motion on left turns and the reverse on right turns";
   }
 }
+
+/// The output (0 x, 1 y, 2 theta) each signal watches.
+constexpr int kSignalOutput[kHealthSignalCount] = {0, 1, 2, 2, 1, 0};
 
 }  // namespace
 
@@ -53,6 +58,11 @@ void validate(const HealthMonitorOptions& options)
     throw std::invalid_argument("health monitor: design_shift_sigma must be in (0, 10]");
   if (options.burn_in_pairs < 10)
     throw std::invalid_argument("health monitor: burn_in_pairs must be >= 10");
+  if (options.chart_burn_in_pairs < 5)
+    throw std::invalid_argument("health monitor: chart_burn_in_pairs must be >= 5");
+  if (options.sensor_name.empty())
+    throw std::invalid_argument("health monitor: sensor_name is empty");
+  validate(options.attribution);
   if (!(options.clip_sigma > options.design_shift_sigma))
     throw std::invalid_argument("health monitor: clip_sigma must exceed design_shift_sigma");
   if (!(options.min_travel_m >= 0.0) || !(options.min_rotation_rad >= 0.0))
@@ -85,11 +95,12 @@ HealthMonitor::HealthMonitor(std::shared_ptr<const MotionModel> model, HealthMon
   k_ = 0.5 * options_.design_shift_sigma;
   // Two one-sided charts per signal share the false alarms (Bonferroni).
   h_ = cusumThreshold(k_, 2.0 * kHealthSignalCount * options_.false_alarm_pairs);
-  const char* names[] = {"travel", "sideways", "rotation", "heading drift"};
-  const char* outputs[] = {"x", "y", "theta", "theta"};
+  const char* names[] = {"travel",        "sideways",      "rotation",
+                         "heading drift", "turn sideways", "turn along"};
+  const char* outputs[] = {"x", "y", "theta"};
   for (int s = 0; s < kHealthSignalCount; ++s) {
     charts_[static_cast<std::size_t>(s)].name = names[s];
-    charts_[static_cast<std::size_t>(s)].output = outputs[s];
+    charts_[static_cast<std::size_t>(s)].output = outputs[kSignalOutput[s]];
   }
 }
 
@@ -115,19 +126,59 @@ bool HealthMonitor::addPair(const MotionPair& pair)
   }
   const Eigen::Vector3d z = residual.cwiseQuotient(sigma);
   ++pairs_;
+  if (!attribution_) {
+    std::vector<std::string> joints = options_.joint_names;
+    for (Eigen::Index j = static_cast<Eigen::Index>(joints.size());
+         joints.empty() && j < pair.encoder_samples.front().values.size(); ++j)
+      joints.push_back(std::to_string(j + 1));
+    attribution_ = std::make_unique<ChangeAttribution>(
+        makeChangeHypotheses(model_, options_.sensor_name, joints), options_.attribution);
+  }
+  if (noise_learnt_) {
+    const Eigen::Matrix3d scale = output_scale_.asDiagonal();
+    attribution_->add(pairs_, pair.encoder_samples, residual, scale * covariance * scale);
+  }
   const bool was_alarm = alarm_;
   const bool travels = std::abs(p.x()) > options_.min_travel_m;
   const bool turns = std::abs(p.theta()) > options_.min_rotation_rad;
+  if (travels || turns)
+    learnNoise(z);
   const double direction = p.x() > 0.0 ? 1.0 : -1.0;
+  const double turn = p.theta() > 0.0 ? 1.0 : -1.0;
   if (travels) {
     feed(kTravelSignal, direction * z(0), pair.end_stamp_s);
     feed(kSidewaysSignal, direction * z(1), pair.end_stamp_s);
     if (!turns)
       feed(kHeadingDriftSignal, direction * z(2), pair.end_stamp_s);
   }
-  if (turns)
-    feed(kRotationSignal, (p.theta() > 0.0 ? 1.0 : -1.0) * z(2), pair.end_stamp_s);
+  if (turns) {
+    feed(kRotationSignal, turn * z(2), pair.end_stamp_s);
+    feed(kTurnSidewaysSignal, turn * z(1), pair.end_stamp_s);
+    feed(kTurnAlongSignal, turn * z(0), pair.end_stamp_s);
+  }
   return alarm_ && !was_alarm;
+}
+
+/// Until burn_in_pairs pairs that move have come: their z per output, then its robust spread.
+void HealthMonitor::learnNoise(const Eigen::Vector3d& z)
+{
+  if (noise_learnt_)
+    return;
+  for (int k = 0; k < 3; ++k)
+    noise_burn_in_[static_cast<std::size_t>(k)].push_back(z(k));
+  if (noise_burn_in_[0].size() < static_cast<std::size_t>(options_.burn_in_pairs))
+    return;
+  for (int k = 0; k < 3; ++k) {
+    std::vector<double>& values = noise_burn_in_[static_cast<std::size_t>(k)];
+    const double centre = median(values);
+    std::vector<double> deviations;
+    for (double v : values)
+      deviations.push_back(std::abs(v - centre));
+    output_scale_(k) = std::max(1.4826 * median(deviations), 1e-6);
+    values.clear();
+    values.shrink_to_fit();
+  }
+  noise_learnt_ = true;
 }
 
 void HealthMonitor::feed(HealthSignal signal, double value, double stamp_s)
@@ -137,15 +188,13 @@ void HealthMonitor::feed(HealthSignal signal, double value, double stamp_s)
   ++chart.count;
   if (!chart.calibrated) {
     burn_in.push_back(value);
-    if (burn_in.size() < static_cast<std::size_t>(options_.burn_in_pairs))
+    if (!noise_learnt_ || burn_in.size() < static_cast<std::size_t>(options_.chart_burn_in_pairs))
       return;
-    // Robust centre and scale (median, 1.4826 MAD) of the burn-in values.
+    // Robust centre of the chart's own values; spread of its output's z (all moving pairs).
     chart.centre = median(burn_in);
-    std::vector<double> deviations;
-    for (double v : burn_in)
-      deviations.push_back(std::abs(v - chart.centre));
-    chart.scale = std::max(1.4826 * median(deviations), 1e-6);
+    chart.scale = output_scale_(kSignalOutput[signal]);
     chart.calibrated = true;
+    chart.upper_zero_at = chart.lower_zero_at = pairs_;
     burn_in.clear();
     burn_in.shrink_to_fit();
     return;
@@ -155,16 +204,21 @@ void HealthMonitor::feed(HealthSignal signal, double value, double stamp_s)
   chart.mean_recent += (z - chart.mean_recent) / 20.0;
   chart.upper = std::max(0.0, chart.upper + z - k_);
   chart.lower = std::max(0.0, chart.lower - z - k_);
+  if (chart.upper == 0.0)
+    chart.upper_zero_at = pairs_;
+  if (chart.lower == 0.0)
+    chart.lower_zero_at = pairs_;
   if (!alarm_ && (chart.upper > h_ || chart.lower > h_)) {
     alarm_ = true;
     alarm_output_ = chart.output;
     alarm_stamp_s_ = stamp_s;
+    const bool up = chart.upper > h_;
+    change_at_ = up ? chart.upper_zero_at : chart.lower_zero_at;
     char where[120];
     std::snprintf(where, sizeof(where),
                   "output %s (%s chart, CUSUM %.1f > %.1f): ", chart.output.c_str(),
                   chart.name.c_str(), std::max(chart.upper, chart.lower), h_);
-    alarm_message_ = where + shiftWords(signal, chart.upper > h_) +
-                     "; the calibration no longer fits the robot: refit (call ~calibrate)";
+    alarm_where_ = where + shiftWords(signal, up, options_.sensor_name);
   }
 }
 
@@ -181,7 +235,9 @@ HealthStatus HealthMonitor::status() const
   status.alarm_output = alarm_output_;
   status.alarm_stamp_s = alarm_stamp_s_;
   if (alarm_) {
-    status.message = alarm_message_;
+    status.cause = attribution_->verdict(change_at_);
+    status.message = alarm_where_ + "; " + status.cause.words +
+                     "; the calibration no longer fits the robot: refit (call ~calibrate)";
   } else {
     const bool calibrated = std::any_of(charts_.begin(), charts_.end(),
                                         [](const HealthChart& c) { return c.calibrated; });

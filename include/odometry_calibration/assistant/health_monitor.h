@@ -1,23 +1,34 @@
 // Health monitor of an active calibration (issue 18): scores each new pair against the model's
 // prediction and raises an alarm when the calibration no longer fits the robot (tyre wear, a new
-// load, a knocked laser).
+// load, a knocked laser), and names what changed (issue 34).
 //
 // Per pair, the residual r = measured - predicted sensor motion is standardised per output by the
 // predictive covariance (model covariance + the pair's own), z_k = r_k / sqrt(S_kk). A
 // calibration error shifts r in a direction that follows the motion (a shrunk wheel shortens the
 // rotation of a left and a right spot turn alike, but with opposite signs of r_theta), so each
 // monitored signal multiplies z by the sign of the predicted motion it scales:
-//   travel:        sign(dx) z_x          (pairs that travel)
-//   sideways:      sign(dx) z_y          (pairs that travel: a yawed laser sees sideways motion)
-//   rotation:      sign(dtheta) z_theta  (pairs that turn)
-//   heading drift: sign(dx) z_theta      (pairs that travel straight: unequal wheel radii)
-// Each signal is then robustly standardised on its first burn_in_pairs values (median and
-// 1.4826 MAD, so a mis-scaled covariance does not matter), clipped, and fed to a two-sided
-// tabular CUSUM (Page 1954; Montgomery, "Introduction to Statistical Quality Control", 9.1):
+//   travel:          sign(dx) z_x          (pairs that travel)
+//   sideways:        sign(dx) z_y          (pairs that travel: a yawed sensor)
+//   rotation:        sign(dtheta) z_theta  (pairs that turn)
+//   heading drift:   sign(dx) z_theta      (pairs that travel straight: unequal wheel radii)
+//   turn sideways:   sign(dtheta) z_y      (pairs that turn: the sensor moved along base x)
+//   turn along:      sign(dtheta) z_x      (pairs that turn: the sensor moved along base y)
+// The monitor first learns the noise on its first burn_in_pairs pairs that move: per output the
+// robust spread of z (1.4826 MAD, so a mis-scaled covariance does not matter); each signal's
+// robust centre (median) once it has chart_burn_in_pairs values (the heading chart, fed only by
+// straight runs, is ready within a minute of driving). Each signal is then standardised,
+// clipped, and fed to a two-sided tabular CUSUM (Page 1954; Montgomery, "Introduction to
+// Statistical Quality Control", 9.1):
 //   U = max(0, U + z - k),  L = max(0, L - z - k),  alarm when U or L exceeds h,
 // with k = delta / 2 for a design shift delta and h chosen so that Siegmund's approximation of
 // the in-control average run length, ARL0 = (exp(2 k b) - 2 k b - 1) / (2 k^2), b = h + 1.166,
-// meets the configured false-alarm rate.
+// meets the configured false-alarm rate. The change point is where the firing side of the chart
+// last stood at zero (the CUSUM's maximum-likelihood estimate); the pairs from there on are
+// regressed on each candidate change (change_attribution.h, change_hypotheses.h) to name the
+// cause, again at every status() while the alarm stands (more pairs, a surer verdict).
+//
+// One monitor watches one ego-motion source (its model and its pairs): a robot with two lasers
+// runs one per laser, named by `sensor_name`.
 #pragma once
 
 #include <array>
@@ -25,6 +36,7 @@
 #include <string>
 #include <vector>
 
+#include "odometry_calibration/assistant/change_attribution.h"
 #include "odometry_calibration/data/motion_pair.h"
 #include "odometry_calibration/models/model.h"
 
@@ -36,11 +48,15 @@ struct HealthMonitorOptions
   /// Mean number of scored pairs between false alarms, over all signals together [pairs]
   /// (at 2 pairs/s, 1e6 pairs is about 140 h of driving).
   double false_alarm_pairs = 1e6;
-  double design_shift_sigma = 1.0;  ///< shift the CUSUM is tuned for, delta [sigma]; k = delta/2
-  int burn_in_pairs = 100;          ///< per signal: values for its robust centre and scale
-  double clip_sigma = 4.0;          ///< standardised values are clipped to +-this [sigma]
-  double min_travel_m = 0.02;       ///< a pair "travels" beyond this predicted |x| [m]
-  double min_rotation_rad = 0.02;   ///< a pair "turns" beyond this predicted |theta| [rad]
+  double design_shift_sigma = 1.0;    ///< shift the CUSUM is tuned for, delta [sigma]; k = delta/2
+  int burn_in_pairs = 100;            ///< pairs that move, for each output's robust spread
+  int chart_burn_in_pairs = 20;       ///< per signal: values for its robust centre
+  double clip_sigma = 4.0;            ///< standardised values are clipped to +-this [sigma]
+  double min_travel_m = 0.02;         ///< a pair "travels" beyond this predicted |x| [m]
+  double min_rotation_rad = 0.02;     ///< a pair "turns" beyond this predicted |theta| [rad]
+  std::string sensor_name = "laser";  ///< the ego-motion source, in the causes' names
+  std::vector<std::string> joint_names;  ///< encoder joints in sample order (causes; may be empty)
+  ChangeAttributionOptions attribution;  ///< naming the cause
 };
 
 /// Throws std::invalid_argument naming the first invalid option.
@@ -57,21 +73,26 @@ enum HealthSignal
   kSidewaysSignal,
   kRotationSignal,
   kHeadingDriftSignal,
+  kTurnSidewaysSignal,
+  kTurnAlongSignal,
   kHealthSignalCount
 };
 
 /// One signal's state.
 struct HealthChart
 {
-  std::string name;          ///< "travel", "sideways", "rotation", "heading drift"
-  std::string output;        ///< the output it watches: "x", "y" or "theta"
-  std::size_t count = 0;     ///< pairs that fed it
-  bool calibrated = false;   ///< burn-in done
-  double centre = 0.0;       ///< robust centre of the burn-in values [sigma]
-  double scale = 1.0;        ///< robust spread of the burn-in values [sigma]
-  double upper = 0.0;        ///< CUSUM of upward shifts, U
-  double lower = 0.0;        ///< CUSUM of downward shifts, L
-  double mean_recent = 0.0;  ///< exponential mean of the standardised values (20 pairs)
+  /// "travel", "sideways", "rotation", "heading drift", "turn sideways", "turn along"
+  std::string name;
+  std::string output;             ///< the output it watches: "x", "y" or "theta"
+  std::size_t count = 0;          ///< pairs that fed it
+  bool calibrated = false;        ///< burn-in done
+  double centre = 0.0;            ///< robust centre of the burn-in values [sigma]
+  double scale = 1.0;             ///< robust spread of the burn-in values [sigma]
+  double upper = 0.0;             ///< CUSUM of upward shifts, U
+  double lower = 0.0;             ///< CUSUM of downward shifts, L
+  double mean_recent = 0.0;       ///< exponential mean of the standardised values (20 pairs)
+  std::size_t upper_zero_at = 0;  ///< pairs scored when U last stood at 0
+  std::size_t lower_zero_at = 0;  ///< pairs scored when L last stood at 0
 };
 
 /// The monitor's verdict at one moment.
@@ -86,7 +107,9 @@ struct HealthStatus
   std::vector<HealthChart> charts;
   std::string alarm_output;    ///< "x", "y" or "theta" of the chart that fired
   double alarm_stamp_s = 0.0;  ///< end stamp of the pair that raised the alarm [s]
-  /// In words: "ok" or what drifted, the likely cause and "refit (call ~calibrate)".
+  /// With the alarm: what changed, from the pairs since the change point (now).
+  ChangeVerdict cause;
+  /// In words: "ok" or what drifted, the cause and "refit (call ~calibrate)".
   std::string message;
 };
 
@@ -104,6 +127,7 @@ public:
   std::size_t skipped() const { return skipped_; }
 
 private:
+  void learnNoise(const Eigen::Vector3d& z);
   void feed(HealthSignal signal, double value, double stamp_s);
 
   std::shared_ptr<const MotionModel> model_;
@@ -111,9 +135,14 @@ private:
   double k_ = 0.5, h_ = 0.0;
   std::array<HealthChart, kHealthSignalCount> charts_;
   std::array<std::vector<double>, kHealthSignalCount> burn_in_;
+  std::array<std::vector<double>, 3> noise_burn_in_;  ///< z per output of pairs that move
+  bool noise_learnt_ = false;
+  Eigen::Vector3d output_scale_ = Eigen::Vector3d::Ones();  ///< robust spread of z per output
+  std::unique_ptr<ChangeAttribution> attribution_;          ///< made on the first pair
   std::size_t pairs_ = 0, skipped_ = 0;
   bool alarm_ = false;
-  std::string alarm_message_, alarm_output_;
+  std::string alarm_where_, alarm_output_;
+  std::size_t change_at_ = 0;  ///< pairs scored before the estimated change point
   double alarm_stamp_s_ = 0.0;
 };
 

@@ -56,6 +56,7 @@ public:
   /// (r_L, r_R, b) [m].
   const Eigen::Vector3d& intrinsics() const { return state_.intrinsics; }
   const Pose2& T_base_sensor() const { return state_.T_base_sensor; }
+  const DiffDriveOptions& options() const { return options_; }  ///< its joints, start values
   /// Covariance of (r_L, r_R, b, x, y, theta); zero until a fit succeeds.
   const Eigen::Matrix<double, 6, 6>& covariance() const { return state_.covariance; }
 

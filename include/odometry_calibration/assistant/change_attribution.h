@@ -1,0 +1,94 @@
+// Which change explains a stale calibration's residuals (issue 34): a weighted least-squares
+// regression of the pairs' residuals on each candidate change's sensitivity
+// (change_hypotheses.h), and a likelihood comparison of the candidates.
+//
+// Over the pairs i after the change point, with residual r_i, covariance S_i and sensitivity
+// column J_ic of candidate c (r_i = J_ic delta_c + noise if c alone changed by delta_c):
+//   g_c = sum_i w_i J_ic^T S_i^-1 r_i,   H_c = sum_i w_i J_ic^T S_i^-1 J_ic,
+//   delta_c = g_c / H_c,  sigma_c = 1 / sqrt(H_c),  X_c = g_c^2 / H_c,
+// X_c being how much the candidate lowers the residuals' chi-square (twice the log-likelihood
+// ratio of "c changed by delta_c" against "nothing changed"; chi-square with one degree of
+// freedom when nothing changed). Every candidate has one parameter, so the candidates compare by
+// X alone: c beats c' by the likelihood ratio exp((X_c - X_c') / 2). w_i is a Huber weight
+// (min(1, k / |S_i^-1/2 r_i|)), so a failed scan match cannot decide. The verdict names
+//   the kind (wheel or mounting) when the best of one kind beats the best of the other by the
+//     decisive likelihood ratio (default 100: X apart by 2 ln 100 = 9.2),
+//   the quantity when the best candidate beats every other one of its kind by that ratio,
+// and says "cannot tell" otherwise; nothing is named unless the best X exceeds the chi-square
+// significance threshold (default 10.8: p = 0.001 with no change).
+#pragma once
+
+#include <cstddef>
+#include <deque>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "odometry_calibration/assistant/change_hypotheses.h"
+
+namespace odometry_calibration {
+
+struct ChangeAttributionOptions
+{
+  double decisive_likelihood_ratio = 100.0;  ///< a candidate is told apart beyond this
+  double significance_chi2 = 10.83;          ///< best X needed to name anything (p = 0.001)
+  double huber_sigma = 6.0;                  ///< whitened residual norm where weights fall
+  std::size_t max_pairs = 2400;              ///< pairs kept for a change point in the past
+};
+
+/// Throws std::invalid_argument naming the first invalid option.
+void validate(const ChangeAttributionOptions& options);
+
+/// One candidate's fit to the residuals.
+struct ChangeCandidate
+{
+  ChangeHypothesis hypothesis;
+  double estimate = 0.0;  ///< delta_c in the hypothesis' unit
+  double sigma = 0.0;     ///< its standard deviation [unit]
+  double chi2 = 0.0;      ///< X_c
+};
+
+/// What the residuals say changed.
+struct ChangeVerdict
+{
+  std::size_t pairs = 0;                    ///< pairs regressed
+  std::vector<ChangeCandidate> candidates;  ///< best first (largest X)
+  bool significant = false;                 ///< the best X beyond the significance threshold
+  bool kind_told = false;                   ///< wheel vs mounting decided
+  ChangeKind kind = ChangeKind::kWheel;     ///< valid when kind_told
+  bool quantity_told = false;               ///< the best candidate decided within its kind
+  /// In words, e.g. "cause: the right wheel radius has changed (+2.0 +- 0.1 %)".
+  std::string words;
+};
+
+/// Accumulates pairs and regresses them. Not thread-safe.
+class ChangeAttribution
+{
+public:
+  /// Throws std::invalid_argument for null hypotheses or invalid options.
+  ChangeAttribution(std::unique_ptr<ChangeHypotheses> hypotheses,
+                    ChangeAttributionOptions options = {});
+
+  /// Adds pair number `index` (increasing) with its residual and covariance; false when its
+  /// sensitivity cannot be computed (the pair is left out).
+  bool add(std::size_t index, const std::vector<EncoderSample>& samples,
+           const Eigen::Vector3d& residual, const Eigen::Matrix3d& covariance);
+  /// The verdict over the kept pairs with index > `after_index`.
+  ChangeVerdict verdict(std::size_t after_index) const;
+  const ChangeHypotheses& hypotheses() const { return *hypotheses_; }
+
+private:
+  struct Entry
+  {
+    std::size_t index;
+    Eigen::VectorXd gradient;  ///< w J^T S^-1 r
+    Eigen::VectorXd diagonal;  ///< w diag(J^T S^-1 J)
+  };
+  std::unique_ptr<ChangeHypotheses> hypotheses_;
+  ChangeAttributionOptions options_;
+  std::deque<Entry> entries_;
+};
+
+}  // namespace odometry_calibration
