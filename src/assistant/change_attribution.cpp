@@ -7,9 +7,13 @@
 #include <utility>
 
 #include <Eigen/Cholesky>
+#include <Eigen/QR>
 
 namespace odometry_calibration {
 namespace {
+
+constexpr std::size_t kMinBaselinePairs = 50;  // pairs before the search for delta_0
+constexpr std::size_t kMinChangePairs = 3;     // pairs after a change point
 
 /// "+2.03 +- 0.11 %"
 std::string valueWords(const ChangeCandidate& candidate)
@@ -80,6 +84,8 @@ void validate(const ChangeAttributionOptions& options)
     throw std::invalid_argument("change attribution: huber_sigma must be > 0");
   if (options.max_pairs < 10)
     throw std::invalid_argument("change attribution: max_pairs must be >= 10");
+  if (options.slack_pairs > options.max_pairs)
+    throw std::invalid_argument("change attribution: slack_pairs must be <= max_pairs");
 }
 
 ChangeAttribution::ChangeAttribution(std::unique_ptr<ChangeHypotheses> hypotheses,
@@ -109,41 +115,73 @@ bool ChangeAttribution::add(std::size_t index, const std::vector<EncoderSample>&
   const double norm = whitened_residual.norm();
   const double weight = norm > options_.huber_sigma ? options_.huber_sigma / norm : 1.0;
   entries_.push_back({index, weight * whitened_jacobian.transpose() * whitened_residual,
-                      weight * whitened_jacobian.colwise().squaredNorm().transpose()});
+                      weight * whitened_jacobian.transpose() * whitened_jacobian});
   while (entries_.size() > options_.max_pairs)
     entries_.pop_front();
   return true;
 }
 
-ChangeVerdict ChangeAttribution::verdict(std::size_t after_index) const
+Eigen::VectorXd ChangeAttribution::baseline(std::size_t last_index) const
 {
-  const std::vector<ChangeHypothesis>& hypotheses = hypotheses_->hypotheses();
-  const auto n = static_cast<Eigen::Index>(hypotheses.size());
-  Eigen::VectorXd gradient = Eigen::VectorXd::Zero(n), information = Eigen::VectorXd::Zero(n);
-  ChangeVerdict verdict;
+  const auto n = static_cast<Eigen::Index>(hypotheses_->hypotheses().size());
+  Eigen::VectorXd gradient = Eigen::VectorXd::Zero(n);
+  Eigen::MatrixXd information = Eigen::MatrixXd::Zero(n, n);
+  std::size_t count = 0;
   for (const Entry& entry : entries_) {
-    if (entry.index <= after_index)
-      continue;
+    if (entry.index > last_index)
+      break;
     gradient += entry.gradient;
-    information += entry.diagonal;
-    ++verdict.pairs;
+    information += entry.information;
+    ++count;
   }
-  for (Eigen::Index c = 0; c < n; ++c) {
-    ChangeCandidate candidate;
-    candidate.hypothesis = hypotheses[static_cast<std::size_t>(c)];
-    if (information(c) > 0.0) {
-      candidate.estimate = gradient(c) / information(c);
-      candidate.sigma = 1.0 / std::sqrt(information(c));
-      candidate.chi2 = gradient(c) * gradient(c) / information(c);
+  if (count < kMinBaselinePairs)
+    return Eigen::VectorXd::Zero(n);
+  // Least squares; a direction the drive did not excite gets no baseline.
+  return information.completeOrthogonalDecomposition().solve(gradient);
+}
+
+ChangeCandidate ChangeAttribution::bestChange(Eigen::Index c, std::size_t start_index,
+                                              const Eigen::VectorXd& delta_0) const
+{
+  ChangeCandidate best;
+  best.hypothesis = hypotheses_->hypotheses()[static_cast<std::size_t>(c)];
+  double gradient = 0.0, information = 0.0;
+  std::size_t count = 0;
+  // From the newest pair back: each prefix is "the change came before this pair".
+  for (auto entry = entries_.rbegin(); entry != entries_.rend() && entry->index > start_index;
+       ++entry) {
+    gradient += entry->gradient(c) - entry->information.row(c).dot(delta_0);
+    information += entry->information(c, c);
+    ++count;
+    if (count < kMinChangePairs || !(information > 0.0))
+      continue;
+    const double chi2 = gradient * gradient / information;
+    if (chi2 > best.chi2 && std::abs(gradient / information) <= best.hypothesis.plausible) {
+      best.chi2 = chi2;
+      best.estimate = gradient / information;
+      best.sigma = 1.0 / std::sqrt(information);
+      best.pairs = count;
     }
-    verdict.candidates.push_back(candidate);
   }
+  return best;
+}
+
+ChangeVerdict ChangeAttribution::verdict(std::size_t change_index) const
+{
+  const auto n = static_cast<Eigen::Index>(hypotheses_->hypotheses().size());
+  const std::size_t start_index =
+      change_index > options_.slack_pairs ? change_index - options_.slack_pairs : 0;
+  const Eigen::VectorXd delta_0 = baseline(start_index);
+  ChangeVerdict verdict;
+  for (Eigen::Index c = 0; c < n; ++c)
+    verdict.candidates.push_back(bestChange(c, start_index, delta_0));
   std::stable_sort(
       verdict.candidates.begin(), verdict.candidates.end(),
       [](const ChangeCandidate& a, const ChangeCandidate& b) { return a.chi2 > b.chi2; });
   const double margin = 2.0 * std::log(options_.decisive_likelihood_ratio);
   const ChangeCandidate* wheel = bestOfKind(verdict.candidates, ChangeKind::kWheel);
   const ChangeCandidate* mounting = bestOfKind(verdict.candidates, ChangeKind::kMounting);
+  verdict.pairs = verdict.candidates.empty() ? 0 : verdict.candidates.front().pairs;
   verdict.significant =
       !verdict.candidates.empty() && verdict.candidates.front().chi2 > options_.significance_chi2;
   if (verdict.significant) {

@@ -43,9 +43,9 @@ Eigen::MatrixXd centralDifferences(const std::function<Pose2(const Eigen::Vector
 std::vector<ChangeHypothesis> mountingHypotheses(const std::string& sensor,
                                                  const std::string& frame)
 {
-  return {{sensor + " mounting x" + frame, ChangeKind::kMounting, "cm"},
-          {sensor + " mounting y" + frame, ChangeKind::kMounting, "cm"},
-          {sensor + " mounting yaw", ChangeKind::kMounting, "deg"}};
+  return {{sensor + " mounting x" + frame, ChangeKind::kMounting, "cm", 20.0},
+          {sensor + " mounting y" + frame, ChangeKind::kMounting, "cm", 20.0},
+          {sensor + " mounting yaw", ChangeKind::kMounting, "deg", 20.0}};
 }
 
 /// A differential drive (or a skid-steer's two averaged sides): r_L, r_R, b relative, the
@@ -63,9 +63,9 @@ public:
         layout_(layout),
         prepare_(std::move(prepare))
   {
-    hypotheses_ = {{"left " + wheel_words + " radius", ChangeKind::kWheel, "%"},
-                   {"right " + wheel_words + " radius", ChangeKind::kWheel, "%"},
-                   {"wheel separation", ChangeKind::kWheel, "%"}};
+    hypotheses_ = {{"left " + wheel_words + " radius", ChangeKind::kWheel, "%", 20.0},
+                   {"right " + wheel_words + " radius", ChangeKind::kWheel, "%", 20.0},
+                   {"wheel separation", ChangeKind::kWheel, "%", 20.0}};
     for (ChangeHypothesis& h : mountingHypotheses(sensor, ""))
       hypotheses_.push_back(std::move(h));
   }
@@ -111,7 +111,7 @@ public:
       : model_(std::move(model))
   {
     for (const std::string& joint : joint_names)
-      hypotheses_.push_back({"joint " + joint + " travel", ChangeKind::kWheel, "%"});
+      hypotheses_.push_back({"joint " + joint + " travel", ChangeKind::kWheel, "%", 20.0});
     joints_ = static_cast<Eigen::Index>(joint_names.size());
     for (ChangeHypothesis& h : mountingHypotheses(sensor, " (in its own frame)"))
       hypotheses_.push_back(std::move(h));

@@ -186,21 +186,38 @@ void HealthMonitor::feed(HealthSignal signal, double value, double stamp_s)
   HealthChart& chart = charts_[static_cast<std::size_t>(signal)];
   std::vector<double>& burn_in = burn_in_[static_cast<std::size_t>(signal)];
   ++chart.count;
+  const double clip = options_.clip_sigma;
   if (!chart.calibrated) {
     burn_in.push_back(value);
-    if (!noise_learnt_ || burn_in.size() < static_cast<std::size_t>(options_.chart_burn_in_pairs))
+    if (!noise_learnt_)
       return;
-    // Robust centre of the chart's own values; spread of its output's z (all moving pairs).
-    chart.centre = median(burn_in);
+    // Ready with the noise: its output's spread (all moving pairs); the values so far start the
+    // running centre.
     chart.scale = output_scale_(kSignalOutput[signal]);
+    for (double v : burn_in) {
+      chart.centre_sum += std::clamp(v / chart.scale, -clip, clip);
+      ++chart.centre_count;
+    }
     chart.calibrated = true;
     chart.upper_zero_at = chart.lower_zero_at = pairs_;
     burn_in.clear();
     burn_in.shrink_to_fit();
     return;
   }
+  // Self-starting centre (Hawkins 1987): the mean of the chart's earlier values, shrunk towards
+  // 0 as if chart_burn_in_pairs more values had read 0 (a calibration fits its own robot without
+  // bias); the difference's spread grows by its uncertainty, sqrt(1 + n / (n + n0)^2).
+  const double n = static_cast<double>(chart.centre_count);
+  const double n0 = options_.chart_burn_in_pairs;
+  const double centre = chart.centre_sum / (n + n0);
+  chart.centre = centre * chart.scale;
+  const double standardised = std::clamp(value / chart.scale, -clip, clip);
   const double z =
-      std::clamp((value - chart.centre) / chart.scale, -options_.clip_sigma, options_.clip_sigma);
+      std::clamp((standardised - centre) / std::sqrt(1.0 + n / ((n + n0) * (n + n0))), -clip, clip);
+  if (!alarm_) {
+    chart.centre_sum += standardised;
+    ++chart.centre_count;
+  }
   chart.mean_recent += (z - chart.mean_recent) / 20.0;
   chart.upper = std::max(0.0, chart.upper + z - k_);
   chart.lower = std::max(0.0, chart.lower - z - k_);

@@ -2,7 +2,8 @@
 // without it): pairs collected as calibrate_bag does (config/mines.yaml), diff_drive fitted on
 // the first half, the monitor's noise learnt on those pairs, then the second half scored, once
 // unchanged and once with the right wheel's ticks scaled by 1.01 from the midpoint on (as if
-// its radius had shrunk by 1 %). Measures the detection delay (docs/live_assistant.md).
+// its radius had shrunk by 1 %). Measures the detection delay and the named cause
+// (docs/live_assistant.md).
 #include <cmath>
 #include <cstdio>
 
@@ -49,6 +50,7 @@ std::vector<MotionPair> collectPairs(const CalibrationConfig& config,
 struct Outcome
 {
   bool alarm = false;
+  ChangeVerdict cause;   ///< at the alarm
   double delay_s = 0.0;  ///< after the midpoint
   std::string message;
   double statistic = 0.0;
@@ -80,6 +82,7 @@ Outcome monitorSecondHalf(const CalibrationConfig& config, const std::vector<Mot
   }
   const HealthStatus status = monitor.status();
   outcome.message = status.message;
+  outcome.cause = status.cause;
   outcome.statistic = status.statistic;
   outcome.scored = status.pairs - before;
   return outcome;
@@ -104,7 +107,10 @@ TEST(HealthMonitorMines, InjectedRightWheelChangeIsDetectedAndTheUnchangedLogIsQ
   // With the sweep compensated by the encoders' motion over each sweep (the default), the
   // scans themselves carry part of a tick change, and within the 37 s half only a 5 % change
   // raises the alarm; with compensate_sweep off the laser is independent of the encoders and
-  // 1 % is found (docs/live_assistant.md: an open finding).
+  // 2 % is found (docs/live_assistant.md: an open finding). 1 % was found too, after 20 s,
+  // while each chart's centre was a median of its first 20 in-sample values; the self-starting
+  // centre (issue 34: fixed 20-value centres raised false alarms on 2 of 5 unchanged simulated
+  // drives) leaves it at a statistic of 0.54 by the log's end.
   for (const double scale : {1.01, 1.05}) {
     const Outcome changed =
         monitorSecondHalf(config, collectPairs(config, records, midpoint_s, scale), midpoint_s);
@@ -113,17 +119,28 @@ TEST(HealthMonitorMines, InjectedRightWheelChangeIsDetectedAndTheUnchangedLogIsQ
                 changed.delay_s, changed.message.c_str());
     if (scale > 1.02) {
       EXPECT_TRUE(changed.alarm) << changed.message;
+      // A wheel's ticks: never named a mounting change (which radius is not asserted: the
+      // along-track residual that tells left from right is weak on this log).
+      EXPECT_FALSE(changed.cause.kind_told && changed.cause.kind == ChangeKind::kMounting)
+          << changed.message;
     }
   }
   CalibrationConfig uncompensated = config;
   uncompensated.collector.compensate_sweep = false;
-  const Outcome independent = monitorSecondHalf(
-      uncompensated, collectPairs(uncompensated, records, midpoint_s, 1.01), midpoint_s);
-  std::printf("Mines, sweep not compensated, right wheel ticks x1.01: alarm %s after %.1f s: %s\n",
-              independent.alarm ? "raised" : "NOT raised", independent.delay_s,
-              independent.message.c_str());
-  EXPECT_TRUE(independent.alarm) << independent.message;
-  EXPECT_LT(independent.delay_s, 30.0);
+  for (const double scale : {1.01, 1.02}) {
+    const Outcome independent = monitorSecondHalf(
+        uncompensated, collectPairs(uncompensated, records, midpoint_s, scale), midpoint_s);
+    std::printf(
+        "Mines, sweep not compensated, right wheel ticks x%.2f: alarm %s after %.1f s: %s\n", scale,
+        independent.alarm ? "raised" : "NOT raised", independent.delay_s,
+        independent.message.c_str());
+    if (scale > 1.015) {
+      EXPECT_TRUE(independent.alarm) << independent.message;
+      EXPECT_LT(independent.delay_s, 30.0);
+      EXPECT_FALSE(independent.cause.kind_told && independent.cause.kind == ChangeKind::kMounting)
+          << independent.message;
+    }
+  }
 }
 
 }  // namespace

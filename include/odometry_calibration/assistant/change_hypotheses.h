@@ -42,6 +42,9 @@ struct ChangeHypothesis
   std::string name;  ///< e.g. "right wheel radius", "laser mounting yaw"
   ChangeKind kind = ChangeKind::kWheel;
   std::string unit;  ///< unit of its sensitivity's parameter: "%", "cm" or "deg"
+  /// Largest change considered [unit]: wear and knocks, not another robot (and the first-order
+  /// sensitivity holds); a change point whose estimate lies beyond is not this change.
+  double plausible = 20.0;
 };
 
 /// The candidate changes of one model and sensor, and their sensitivities per pair.

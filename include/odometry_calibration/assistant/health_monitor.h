@@ -14,11 +14,17 @@
 //   turn sideways:   sign(dtheta) z_y      (pairs that turn: the sensor moved along base x)
 //   turn along:      sign(dtheta) z_x      (pairs that turn: the sensor moved along base y)
 // The monitor first learns the noise on its first burn_in_pairs pairs that move: per output the
-// robust spread of z (1.4826 MAD, so a mis-scaled covariance does not matter); each signal's
-// robust centre (median) once it has chart_burn_in_pairs values (the heading chart, fed only by
-// straight runs, is ready within a minute of driving). Each signal is then standardised,
-// clipped, and fed to a two-sided tabular CUSUM (Page 1954; Montgomery, "Introduction to
-// Statistical Quality Control", 9.1):
+// robust spread of z (1.4826 MAD, so a mis-scaled covariance does not matter), which every
+// signal of that output uses, so that all charts are ready together (the heading chart, fed
+// only by straight runs, used to wait for 100 values of its own: minutes). A signal's centre is
+// self-starting (Hawkins, "Self-starting CUSUM charts for location and scale", The
+// Statistician 1987): the mean of all its earlier values (clipped), shrunk towards 0 as if
+// chart_burn_in_pairs more had read 0 (a calibration fits its own robot without bias), each
+// new value's difference from it scaled by its spread sqrt(1 + n / (n + n0)^2); a centre fixed
+// from a few dozen burn-in values would be off by a quarter sigma, enough to drift a CUSUM into
+// a false alarm within minutes. The centre stops learning at the alarm. Each signal is then
+// standardised, clipped, and fed to a two-sided tabular CUSUM (Page 1954; Montgomery,
+// "Introduction to Statistical Quality Control", 9.1):
 //   U = max(0, U + z - k),  L = max(0, L - z - k),  alarm when U or L exceeds h,
 // with k = delta / 2 for a design shift delta and h chosen so that Siegmund's approximation of
 // the in-control average run length, ARL0 = (exp(2 k b) - 2 k b - 1) / (2 k^2), b = h + 1.166,
@@ -91,6 +97,8 @@ struct HealthChart
   double upper = 0.0;             ///< CUSUM of upward shifts, U
   double lower = 0.0;             ///< CUSUM of downward shifts, L
   double mean_recent = 0.0;       ///< exponential mean of the standardised values (20 pairs)
+  double centre_sum = 0.0;        ///< sum of its clipped standardised values (the centre)
+  std::size_t centre_count = 0;   ///< values in centre_sum
   std::size_t upper_zero_at = 0;  ///< pairs scored when U last stood at 0
   std::size_t lower_zero_at = 0;  ///< pairs scored when L last stood at 0
 };
