@@ -38,8 +38,18 @@ void SessionAssistant::addPair(const MotionPair& pair)
 {
   if (guidance_)
     guidance_->addPair(pair);
-  if (health_monitor_ && health_monitor_->addPair(pair) && log_)
-    log_(SessionLogLevel::kWarn, "calibration health: " + health_monitor_->status().message);
+  if (!health_monitor_)
+    return;
+  const bool raised = health_monitor_->addPair(pair);
+  if (!raised && (!health_monitor_->status().alarm || health_cause_told_))
+    return;
+  // The alarm, and once more when more pairs have told what changed (the cause is recomputed
+  // from every pair since the change).
+  const HealthStatus health = health_monitor_->status();
+  const bool told = health.cause.quantity_told;
+  if ((raised || told) && log_)
+    log_(SessionLogLevel::kWarn, "calibration health: " + health.message);
+  health_cause_told_ = told;
 }
 
 void SessionAssistant::watch(const std::shared_ptr<const MotionModel>& model,
@@ -49,6 +59,7 @@ void SessionAssistant::watch(const std::shared_ptr<const MotionModel>& model,
     return;
   health_monitor_ = std::make_unique<HealthMonitor>(model, options_.health_options);
   health_model_origin_ = origin;
+  health_cause_told_ = false;
 }
 
 void SessionAssistant::recentre(const std::string& model, const ModelReport& report,

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include "odometry_calibration/models/linear_model.h"
 #include "support/health_change_run.h"
 
 namespace odometry_calibration {
@@ -74,6 +75,54 @@ TEST(HealthMonitorChanges, UnchangedTwinsNeverWarnAndTheHeadingChartIsReadyWithi
         "unchanged, seed %u: statistic %.2f after 476 s; heading chart ready %.1f s "
         "after the fit\n",
         seed, result.statistic, result.heading_ready_s);
+  }
+}
+
+TEST(HealthMonitorChanges, AnotherModelIsWatchedWithJointTravelAndMountingCandidates)
+{
+  // The linear model (no kinematics to differentiate): each joint's travel through its own
+  // prediction, and the laser moved in its own frame. Its predictions are less sharp than the
+  // kinematic model's (a wider covariance): the changes are given 120 s.
+  const std::vector<std::pair<Change, std::string>> cases = {
+      {Change::kRightRadius, "joint "}, {Change::kLaserYaw, "laser mounting yaw"}};
+  for (const auto& [change, name] : cases) {
+    health_runs::RunOptions run;
+    run.change = change;
+    run.seed = 11;
+    const sim::GeneratedPairs data = sim::generatePairs(health_runs::pairOptions(run));
+    LinearModelOptions linear;
+    linear.joints = data.joints;
+    auto model = std::make_shared<LinearModel>(linear);
+    std::vector<MotionPair> calibration;
+    for (const MotionPair& pair : data.pairs) {
+      if (pair.end_stamp_s <= run.fit_at_s)
+        calibration.push_back(pair);
+    }
+    model->fit(calibration);
+    HealthMonitorOptions options;
+    options.joint_names = data.joints.names;
+    HealthMonitor monitor(model, options);
+    double alarm_s = -1.0;
+    for (const MotionPair& pair : data.pairs) {
+      if (pair.start_stamp_s < run.fit_at_s || pair.end_stamp_s > run.change_at_s + 120.0)
+        continue;
+      if (monitor.addPair(pair))
+        alarm_s = pair.end_stamp_s;
+    }
+    const HealthStatus status = monitor.status();
+    const std::string what = health_runs::changeName(change);
+    ASSERT_TRUE(status.alarm) << what;
+    EXPECT_GE(alarm_s, run.change_at_s) << what << ": " << status.message;
+    ASSERT_TRUE(status.cause.kind_told) << what << ": " << status.message;
+    EXPECT_EQ(status.cause.kind, health_runs::expectedKind(change)) << status.message;
+    ASSERT_TRUE(status.cause.quantity_told) << what << ": " << status.message;
+    const std::string named = status.cause.candidates.front().hypothesis.name;
+    EXPECT_EQ(named.rfind(name, 0), 0u) << status.message;
+    if (change == Change::kRightRadius) {
+      EXPECT_EQ(named, "joint " + data.joints.names[1] + " travel") << status.message;
+    }
+    std::printf("linear model, %s: alarm %.1f s after the change: %s\n", what.c_str(),
+                alarm_s - run.change_at_s, status.message.c_str());
   }
 }
 

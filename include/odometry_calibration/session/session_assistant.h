@@ -72,6 +72,7 @@ private:
   ModelFactoryOptions guidance_factory_;  ///< its options (joints resolved)
   std::unique_ptr<HealthMonitor> health_monitor_;
   std::string health_model_origin_;  ///< what the monitor watches
+  bool health_cause_told_ = false;   ///< the alarm's cause was logged with its quantity
 };
 
 }  // namespace odometry_calibration
