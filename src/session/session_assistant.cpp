@@ -10,6 +10,16 @@ SessionAssistant::SessionAssistant(const SessionAssistantOptions& options,
                                    const std::string& config_source, SessionLog log)
     : options_(options), log_(std::move(log))
 {
+  // The monitor names its candidate causes by the config's joints and ego-motion sensor.
+  HealthMonitorOptions& health = options_.health_options;
+  if (health.joint_names.empty()) {
+    for (const JointConfig& joint : config.joints)
+      health.joint_names.push_back(joint.name);
+  }
+  if (config.ego_motion == EgoMotionSource::kCloud)
+    health.sensor_name = "lidar";
+  else if (config.ego_motion != EgoMotionSource::kScan)
+    health.sensor_name = "ego-motion sensor";
   if (!options_.guidance)
     return;
   // The fitted model's guidance, or the prior model's when the fitted one has none (gp).
