@@ -109,8 +109,8 @@ TEST(HealthMonitorMines, InjectedRightWheelChangeIsDetectedAndTheUnchangedLogIsQ
   // raises the alarm; with compensate_sweep off the laser is independent of the encoders and
   // 2 % is found (docs/live_assistant.md: an open finding). 1 % was found too, after 20 s,
   // while each chart's centre was a median of its first 20 in-sample values; the self-starting
-  // centre (issue 34: fixed 20-value centres raised false alarms on 2 of 5 unchanged simulated
-  // drives) leaves it at a statistic of 0.54 by the log's end.
+  // centre (issue 34: a centre fixed from 20 values is off by 0.28 sigma, a drift towards false
+  // alarms) leaves it at a statistic of 0.54 by the log's end.
   for (const double scale : {1.01, 1.05}) {
     const Outcome changed =
         monitorSecondHalf(config, collectPairs(config, records, midpoint_s, scale), midpoint_s);
