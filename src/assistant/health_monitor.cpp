@@ -127,9 +127,9 @@ bool HealthMonitor::addPair(const MotionPair& pair)
   const Eigen::Vector3d z = residual.cwiseQuotient(sigma);
   ++pairs_;
   if (!attribution_) {
-    std::vector<std::string> joints = options_.joint_names;
-    for (Eigen::Index j = static_cast<Eigen::Index>(joints.size());
-         joints.empty() && j < pair.encoder_samples.front().values.size(); ++j)
+    std::vector<std::string> joints = options_.joint_names;  // none given: "1", "2", ...
+    for (Eigen::Index j = 0;
+         options_.joint_names.empty() && j < pair.encoder_samples.front().values.size(); ++j)
       joints.push_back(std::to_string(j + 1));
     attribution_ = std::make_unique<ChangeAttribution>(
         makeChangeHypotheses(model_, options_.sensor_name, joints), options_.attribution);
