@@ -122,13 +122,19 @@ public:
     if (samples.size() < 2 || samples.front().values.size() < joints_)
       throw std::invalid_argument("change hypotheses: a pair lacks samples or joints");
     const Eigen::VectorXd start = samples.front().values;
+    // The model's prediction (a GP's may be costly) only with a joint scaled: the mounting
+    // columns move the unchanged prediction (2 joints + 1 predictions per pair, not 2 (n + 3)).
+    const Pose2 unchanged = model_->predict(samples).mean;
     auto predict = [&](const Eigen::VectorXd& delta) {
-      std::vector<EncoderSample> scaled = samples;
-      for (EncoderSample& sample : scaled) {
-        for (Eigen::Index j = 0; j < joints_; ++j)
-          sample.values(j) = start(j) + (1.0 + delta(j)) * (sample.values(j) - start(j));
+      Pose2 s = unchanged;
+      if (!delta.head(joints_).isZero(0.0)) {
+        std::vector<EncoderSample> scaled = samples;
+        for (EncoderSample& sample : scaled) {
+          for (Eigen::Index j = 0; j < joints_; ++j)
+            sample.values(j) = start(j) + (1.0 + delta(j)) * (sample.values(j) - start(j));
+        }
+        s = model_->predict(scaled).mean;
       }
-      const Pose2 s = model_->predict(scaled).mean;
       const Pose2 moved(delta(joints_), delta(joints_ + 1), delta(joints_ + 2));
       return moved.inverse() * s * moved;
     };
