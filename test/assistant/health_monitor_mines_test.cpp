@@ -117,9 +117,12 @@ TEST(HealthMonitorMines, InjectedRightWheelChangeIsDetectedAndTheUnchangedLogIsQ
   }
   CalibrationConfig uncompensated = config;
   uncompensated.collector.compensate_sweep = false;
+  // Since pairs last T within half a scan period (issue 34; on this jittered ~10 Hz log the
+  // 0.5 s pairs lasted 0.5-0.6 s before), x1.01 stays below the threshold here (statistic 0.70)
+  // and x1.02 is found.
   const Outcome independent = monitorSecondHalf(
-      uncompensated, collectPairs(uncompensated, records, midpoint_s, 1.01), midpoint_s);
-  std::printf("Mines, sweep not compensated, right wheel ticks x1.01: alarm %s after %.1f s: %s\n",
+      uncompensated, collectPairs(uncompensated, records, midpoint_s, 1.02), midpoint_s);
+  std::printf("Mines, sweep not compensated, right wheel ticks x1.02: alarm %s after %.1f s: %s\n",
               independent.alarm ? "raised" : "NOT raised", independent.delay_s,
               independent.message.c_str());
   EXPECT_TRUE(independent.alarm) << independent.message;
