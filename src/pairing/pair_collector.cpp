@@ -125,9 +125,8 @@ CollectorEvent PairCollector::restart(const std::string& what)
   ++statistics_.restarts;
   CollectorEvent event;
   event.type = CollectorEvent::Type::kRestarted;
-  event.reason = what +
-                 " went backwards in time (a looping bag or a clock reset): keyframes "
-                 "and encoder history restarted, collected pairs kept";
+  // What restarted and what is kept is the caller's to say (the session says it once).
+  event.reason = what + " went backwards in time (a looping bag or a clock reset)";
   return event;
 }
 
