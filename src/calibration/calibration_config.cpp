@@ -12,6 +12,7 @@
 
 #include "odometry_calibration/calibration/calibration_config_schema.h"
 #include "odometry_calibration/common/config_schema.h"
+#include "odometry_calibration/common/name_list.h"
 #include "odometry_calibration/common/text_file.h"
 
 #include "odometry_calibration/gp/gp_options.h"
@@ -47,7 +48,11 @@ int jointIndex(const CalibrationConfig& config, const std::string& name, const s
     if (config.joints[j].name == name)
       return static_cast<int>(j);
   }
-  throw std::runtime_error(key + ": no joint named '" + name + "' among 'joints'");
+  std::vector<std::string> names;
+  for (const auto& joint : config.joints)
+    names.push_back(joint.name);
+  throw std::runtime_error(key + ": no joint named '" + name + "' among 'joints' (" +
+                           quotedNames(names) + ")");
 }
 
 /// The joint named by `key` (default: joint `nth`, "" when there is none).

@@ -112,9 +112,19 @@ std::vector<ModelScore> scoreModelsOnTest(const CalibrationConfig& config,
   for (const std::string& name : config.compare_models) {
     if (name == config.model)
       continue;
-    const std::unique_ptr<MotionModel> candidate = makeModel(name, config.models);
-    const ModelReport fitted = candidate->fit(job.pairs);
-    add(*candidate, fitted);
+    // A model this robot's joints cannot serve (linear or gp on wheels chained per side) is
+    // skipped with the reason; the others are still compared.
+    try {
+      const std::unique_ptr<MotionModel> candidate = makeModel(name, config.models);
+      const ModelReport fitted = candidate->fit(job.pairs);
+      add(*candidate, fitted);
+    } catch (const std::exception& error) {
+      ModelScore skipped;
+      skipped.model = name;
+      skipped.fitted = false;
+      skipped.skipped = error.what();
+      scores.push_back(skipped);
+    }
   }
   if (const std::shared_ptr<MotionModel> nominal = priorModel(config)) {
     const bool recut = !test_history.empty() && job.time_offset_s != 0.0;

@@ -60,6 +60,12 @@ std::string formatComparisonTable(const std::vector<ModelScore>& scores)
                 "RPE [m]", "RMSE x [m]", "RMSE y [m]", "RMSE th [rad]", "fit [s]", "outliers");
   table += line;
   for (const ModelScore& s : scores) {
+    if (!s.skipped.empty()) {
+      std::snprintf(line, sizeof(line), "%-12s %10s  skipped: it cannot be fitted here\n",
+                    s.model.c_str(), "-");
+      table += line;
+      continue;
+    }
     char fit[32] = "-", outliers[32] = "-";
     if (s.fitted) {
       std::snprintf(fit, sizeof(fit), "%.3f", s.fit_time_s);
@@ -76,6 +82,10 @@ std::string formatComparisonTable(const std::vector<ModelScore>& scores)
                " at its start values)\n";
       break;
     }
+  }
+  for (const ModelScore& s : scores) {
+    if (!s.skipped.empty())
+      table += "skipped: " + s.model + " (" + s.skipped + ")\n";
   }
   for (const ModelScore& s : scores) {
     if (!s.converged) {

@@ -1,5 +1,6 @@
 #include "odometry_calibration/gp/gp_hyperparameters.h"
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <stdexcept>
@@ -238,11 +239,17 @@ GpOptimizationResult maximizeLogLikelihood(const GpOutputObjective& objective,
     result.hyperparameters = start;
     result.log_likelihood = value;
   }
-  result.iterations = static_cast<int>(summary.iterations.size()) - 1;
+  // Ceres records iteration 0 (the start) only once it is past its first checks: a start that
+  // already meets the gradient tolerance (a warm start at the optimum) ends with no record.
+  result.iterations = std::max(0, static_cast<int>(summary.iterations.size()) - 1);
   // A line-search failure near the optimum still returns the best point found; only the
   // iteration limit means the search was cut short.
   result.converged = summary.termination_type != ceres::NO_CONVERGENCE;
   result.termination = summary.message;
+  if (summary.iterations.empty())
+    result.termination = "ended at its start (" +
+                         std::string(ceres::TerminationTypeToString(summary.termination_type)) +
+                         "): " + summary.message;
   return result;
 }
 

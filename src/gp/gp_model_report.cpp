@@ -42,11 +42,15 @@ void reportGpResiduals(const std::vector<MotionPair>& pairs, const Eigen::Matrix
 }
 
 /// The report rows of one output's hyperparameters in raw units (length scales times the input
-/// scale, named by their joint), its noise sigma and its mean coefficients; no start values and
-/// no sigma (NaN).
+/// scale, named by their joint), its noise sigmas and its mean coefficients; no start values and
+/// no sigma (NaN). The noise of a pair is its own covariance plus the learned extra variance
+/// (paper eq. 2's Sigma_jk + eta): `noise_sigma` is that total at the pairs' mean variance
+/// `known_variance`, so never below the pairs' own measurement noise (the extra alone came out
+/// at 1e-6 m on a fit whose pairs' covariance explained their scatter); `extra_noise_sigma` is
+/// sqrt(eta).
 std::vector<ParameterEstimate> gpOutputParameters(int axis, const GpOutputModel& output,
                                                   const Eigen::VectorXd& input_scale,
-                                                  const JointLayout& joints)
+                                                  const JointLayout& joints, double known_variance)
 {
   const std::string axis_name = kAxisNames[axis];
   const std::vector<std::string> names = output.posterior.kernel().parameterNames();
@@ -66,8 +70,10 @@ std::vector<ParameterEstimate> gpOutputParameters(int axis, const GpOutputModel&
     }
     parameters.push_back({name, unit, nan, value, nan});
   }
-  parameters.push_back(
-      {axis_name + ".noise_sigma", kAxisUnits[axis], nan, std::sqrt(output.noise_variance), nan});
+  parameters.push_back({axis_name + ".noise_sigma", kAxisUnits[axis], nan,
+                        std::sqrt(std::max(0.0, known_variance) + output.noise_variance), nan});
+  parameters.push_back({axis_name + ".extra_noise_sigma", kAxisUnits[axis], nan,
+                        std::sqrt(output.noise_variance), nan});
   for (Eigen::Index p = 0; p < output.mean_coefficients.size(); ++p) {
     parameters.push_back({axis_name + ".mean." + joints.names[static_cast<std::size_t>(p)],
                           std::string(kAxisUnits[axis]) + " per raw unit", nan,
@@ -134,7 +140,7 @@ ModelReport GaussianProcessModel::makeReport(const std::vector<MotionPair>& pair
                                 output.termination + "); raise max_iterations");
     }
     const std::vector<ParameterEstimate> parameters =
-        gpOutputParameters(axis, output, input_scale_, joints_);
+        gpOutputParameters(axis, output, input_scale_, joints_, variances.row(axis).mean());
     report.parameters.insert(report.parameters.end(), parameters.begin(), parameters.end());
     const std::string noise_warning = gpExtraNoiseWarning(axis, output, variances.row(axis).mean());
     if (!noise_warning.empty())

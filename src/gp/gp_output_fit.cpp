@@ -35,6 +35,8 @@ std::string budgetTermination(const GpOptimizationResult& run, int budget)
     return "used its budget of " + std::to_string(budget) +
            " iterations (refine_iterations; a budget, not a convergence test)";
   }
+  if (run.iterations == 0)
+    return "no iteration of its budget of " + std::to_string(budget) + ": " + run.termination;
   return "stopped after " + std::to_string(run.iterations) + " of " + std::to_string(budget) +
          " iterations: " + run.termination;
 }

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "odometry_calibration/common/name_list.h"
 #include "odometry_calibration/models/model_checks.h"
 #include "odometry_calibration/models/model_yaml.h"
 #include "odometry_calibration/models/observability.h"
@@ -38,8 +39,10 @@ int jointIndex(const JointLayout& joints, const std::string& name, int nth_incre
       return static_cast<int>(j);
     }
   }
-  throw std::invalid_argument(name.empty() ? "diff_drive needs two incremental joints"
-                                           : "no joint named '" + name + "' in the pairs");
+  throw std::invalid_argument(name.empty()
+                                  ? "diff_drive needs two incremental joints"
+                                  : "no joint named '" + name + "' in the pairs: they have " +
+                                        quotedNames(joints.names));
 }
 
 }  // namespace

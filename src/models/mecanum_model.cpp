@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "odometry_calibration/common/name_list.h"
 #include "odometry_calibration/common/number_text.h"
 #include "odometry_calibration/models/model_checks.h"
 #include "odometry_calibration/models/model_yaml.h"
@@ -67,7 +68,8 @@ MecanumEncoderLayout mecanumLayoutForJoints(const JointLayout& joints,
     }
     const auto found = std::find(joints.names.begin(), joints.names.end(), names[i]);
     if (found == joints.names.end()) {
-      throw std::invalid_argument("no joint named '" + names[i] + "' in the pairs");
+      throw std::invalid_argument("no joint named '" + names[i] + "' in the pairs: they have " +
+                                  quotedNames(joints.names));
     }
     index[i] = static_cast<int>(found - joints.names.begin());
   }

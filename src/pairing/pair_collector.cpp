@@ -116,6 +116,7 @@ void PairCollector::reset()
   chain_valid_ = false;
   last_input_stamp_s_ = -1e300;
   last_scan_stamp_s_ = -1e300;
+  previous_keyframe_input_s_ = 0.0;
 }
 
 CollectorEvent PairCollector::restart(const std::string& what)
@@ -124,9 +125,8 @@ CollectorEvent PairCollector::restart(const std::string& what)
   ++statistics_.restarts;
   CollectorEvent event;
   event.type = CollectorEvent::Type::kRestarted;
-  event.reason = what +
-                 " went backwards in time (a looping bag or a clock reset): keyframes "
-                 "and encoder history restarted, collected pairs kept";
+  // What restarted and what is kept is the caller's to say (the session says it once).
+  event.reason = what + " went backwards in time (a looping bag or a clock reset)";
   return event;
 }
 
@@ -290,11 +290,17 @@ std::optional<CollectorEvent> PairCollector::unpairedInput(
     std::vector<EncoderSample>* window)
 {
   if (!keyframe_) {
+    previous_keyframe_input_s_ = stamp_s;
     CollectorEvent event;
     event.type = CollectorEvent::Type::kKeyframe;
     return start_keyframe(event);
   }
-  if (stamp_s - keyframe_->stamp_s < options_.keyframe_interval_s)
+  // The input nearest to keyframe + T: the first one past T minus half the input period (the
+  // last gap between inputs as the period). Without the half period, T = 0.3 s on a 10 Hz laser
+  // waited for the 0.4 s scan whenever the stamps' sum came out a rounding error short of 0.3 s.
+  const double half_period_s = 0.5 * std::max(0.0, stamp_s - previous_keyframe_input_s_);
+  previous_keyframe_input_s_ = stamp_s;
+  if (stamp_s - keyframe_->stamp_s < options_.keyframe_interval_s - half_period_s)
     return CollectorEvent();
   std::string reason;
   auto found = encoderWindow(keyframe_->stamp_s, stamp_s, &reason);

@@ -59,30 +59,35 @@ std::string diffDriveController(const ModelReport& report, const std::string& so
   return text;
 }
 
-/// Mecanum: the fitted radii, their mean and lx + ly.
+/// Mecanum: ros2_controllers' mecanum_drive_controller (ROS 2 Jazzy, ros2_controllers 4.x)
+/// reads one radius and lx + ly under its nested `kinematics` keys; the fitted per-wheel radii,
+/// which no controller reads, are comments.
 std::string mecanumController(const ModelReport& report, const std::string& source,
                               const std::vector<const ParameterEstimate*>& radii,
                               const ParameterEstimate* lever)
 {
   std::string text = header(report, source,
-                            "Mecanum wheel geometry (ros2_controllers mecanum_drive_controller: "
-                            "kinematics.wheels_radius,\n# "
-                            "kinematics.sum_of_robot_center_projection_on_X_Y_axis = lx + ly).");
+                            "ros2_controllers mecanum_drive_controller parameters (ROS 2 Jazzy, "
+                            "ros2_controllers 4.x): paste under\n# the controller's "
+                            "ros__parameters.");
   double sum = 0.0, variance = 0.0;
+  if (!radii.empty())
+    text += "# The fitted radius of each wheel (the controller takes one: their mean below):\n";
   for (const ParameterEstimate* r : radii) {
-    text += r->name + ": " + number(r->value) + "  # " + sigma(r->sigma) + " [" + r->unit +
-            "]; configured " + number(r->initial) + "\n";
+    text += "#   " + r->name + ": " + number(r->value) + "  (" + sigma(r->sigma) + " [" + r->unit +
+            "]; configured " + number(r->initial) + ")\n";
     sum += r->value;
     variance += r->sigma * r->sigma;
   }
+  text += "kinematics:\n";
   if (!radii.empty()) {
     const double n = static_cast<double>(radii.size());
-    text += "wheels_radius: " + number(sum / n) + "  # " + sigma(std::sqrt(variance) / n) +
+    text += "  wheels_radius: " + number(sum / n) + "  # " + sigma(std::sqrt(variance) / n) +
             " [m]; the mean of the " + std::to_string(radii.size()) +
             " radii (taken as independent)\n";
   }
   if (lever) {
-    text += "sum_of_robot_center_projection_on_X_Y_axis: " + number(lever->value) + "  # " +
+    text += "  sum_of_robot_center_projection_on_X_Y_axis: " + number(lever->value) + "  # " +
             sigma(lever->sigma) + " [" + lever->unit + "]; lx + ly (" + lever->name +
             "), configured " + number(lever->initial) + "\n";
   }

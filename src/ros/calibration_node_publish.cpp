@@ -1,5 +1,7 @@
 // The live node's outputs: what the session reports, as messages (odometry, tf, paths, pairs,
 // /diagnostics, the guidance marker, the health statistic).
+#include <algorithm>
+
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <geometry_msgs/TransformStamped.h>
 #include <nav_msgs/Path.h>
@@ -90,10 +92,15 @@ void CalibrationNode::publishSensorPose(const std::optional<Pose2>& T_base_senso
   static_broadcaster_.sendTransform(transform);
 }
 
-void CalibrationNode::onTimer(const ros::WallTimerEvent& event)
+void CalibrationNode::onTimer(const ros::WallTimerEvent&)
 {
-  const double period_s = event.last_real.isZero() ? options_.diagnostics_period_s
-                                                   : (event.current_real - event.last_real).toSec();
+  // Input rates over ROS time: a replay at twice the speed (use_sim_time) shows the recorded
+  // rates, and a stopped simulated clock (the replay's end) no time at all.
+  const ros::Time now = ros::Time::now();
+  const double period_s = last_diagnostics_time_.isZero()
+                              ? options_.diagnostics_period_s
+                              : std::max(0.0, (now - last_diagnostics_time_).toSec());
+  last_diagnostics_time_ = now;
   session_->tick();
   publishDiagnostics(period_s);
   publishAssistant();

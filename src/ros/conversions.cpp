@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "odometry_calibration/common/name_list.h"
+
 namespace odometry_calibration {
 namespace ros_conversions {
 
@@ -62,7 +64,7 @@ Eigen::VectorXd rawJointPositions(const sensor_msgs::JointState& message,
     }
     if (found == message.name.size()) {
       throw std::invalid_argument("JointState lacks the configured joint '" + channels[c].name +
-                                  "'");
+                                  "': it has " + quotedNames(message.name));
     }
     const double value = message.position[found];
     if (!std::isfinite(value)) {

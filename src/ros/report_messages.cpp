@@ -33,7 +33,8 @@ odometry_calibration::CalibrationReport toReportMsg(const ModelReport& report,
     msg.residual_rms_xytheta[i] = report.residual_rms_xytheta(i);
   msg.pairs_collected = static_cast<uint32_t>(pairs_collected);
   msg.pairs_used = static_cast<uint32_t>(report.pairs_used);
-  msg.pairs_rejected = static_cast<uint32_t>(report.outliers);
+  msg.pairs_rejected = static_cast<uint32_t>(report.rejected);
+  msg.pairs_down_weighted = static_cast<uint32_t>(report.down_weighted);
   msg.iterations = report.iterations;
   msg.converged = report.converged;
   msg.termination = report.termination;

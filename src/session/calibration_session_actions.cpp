@@ -20,6 +20,14 @@ namespace fs = std::filesystem;
 /// how to get pairs made at the estimate (calibrate_bag pairs again beyond it too).
 constexpr double kRepairingToleranceS = 0.01;
 
+/// `text` ended as a sentence: a full stop added unless it ends with one (or ! or ?).
+std::string asSentence(std::string text)
+{
+  if (!text.empty() && text.back() != '.' && text.back() != '!' && text.back() != '?')
+    text += '.';
+  return text;
+}
+
 std::string absolutePath(const std::string& directory, const std::string& name)
 {
   return fs::absolute(directory + "/" + name).lexically_normal().string();
@@ -93,7 +101,7 @@ CalibrateOutcome CalibrationSession::calibrate(const CalibrationRequest& request
         "only " + std::to_string(fit_request.pairs.size()) + " pairs collected, " +
         std::to_string(options_.min_pairs) + " needed" +
         (options_.min_pairs_name.empty() ? "" : " (" + options_.min_pairs_name + ")") +
-        ": drive more, straight and turning both ways" + guidance;
+        ": drive more, straight and turning both ways." + guidance;
     return outcome;
   }
   fit_request.interval_mode = request.interval_mode.value_or(
@@ -149,7 +157,7 @@ void CalibrationSession::adopt(const std::string& name, const CalibrationConfig&
   outcome->message = successMessage(name, fit) + timeOffsetSentence(config, fit) +
                      repairingAdvice(config.collector.time_offset_s, fit);
   for (const std::string& warning : fit.job.report.warnings)
-    outcome->message += " WARNING: " + warning;
+    outcome->message += " WARNING: " + asSentence(warning);
   outcome->message += guidance;
 }
 
@@ -158,7 +166,8 @@ std::string CalibrationSession::successMessage(const std::string& name, const Se
   const ModelReport& report = fit.job.report;
   std::string message =
       name + " fitted to " + std::to_string(report.pairs_used) + " pairs (" +
-      std::to_string(report.outliers) + " rejected); residual RMS per pair " +
+      std::to_string(report.rejected) + " rejected, " + std::to_string(report.down_weighted) +
+      " down-weighted); residual RMS per pair " +
       (report.before.count > 0 ? std::to_string(report.before.translation_m) + " -> "
                                : std::string()) +
       std::to_string(report.after.translation_m) + " m. Now driving ~odom; call ~save to keep it.";
@@ -207,7 +216,8 @@ void CalibrationSession::activate(const std::string& name, const SessionFit& fit
   fitted_controller_yaml_ = controllerYaml(report, options_.source);
   model_interval_s_ = fit.fit_interval_s;
   active_model_ = model;
-  active_model_origin_ = "fit of " + std::to_string(fit.job.pairs.size()) + " pairs";
+  active_model_origin_ = "fit of " + std::to_string(report.pairs_used) + " pairs";
+  last_fit_counts_ = {report.pairs_used, report.rejected, report.down_weighted};
   notifySensorPose();
   applyTimeOffset(fit.job.time_offset_s);
   if (assistant_) {

@@ -225,7 +225,7 @@ void CalibrationSession::restart(const std::string& reason, double stamp_s)
     counts_.restarts.push_back(text + reason);
   warnInput("time went backwards",
             "time went backwards " + std::string(text) + reason +
-                ": keyframe pairing and odometry restarted (" +
+                ": keyframe pairing, encoder history and odometry restarted (" +
                 std::to_string(counts_.restart_count) + " times so far), the " +
                 std::to_string(store_->pairs().size()) + " pairs collected are kept");
   last_problem_ = "time went backwards: " + reason;

@@ -22,7 +22,9 @@ std::string CalibrationSession::collectionStatus(SessionStatusReport* status) co
   std::size_t rejected = 0;
   for (const auto& [reason, count] : s.rejected)
     rejected += count;
-  status->add("scan matching success ratio", std::to_string(matchingSuccess(s)));
+  status->add("scan matching success ratio", s.consecutive_matches > 0
+                                                 ? std::to_string(matchingSuccess(s))
+                                                 : std::string("no consecutive match yet"));
   status->add("pairs collected", std::to_string(store_->pairs().size()));
   status->add("pairs resumed from file", std::to_string(store_->resumed()));
   status->add("pairs not yet in the pairs file", std::to_string(store_->unwritten()));
@@ -42,6 +44,11 @@ std::string CalibrationSession::collectionStatus(SessionStatusReport* status) co
   status->add("model", active_model_ ? active_model_->name() + " (" + active_model_origin_ + ")"
                                      : std::string("none"));
   status->add("time offset [s]", std::to_string(config_.collector.time_offset_s));
+  if (last_fit_counts_) {  // as the fit's reply and report count them
+    status->add("last fit: pairs used", std::to_string(last_fit_counts_->used));
+    status->add("last fit: pairs rejected", std::to_string(last_fit_counts_->rejected));
+    status->add("last fit: pairs down-weighted", std::to_string(last_fit_counts_->down_weighted));
+  }
   if (!last_problem_.empty())
     status->add("last problem", last_problem_);
   if (!store_->problem().empty())

@@ -1,5 +1,6 @@
 #include "odometry_calibration/session/input_monitor.h"
 
+#include <algorithm>
 #include <cstdio>
 
 namespace odometry_calibration {
@@ -23,6 +24,7 @@ void InputMonitor::received(SessionInput input, double now_s)
   Input& entry = inputs_[index(input)];
   ++entry.messages;
   entry.last_message_s = now_s;
+  entry.silence_said = false;
 }
 
 double InputMonitor::silentFor(const Input& input, double now_s) const
@@ -30,15 +32,42 @@ double InputMonitor::silentFor(const Input& input, double now_s) const
   return now_s - (input.messages == 0 ? start_s_ : input.last_message_s);
 }
 
+bool InputMonitor::inputEnded(double now_s) const
+{
+  for (const Input& input : inputs_) {
+    if (input.messages == 0 || !(silentFor(input, now_s) > silent_timeout_s_))
+      return false;
+  }
+  return true;
+}
+
 std::vector<std::string> InputMonitor::silentWarnings(double now_s)
 {
   std::vector<std::string> warnings;
+  char text[400];
+  if (inputEnded(now_s)) {
+    // Every input flowed and all fell silent: the end of a replay (or of the drive). Said once
+    // (unless an input's silence was said already), then quiet until an input returns.
+    bool said = true;
+    for (Input& input : inputs_) {
+      said = said && input.silence_said;
+      input.silence_said = true;
+    }
+    if (!said) {
+      std::snprintf(text, sizeof(text),
+                    "'%s' and '%s' have been silent for %.0f s: the input has ended (the end of "
+                    "a replay, or the drivers stopped); quiet until it returns",
+                    inputs_[0].topic.c_str(), inputs_[1].topic.c_str(),
+                    std::min(silentFor(inputs_[0], now_s), silentFor(inputs_[1], now_s)));
+      warnings.push_back(text);
+    }
+    return warnings;
+  }
   for (Input& input : inputs_) {
     const double silent_s = silentFor(input, now_s);
-    if (!(silent_s > silent_timeout_s_ && now_s - input.last_warning_s > silent_timeout_s_))
+    if (!(silent_s > silent_timeout_s_) || input.silence_said)
       continue;
-    input.last_warning_s = now_s;
-    char text[400];
+    input.silence_said = true;  // once per silence: again only after a message
     if (input.messages == 0) {
       std::snprintf(text, sizeof(text),
                     "no message on '%s' after %.0f s: is the topic name right? (rostopic info %s)",
@@ -55,12 +84,22 @@ std::vector<std::string> InputMonitor::silentWarnings(double now_s)
 void InputMonitor::addRates(SessionStatusReport* status, std::vector<std::string>* problems,
                             double now_s, double period_s)
 {
+  const bool ended = inputEnded(now_s);
   for (Input& input : inputs_) {
-    const double rate = (input.messages - input.messages_at_last_rate) / period_s;
-    input.messages_at_last_rate = input.messages;
+    // A period of no time (a stopped simulated clock) keeps the count for the next one.
+    const double rate =
+        period_s > 0.0 ? (input.messages - input.messages_at_last_rate) / period_s : 0.0;
+    if (period_s > 0.0)
+      input.messages_at_last_rate = input.messages;
     status->add(input.topic + " rate [Hz]", std::to_string(rate));
-    if (silentFor(input, now_s) > silent_timeout_s_)
+    if (!ended && silentFor(input, now_s) > silent_timeout_s_)
       problems->push_back("no input on " + input.topic);
+  }
+  if (ended) {
+    char text[120];
+    std::snprintf(text, sizeof(text), "ended (all silent for %.0f s)",
+                  std::min(silentFor(inputs_[0], now_s), silentFor(inputs_[1], now_s)));
+    status->add("input", text);
   }
 }
 

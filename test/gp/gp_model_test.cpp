@@ -156,6 +156,26 @@ TEST(GpModel, ReportDescribesTheFit)
     has_length_scale |= p.name == "y.length_scale." + data.joints.names[0];
   }
   EXPECT_TRUE(has_length_scale);
+  // The noise sigma is a pair's: its own covariance plus the learned extra, so never below the
+  // pairs' measurement noise (the extra alone can be ~0 when the covariance explains the
+  // scatter); the extra is reported beside it.
+  for (int axis = 0; axis < 3; ++axis) {
+    const std::string name = std::string(axis == 0 ? "x" : axis == 1 ? "y" : "theta");
+    double total = -1.0, extra = -1.0;
+    for (const ParameterEstimate& p : report.parameters) {
+      if (p.name == name + ".noise_sigma")
+        total = p.value;
+      if (p.name == name + ".extra_noise_sigma")
+        extra = p.value;
+    }
+    double known = 0.0;
+    for (const MotionPair& pair : data.pairs)
+      known += pair.covariance(axis, axis);
+    known /= static_cast<double>(data.pairs.size());
+    EXPECT_NEAR(extra, std::sqrt(model.output(axis).noise_variance), 1e-15) << name;
+    EXPECT_NEAR(total * total, known + extra * extra, 1e-9 * (known + extra * extra)) << name;
+    EXPECT_GE(total, std::sqrt(known)) << name;
+  }
 }
 
 TEST(GpModel, SaveLoadPredictsIdentically)

@@ -2,6 +2,7 @@
 // log marginal likelihood gradients against finite differences, posterior variance, the sparse
 // GP with inducing inputs at the training inputs, and exact merging of repeated inputs.
 #include <cmath>
+#include <iostream>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -352,6 +353,28 @@ TEST(GpSparse, BoundIsBelowTheExactLikelihoodWithFewInducingInputs)
   double bound = 0.0;
   ASSERT_TRUE(GpOutputObjective(problem).evaluate(theta, &bound, nullptr));
   EXPECT_LT(bound, exact_value);
+}
+
+TEST(GpOptimiser, AStartAtTheOptimumReportsItsIterationsAsTheyAre)
+{
+  // A warm start at the optimum: the node's refit logged "stopped after -1 of 15 iterations"
+  // (Ceres keeps no iteration record when the start already meets its tolerance).
+  const TestData data = makeData(40, 8, 20);
+  const GpOutputProblem problem = makeProblem(data, GpKernelType::kRbf, true, true);
+  const GpOutputObjective objective(problem);
+  const GpOptimizationResult first =
+      maximizeLogLikelihood(objective, someHyperparameters(problem), 200);
+  ASSERT_GT(first.iterations, 0);
+  GpOptimizationResult again = first;
+  for (int run = 0; run < 5 && again.iterations > 0; ++run)
+    again = maximizeLogLikelihood(objective, again.hyperparameters, 15);
+  EXPECT_GE(again.iterations, 0);
+  EXPECT_LE(again.iterations, 15);
+  EXPECT_FALSE(again.termination.empty());
+  EXPECT_EQ(again.termination.find("-1"), std::string::npos) << again.termination;
+  EXPECT_NEAR(again.log_likelihood, first.log_likelihood, 1e-6 * std::abs(first.log_likelihood));
+  std::cout << "[ gp ] restart at the optimum: " << again.iterations
+            << " iterations, termination: " << again.termination << "\n";
 }
 
 TEST(GpInputs, MergeConstantIsTheExactLikelihoodRatio)

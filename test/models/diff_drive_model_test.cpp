@@ -132,7 +132,8 @@ TEST(DiffDriveModel, FindsTheWheelJointsByNameOrAsTheIncrementalOnes)
     }
     return "";
   };
-  EXPECT_EQ(message(joints, "front"), "no joint named 'front' in the pairs");
+  EXPECT_EQ(message(joints, "front"),
+            "no joint named 'front' in the pairs: they have 'steer', 'left', 'right'");
   EXPECT_EQ(message({{"steer", "left"}, {EncoderKind::kAbsolute, EncoderKind::kIncremental}}, ""),
             "diff_drive needs two incremental joints");
 }

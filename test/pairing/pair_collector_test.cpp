@@ -497,6 +497,67 @@ TEST(PairCollector, NearestEncoderReadingAtTheKeyframes)
   EXPECT_GT(moving, 10);
 }
 
+/// Durations of the pairs of a 20 s straight drive with sensor poses at `rate_hz` and
+/// encoders at 100 Hz, stamped as a bag's are (an epoch offset, so the stamps' differences carry
+/// rounding errors).
+std::vector<double> pairDurations(double interval_s, double rate_hz)
+{
+  CollectorOptions options;
+  options.keyframe_interval_s = interval_s;
+  MotionPredictor predictor = [](const std::vector<EncoderSample>& samples) {
+    return Pose2((samples.back().values(0) - samples.front().values(0)) / 1000.0, 0.0, 0.0);
+  };
+  PairCollector collector(wheels(), options, predictor);
+  std::vector<double> durations;
+  auto take = [&](const std::vector<CollectorEvent>& events) {
+    for (const CollectorEvent& event : events) {
+      if (event.type == CollectorEvent::Type::kPair)
+        durations.push_back(event.pair.end_stamp_s - event.pair.start_stamp_s);
+    }
+  };
+  const double t0_s = 1700000000.123;
+  const Eigen::Matrix3d covariance = Eigen::Matrix3d::Identity() * 1e-4;
+  const int pose_every = static_cast<int>(std::lround(400.0 / rate_hz));  // of 400 Hz ticks
+  for (int k = 0; k <= 8000; ++k) {
+    const double elapsed_s = k / 400.0;
+    if (k % 4 == 0) {
+      take(collector.addEncoders(t0_s + elapsed_s, Eigen::Vector2d(k, k)));
+    }
+    if (k % pose_every == 0)
+      take(collector.addSensorPose(t0_s + elapsed_s, Pose2(k / 1000.0, 0, 0), covariance));
+  }
+  take(collector.flush());
+  return durations;
+}
+
+TEST(PairCollector, PairsLastTheAskedIntervalAt10HzAnd40Hz)
+{
+  // 0.3 s on a 10 Hz input gave 0.4 s pairs: the sum of three periods fell a rounding error short.
+  const std::vector<double> at_10_hz = pairDurations(0.3, 10.0);
+  ASSERT_GE(at_10_hz.size(), 60u);
+  for (const double duration_s : at_10_hz)
+    ASSERT_NEAR(duration_s, 0.3, 1e-5);
+  const std::vector<double> at_40_hz = pairDurations(0.25, 40.0);
+  ASSERT_GE(at_40_hz.size(), 75u);
+  for (const double duration_s : at_40_hz)
+    ASSERT_NEAR(duration_s, 0.25, 1e-5);
+}
+
+TEST(PairCollector, PairsLastTheIntervalWithinHalfAPeriodOverTheRange)
+{
+  for (const double rate_hz : {10.0, 40.0}) {
+    for (int step = 0; step <= 15; ++step) {
+      const double interval_s = 0.25 + 0.05 * step;
+      const std::vector<double> durations = pairDurations(interval_s, rate_hz);
+      ASSERT_GE(durations.size(), static_cast<std::size_t>(19.0 / (interval_s + 0.05)));
+      for (const double duration_s : durations) {
+        ASSERT_LE(std::abs(duration_s - interval_s), 0.5 / rate_hz + 1e-5)
+            << interval_s << " s at " << rate_hz << " Hz";
+      }
+    }
+  }
+}
+
 TEST(PairCollector, InvalidOptionsAreNamed)
 {
   CollectorOptions options;

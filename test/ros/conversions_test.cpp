@@ -143,7 +143,10 @@ TEST(RosConversionsTest, RawJointPositionsMissingJointIsNamed)
   const std::string what = invalidArgumentMessage([&] {
     rawJointPositions(message, channels({"traction", "steering_joint"}));
   });
-  EXPECT_NE(what.find("steering_joint"), std::string::npos) << what;
+  // The configured joint missing, and the joints the message has.
+  EXPECT_EQ(what,
+            "JointState lacks the configured joint 'steering_joint': it has 'traction', "
+            "'left_wheel'");
 }
 
 TEST(RosConversionsTest, RawJointPositionsNonFiniteValueIsNamed)

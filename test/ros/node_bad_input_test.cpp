@@ -74,7 +74,9 @@ TEST_F(NodeBadInput, EachProblemIsNamedAndTheNodeSurvives)
   // JointState without the configured joints.
   sensor_msgs::JointState other = joints(100.0, 0, 0);
   other.name = {"front_wheel", "rear_wheel"};
-  EXPECT_TRUE(expectLog([&] { joints_.publish(other); }, "lacks the configured joint 'left_wheel'"))
+  EXPECT_TRUE(
+      expectLog([&] { joints_.publish(other); },
+                "lacks the configured joint 'left_wheel': it has 'front_wheel', 'rear_wheel'"))
       << log_->all();
 
   // Mismatched arrays.

@@ -1,16 +1,19 @@
 // rostest (test/node_parity.test, issue 31): the live node and calibrate_bag are one calibration
 // session fed from two readers, so the same bag through both gives the same pairs and the same
 // fit: with a fixed keyframe interval, with the fit interval chosen among candidates, and with
-// the time offset estimated.
+// the time offset estimated. The reply, the report and /diagnostics count the fitted, rejected and
+// down-weighted pairs alike (issue 34).
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <string>
 #include <vector>
 
 #include <sys/wait.h>
 
+#include <diagnostic_msgs/DiagnosticArray.h>
 #include <gtest/gtest.h>
 #include <ros/ros.h>
 #include <yaml-cpp/yaml.h>
@@ -120,7 +123,90 @@ TEST_P(NodeParity, NodeAndCalibrateBagGiveTheSamePairsAndParameters)
     EXPECT_NEAR(node_value, bag_value, 1e-4 * std::max(std::abs(bag_value), 1e-3))
         << name << ": " << parameter;
   }
+  // ... counted alike in calibrate_bag's report (the same pairs fitted, asserted above).
+  const std::string counts_row =
+      "| pairs | " + node_fit["fit"]["pairs"].as<std::string>() + " used, " +
+      node_fit["fit"]["rejected"].as<std::string>() + " rejected, " +
+      node_fit["fit"]["down_weighted"].as<std::string>() + " down-weighted |";
+  std::ifstream bag_report(bag_output + "/report.md");
+  const std::string report_text((std::istreambuf_iterator<char>(bag_report)),
+                                std::istreambuf_iterator<char>());
+  EXPECT_NE(report_text.find(counts_row), std::string::npos) << counts_row;
   RecordProperty("pairs_fitted", node_fit["fit"]["pairs"].as<std::string>());
+}
+
+/// The value of `key` in the node's "calibration" status of the newest /diagnostics.
+class DiagnosticsListener
+{
+public:
+  explicit DiagnosticsListener(const std::string& node)
+      : status_name_("/" + node + ": calibration"),
+        subscriber_(ros::NodeHandle().subscribe("/diagnostics", 100,
+                                                &DiagnosticsListener::onDiagnostics, this))
+  {
+  }
+  std::string value(const std::string& key) const
+  {
+    const auto found = values_.find(key);
+    return found == values_.end() ? std::string() : found->second;
+  }
+
+private:
+  void onDiagnostics(const diagnostic_msgs::DiagnosticArray& array)
+  {
+    for (const diagnostic_msgs::DiagnosticStatus& status : array.status) {
+      if (status.name != status_name_)
+        continue;
+      values_.clear();
+      for (const diagnostic_msgs::KeyValue& entry : status.values)
+        values_[entry.key] = entry.value;
+    }
+  }
+  std::string status_name_;
+  ros::Subscriber subscriber_;
+  std::map<std::string, std::string> values_;
+};
+
+TEST_P(NodeParity, ReplyReportAndDiagnosticsGiveTheSameCounts)
+{
+  // Issue 34: the reply said "480 pairs (24 rejected)" where the report had 1 rejected and 23
+  // down-weighted; after a time-offset fit the reply said 358 pairs and /diagnostics 359.
+  const std::string name = GetParam();
+  ros::NodeHandle private_handle("~");
+  std::string output_directory;
+  ASSERT_TRUE(private_handle.getParam("output_directory", output_directory));
+  DiagnosticsListener diagnostics(name);
+  odometry_calibration::Calibrate fit;
+  ASSERT_TRUE(ros::service::call("/" + name + "/calibrate", fit));
+  ASSERT_TRUE(fit.response.success) << fit.response.message;
+  const CalibrationReport& report = fit.response.report;
+  const YAML::Node node_fit = YAML::LoadFile(output_directory + "/" + name + "/last_fit.yaml");
+  // The report (last_fit.yaml) and the reply's report message ...
+  EXPECT_EQ(node_fit["fit"]["pairs"].as<unsigned>(), report.pairs_used);
+  EXPECT_EQ(node_fit["fit"]["rejected"].as<unsigned>(), report.pairs_rejected);
+  EXPECT_EQ(node_fit["fit"]["down_weighted"].as<unsigned>(), report.pairs_down_weighted);
+  EXPECT_EQ(node_fit["fit"]["outliers"].as<unsigned>(),
+            report.pairs_rejected + report.pairs_down_weighted);
+  // ... the reply's sentence ...
+  const std::string sentence = "fitted to " + std::to_string(report.pairs_used) + " pairs (" +
+                               std::to_string(report.pairs_rejected) + " rejected, " +
+                               std::to_string(report.pairs_down_weighted) + " down-weighted)";
+  EXPECT_NE(fit.response.message.find(sentence), std::string::npos) << fit.response.message;
+  // ... and /diagnostics (published every second).
+  EXPECT_TRUE(waitFor(
+      [&] {
+        return diagnostics.value("last fit: pairs used") == std::to_string(report.pairs_used);
+      },
+      10.0))
+      << diagnostics.value("last fit: pairs used") << " vs " << report.pairs_used;
+  EXPECT_EQ(diagnostics.value("last fit: pairs rejected"), std::to_string(report.pairs_rejected));
+  EXPECT_EQ(diagnostics.value("last fit: pairs down-weighted"),
+            std::to_string(report.pairs_down_weighted));
+  EXPECT_NE(
+      diagnostics.value("model").find("fit of " + std::to_string(report.pairs_used) + " pairs"),
+      std::string::npos)
+      << diagnostics.value("model");
+  RecordProperty("counts", sentence);
 }
 
 INSTANTIATE_TEST_SUITE_P(Configurations, NodeParity,

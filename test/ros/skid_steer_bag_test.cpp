@@ -7,6 +7,7 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <sstream>
 #include <string>
@@ -103,6 +104,32 @@ TEST(SkidSteerBag, MultiplierWithinTwoPercentNominalRowAndScoredAgain)
     EXPECT_NEAR(again[i], fitted[i], 1e-5) << i << "\n" << fit.out << score.out;
     EXPECT_NEAR(nominal_again[i], nominal[i], 1e-5) << i;
   }
+
+  // A model this robot's joints cannot serve (linear: the wheels of a side turn together) is
+  // skipped with the reason; skid_steer is still fitted, written and scored, gp too (it merges
+  // equal inputs).
+  std::string config_text = readFile(kConfig + "/skid_steer.yaml");
+  const std::size_t compare = config_text.find("compare_models: []");
+  ASSERT_NE(compare, std::string::npos);
+  config_text.replace(compare, 18, "compare_models: [linear, gp]");
+  {
+    std::ofstream(directory + "/compare.yaml") << config_text;
+  }
+  const ToolResult skipping =
+      run(directory, std::string(CALIBRATE_BAG_PROGRAM) + " --config " + directory +
+                         "/compare.yaml " + directory + "/train.bag --test " + directory +
+                         "/test.bag --quiet --output-dir " + directory + "/compare_out");
+  EXPECT_TRUE(skipping.status == 0 || skipping.status == 4) << skipping.out << skipping.err;
+  EXPECT_TRUE(fs::exists(directory + "/compare_out/controller.yaml"));
+  const std::vector<double> still_fitted = row(skipping.out, "skid_steer");
+  ASSERT_EQ(still_fitted.size(), 5u) << skipping.out;
+  EXPECT_NEAR(still_fitted[4], fitted[4], 1e-9);
+  EXPECT_NE(skipping.out.find("skipped: linear (linear model: the encoder increments do not vary "
+                              "independently"),
+            std::string::npos)
+      << skipping.out;
+  EXPECT_EQ(row(skipping.out, "gp").size(), 5u) << skipping.out;
+  EXPECT_EQ(skipping.out.find("skipped: gp"), std::string::npos) << skipping.out;
 
   // compare_models with the configuration: skid_steer's sides and the nominal row from it, on
   // calibrate_bag's pairs (training on the first, testing on the second bag's).

@@ -75,6 +75,16 @@ std::string readFile(const std::string& path)
   return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
+/// A status value by key ("" when absent).
+std::string valueOf(const SessionStatusReport& status, const std::string& key)
+{
+  for (const auto& [name, value] : status.values) {
+    if (name == key)
+      return value;
+  }
+  return "";
+}
+
 class Session : public ::testing::Test
 {
 protected:
@@ -151,7 +161,22 @@ TEST_F(Session, PairsAndCalibratesADriveToItsTruth)
   EXPECT_NEAR(session->sensorPose()->x(), 0.145, 0.005);
   EXPECT_NEAR(session->sensorPose()->y(), 0.01, 0.005);
   EXPECT_NE(outcome.message.find("diff_drive fitted to"), std::string::npos);
-  EXPECT_NE(outcome.message.find("Guidance: "), std::string::npos);
+  // One set of counts: the reply's, the report's and the diagnostics' (issue 34).
+  const std::string counts = "fitted to " + std::to_string(report.pairs_used) + " pairs (" +
+                             std::to_string(report.rejected) + " rejected, " +
+                             std::to_string(report.down_weighted) + " down-weighted)";
+  EXPECT_NE(outcome.message.find(counts), std::string::npos) << outcome.message;
+  EXPECT_EQ(report.rejected + report.down_weighted, report.outliers);
+  const SessionStatusReport status = session->statusReports(1.0).front();
+  EXPECT_EQ(valueOf(status, "last fit: pairs used"), std::to_string(report.pairs_used));
+  EXPECT_EQ(valueOf(status, "last fit: pairs rejected"), std::to_string(report.rejected));
+  EXPECT_EQ(valueOf(status, "last fit: pairs down-weighted"), std::to_string(report.down_weighted));
+  EXPECT_NE(valueOf(status, "model").find("fit of " + std::to_string(report.pairs_used) + " pairs"),
+            std::string::npos);
+  // Every sentence ends before the guidance.
+  const std::size_t guidance = outcome.message.find(" Guidance: ");
+  ASSERT_NE(guidance, std::string::npos) << outcome.message;
+  EXPECT_EQ(outcome.message[guidance - 1], '.') << outcome.message;
   EXPECT_TRUE(fs::exists(options_.output_directory + "/last_fit.yaml"));
   // The corrected path was integrated again with the fit: it follows the scan-matched one.
   const OdometryPaths paths = session->paths();
@@ -230,6 +255,8 @@ TEST_F(Session, CountsBadInputAndWarnsAboutASilentTopic)
   EXPECT_EQ(counts.bad_encoder_messages, 1u);
   EXPECT_EQ(counts.bad_ego_messages, 1u);
   EXPECT_NE(counts.first_bad_ego_message.find("ranges are usable"), std::string::npos);
+  clock_s_ = 5.5;  // the scans go on: only the joint states fall silent
+  session->addScan(0.2, empty, "laser");
   clock_s_ = 6.0;
   session->tick();
   const auto silent = std::count_if(log_.begin(), log_.end(), [](const std::string& line) {
@@ -243,6 +270,70 @@ TEST_F(Session, CountsBadInputAndWarnsAboutASilentTopic)
   EXPECT_NE(statuses.front().message.find("no input on"), std::string::npos);
 }
 
+/// The log lines containing `text`.
+std::size_t linesWith(const std::vector<std::string>& log, const std::string& text)
+{
+  return static_cast<std::size_t>(std::count_if(log.begin(), log.end(), [&](const std::string& l) {
+    return l.find(text) != std::string::npos;
+  }));
+}
+
+TEST_F(Session, SaysASilenceOnceAndRecognisesTheInputsEnd)
+{
+  options_.silent_topic_timeout_s = 5.0;
+  auto session = makeSession();
+  // Before the first scan: no "nan" anywhere in the diagnostics.
+  for (const SessionStatusReport& status : session->statusReports(1.0)) {
+    for (const auto& [key, value] : status.values)
+      EXPECT_EQ(value.find("nan"), std::string::npos) << key << " = " << value;
+  }
+  feed(*session, 2.0);  // 2 s of the drive: both inputs flow
+  const double end_s = clock_s_;
+  // The scans go on alone: the silent joint states are said once, not every timeout.
+  const Scan scan = test::toScan(officeDrive().scans.front());
+  for (double t = end_s + 0.1; t < end_s + 20.0; t += 0.1) {
+    clock_s_ = t;
+    session->addScan(t, scan, "laser");
+    session->tick();
+  }
+  EXPECT_EQ(linesWith(log_, "'joint states' has been silent"), 1u);
+  EXPECT_EQ(session->statusReports(1.0).front().level, SessionStatusReport::Level::kWarn);
+  // Then the scans stop too: the input has ended (a replay's end), said once, and the
+  // diagnostics say so without a warning.
+  const double scans_end_s = clock_s_;
+  for (double t = scans_end_s + 1.0; t < scans_end_s + 60.0; t += 1.0) {
+    clock_s_ = t;
+    session->tick();
+  }
+  EXPECT_EQ(linesWith(log_, "the input has ended"), 1u);
+  EXPECT_EQ(linesWith(log_, "'ego-motion' has been silent"), 0u);
+  const SessionStatusReport ended = session->statusReports(1.0).front();
+  EXPECT_EQ(ended.level, SessionStatusReport::Level::kOk) << ended.message;
+  EXPECT_NE(valueOf(ended, "input").find("ended"), std::string::npos);
+  // The input returns and falls silent again: said again, once.
+  session->addScan(clock_s_, scan, "laser");
+  EXPECT_EQ(session->statusReports(1.0).front().level, SessionStatusReport::Level::kWarn);
+  const double returned_s = clock_s_;
+  for (double t = returned_s + 1.0; t < returned_s + 30.0; t += 1.0) {
+    clock_s_ = t;
+    session->tick();
+  }
+  EXPECT_EQ(linesWith(log_, "the input has ended"), 2u);
+}
+
+TEST_F(Session, InputRatesAreOverTheCallersPeriod)
+{
+  auto session = makeSession();
+  feed(*session, 2.0);  // 2 s of 50 Hz joint states and 10 Hz scans
+  // Over the 2 s of the drive's own time the rates are the recorded ones...
+  const SessionStatusReport status = session->statusReports(2.0).front();
+  EXPECT_NEAR(std::stod(valueOf(status, "joint states rate [Hz]")), 50.0, 1.0);
+  EXPECT_NEAR(std::stod(valueOf(status, "ego-motion rate [Hz]")), 10.0, 0.6);
+  // ... and a period of no time (a stopped simulated clock) is no rate, not an infinity.
+  const SessionStatusReport stopped = session->statusReports(0.0).front();
+  EXPECT_EQ(std::stod(valueOf(stopped, "joint states rate [Hz]")), 0.0);
+}
+
 TEST_F(Session, TimeGoingBackwardsRestartsPairingAndStopsTheTimeOffsetSearch)
 {
   config_.estimate_time_offset = true;
@@ -252,6 +343,13 @@ TEST_F(Session, TimeGoingBackwardsRestartsPairingAndStopsTheTimeOffsetSearch)
   ASSERT_GT(before, 40u);
   feed(*session, 30.0);  // the same drive again: time goes back to its start
   EXPECT_EQ(session->counts().restarts.size(), 1u);
+  EXPECT_EQ(linesWith(log_, "time went backwards"), 1u);
+  for (const std::string& line : log_) {
+    if (line.find("time went backwards") == std::string::npos)
+      continue;
+    EXPECT_EQ(line.find("kept"), line.rfind("kept")) << line;  // said once
+    EXPECT_NE(line.find("pairs collected are kept"), std::string::npos) << line;
+  }
   EXPECT_GT(session->pairs().size(), before + 40);
   EXPECT_TRUE(session->encoderHistory().empty());
   const CalibrateOutcome outcome = session->calibrate({});

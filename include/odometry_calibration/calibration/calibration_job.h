@@ -61,7 +61,8 @@ CalibrationJobResult runCalibrationJob(const CalibrationConfig& config,
 /// (fitted to the job's pairs) scored on `test_pairs`, which were collected at the job's time
 /// offset. The job's model comes first; the nominal robot (the configuration's prior, unfitted:
 /// scoreNominal) comes last when there is one, at time offset 0 like the report's nominal (the
-/// test pairs re-cut from `test_history` when it is given and the job's offset is not 0).
+/// test pairs re-cut from `test_history` when it is given and the job's offset is not 0). A
+/// compared model that cannot be fitted to these pairs is a skipped row with the reason.
 std::vector<ModelScore> scoreModelsOnTest(const CalibrationConfig& config,
                                           const CalibrationJobResult& job,
                                           const std::vector<MotionPair>& test_pairs,

@@ -33,6 +33,9 @@ struct ModelScore
   /// and outliers show "-"; a row named "nominal" is explained under the table.
   bool fitted = true;
   std::string nominal_model;  ///< the nominal row: which model at its start values
+  /// Why the model could not be fitted on these pairs (empty when it was): the table shows the
+  /// row as skipped and the reason under it.
+  std::string skipped;
 };
 
 /// The paper's baseline row: `nominal` (a parametric model at its configured start values,
@@ -48,7 +51,8 @@ ModelScore withFitReport(ModelScore score, const ModelReport& report);
 ModelScore scoreModel(const MotionModel& model, const std::vector<MotionPair>& test);
 
 /// The comparison as a fixed-width text table, one row per model; a model whose fit did not
-/// converge is marked "NOT converged" on its row and named, with the reason, under the table.
+/// converge is marked "NOT converged" on its row and named, with the reason, under the table; a
+/// skipped model likewise "skipped".
 std::string formatComparisonTable(const std::vector<ModelScore>& scores);
 
 /// Fits each model of `models` (makeModel with `options`, in order) on the training pairs and

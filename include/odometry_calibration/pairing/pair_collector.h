@@ -177,10 +177,11 @@ public:
 
 private:
   /// The keyframe rule shared by scans and sensor poses, for an input at stamp_s: the first
-  /// input becomes the keyframe; one less than keyframes.interval_s after the keyframe waits;
-  /// one without an encoder window, or with too little motion after 4 intervals, is rejected
-  /// (counted) and becomes the new keyframe; any other is paired with the keyframe. Returns the
-  /// caller's answer when the input is not paired: an empty event (wait) or
+  /// input becomes the keyframe; one less than keyframes.interval_s minus half the input period
+  /// (the gap since the previous input) after the keyframe waits, so that pairs last T within
+  /// half a scan period; one without an encoder window, or with too little motion after 4
+  /// intervals, is rejected (counted) and becomes the new keyframe; any other is paired with the
+  /// keyframe. Returns the caller's answer when the input is not paired: an empty event (wait) or
   /// start_keyframe(event) with the keyframe or rejection event; nullopt when it is to be paired,
   /// with *window the encoder samples from the keyframe to stamp_s.
   std::optional<CollectorEvent> unpairedInput(
@@ -240,6 +241,8 @@ private:
   std::unique_ptr<MatchQueue> matches_;  ///< last member: its worker stops first
   double last_input_stamp_s_ = -1e300;   ///< newest stamp of any stream
   double last_scan_stamp_s_ = -1e300;    ///< newest scan / sensor pose stamp
+  /// Stamp of the previous scan / sensor pose put to the keyframe rule: the input period [s].
+  double previous_keyframe_input_s_ = 0.0;
   /// A scan or a sensor pose waiting for the encoder stream to reach its time.
   struct PendingInput
   {

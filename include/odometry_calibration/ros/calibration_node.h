@@ -95,6 +95,7 @@ private:
   tf2_ros::TransformBroadcaster tf_broadcaster_;
   tf2_ros::StaticTransformBroadcaster static_broadcaster_;
   ros::WallTimer timer_;
+  ros::Time last_diagnostics_time_;  ///< ROS time of the last /diagnostics (zero before)
   std::unique_ptr<ros::AsyncSpinner> service_spinner_;
   ros::ServiceServer calibrate_service_, save_service_, reset_service_;
 };

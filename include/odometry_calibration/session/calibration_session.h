@@ -233,6 +233,12 @@ private:
   double model_interval_s_ = 0.5;  ///< window of the active model's predictions [s]
   std::shared_ptr<const MotionModel> fitted_model_;  ///< last successful fit (for save())
   std::string fitted_result_yaml_, fitted_controller_yaml_;
+  /// The last adopted fit's pair counts, as its reply and report give them (for /diagnostics).
+  struct FitCounts
+  {
+    std::size_t used = 0, rejected = 0, down_weighted = 0;
+  };
+  std::optional<FitCounts> last_fit_counts_;
   std::optional<Pose2> T_base_sensor_;  ///< learned (or saved) sensor pose
   std::string sensor_frame_;            ///< from the inputs' headers
   bool cloud_frame_fixed_ = false;      ///< the first cloud fixed the frame

@@ -1,6 +1,8 @@
-// The health of a session's two inputs (encoders, ego-motion) on the wall clock: messages per
-// second, silence beyond a timeout (a warning naming the topic), skipped messages, and a limit
-// on repeated bad-input warnings (each distinct problem at once, then at most every 5 s).
+// The health of a session's two inputs (encoders, ego-motion): messages per second (over the
+// caller's period), silence beyond a timeout on the wall clock (a warning naming the topic, once
+// per silence; all inputs silent after having flowed is the input's end, said once), skipped
+// messages, and a limit on repeated bad-input warnings (each distinct problem at once, then at
+// most every 5 s).
 #pragma once
 
 #include <array>
@@ -28,10 +30,13 @@ public:
 
   void received(SessionInput input, double now_s);
   std::size_t messages(SessionInput input) const { return inputs_[index(input)].messages; }
-  /// The warnings due now for silent inputs (each input at most once per timeout).
+  /// The warnings due now for silent inputs: each silence said once, again only after the input
+  /// returned; all inputs silent after having flowed (the end of a replay) said once as one.
   std::vector<std::string> silentWarnings(double now_s);
-  /// Adds "<topic> rate [Hz]" per input (messages since the last call over `period_s`) and a
-  /// problem per silent input.
+  /// Adds "<topic> rate [Hz]" per input (messages since the last call over `period_s`, the
+  /// caller's time: ROS time for the node, so a faster replay shows the recorded rates; 0 and
+  /// the count kept when no time passed) and a problem per silent input, none when the input
+  /// has ended (all silent after having flowed: "input" says so instead).
   void addRates(SessionStatusReport* status, std::vector<std::string>* problems, double now_s,
                 double period_s);
   /// Whether a warning about `problem` may be said now (each distinct problem at once, then
@@ -46,10 +51,12 @@ private:
     std::size_t messages = 0;
     std::size_t messages_at_last_rate = 0;
     double last_message_s = 0.0;
-    double last_warning_s = -1e300;
+    bool silence_said = false;  ///< this silence was warned about
   };
   static std::size_t index(SessionInput input) { return static_cast<std::size_t>(input); }
   double silentFor(const Input& input, double now_s) const;
+  /// Every input had messages and all are silent beyond the timeout.
+  bool inputEnded(double now_s) const;
 
   std::array<Input, 2> inputs_;
   double silent_timeout_s_;
