@@ -391,7 +391,10 @@ TEST_F(Session, InputsKeepFlowingWhileAFitRuns)
   feed(*session, 60.0, 30.0);  // the drive again, 30 s later: new pairs while fitting
   const CalibrateOutcome outcome = fit.get();
   ASSERT_TRUE(outcome.success) << outcome.message;
-  EXPECT_EQ(outcome.pairs_collected, pairs_at_call);  // the pairs held at the call
+  // The fit snapshots the pairs when its thread takes the lock: at least those held at the call,
+  // at most those held at the end (a loaded machine may start the thread a few pairs late).
+  EXPECT_GE(outcome.pairs_collected, pairs_at_call);
+  EXPECT_LE(outcome.pairs_collected, session->pairs().size());
   EXPECT_GT(session->pairs().size(), pairs_at_call + 40);
   EXPECT_GT(odometry_heard, 2000u);
   const auto [reset, reply] = session->reset();
