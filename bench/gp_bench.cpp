@@ -10,6 +10,7 @@
 #include <cmath>
 #include <map>
 #include <random>
+#include <tuple>
 #include <utility>
 
 #include "odometry_calibration/gp/gp_inputs.h"
@@ -207,8 +208,67 @@ void BM_GpPredictExactDistinct(benchmark::State& state)
   predict(state, 1000000, true);
 }
 
+/// Training sets of issue 33's prediction benchmark (BM_GpPredictRobot's first argument).
+enum class RobotSet
+{
+  kDiffDrive = 0,        ///< the default diff-drive pairs (2000-tick encoders)
+  kMecanum = 1,          ///< mecanum pairs (four wheels, 1000-tick encoders)
+  kCoarseDiffDrive = 2,  ///< diff-drive pairs from 360-tick encoders
+};
+
+/// The first n pairs of a long simulated drive of `set`'s robot (cached).
+const sim::GeneratedPairs& robotPairs(RobotSet set, int n, unsigned seed)
+{
+  static std::map<std::tuple<int, int, unsigned>, sim::GeneratedPairs> cache;
+  const auto key = std::make_tuple(static_cast<int>(set), n, seed);
+  auto found = cache.find(key);
+  if (found != cache.end())
+    return found->second;
+  sim::PairGeneratorOptions options;
+  options.interval_s = kInterval;
+  options.duration_s = (n + 2) * kInterval;
+  options.seed = seed;
+  if (set == RobotSet::kMecanum)
+    options.robot.type = "mecanum";
+  if (set == RobotSet::kCoarseDiffDrive)
+    options.robot.parameters["encoder_ticks_per_rev"] = 360.0;
+  sim::GeneratedPairs data = sim::generatePairs(options);
+  data.pairs.resize(static_cast<std::size_t>(n));
+  data.true_motions.resize(static_cast<std::size_t>(n));
+  return cache.emplace(key, std::move(data)).first->second;
+}
+
+// Issue 33: prediction with covariance per pair, CPU time, on the default exact/sparse regime
+// (benchOptions(3000)), for diff-drive, mecanum and 360-tick diff-drive training sets of
+// `pairs` pairs (second argument; 1300 mecanum pairs hold ~900 distinct inputs), predicted at
+// the 600 pairs of another drive of the same robot.
+void BM_GpPredictRobot(benchmark::State& state)
+{
+  const auto set = static_cast<RobotSet>(state.range(0));
+  const sim::GeneratedPairs& train = robotPairs(set, static_cast<int>(state.range(1)), 31);
+  GaussianProcessModel model(benchOptions(3000), train.joints);
+  model.fit(train.pairs);
+  const sim::GeneratedPairs& test = robotPairs(set, 600, 32);  // another drive
+  std::size_t index = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(model.predict(test.pairs[index].encoder_samples));
+    index = (index + 1) % test.pairs.size();
+  }
+  state.counters["distinct"] = static_cast<double>(distinctInputs(train));
+  state.counters["sparse"] = model.output(0).sparse ? 1.0 : 0.0;
+  int projected = 0;
+  for (int axis = 0; axis < 3; ++axis)
+    projected += model.output(axis).posterior.projectedMean() ? 1 : 0;
+  state.counters["projected_means"] = projected;
+}
+
 }  // namespace
 
+BENCHMARK(BM_GpPredictRobot)
+    ->ArgNames({"robot", "pairs"})
+    ->ArgsProduct({{0, 1, 2}, {1300, 3000}})
+    ->Unit(benchmark::kMicrosecond)
+    ->MeasureProcessCPUTime();
 BENCHMARK(BM_GpFit)->Arg(500)->Arg(2000)->Arg(2900)->Arg(10000)->Arg(50000)->Iterations(1)->Unit(
     benchmark::kMillisecond);
 BENCHMARK(BM_GpFitExact)

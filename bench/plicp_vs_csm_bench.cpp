@@ -1,13 +1,14 @@
 // Our PLICP and the reference implementation (Censi's CSM, sm_icp) side by side, in one process,
 // on the same scans with the same first guesses (issue 16): synthetic office rooms of 180, 682
-// and 1081 rays and a sparse corridor scene (with the true motion), and the real Mines log's
-// consecutive and 0.5 s keyframe pairs (agreement, path length). Each data set is matched in
-// several passes a whole set apart, the two matchers interleaved pair by pair (alternating which
-// goes first); a pair's time is its fastest pass. Both sides convert the scans themselves inside
-// the timed call (ours: Scan -> prepared points and line fits; CSM: Scan -> laser_data, then its
-// own preprocessing). Options: each matcher's defaults, covariance on for both (as a calibrator
-// uses them; a second row per set with covariance off for both). Run scripts/bench_plicp_vs_csm
-// for the table.
+// and 1081 rays and a sparse corridor scene (with the true motion), the real Mines log's
+// consecutive and 0.5 s keyframe pairs (agreement, path length), and three real CARMEN logs
+// against their SLAM-corrected poses (issue 33: errors, silent gross failures, refusals). Each data
+// set is matched in several passes a whole set apart, the two matchers interleaved pair by pair
+// (alternating which goes first); a pair's time is its fastest pass. Both sides convert the scans
+// themselves inside the timed call (ours: Scan -> prepared points and line fits; CSM: Scan ->
+// laser_data, then its own preprocessing). Options: each matcher's defaults, covariance on for both
+// (as a calibrator uses them; a second row per set with covariance off for both). Run
+// scripts/bench_plicp_vs_csm for the table.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -23,6 +24,7 @@
 #include "support/mines_log.h"
 #include "support/synthetic_scans.h"
 
+#include "carmen_log.h"
 #include "csm_matcher.h"
 
 namespace {
@@ -56,10 +58,13 @@ Outcome matchWithCsm(const MatchCase& pair, bool covariance)
   return {outcome.valid, outcome.T_ref_new, outcome.covariance};
 }
 
-Outcome matchWithOurs(const MatchCase& pair, bool covariance)
+/// Ours with its defaults, covariance as asked; `check_ambiguity` false turns off the ambiguity
+/// check of weak matches (which needs the covariance) to show what it costs.
+Outcome matchWithOurs(const MatchCase& pair, bool covariance, bool check_ambiguity = true)
 {
   PlicpOptions options;
   options.compute_covariance = covariance;
+  options.check_ambiguity = check_ambiguity;
   const PlicpResult result = matchScans(pair.reference, pair.current, pair.guess_ref_new, options);
   return {result.valid(), result.T_ref_new, result.covariance};
 }
@@ -121,11 +126,12 @@ void pairedComparison(benchmark::State& state, const std::vector<std::pair<doubl
 
 /// Times both matchers on every case (fastest of kPasses interleaved passes per case) and puts
 /// speed, validity and accuracy (against the truth, or between the two) into the counters.
-void runSideBySide(benchmark::State& state, const std::vector<MatchCase>& cases, bool covariance)
+void runSideBySide(benchmark::State& state, const std::vector<MatchCase>& cases, bool covariance,
+                   bool check_ambiguity = true)
 {
   if (cases.empty()) {
     state.SkipWithError(
-        "no data (the Mines log is read from ODOMETRY_CALIBRATION_SHARED_DATA_DIR)");
+        "no data (the Mines and CARMEN logs are read from ODOMETRY_CALIBRATION_SHARED_DATA_DIR)");
     return;
   }
   sm_debug_write(0);
@@ -137,7 +143,7 @@ void runSideBySide(benchmark::State& state, const std::vector<MatchCase>& cases,
       for (std::size_t k = 0; k < n; ++k) {
         auto timeOurs = [&] {
           const auto start = std::chrono::steady_clock::now();
-          ours[k] = matchWithOurs(cases[k], covariance);
+          ours[k] = matchWithOurs(cases[k], covariance, check_ambiguity);
           const std::chrono::duration<double, std::milli> took =
               std::chrono::steady_clock::now() - start;
           ours_ms[k] = std::min(ours_ms[k], took.count());
@@ -170,13 +176,19 @@ void runSideBySide(benchmark::State& state, const std::vector<MatchCase>& cases,
   // (ours, CSM) where both are valid
   std::vector<std::pair<double, double>> both_err_mm, both_err_deg;
   double ours_path_m = 0.0, csm_path_m = 0.0;
-  int ours_valid = 0, csm_valid = 0, ours_wild = 0;
+  int ours_valid = 0, csm_valid = 0, ours_wild = 0, ours_gross = 0, csm_gross = 0;
+  // A silent gross failure: called valid, but more than 10 cm or 5 deg from the truth.
+  auto gross = [](const Pose2& error) {
+    return std::hypot(error.x(), error.y()) > 0.10 || std::abs(error.theta()) > 5.0 * M_PI / 180.0;
+  };
   for (std::size_t k = 0; k < n; ++k) {
     ours_valid += ours[k].valid ? 1 : 0;
     csm_valid += csm[k].valid ? 1 : 0;
     if (cases[k].has_truth) {
       const Pose2 ours_error = between(cases[k].truth_ref_new, ours[k].T_ref_new);
       const Pose2 csm_error = between(cases[k].truth_ref_new, csm[k].T_ref_new);
+      ours_gross += ours[k].valid && gross(ours_error) ? 1 : 0;
+      csm_gross += csm[k].valid && gross(csm_error) ? 1 : 0;
       if (ours[k].valid) {
         ours_err_mm.push_back(1e3 * std::hypot(ours_error.x(), ours_error.y()));
         ours_err_deg.push_back(std::abs(ours_error.theta()) * 180.0 / M_PI);
@@ -216,6 +228,23 @@ void runSideBySide(benchmark::State& state, const std::vector<MatchCase>& cases,
     state.counters["csm_err_median_deg"] = median(csm_err_deg);
     if (covariance)
       state.counters["ours_valid_beyond_5sigma"] = ours_wild;
+    state.counters["ours_gross"] = ours_gross;
+    state.counters["csm_gross"] = csm_gross;
+  }
+  if (!both_err_mm.empty()) {
+    // Medians over the pairs both call valid.
+    std::vector<double> ours_mm, csm_mm, ours_deg, csm_deg;
+    for (std::size_t k = 0; k < both_err_mm.size(); ++k) {
+      ours_mm.push_back(both_err_mm[k].first);
+      csm_mm.push_back(both_err_mm[k].second);
+      ours_deg.push_back(both_err_deg[k].first);
+      csm_deg.push_back(both_err_deg[k].second);
+    }
+    state.counters["both_valid"] = static_cast<double>(both_err_mm.size());
+    state.counters["both_ours_median_mm"] = median(ours_mm);
+    state.counters["both_csm_median_mm"] = median(csm_mm);
+    state.counters["both_ours_median_deg"] = median(ours_deg);
+    state.counters["both_csm_median_deg"] = median(csm_deg);
   }
   if (both_err_mm.size() >= 20) {
     pairedComparison(state, both_err_mm, "mm");
@@ -271,6 +300,41 @@ std::vector<MatchCase> minesCases(std::size_t step)
   return cases;
 }
 
+/// The real CARMEN logs (../shared/data/carmen), in the order of kCarmenLogs.
+const char* const kCarmenLogs[] = {"aces", "fhw", "freiburg-079"};
+
+/// Up to 600 consecutive FLASER pairs of a CARMEN log, scored against the relative corrected
+/// pose; the first guess is that reference moved by 5 cm in a random direction and turned by
+/// 3 deg either way (random sign), as in issue 33's protocol. The same guesses for both sides.
+std::vector<MatchCase> carmenCases(const std::string& name)
+{
+  const std::vector<carmen::Record> records =
+      carmen::loadLog(carmen::logPath(ODOMETRY_CALIBRATION_SHARED_DATA_DIR, name));
+  std::mt19937 rng(33);
+  std::uniform_real_distribution<double> direction(-M_PI, M_PI);
+  std::bernoulli_distribution sign(0.5);
+  std::vector<MatchCase> cases;
+  for (std::size_t k = 0; k + 1 < records.size() && cases.size() < 600; ++k) {
+    const Pose2 truth = between(records[k].T_map_robot, records[k + 1].T_map_robot);
+    const double bearing = direction(rng);
+    const double turn_rad = (sign(rng) ? 3.0 : -3.0) * M_PI / 180.0;
+    const Pose2 guess(truth.x() + 0.05 * std::cos(bearing), truth.y() + 0.05 * std::sin(bearing),
+                      truth.theta() + turn_rad);
+    cases.push_back({records[k].scan, records[k + 1].scan, guess, true, truth});
+  }
+  return cases;
+}
+
+void BM_SideBySideCarmen(benchmark::State& state)
+{
+  static std::vector<MatchCase> cases[3];
+  const auto log = static_cast<std::size_t>(state.range(0));
+  if (cases[log].empty())
+    cases[log] = carmenCases(kCarmenLogs[log]);
+  // covariance 2: covariance on, our ambiguity check off (CSM as with covariance 1)
+  runSideBySide(state, cases[log], state.range(1) != 0, state.range(1) != 2);
+}
+
 void BM_SideBySideRoom(benchmark::State& state)
 {
   static const std::vector<MatchCase> cases180 =
@@ -317,6 +381,14 @@ BENCHMARK(BM_SideBySideSparseCorridor)
 BENCHMARK(BM_SideBySideMines)
     ->ArgNames({"step", "covariance"})
     ->ArgsProduct({{1, 5}, {1, 0}})
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
+
+// log: 0 ACES (180 rays), 1 FHW museum (180), 2 Freiburg 079 (360); covariance 2: on for
+// both, our ambiguity check off.
+BENCHMARK(BM_SideBySideCarmen)
+    ->ArgNames({"log", "covariance"})
+    ->ArgsProduct({{0, 1, 2}, {1, 0, 2}})
     ->Iterations(1)
     ->Unit(benchmark::kMillisecond);
 

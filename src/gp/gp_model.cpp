@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "odometry_calibration/gp/gp_denormals.h"
 #include "odometry_calibration/gp/gp_inducing.h"
 #include "odometry_calibration/gp/gp_inputs.h"
 #include "odometry_calibration/gp/gp_outliers.h"
@@ -330,6 +331,7 @@ MotionPrediction GaussianProcessModel::predictFeatures(const Eigen::VectorXd& fe
                                 " features, got " + std::to_string(features.size()));
   }
   const Eigen::VectorXd x = features.cwiseQuotient(input_scale_);
+  const DenormalsAsZero denormals_as_zero;  // kernel values far from the data (gp_denormals.h)
   MotionPrediction prediction;
   Eigen::Vector3d mean;
   for (int axis = 0; axis < 3; ++axis) {

@@ -81,7 +81,7 @@ void GpPosterior::factorExact()
 void GpPosterior::projectMean()
 {
   projected_weights_.resize(0);
-  if (low_rank_variance_.size() == 0)
+  if (low_rank_variance_.size() == 0 || basis_.cols() <= kGpProjectedMeanInputs)
     return;
   Eigen::VectorXd w = kernel_.cross(log_parameters_, variance_basis_, basis_) * weights_;
   variance_factor_.triangularView<Eigen::Lower>().solveInPlace(w);

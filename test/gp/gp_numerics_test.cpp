@@ -3,11 +3,13 @@
 // GP with inducing inputs at the training inputs, and exact merging of repeated inputs.
 #include <cmath>
 #include <iostream>
+#include <limits>
 #include <random>
 
 #include <gtest/gtest.h>
 #include <Eigen/Dense>
 
+#include "odometry_calibration/gp/gp_denormals.h"
 #include "odometry_calibration/gp/gp_hyperparameters.h"
 #include "odometry_calibration/gp/gp_inducing.h"
 #include "odometry_calibration/gp/gp_inputs.h"
@@ -304,6 +306,79 @@ TEST(GpExact, LargePosteriorPredictsItsVarianceInLowRankCloseToTheExactOne)
   const TestData small = makeData(30, 6);
   EXPECT_FALSE(GpPosterior::exact(kernel, theta, small.inputs, small.targets, small.variances)
                    .lowRankVariance());
+}
+
+TEST(GpExact, MidSizePosteriorPredictsItsVarianceInLowRankAndKeepsTheExactMean)
+{
+  // 900 distinct inputs (between kGpLowRankVarianceInputs and kGpProjectedMeanInputs, issue
+  // 33): the variance through the projection, as on large sets, the mean exact, O(n).
+  std::mt19937 rng(12);
+  std::uniform_real_distribution<double> uniform(-2.0, 2.0);
+  const int n = 900;
+  TestData data;
+  data.inputs.resize(2, n);
+  data.targets.resize(n);
+  data.variances = Eigen::VectorXd::Constant(n, 0.02);
+  for (int i = 0; i < n; ++i) {
+    data.inputs(0, i) = uniform(rng);
+    data.inputs(1, i) = uniform(rng);
+    data.targets(i) = std::sin(data.inputs(0, i)) + 0.5 * data.inputs(1, i);
+  }
+  const GpKernel kernel(GpKernelType::kRbf, 2);
+  const Eigen::Vector3d theta(std::log(1.0), std::log(0.6), std::log(0.6));
+  const GpPosterior gp =
+      GpPosterior::exact(kernel, theta, data.inputs, data.targets, data.variances);
+  ASSERT_TRUE(gp.lowRankVariance());
+  EXPECT_FALSE(gp.projectedMean());
+  for (int i = 0; i < 300; ++i) {
+    const Eigen::Vector2d x(1.2 * uniform(rng), 1.2 * uniform(rng));
+    double mean = 0.0, variance = 0.0;
+    gp.predict(x, &mean, &variance);
+    const double exact_mean = kernel.cross(theta, data.inputs, x).col(0).dot(gp.weights());
+    EXPECT_NEAR(mean, exact_mean, 1e-9 * std::abs(exact_mean) + 1e-15) << x.transpose();
+    // Where the data are, exact to 1e-4 of the prior variance; beyond their edge (up to 0.4
+    // beyond, where M = 200 of 900 inputs cover less) on the safe side by at most 15 %.
+    const double exact = gp.exactVariance(x);
+    EXPECT_GE(variance, exact - 1e-4) << x.transpose();
+    EXPECT_LE(variance, 1.15 * exact + 1e-4) << x.transpose();
+    if (x.cwiseAbs().maxCoeff() < 1.8) {
+      EXPECT_NEAR(variance, exact, 1e-4) << x.transpose();
+    }
+  }
+}
+
+TEST(GpDenormals, FlushedInScopeRestoredAfterAndPredictionsUnchanged)
+{
+  // Kernel values far from the data underflow into denormals (exp(-q/2), q ~ 1416-1490): within
+  // DenormalsAsZero they are flushed, which moves a prediction by less than 1e-9 relative.
+  volatile double tiny = 1e-310;  // a denormal
+  volatile double one = 1.0;
+  EXPECT_EQ(tiny * one, 1e-310);
+  const TestData data = makeData(300, 9, 40);  // inputs on a wide grid (+-20, +-16)
+  const GpKernel kernel(GpKernelType::kRbfPlusLinear, 2);
+  // Length scale 0.5: kernel values between inputs 19 apart are exp(-722), denormal.
+  const Eigen::Vector4d theta(std::log(1.0), std::log(0.5), std::log(0.5), std::log(0.3));
+  const GpPosterior gp =
+      GpPosterior::exact(kernel, theta, data.inputs, data.targets, data.variances);
+  const GpKernel rbf(GpKernelType::kRbf, 2);  // the term that underflows
+  int denormal_columns = 0;
+  for (int i = 0; i < 200; ++i) {
+    const Eigen::Vector2d x = data.inputs.col(i) + Eigen::Vector2d(0.013 * i, -0.007 * i);
+    const Eigen::VectorXd k = rbf.cross(theta.head<3>(), data.inputs, x).col(0);
+    denormal_columns +=
+        (k.array().abs() < std::numeric_limits<double>::min() && k.array() != 0.0).any() ? 1 : 0;
+    double mean = 0.0, variance = 0.0, flushed_mean = 0.0, flushed_variance = 0.0;
+    gp.predict(x, &mean, &variance);
+    {
+      const DenormalsAsZero denormals_as_zero;
+      EXPECT_EQ(tiny * one, 0.0);
+      gp.predict(x, &flushed_mean, &flushed_variance);
+    }
+    EXPECT_NEAR(flushed_mean, mean, 1e-9 * std::abs(mean));
+    EXPECT_NEAR(flushed_variance, variance, 1e-9 * std::abs(variance));
+  }
+  EXPECT_GT(denormal_columns, 0);  // the case is exercised
+  EXPECT_EQ(tiny * one, 1e-310);   // the mode was restored
 }
 
 TEST(GpSparse, EqualsTheExactGpWhenInducingInputsAreTheTrainingInputs)

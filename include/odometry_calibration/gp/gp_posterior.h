@@ -9,10 +9,12 @@
 // An exact posterior on more than kGpLowRankVarianceInputs inputs predicts its variance in
 // O(M^2) instead of O(n^2): k_* is projected on M = kGpVarianceInducingInputs inducing inputs
 // (k_* ~ K_nZ K_ZZ^-1 k_*Z), so that |L^-1 k_*|^2 ~ k_*Z^T V_e k_*Z with the cached
-// V_e = K_ZZ^-1 K_Zn (K + S)^-1 K_nZ K_ZZ^-1. The mean is projected the same way,
-// k_*^T alpha ~ k_*Z^T w_Z with w_Z = K_ZZ^-1 K_Zn alpha (O(M)), but only if that agrees with
-// the exact mean within 1 % of the smallest noise sigma on (up to 256 of) the training inputs;
-// otherwise the mean stays exact, O(n).
+// V_e = K_ZZ^-1 K_Zn (K + S)^-1 K_nZ K_ZZ^-1: one fast path at every size above M (issue 33;
+// it was taken above 1000 inputs only, and a 900-input model spent ~500 us per prediction in
+// the O(n^2) solve). On more than kGpProjectedMeanInputs inputs the mean is projected the same
+// way, k_*^T alpha ~ k_*Z^T w_Z with w_Z = K_ZZ^-1 K_Zn alpha (O(M)), but only if that agrees
+// with the exact mean within 1 % of the smallest noise sigma on (up to 256 of) the training
+// inputs; otherwise (and on fewer inputs, where O(n) is cheap) the mean stays exact, O(n).
 // The prior mean mu(x) is added by the caller (GaussianProcessModel).
 #pragma once
 
@@ -23,12 +25,15 @@
 
 namespace odometry_calibration {
 
-/// Exact posteriors on more inputs than this predict their variance through a low-rank
-/// projection (O(M^2) per prediction instead of O(n^2)).
-constexpr Eigen::Index kGpLowRankVarianceInputs = 1000;
-/// M, the inducing inputs of that projection (chosen from the training inputs by
+/// M, the inducing inputs of the low-rank variance (chosen from the training inputs by
 /// selectInducingInputs with a fixed seed, so a reloaded model predicts the same).
 constexpr Eigen::Index kGpVarianceInducingInputs = 200;
+/// Exact posteriors on more inputs than this predict their variance through a low-rank
+/// projection (O(M^2) per prediction instead of O(n^2)): every size above M.
+constexpr Eigen::Index kGpLowRankVarianceInputs = kGpVarianceInducingInputs;
+/// Exact posteriors on more inputs than this may project their mean as well (O(M) instead of
+/// O(n), if the check at construction passes).
+constexpr Eigen::Index kGpProjectedMeanInputs = 1000;
 
 /// Predictive distribution of f for one output.
 class GpPosterior
@@ -80,7 +85,8 @@ public:
   double exactVariance(const Eigen::VectorXd& x) const;
   /// Whether predict() uses the low-rank variance (exact posterior, n > kGpLowRankVarianceInputs).
   bool lowRankVariance() const { return low_rank_variance_.size() > 0; }
-  /// Whether predict() uses the projected mean (lowRankVariance() and the check passed).
+  /// Whether predict() uses the projected mean (more than kGpProjectedMeanInputs inputs and the
+  /// check passed).
   bool projectedMean() const { return projected_weights_.size() > 0; }
   /// Posterior means at the columns of `inputs`, O(n) each.
   Eigen::VectorXd means(const Eigen::MatrixXd& inputs) const;
