@@ -3,6 +3,7 @@
 // its own, then one joint fit of the wheels and both poses, written to result.yaml.
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <sstream>
 
 #include <gtest/gtest.h>
@@ -68,6 +69,29 @@ TEST(CalibrateBagJoint, FrontAndRearLasersGiveOneSetOfWheelsAndBothPoses)
   EXPECT_NEAR(model["wheel_separation_m"].as<double>(), 0.32, 0.005 * 0.32);
   EXPECT_TRUE(fs::is_regular_file(options.output_dir + "/joint_report.txt"));
   EXPECT_TRUE(fs::is_regular_file(options.output_dir + "/source_1/result.yaml"));
+  fs::remove_all(directory);
+}
+
+TEST(CalibrateBagJoint, SeveralSourcesWithAModelWithoutJointFitAreRefusedNamingIt)
+{
+  char pattern[] = "/tmp/calibrate_bag_joint_test.XXXXXX";
+  const std::string directory = mkdtemp(pattern);
+  std::string config = test_support::readFile(kConfig + "/diff_drive_front_rear.yaml");
+  config.replace(config.find("model: diff_drive"), 17, "model: linear");
+  const std::string config_path = directory + "/linear.yaml";
+  std::ofstream(config_path) << config;
+  BagCalibrationOptions options;
+  options.config_path = config_path;
+  options.bags = {directory + "/never_read.bag"};
+  options.output_dir = directory + "/out";
+  std::ostringstream out;
+  try {
+    calibrateBags(options, out);
+    ADD_FAILURE() << "several sources with model linear accepted";
+  } catch (const std::runtime_error& error) {
+    EXPECT_NE(std::string(error.what()).find("not 'linear'"), std::string::npos) << error.what();
+  }
+  EXPECT_FALSE(fs::exists(options.output_dir));
   fs::remove_all(directory);
 }
 

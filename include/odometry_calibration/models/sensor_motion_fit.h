@@ -138,11 +138,6 @@ struct SensorPairs
   std::vector<std::size_t> sensor;
 
   std::size_t sensorOf(std::size_t i) const { return sensor.empty() ? 0 : sensor[i]; }
-  /// Sensors: one more than the highest index (1 without indices).
-  std::size_t sensorCount() const
-  {
-    return sensor.empty() ? 1 : *std::max_element(sensor.begin(), sensor.end()) + 1;
-  }
 };
 
 /// Adds one residual per pair to `problem` on the intrinsics and its sensor's pose
