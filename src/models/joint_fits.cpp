@@ -46,4 +46,35 @@ JointFitReport fitJointDiffDrive(const DiffDriveOptions& options,
       diffDriveParameters(), diffDriveMirrored, diffDriveObservabilityHints(), start, start_poses);
 }
 
+JointFitReport fitJointMecanum(const MecanumOptions& options,
+                               const std::vector<std::vector<MotionPair>>& pairs_per_sensor,
+                               const std::vector<Pose2>& start_poses)
+{
+  validate(options);
+  requireSensors(pairs_per_sensor, start_poses, "mecanum");
+  const MecanumEncoderLayout& layout = options.layout;
+  for (std::size_t s = 0; s < pairs_per_sensor.size(); ++s) {
+    const std::string which = "mecanum joint fit, sensor " + std::to_string(s);
+    requireEnoughPairs(pairs_per_sensor[s], 9, which);
+    requirePairsWithJoints(pairs_per_sensor[s],
+                           {layout.front_left_index, layout.front_right_index,
+                            layout.rear_left_index, layout.rear_right_index},
+                           which, "all four wheel joints");
+  }
+  SensorMotionState<kMecanumParameterCount> start;
+  start.intrinsics << options.initial_radius_m[0], options.initial_radius_m[1],
+      options.initial_radius_m[2], options.initial_radius_m[3], options.initial_lx_plus_ly_m;
+  JointFitReport report = fitJointParametricModel<MecanumKinematics>(
+      "mecanum", pairs_per_sensor, layout,
+      sensorMotionFitOptions(options.huber_threshold, options.max_iterations, options.yaw_starts),
+      mecanumParameters(), mecanumMirrored, mecanumObservabilityHints(), start, start_poses);
+  for (std::size_t s = 0; s < pairs_per_sensor.size(); ++s) {
+    const std::vector<std::string> motion =
+        mecanumMotionWarnings(mecanumMotionCoverage(pairs_per_sensor[s], layout, start.intrinsics));
+    std::vector<std::string>& warnings = report.sensors[s].warnings;
+    warnings.insert(warnings.begin(), motion.begin(), motion.end());
+  }
+  return report;
+}
+
 }  // namespace odometry_calibration

@@ -50,6 +50,14 @@ SourceRun pairAndFitSource(const BagCalibrationOptions& options, const Calibrati
 std::shared_ptr<MotionModel> jointModel(const CalibrationConfig& config,
                                         const JointFitReport& joint, std::size_t index)
 {
+  if (config.model == "mecanum") {
+    MecanumOptions options = config.models.mecanum;
+    for (std::size_t wheel = 0; wheel < 4; ++wheel)
+      options.initial_radius_m[wheel] = joint.intrinsics.at(wheel).value;
+    options.initial_lx_plus_ly_m = joint.intrinsics.at(4).value;
+    options.initial_T_base_sensor = joint.sensors.at(index).T_base_sensor;
+    return std::make_shared<MecanumModel>(options);
+  }
   DiffDriveOptions options = config.models.diff_drive;
   options.initial_left_radius_m = joint.intrinsics.at(0).value;
   options.initial_right_radius_m = joint.intrinsics.at(1).value;
@@ -115,10 +123,10 @@ std::string describeSource(const BagCalibrationOptions& options, const SourceRun
 int calibrateBagsJointly(const BagCalibrationOptions& options, CalibrationConfig config,
                          std::ostream& out)
 {
-  if (config.model != "diff_drive") {
+  if (config.model != "diff_drive" && config.model != "mecanum") {
     throw std::runtime_error(
         "ego_motion.sources: the joint fit of several sources supports "
-        "model diff_drive so far, not '" +
+        "models diff_drive and mecanum so far, not '" +
         config.model + "' (calibrate each source alone with a one-source configuration)");
   }
   const std::string output_dir =
@@ -135,7 +143,9 @@ int calibrateBagsJointly(const BagCalibrationOptions& options, CalibrationConfig
     starts.push_back(sources.back().fit->job.report.T_base_sensor);
     names.push_back(sources.back().source.topic);
   }
-  const JointFitReport joint = fitJointDiffDrive(config.models.diff_drive, pairs, starts);
+  const JointFitReport joint = config.model == "mecanum"
+                                   ? fitJointMecanum(config.models.mecanum, pairs, starts)
+                                   : fitJointDiffDrive(config.models.diff_drive, pairs, starts);
   text += "\n=== joint fit ===\n" + formatJointFitReport(joint, names);
   out << text;
   std::filesystem::create_directories(output_dir);

@@ -138,6 +138,52 @@ TEST(JointFits, OneSensorGivesTheFitAlone)
   EXPECT_EQ(view.before.translation_m, alone.before.translation_m);
 }
 
+TEST(JointFits, MecanumFrontAndRearSensorsShareTheWheels)
+{
+  const double radii[4] = {0.0515, 0.0497, 0.0503, 0.0490};  // FL, FR, RL, RR [m]
+  const std::vector<Pose2> truths = {Pose2(0.25, 0.0, 0.0), Pose2(-0.25, 0.02, M_PI + 0.03)};
+  std::vector<std::vector<MotionPair>> pairs;
+  for (std::size_t s = 0; s < 2; ++s) {
+    sim::PairGeneratorOptions options;
+    options.robot = {"mecanum",
+                     {{"wheel_radius_fl_m", radii[0]},
+                      {"wheel_radius_fr_m", radii[1]},
+                      {"wheel_radius_rl_m", radii[2]},
+                      {"wheel_radius_rr_m", radii[3]},
+                      {"half_length_m", 0.16},
+                      {"half_width_m", 0.2},
+                      {"encoder_ticks_per_rev", 4096}}};
+    options.T_base_sensor = truths[s];
+    options.duration_s = 150.0;
+    options.interval_s = 0.5;
+    options.motion.max_speed_mps = 0.4;
+    options.seed = 37 + static_cast<unsigned>(s);
+    pairs.push_back(sim::generatePairs(options).pairs);
+  }
+  MecanumOptions nominal;
+  nominal.layout.ticks_per_turn = 4096;
+  nominal.initial_radius_m = {0.05, 0.05, 0.05, 0.05};
+  nominal.initial_lx_plus_ly_m = 0.35;
+  const JointFitReport report = fitJointMecanum(nominal, pairs, {Pose2(), Pose2()});
+  ASSERT_TRUE(report.converged) << report.termination;
+  ASSERT_EQ(report.intrinsics.size(), 5u);
+  for (int i = 0; i < 4; ++i)
+    EXPECT_NEAR(report.intrinsics[i].value, radii[i], 0.003 * radii[i]) << i;
+  EXPECT_NEAR(report.intrinsics[4].value, 0.36, 0.003 * 0.36);
+  for (std::size_t s = 0; s < 2; ++s) {
+    EXPECT_NEAR(report.sensors[s].T_base_sensor.x(), truths[s].x(), 0.005) << s;
+    EXPECT_NEAR(report.sensors[s].T_base_sensor.y(), truths[s].y(), 0.005) << s;
+    EXPECT_LT(angleError(report.sensors[s].T_base_sensor.theta(), truths[s].theta()),
+              0.3 * M_PI / 180)
+        << s;
+  }
+  for (int i = 0; i < 5; ++i) {
+    EXPECT_LT(report.intrinsics[i].sigma,
+              std::min(report.alone[0].parameters[i].sigma, report.alone[1].parameters[i].sigma))
+        << report.intrinsics[i].name;
+  }
+}
+
 TEST(JointFits, RefusesMismatchedStartsAndTooFewPairs)
 {
   const std::vector<MotionPair> pairs = sensorPairs(kFront, 34, 0.002).pairs;

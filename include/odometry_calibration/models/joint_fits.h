@@ -1,5 +1,5 @@
-// The joint fits of the parametric models (issue 35): one set of wheel parameters and one pose
-// per sensor from each sensor's pairs (joint_parametric_fit.h).
+// The joint fits of the parametric models (issue 35: diff_drive, mecanum): one set of wheel
+// parameters and one pose per sensor from each sensor's pairs (joint_parametric_fit.h).
 #pragma once
 
 #include <vector>
@@ -8,6 +8,7 @@
 #include "odometry_calibration/geometry/se2.h"
 #include "odometry_calibration/models/diff_drive_model.h"
 #include "odometry_calibration/models/joint_fit_report.h"
+#include "odometry_calibration/models/mecanum_model.h"
 
 namespace odometry_calibration {
 
@@ -19,5 +20,13 @@ namespace odometry_calibration {
 JointFitReport fitJointDiffDrive(const DiffDriveOptions& options,
                                  const std::vector<std::vector<MotionPair>>& pairs_per_sensor,
                                  const std::vector<Pose2>& start_poses);
+
+/// The mecanum base's four radii and lx + ly, and the pose of each sensor, as
+/// fitJointDiffDrive (each set at least the 9 pairs a fit alone needs, with the four wheel
+/// joints); each sensor's warnings also name the motions its own pairs lack
+/// (mecanumMotionWarnings).
+JointFitReport fitJointMecanum(const MecanumOptions& options,
+                               const std::vector<std::vector<MotionPair>>& pairs_per_sensor,
+                               const std::vector<Pose2>& start_poses);
 
 }  // namespace odometry_calibration
