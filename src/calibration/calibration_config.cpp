@@ -132,6 +132,43 @@ std::vector<JointConfig> readJoints(const YAML::Node& root)
   return result;
 }
 
+/// `ego_motion.sources` (issue 35), when given: each entry's keys (topic required, time_offset_s
+/// left NaN when absent), distinct topics, and none of the one-source keys beside it.
+std::vector<EgoMotionSourceConfig> readSources(const YAML::Node& root)
+{
+  const YAML::Node sources = findConfigNode(root, "ego_motion.sources");
+  if (!sources)
+    return {};
+  if (!sources.IsSequence() || sources.size() == 0 || sources.size() > 16)
+    throw std::runtime_error("ego_motion.sources: a list of 1 to 16 sources is required");
+  for (const char* single : {"source", "scan_topic", "topic"}) {
+    if (root["ego_motion"][single])
+      throw std::runtime_error(std::string("ego_motion.") + single +
+                               ": give either ego_motion.sources or the one source's keys");
+  }
+  std::vector<EgoMotionSourceConfig> result;
+  for (std::size_t i = 0; i < sources.size(); ++i) {
+    const std::string prefix = "ego_motion.sources[" + std::to_string(i) + "].";
+    EgoMotionSourceConfig source;
+    for (const auto& entry : sourceConfigSchema()) {
+      const std::string name = entry.spec.key.substr(entry.spec.key.find("].") + 2);
+      if (const YAML::Node value = sources[i][name])
+        entry.set(source, readConfigValue(value, entry.spec, prefix + name));
+      else if (entry.spec.default_value)
+        entry.set(source, *entry.spec.default_value);
+      else if (name == "topic")
+        throw std::runtime_error(prefix + name + ": required (" + entry.spec.description + ")");
+    }
+    for (std::size_t j = 0; j < i; ++j) {
+      if (result[j].topic == source.topic)
+        throw std::runtime_error(prefix + "topic: '" + source.topic + "' is ego_motion.sources[" +
+                                 std::to_string(j) + "]'s too; each source needs its own topic");
+    }
+    result.push_back(source);
+  }
+  return result;
+}
+
 /// Every other key: its value when given, else its default; the values given, by key.
 GivenValues readKeys(const YAML::Node& root, CalibrationConfig* c)
 {
@@ -325,7 +362,14 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
     refuseUnknownKeys(root, schemaKeys());
     CalibrationConfig c;
     c.joints = readJoints(root);
+    c.ego_motion_sources = readSources(root);
     const GivenValues given = readKeys(root, &c);
+    if (c.ego_motion_sources.size() == 1) {
+      // One source listed: the one-source keys say the same, for every reader of those.
+      const std::vector<EgoMotionSourceConfig> listed = c.ego_motion_sources;
+      c = configForSource(c, 0);
+      c.ego_motion_sources = listed;
+    }
     resolveModelChoices(c, given);
     resolveSensor(c);
     resolveDiffDrive(c, given);
@@ -344,6 +388,49 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
 CalibrationConfig loadCalibrationConfig(const std::string& path)
 {
   return parseCalibrationConfig(readTextFile(path, "the configuration"), path);
+}
+
+std::vector<EgoMotionSourceConfig> egoMotionSources(const CalibrationConfig& config)
+{
+  std::vector<EgoMotionSourceConfig> sources = config.ego_motion_sources;
+  if (sources.empty()) {
+    EgoMotionSourceConfig one;
+    one.type = config.ego_motion;
+    one.topic =
+        config.ego_motion == EgoMotionSource::kScan ? config.scan_topic : config.ego_motion_topic;
+    sources.push_back(one);
+  }
+  for (EgoMotionSourceConfig& source : sources) {
+    if (std::isnan(source.time_offset_s))
+      source.time_offset_s = config.collector.time_offset_s;
+  }
+  return sources;
+}
+
+CalibrationConfig configForSource(const CalibrationConfig& config, std::size_t index)
+{
+  const std::vector<EgoMotionSourceConfig> sources = egoMotionSources(config);
+  if (index >= sources.size()) {
+    throw std::out_of_range("ego-motion source " + std::to_string(index) +
+                            ": the configuration has " + std::to_string(sources.size()));
+  }
+  const EgoMotionSourceConfig& source = sources[index];
+  CalibrationConfig one = config;
+  one.ego_motion_sources.clear();
+  one.ego_motion = source.type;
+  if (source.type == EgoMotionSource::kScan)
+    one.scan_topic = source.topic;
+  else
+    one.ego_motion_topic = source.topic;
+  one.collector.time_offset_s = source.time_offset_s;
+  if (source.sensor_pose.size() == 3) {
+    const Pose2 pose(source.sensor_pose[0], source.sensor_pose[1], source.sensor_pose[2]);
+    one.models.diff_drive.initial_T_base_sensor = pose;
+    one.models.skid_steer.initial_T_base_sensor = pose;
+    one.models.mecanum.initial_T_base_sensor = pose;
+    one.models.tricycle.initial.T_base_sensor = pose;
+  }
+  return one;
 }
 
 std::vector<EncoderChannelOptions> encoderChannels(const CalibrationConfig& config)

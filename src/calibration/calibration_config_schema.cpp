@@ -12,6 +12,7 @@ namespace {
 
 using Entry = ConfigSchemaEntry<CalibrationConfig>;
 using JointEntry = ConfigSchemaEntry<JointConfig>;
+using SourceEntry = ConfigSchemaEntry<EgoMotionSourceConfig>;
 
 /// A field of the target, for both the setter and the getter (const or not).
 #define AT(member)          \
@@ -56,6 +57,59 @@ std::vector<JointEntry> jointEntries()
   };
 }
 
+/// The source types' names, in EgoMotionSource's order.
+const char* sourceTypeName(EgoMotionSource type)
+{
+  const char* names[] = {"scan", "odometry", "pose", "cloud"};
+  return names[static_cast<int>(type)];
+}
+
+EgoMotionSource sourceType(const std::string& name)
+{
+  return name == "cloud"      ? EgoMotionSource::kCloud
+         : name == "odometry" ? EgoMotionSource::kOdometry
+         : name == "pose"     ? EgoMotionSource::kPose
+                              : EgoMotionSource::kScan;
+}
+
+std::vector<SourceEntry> sourceEntries()
+{
+  SourceEntry topic = text<EgoMotionSourceConfig>(
+      "ego_motion.sources[].topic", "", false,
+      "the source's topic (issue 35: several sources, each paired with the encoders)", AT(topic));
+  topic.spec.default_value.reset();
+  topic.spec.default_text = "required";
+  SourceEntry offset = number<EgoMotionSourceConfig>(
+      "ego_motion.sources[].time_offset_s", 0.0, "s", rangeOpen(-5.0, 5.0),
+      "this source's encoder time offset (encoders at its stamp + this)", AT(time_offset_s));
+  offset.spec.default_value.reset();
+  offset.spec.default_text = "keyframes.time_offset_s";
+  SourceEntry pose{
+      configKeySpec("ego_motion.sources[].sensor_pose", ConfigType::kDoubleList, "m, m, rad",
+                    "this sensor's pose in base_link [x, y, theta]: its start value "
+                    "and matcher guesses"),
+      [](EgoMotionSourceConfig& c, const ConfigValue& v) {
+        c.sensor_pose = std::get<std::vector<double>>(v);
+      },
+      [](const EgoMotionSourceConfig& c) { return ConfigValue(c.sensor_pose); }};
+  pose.spec.range = rangeClosed(-100.0, 100.0);
+  pose.spec.min_size = pose.spec.max_size = 3;
+  pose.spec.default_text = "the model section's sensor_pose";
+  return {
+      topic,
+      choice<EgoMotionSourceConfig>(
+          "ego_motion.sources[].type", "scan", {"scan", "cloud", "odometry", "pose"},
+          "what the topic carries, as ego_motion.source",
+          [](EgoMotionSourceConfig& c, const std::string& v) { c.type = sourceType(v); },
+          [](const EgoMotionSourceConfig& c) { return sourceTypeName(c.type); }),
+      text<EgoMotionSourceConfig>("ego_motion.sources[].frame", "", true,
+                                  "the sensor's frame (base_link -> frame; empty: the messages')",
+                                  AT(frame)),
+      offset,
+      pose,
+  };
+}
+
 std::vector<Entry> topLevelEntries()
 {
   ConfigKeySpec compare =
@@ -96,16 +150,8 @@ std::vector<Entry> egoMotionEntries()
           "ego_motion.source", "scan", {"scan", "cloud", "odometry", "pose"},
           "scan (LaserScan + PLICP), cloud (PointCloud2 -> scan + PLICP), odometry "
           "(nav_msgs/Odometry) or pose (geometry_msgs/PoseStamped) of the sensor",
-          [](CalibrationConfig& c, const std::string& v) {
-            c.ego_motion = v == "cloud"      ? EgoMotionSource::kCloud
-                           : v == "odometry" ? EgoMotionSource::kOdometry
-                           : v == "pose"     ? EgoMotionSource::kPose
-                                             : EgoMotionSource::kScan;
-          },
-          [](const CalibrationConfig& c) {
-            const char* names[] = {"scan", "odometry", "pose", "cloud"};
-            return names[static_cast<int>(c.ego_motion)];
-          }),
+          [](CalibrationConfig& c, const std::string& v) { c.ego_motion = sourceType(v); },
+          [](const CalibrationConfig& c) { return sourceTypeName(c.ego_motion); }),
       text<CalibrationConfig>("ego_motion.scan_topic", "/scan", false,
                               "sensor_msgs/LaserScan topic (source scan)", AT(scan_topic)),
       text<CalibrationConfig>("ego_motion.topic", "", true,
@@ -313,6 +359,12 @@ const std::vector<ConfigSchemaEntry<JointConfig>>& jointConfigSchema()
   return entries;
 }
 
+const std::vector<ConfigSchemaEntry<EgoMotionSourceConfig>>& sourceConfigSchema()
+{
+  static const std::vector<SourceEntry> entries = sourceEntries();
+  return entries;
+}
+
 const std::vector<ConfigSchemaEntry<CalibrationConfig>>& calibrationConfigSchema()
 {
   static const std::vector<Entry> entries = [] {
@@ -330,6 +382,8 @@ std::vector<const ConfigKeySpec*> calibrationConfigSpecs()
 {
   std::vector<const ConfigKeySpec*> specs;
   for (const auto& entry : jointConfigSchema())
+    specs.push_back(&entry.spec);
+  for (const auto& entry : sourceConfigSchema())
     specs.push_back(&entry.spec);
   for (const auto& entry : calibrationConfigSchema())
     specs.push_back(&entry.spec);

@@ -62,6 +62,39 @@ void writeJoints(std::ostringstream& out, const CalibrationConfig& config)
   }
 }
 
+/// ego_motion.sources (issue 35) at `depth`: each source's keys (a time offset left to
+/// keyframes.time_offset_s commented out), or, without the list, its keys commented out.
+void writeSources(std::ostringstream& out, const CalibrationConfig& config, std::size_t depth)
+{
+  if (config.ego_motion_sources.empty()) {  // the keys shown, commented out: one source below
+    out << std::string(2 * depth, ' ') << "# sources:  (one source: source, scan_topic, topic)\n";
+    for (const auto& entry : sourceConfigSchema()) {
+      const std::string name = entry.spec.key.substr(entry.spec.key.find("].") + 2);
+      out << std::string(2 * depth + 2, ' ') << "# " << name << ": (unused)  # "
+          << comment(entry.spec) << "\n";
+    }
+    return;
+  }
+  out << std::string(2 * depth, ' ') << "sources:\n";
+  for (const EgoMotionSourceConfig& source : config.ego_motion_sources) {
+    bool first = true;
+    for (const auto& entry : sourceConfigSchema()) {
+      const std::string name = entry.spec.key.substr(entry.spec.key.find("].") + 2);
+      writeLine(out, depth + 1, (first ? "- " : "  ") + name, formatConfigValue(entry.get(source)),
+                entry.spec);
+      first = false;
+    }
+  }
+}
+
+/// Whether `key` is one of the one-source keys that ego_motion.sources replaces.
+bool replacedBySources(const CalibrationConfig& config, const std::string& key)
+{
+  return !config.ego_motion_sources.empty() &&
+         (key == "ego_motion.source" || key == "ego_motion.scan_topic" ||
+          key == "ego_motion.topic");
+}
+
 }  // namespace
 
 std::string formatEffectiveConfig(const CalibrationConfig& config)
@@ -79,9 +112,17 @@ std::string formatEffectiveConfig(const CalibrationConfig& config)
     std::size_t common = 0;
     while (common < open.size() && common < parts.size() && open[common] == parts[common])
       ++common;
-    for (std::size_t depth = common; depth < parts.size(); ++depth)
+    for (std::size_t depth = common; depth < parts.size(); ++depth) {
       out << std::string(2 * depth, ' ') << parts[depth] << ":\n";
+      if (depth == 0 && parts[0] == "ego_motion")
+        writeSources(out, config, 1);
+    }
     open = parts;
+    if (replacedBySources(config, entry.spec.key)) {
+      out << std::string(2 * parts.size(), ' ') << "# " << name
+          << ": (replaced by ego_motion.sources)\n";
+      continue;
+    }
     writeLine(out, parts.size(), name, formatConfigValue(entry.get(config)), entry.spec);
   }
   return out.str();

@@ -55,6 +55,21 @@ DiffDriveEncoderLayout diffDriveLayoutForJoints(const JointLayout& joints,
   return {jointIndex(joints, left_joint, 0), jointIndex(joints, right_joint, 1), ticks_per_turn};
 }
 
+ObservabilityHints diffDriveObservabilityHints()
+{
+  ObservabilityHints hints;
+  hints.unobservable_without_turning = "wheel_separation, the radii's difference and sensor_y";
+  hints.confused_by_one_way_turns =
+      "the radii's difference is poorly separated from the sensor's position";
+  hints.relative_parameters = diffDriveParameters().relative;
+  return hints;
+}
+
+bool diffDriveMirrored(const Eigen::Vector3d& intrinsics)
+{
+  return intrinsics(kLeftRadius) + intrinsics(kRightRadius) < 0.0;
+}
+
 DiffDriveModel::DiffDriveModel(DiffDriveOptions options) : options_(std::move(options))
 {
   validate(options_);
@@ -70,21 +85,14 @@ ModelReport DiffDriveModel::fit(const std::vector<MotionPair>& pairs)
                          "diff_drive", "both wheel joints");
   // Sign ambiguity: (-r_L, -r_R, -b) with the sensor at (-x, -y, theta + pi) predicts the same
   // motions. Keep the physical solution, with positive radii.
-  const auto mirrored = [](const Eigen::Vector3d& intrinsics) {
-    return intrinsics(kLeftRadius) + intrinsics(kRightRadius) < 0.0;
-  };
   ParametricFit fit = fitParametricModel<DiffDriveKinematics>(
       name(), pairs, options_.layout,
       sensorMotionFitOptions(options_.huber_threshold, options_.max_iterations,
                              options_.yaw_starts),
-      diffDriveParameters(), mirrored, &state_);
-  ObservabilityHints hints;
-  hints.unobservable_without_turning = "wheel_separation, the radii's difference and sensor_y";
-  hints.confused_by_one_way_turns =
-      "the radii's difference is poorly separated from the sensor's position";
-  hints.relative_parameters = diffDriveParameters().relative;
+      diffDriveParameters(), diffDriveMirrored, &state_);
   fit.report.warnings = observabilityWarnings(pairs, fit.report.parameters, state_.covariance,
-                                              fit.covariance_available, hints, &fit.report.notes);
+                                              fit.covariance_available,
+                                              diffDriveObservabilityHints(), &fit.report.notes);
   return fit.report;
 }
 

@@ -144,6 +144,21 @@ std::vector<std::string> mecanumWarnings(const std::vector<std::string>& coverag
 
 }  // namespace
 
+ObservabilityHints mecanumObservabilityHints()
+{
+  ObservabilityHints hints;
+  hints.unobservable_without_turning = "lx_plus_ly, sensor_x and sensor_y";
+  hints.confused_by_one_way_turns =
+      "the radii's left-right difference is poorly separated from the sensor's position";
+  hints.relative_parameters = mecanumParameters().relative;
+  return hints;
+}
+
+bool mecanumMirrored(const Eigen::Matrix<double, 5, 1>& intrinsics)
+{
+  return intrinsics.head<4>().sum() < 0.0;
+}
+
 ModelReport MecanumModel::fit(const std::vector<MotionPair>& pairs)
 {
   requireEnoughPairs(pairs, 9, "mecanum calibration");
@@ -151,24 +166,16 @@ ModelReport MecanumModel::fit(const std::vector<MotionPair>& pairs)
   requirePairsWithJoints(pairs, std::vector<int>(index.begin(), index.end()), "mecanum",
                          "all four wheel joints");
   const Eigen::Matrix<double, 5, 1> start_intrinsics = state_.intrinsics;
-  // Sign ambiguity: all radii and lx + ly negated with the sensor at (-x, -y, theta + pi)
-  // predict the same motions. Keep the physical solution, with positive radii.
-  const auto mirrored = [](const Eigen::Matrix<double, 5, 1>& intrinsics) {
-    return intrinsics.head<4>().sum() < 0.0;
-  };
+  // Sign ambiguity (mecanumMirrored): keep the physical solution, with positive radii.
   ParametricFit fit = fitParametricModel<MecanumKinematics>(
       name(), pairs, options_.layout,
       sensorMotionFitOptions(options_.huber_threshold, options_.max_iterations,
                              options_.yaw_starts),
-      mecanumParameters(), mirrored, &state_);
+      mecanumParameters(), mecanumMirrored, &state_);
   ModelReport& report = fit.report;
-  ObservabilityHints hints;
-  hints.unobservable_without_turning = "lx_plus_ly, sensor_x and sensor_y";
-  hints.confused_by_one_way_turns =
-      "the radii's left-right difference is poorly separated from the sensor's position";
-  hints.relative_parameters = mecanumParameters().relative;
-  const std::vector<std::string> general = observabilityWarnings(
-      pairs, report.parameters, state_.covariance, fit.covariance_available, hints, &report.notes);
+  const std::vector<std::string> general =
+      observabilityWarnings(pairs, report.parameters, state_.covariance, fit.covariance_available,
+                            mecanumObservabilityHints(), &report.notes);
   report.warnings = mecanumWarnings(
       mecanumMotionWarnings(mecanumMotionCoverage(pairs, options_.layout, start_intrinsics)),
       general);

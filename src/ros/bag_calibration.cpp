@@ -11,6 +11,7 @@
 #include "odometry_calibration/eval/model_report.h"
 #include "odometry_calibration/factory/model_factory.h"
 #include "odometry_calibration/report/result_files.h"
+#include "odometry_calibration/ros/bag_joint_calibration.h"
 #include "odometry_calibration/ros/bag_runner.h"
 
 namespace odometry_calibration {
@@ -196,6 +197,8 @@ int calibrateBags(const BagCalibrationOptions& options, std::ostream& out)
     out << formatEffectiveConfig(config);
     return 0;
   }
+  if (config.ego_motion_sources.size() > 1)  // issue 35: several sensors, one joint fit
+    return calibrateBagsJointly(options, config, out);
   const std::string output_dir =
       options.output_dir.empty() ? config.output_directory : options.output_dir;
   const IntervalPlan plan = planIntervals(options.interval, config);

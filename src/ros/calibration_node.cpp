@@ -1,5 +1,8 @@
 #include "odometry_calibration/ros/calibration_node.h"
 
+#include <stdexcept>
+#include <string>
+
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <nav_msgs/Path.h>
 #include <std_msgs/Float64.h>
@@ -32,6 +35,12 @@ CalibrationNode::CalibrationNode(ros::NodeHandle handle, ros::NodeHandle private
 {
   const std::string config_text = readTextFile(options_.config_path, "the configuration");
   config_ = parseCalibrationConfig(config_text, options_.config_path);
+  if (config_.ego_motion_sources.size() > 1) {  // issue 35: the joint fit is calibrate_bag's
+    throw std::runtime_error(options_.config_path + ": ego_motion.sources lists " +
+                             std::to_string(config_.ego_motion_sources.size()) +
+                             " sources; the live node calibrates one (calibrate_bag fits "
+                             "several jointly)");
+  }
   channels_ = encoderChannels(config_);
   SessionOptions& session = options_.session;
   if (session.output_directory.empty())

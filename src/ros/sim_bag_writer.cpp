@@ -37,6 +37,8 @@ SimBagWriter::SimBagWriter(const std::string& bag_path, const sim::Scenario& sce
                            std::vector<std::string> joint_names)
     : bag_(std::make_unique<rosbag::Bag>()),
       scenario_(scenario),
+      lasers_(sim::allLasers(scenario)),
+      scan_seqs_(lasers_.size(), 0),
       joint_names_(std::move(joint_names))
 {
   try {
@@ -61,10 +63,14 @@ void SimBagWriter::onJointState(const sim::JointStateSample& sample)
 
 void SimBagWriter::onScan(const sim::ScanSample& sample)
 {
+  if (sample.laser_index >= lasers_.size())
+    throw std::invalid_argument("a scan of laser " + std::to_string(sample.laser_index) +
+                                ", the scenario has " + std::to_string(lasers_.size()));
+  const sim::LaserOptions& laser = lasers_[sample.laser_index];
   sensor_msgs::LaserScan message;
-  message.header.seq = scan_seq_++;
+  message.header.seq = sample.laser_index == 0 ? scan_seq_++ : scan_seqs_[sample.laser_index]++;
   message.header.stamp = rosTime(scenario_.start_time_s, sample.stamp_s);
-  message.header.frame_id = scenario_.laser.frame_id;
+  message.header.frame_id = laser.frame_id;
   message.angle_min = sample.angle_min_rad;
   message.angle_max = sample.angle_min_rad +
                       sample.angle_increment_rad * static_cast<float>(sample.ranges.size() - 1);
@@ -72,13 +78,12 @@ void SimBagWriter::onScan(const sim::ScanSample& sample)
   // As a driver publishes it: stamped at the first ray, ray i taken i * time_increment later
   // (0: the whole scan at its stamp), recorded when the sweep is over.
   message.time_increment = static_cast<float>(sample.time_increment_s);
-  message.scan_time = static_cast<float>(1.0 / scenario_.laser.rate_hz);
+  message.scan_time = static_cast<float>(1.0 / laser.rate_hz);
   message.range_min = sample.range_min_m;
   message.range_max = sample.range_max_m;
   message.ranges = sample.ranges;
   const double sweep_s = sample.time_increment_s * static_cast<double>(sample.ranges.size() - 1);
-  bag_->write(scenario_.laser.topic, rosTime(scenario_.start_time_s, sample.stamp_s + sweep_s),
-              message);
+  bag_->write(laser.topic, rosTime(scenario_.start_time_s, sample.stamp_s + sweep_s), message);
 }
 
 void SimBagWriter::onCloud(const sim::CloudSample& sample)
@@ -142,12 +147,14 @@ void SimBagWriter::onTruth(const sim::TruthSample& sample)
   const std::string base = "sim_base_link";
   if (!wrote_static_tf_) {
     tf2_msgs::TFMessage tf_static;
-    geometry_msgs::TransformStamped laser;
-    laser.header.stamp = stamp;
-    laser.header.frame_id = base;
-    laser.child_frame_id = "sim_" + scenario_.laser.frame_id;
-    laser.transform = ros_conversions::toTransformMsg(scenario_.laser.T_base_laser);
-    tf_static.transforms.push_back(laser);
+    for (const sim::LaserOptions& options : lasers_) {  // every laser's true mounting
+      geometry_msgs::TransformStamped laser;
+      laser.header.stamp = stamp;
+      laser.header.frame_id = base;
+      laser.child_frame_id = "sim_" + options.frame_id;
+      laser.transform = ros_conversions::toTransformMsg(options.T_base_laser);
+      tf_static.transforms.push_back(laser);
+    }
     bag_->write("/tf_static", stamp, tf_static);
     wrote_static_tf_ = true;
   }

@@ -80,6 +80,29 @@ void validateLaserGeometry(const LaserOptions& laser)
           "laser roll_rad and pitch_rad must be within 0.5 rad");
   require(laser.point_times == "relative" || laser.point_times == "absolute",
           "laser.point_times must be relative or absolute");
+  require(std::isfinite(laser.time_offset_s) && std::abs(laser.time_offset_s) < 10.0,
+          "laser.time_offset_s must be within 10 s");
+}
+
+/// The extra lasers (issue 35): planar, each on a topic and frame of its own.
+void validateExtraLasers(const Scenario& s)
+{
+  std::set<std::string> topics{s.laser.topic}, frames{s.laser.frame_id};
+  for (std::size_t k = 0; k < s.extra_lasers.size(); ++k) {
+    const LaserOptions& laser = s.extra_lasers[k];
+    const std::string which = "lasers[" + std::to_string(k + 1) + "]";
+    try {
+      validateLaserNoise(laser);
+      validateLaserGeometry(laser);
+    } catch (const std::invalid_argument& error) {
+      throw std::invalid_argument(which + ": " + error.what());
+    }
+    require(laser.type == "planar", which + ": only the first laser may be multibeam");
+    require(topics.insert(laser.topic).second,
+            which + ": topic '" + laser.topic + "' is another laser's too");
+    require(frames.insert(laser.frame_id).second,
+            which + ": frame_id '" + laser.frame_id + "' is another laser's too");
+  }
 }
 
 /// The changes: in time order, mounting moves within reach, encoder stamps never going back.
@@ -112,6 +135,7 @@ void validate(const Scenario& s)
   require(s.start_time_s >= 1.0 && s.start_time_s < 4e9, "start_time_s must be in [1, 4e9) s");
   validateLaserNoise(s.laser);
   validateLaserGeometry(s.laser);
+  validateExtraLasers(s);
   require(s.encoders.rate_hz > 0.0, "encoders.rate_hz must be > 0");
   require(s.encoders.counter_bits >= 0 && s.encoders.counter_bits <= 52,
           "encoders.counter_bits must be in [0, 52]");
@@ -130,11 +154,11 @@ namespace {
 void readScenarioTop(const YAML::Node& root, const std::string& path,
                      const std::string& worlds_directory, Scenario& s)
 {
-  checkYamlKeys(
-      root,
-      {"name", "seed", "duration_s", "start_time_s", "world", "start_pose", "robot", "laser",
-       "encoders", "motion", "tracker", "changes", "ground_truth_topic", "ground_truth_frame"},
-      path);
+  checkYamlKeys(root,
+                {"name", "seed", "duration_s", "start_time_s", "world", "start_pose", "robot",
+                 "laser", "lasers", "encoders", "motion", "tracker", "changes",
+                 "ground_truth_topic", "ground_truth_frame"},
+                path);
   readYaml(root, "name", &s.name);
   readYaml(root, "seed", &s.seed);
   readYaml(root, "duration_s", &s.duration_s);
@@ -215,7 +239,8 @@ void readLaserYaml(const YAML::Node& laser, const std::string& where, LaserOptio
                  "height_m",
                  "roll_rad",
                  "pitch_rad",
-                 "point_times"},
+                 "point_times",
+                 "time_offset_s"},
                 where);
   if (laser) {
     options.T_base_laser = readPose(laser["pose"], where + ".pose", options.T_base_laser);
@@ -236,7 +261,31 @@ void readLaserYaml(const YAML::Node& laser, const std::string& where, LaserOptio
   readYaml(laser, "dark_dropout_probability", &options.dark_dropout_probability);
   readYaml(laser, "range_ripple_m", &options.range_ripple_m);
   readYaml(laser, "range_ripple_period_rays", &options.range_ripple_period_rays);
+  readYaml(laser, "time_offset_s", &options.time_offset_s);
   readLaserTypeYaml(laser, options);
+}
+
+/// lasers: the robot's lasers (issue 35), the first into s.laser, the others into
+/// s.extra_lasers; each entry has the keys of `laser:`. Not together with `laser:`.
+void readLasersYaml(const YAML::Node& root, const std::string& path, std::string& where,
+                    Scenario& s)
+{
+  const YAML::Node lasers = root["lasers"];
+  if (!lasers)
+    return;
+  if (root["laser"])
+    throw std::runtime_error("give either laser: (one laser) or lasers: (a list), not both");
+  if (!lasers.IsSequence() || lasers.size() == 0)
+    throw std::runtime_error("lasers: expected a list of at least one laser");
+  for (std::size_t k = 0; k < lasers.size(); ++k) {
+    where = path + ": lasers[" + std::to_string(k) + "]";
+    LaserOptions options;
+    readLaserYaml(lasers[k], where, options);
+    if (k == 0)
+      s.laser = options;
+    else
+      s.extra_lasers.push_back(options);
+  }
 }
 
 /// encoders: rate, topic, joints, units, counter width, start and time offset.
@@ -359,6 +408,7 @@ Scenario loadScenarioYaml(const std::string& path, const std::string& worlds_dir
     readRobotYaml(root["robot"], s.robot);
     where = path + ": laser";
     readLaserYaml(root["laser"], where, s.laser);
+    readLasersYaml(root, path, where, s);
     where = path + ": encoders";
     readEncodersYaml(root["encoders"], where, s.encoders);
     where = path + ": tracker";
@@ -383,6 +433,13 @@ Scenario loadScenarioYaml(const std::string& path, const std::string& worlds_dir
   if (overrides.duration_s > 0.0)
     scenario.duration_s = overrides.duration_s;
   return scenario;
+}
+
+std::vector<LaserOptions> allLasers(const Scenario& scenario)
+{
+  std::vector<LaserOptions> lasers{scenario.laser};
+  lasers.insert(lasers.end(), scenario.extra_lasers.begin(), scenario.extra_lasers.end());
+  return lasers;
 }
 
 std::string shippedWorldsDirectory()

@@ -67,6 +67,8 @@ void emitLaser(const LaserOptions& laser, YAML::Emitter& out)
   out << YAML::Key << "frame_id" << YAML::Value << laser.frame_id;
   out << YAML::Key << "topic" << YAML::Value << laser.topic;
   out << YAML::Key << "type" << YAML::Value << laser.type;
+  if (laser.time_offset_s != 0.0)  // only then: truth files of other scenarios stay as they were
+    out << YAML::Key << "time_offset_s" << YAML::Value << laser.time_offset_s;
   if (laser.type == "multibeam") {
     out << YAML::Key << "rings" << YAML::Value << laser.rings;
     out << YAML::Key << "elevation_min_rad" << YAML::Value << laser.elevation_min_rad;
@@ -136,6 +138,15 @@ std::string scenarioTruthYaml(const Scenario& s, const Robot& robot)
   out << YAML::Key << "world" << YAML::Value << s.world_path;
   emitRobot(s, robot, out);
   emitLaser(s.laser, out);
+  if (!s.extra_lasers.empty()) {  // issue 35: each further laser's true pose and sensor model
+    out << YAML::Key << "extra_lasers" << YAML::Value << YAML::BeginSeq;
+    for (const LaserOptions& laser : s.extra_lasers) {
+      out << YAML::BeginMap;
+      emitLaser(laser, out);
+      out << YAML::EndMap;
+    }
+    out << YAML::EndSeq;
+  }
   emitEncodersAndTracker(s, out);
   out << YAML::Key << "ground_truth_topic" << YAML::Value << s.ground_truth_topic;
   out << YAML::Key << "ground_truth_frame" << YAML::Value << s.ground_truth_frame;

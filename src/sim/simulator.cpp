@@ -239,6 +239,47 @@ Pose2 laserPoseDuringSweep(const std::deque<MotionStep>& recent_steps, const Pos
   return step->T_world_base * integrateTwist(step->twist, into_s) * T_base_laser;
 }
 
+/// A laser after the first (issue 35): its ray model on a random stream of its own, its scan
+/// period and sweep, and when its next scan is due.
+struct ExtraLaser
+{
+  ExtraLaser(const LaserOptions& laser_options, unsigned seed, std::size_t laser_index)
+      : options(laser_options),
+        model(laser_options, seed),
+        period_ns(periodNs(laser_options.rate_hz)),
+        sweep_ns(std::llround(model.sweepDuration() * 1e9)),
+        index(laser_index)
+  {
+  }
+
+  const LaserOptions& options;
+  LaserModel model;
+  std::int64_t period_ns;
+  std::int64_t sweep_ns;
+  std::size_t index;
+  std::int64_t next_ns = 0;
+};
+
+/// The extra lasers of a scenario, each seeded apart from the first laser's streams.
+std::vector<ExtraLaser> extraLasers(const Scenario& scenario)
+{
+  std::vector<ExtraLaser> lasers;
+  for (std::size_t k = 0; k < scenario.extra_lasers.size(); ++k) {
+    const unsigned seed = scenario.seed ^ static_cast<unsigned>(0x9e3779b9u * (k + 1));
+    lasers.emplace_back(scenario.extra_lasers[k], seed, k + 1);
+  }
+  return lasers;
+}
+
+/// The longest sweep [ns] of the planar lasers among `first_sweep_ns` and the extra lasers'.
+std::int64_t longestSweep(std::int64_t first_sweep_ns, const std::vector<ExtraLaser>& extra)
+{
+  std::int64_t longest = first_sweep_ns;
+  for (const ExtraLaser& laser : extra)
+    longest = std::max(longest, laser.sweep_ns);
+  return longest;
+}
+
 /// One run of the simulator: the robot driven by the planner in integration steps, the events
 /// (control, encoders with the truth and the tracker, scans or sweeps) at their instants.
 class SimulationRun
@@ -268,7 +309,9 @@ public:
         previous_reading_(specs_.size(), std::numeric_limits<double>::quiet_NaN()),
         wrap_period_(wrapPeriods(scenario.encoders, specs_)),
         multibeam_(laser_.type == "multibeam"),
-        sweep_ns_(multibeam_ ? 0 : std::llround(laser_model_.sweepDuration() * 1e9))
+        sweep_ns_(multibeam_ ? 0 : std::llround(laser_model_.sweepDuration() * 1e9)),
+        extra_lasers_(extraLasers(scenario)),
+        longest_sweep_ns_(longestSweep(sweep_ns_, extra_lasers_))
   {
     if (multibeam_)
       history_.add(0, T_world_base_, 2 * scan_period_);
@@ -277,7 +320,8 @@ public:
   SimulationSummary run()
   {
     while (true) {
-      const std::int64_t next_event = std::min({next_encoder_, next_scan_, next_control_});
+      const std::int64_t next_event =
+          std::min({next_encoder_, next_scan_, next_control_, nextExtraScan()});
       if (next_event > end_ns_)
         break;
       integrateTo(next_event);
@@ -293,20 +337,44 @@ public:
       }
       if (now_ == next_scan_ && multibeam_) {
         if (now_ >= scan_period_) {  // a sweep that began at the start or later
-          sink_.onCloud(castSweep(laser_, T_base_laser_, world_, history_, now_, scan_period_, rng_,
-                                  range_noise_, unit_));
+          CloudSample cloud = castSweep(laser_, T_base_laser_, world_, history_, now_,
+                                        scan_period_, rng_, range_noise_, unit_);
+          cloud.stamp_s += laser_.time_offset_s;
+          sink_.onCloud(cloud);
           ++summary_.scans;
         }
         next_scan_ += scan_period_;
       } else if (now_ == next_scan_) {
-        publishScan();
+        publishScan(laser_model_, T_base_laser_, sweep_ns_, laser_.time_offset_s, 0);
         next_scan_ += scan_period_;
       }
+      publishExtraScans();
     }
     return summary_;
   }
 
 private:
+  /// When the next scan of an extra laser is due [ns] (never without one).
+  std::int64_t nextExtraScan() const
+  {
+    std::int64_t next = std::numeric_limits<std::int64_t>::max();
+    for (const ExtraLaser& laser : extra_lasers_)
+      next = std::min(next, laser.next_ns);
+    return next;
+  }
+
+  /// The scans of the extra lasers due now, in the lasers' order.
+  void publishExtraScans()
+  {
+    for (ExtraLaser& laser : extra_lasers_) {
+      if (now_ != laser.next_ns)
+        continue;
+      publishScan(laser.model, laser.options.T_base_laser, laser.sweep_ns,
+                  laser.options.time_offset_s, laser.index);
+      laser.next_ns += laser.period_ns;
+    }
+  }
+
   /// The changes due by now: the robot after them, the laser moved and turned by them, the
   /// encoders' clock shifted by them.
   void applyChanges()
@@ -332,9 +400,9 @@ private:
       applyChanges();
       rampCommand(target_, scenario_.motion, dt, command_);
       realised_ = current_robot_->step(command_, dt, &joints_);
-      if (sweep_ns_ > 0) {
+      if (longest_sweep_ns_ > 0) {
         recent_steps_.push_back({now_, T_world_base_, realised_});
-        while (recent_steps_.size() > 1 && recent_steps_[1].start_ns <= now_ - sweep_ns_)
+        while (recent_steps_.size() > 1 && recent_steps_[1].start_ns <= now_ - longest_sweep_ns_)
           recent_steps_.pop_front();
       }
       const Pose2 motion = integrateTwist(realised_, dt);
@@ -376,22 +444,27 @@ private:
     }
   }
 
-  /// The planar laser's scan, complete now: its first ray was taken one sweep ago (a driver
-  /// stamps the first ray). Before t = 0 the robot stood at its start pose; the first scan
-  /// whose sweep would begin before then is not taken.
-  void publishScan()
+  /// A planar laser's scan (laser `index`, mounted at T_base_laser, its sweep `sweep_ns` long),
+  /// complete now: its first ray was taken one sweep ago (a driver stamps the first ray; the
+  /// stamp is on the laser's clock, time_offset_s [s] ahead of the true time). Before t = 0
+  /// the robot stood at its start pose; the first scan whose sweep would begin before then is
+  /// not taken.
+  void publishScan(LaserModel& model, const Pose2& T_base_laser, std::int64_t sweep_ns,
+                   double time_offset_s, std::size_t index)
   {
-    const std::int64_t first_ray_ns = now_ - sweep_ns_;
+    const std::int64_t first_ray_ns = now_ - sweep_ns;
     if (first_ray_ns < 0)
       return;
     auto T_world_laser_at = [&](double tau_s) {
-      if (sweep_ns_ == 0)
-        return T_world_base_ * T_base_laser_;
-      return laserPoseDuringSweep(recent_steps_, T_world_base_, T_base_laser_, now_,
+      if (sweep_ns == 0)
+        return T_world_base_ * T_base_laser;
+      return laserPoseDuringSweep(recent_steps_, T_world_base_, T_base_laser, now_,
                                   static_cast<double>(first_ray_ns) + tau_s * 1e9);
     };
-    sink_.onScan(laser_model_.measure(world_, static_cast<double>(first_ray_ns) / kNanoseconds,
-                                      T_world_laser_at));
+    ScanSample scan = model.measure(
+        world_, static_cast<double>(first_ray_ns) / kNanoseconds + time_offset_s, T_world_laser_at);
+    scan.laser_index = index;
+    sink_.onScan(scan);
     ++summary_.scans;
   }
 
@@ -430,6 +503,8 @@ private:
   PoseHistory history_;
   std::deque<MotionStep> recent_steps_;
   const std::int64_t sweep_ns_;
+  std::vector<ExtraLaser> extra_lasers_;
+  const std::int64_t longest_sweep_ns_;  // of every planar laser: the motion steps kept
 };
 
 }  // namespace
@@ -439,9 +514,10 @@ SimulationSummary simulate(const Scenario& scenario, const World& world, const R
 {
   validate(scenario);
   publishedJointNames(scenario, robot);  // checks the count
-  const LaserOptions& laser = scenario.laser;
-  const double footprint = std::max(
-      robot.footprintRadius(), std::hypot(laser.T_base_laser.x(), laser.T_base_laser.y()) + 0.1);
+  double footprint = robot.footprintRadius();
+  for (const LaserOptions& laser : allLasers(scenario))
+    footprint =
+        std::max(footprint, std::hypot(laser.T_base_laser.x(), laser.T_base_laser.y()) + 0.1);
   checkStartPose(scenario, world, footprint);
   return SimulationRun(scenario, world, robot, sink, footprint).run();
 }

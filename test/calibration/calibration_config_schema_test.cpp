@@ -322,6 +322,23 @@ TEST(CalibrationConfigSchema, TheEffectiveConfigurationReadsBackAndCommentsEvery
   }
 }
 
+TEST(CalibrationConfigSchema, TheEffectiveConfigurationReadsBackItsSources)
+{
+  const CalibrationConfig config = parseCalibrationConfig(
+      kJoints +
+          "ego_motion:\n  sources:\n    - {topic: /scan_front, frame: laser_front}\n"
+          "    - {topic: /scan_rear, frame: laser_rear, time_offset_s: 0.05}\n",
+      "c.yaml");
+  const std::string text = formatEffectiveConfig(config);
+  EXPECT_NE(text.find("# scan_topic: (replaced by ego_motion.sources)"), std::string::npos) << text;
+  const CalibrationConfig again = parseCalibrationConfig(text, "effective.yaml");
+  EXPECT_EQ(formatEffectiveConfig(again), text);
+  ASSERT_EQ(again.ego_motion_sources.size(), 2u);
+  EXPECT_EQ(again.ego_motion_sources[1].frame, "laser_rear");
+  EXPECT_DOUBLE_EQ(again.ego_motion_sources[1].time_offset_s, 0.05);
+  EXPECT_TRUE(std::isnan(again.ego_motion_sources[0].time_offset_s));
+}
+
 /// Joints every model can use: diff_drive (the first two), mecanum (the first four), skid_steer
 /// (*left* / *right*), tricycle (steer, left_front); all fitted or compared.
 const std::string kEveryModel =

@@ -34,6 +34,85 @@ TEST(CalibrationConfig, ShippedConfigParses)
   EXPECT_DOUBLE_EQ(tuned.collector.plicp.line_fit.veiling_min_angle_rad, 0.17);
 }
 
+TEST(CalibrationConfig, EgoMotionSourcesListSeveralSensors)
+{
+  const std::string joints =
+      "joints: [{name: l, units_per_turn: 100}, {name: r, units_per_turn: "
+      "100}]\nkeyframes: {time_offset_s: -0.02}\n";
+  // Today's keys: one source, as before.
+  const CalibrationConfig one =
+      parseCalibrationConfig(joints + "ego_motion: {scan_topic: /front/scan}\n", "one.yaml");
+  EXPECT_TRUE(one.ego_motion_sources.empty());
+  const std::vector<EgoMotionSourceConfig> single = egoMotionSources(one);
+  ASSERT_EQ(single.size(), 1u);
+  EXPECT_EQ(single[0].topic, "/front/scan");
+  EXPECT_EQ(single[0].type, EgoMotionSource::kScan);
+  EXPECT_DOUBLE_EQ(single[0].time_offset_s, -0.02);
+  // A list: each source's type, frame and time offset (its own, or the keyframes').
+  const CalibrationConfig two = parseCalibrationConfig(
+      joints +
+          "ego_motion:\n  sources:\n"
+          "    - {topic: /scan_front, frame: laser_front}\n"
+          "    - {topic: /scan_rear, type: scan, frame: laser_rear, time_offset_s: 0.05,\n"
+          "       sensor_pose: [-0.3, 0.0, 3.14159]}\n"
+          "    - {topic: /vo, type: odometry}\n",
+      "two.yaml");
+  const std::vector<EgoMotionSourceConfig> sources = egoMotionSources(two);
+  ASSERT_EQ(sources.size(), 3u);
+  EXPECT_EQ(sources[1].topic, "/scan_rear");
+  EXPECT_EQ(sources[1].frame, "laser_rear");
+  EXPECT_DOUBLE_EQ(sources[0].time_offset_s, -0.02);
+  EXPECT_DOUBLE_EQ(sources[1].time_offset_s, 0.05);
+  EXPECT_EQ(sources[2].type, EgoMotionSource::kOdometry);
+  EXPECT_EQ(sources[2].frame, "");
+  // Each source as a one-source configuration: its topic, type and time offset.
+  const CalibrationConfig rear = configForSource(two, 1);
+  EXPECT_TRUE(rear.ego_motion_sources.empty());
+  EXPECT_EQ(rear.scan_topic, "/scan_rear");
+  EXPECT_DOUBLE_EQ(rear.collector.time_offset_s, 0.05);
+  EXPECT_DOUBLE_EQ(rear.models.diff_drive.initial_T_base_sensor.x(), -0.3);
+  EXPECT_DOUBLE_EQ(configForSource(two, 0).models.diff_drive.initial_T_base_sensor.x(),
+                   two.models.diff_drive.initial_T_base_sensor.x());
+  const CalibrationConfig vo = configForSource(two, 2);
+  EXPECT_EQ(vo.ego_motion, EgoMotionSource::kOdometry);
+  EXPECT_EQ(vo.ego_motion_topic, "/vo");
+  EXPECT_DOUBLE_EQ(vo.collector.time_offset_s, -0.02);
+  EXPECT_THROW(configForSource(two, 3), std::out_of_range);
+  EXPECT_EQ(configForSource(one, 0).scan_topic, "/front/scan");
+  // One source listed: the one-source keys say the same (what the node and the bag tool read).
+  const CalibrationConfig listed = parseCalibrationConfig(
+      joints + "ego_motion:\n  sources: [{topic: /points, type: cloud, time_offset_s: 0.1}]\n",
+      "listed.yaml");
+  EXPECT_EQ(listed.ego_motion, EgoMotionSource::kCloud);
+  EXPECT_EQ(listed.ego_motion_topic, "/points");
+  EXPECT_DOUBLE_EQ(listed.collector.time_offset_s, 0.1);
+}
+
+TEST(CalibrationConfig, EgoMotionSourcesMistakesAreNamed)
+{
+  const std::string joints = "joints: [{name: l}, {name: r}]\n";
+  auto refusal = [&](const std::string& ego_motion) {
+    try {
+      parseCalibrationConfig(joints + "ego_motion:\n" + ego_motion, "c.yaml");
+      return std::string();
+    } catch (const std::runtime_error& error) {
+      return std::string(error.what());
+    }
+  };
+  EXPECT_NE(refusal("  sources: [{type: scan}]\n").find("ego_motion.sources[0].topic: required"),
+            std::string::npos);
+  EXPECT_NE(refusal("  sources: [{topic: /a}, {topic: /a}]\n").find("sources[1].topic"),
+            std::string::npos);
+  EXPECT_NE(refusal("  sources: [{topic: /a, type: sonar}]\n").find("sources[0].type"),
+            std::string::npos);
+  EXPECT_NE(refusal("  sources: [{topic: /a, colour: red}]\n").find("colour"), std::string::npos);
+  EXPECT_NE(refusal("  sources: []\n").find("ego_motion.sources"), std::string::npos);
+  EXPECT_NE(refusal("  scan_topic: /s\n  sources: [{topic: /a}]\n").find("ego_motion.scan_topic"),
+            std::string::npos);
+  EXPECT_NE(refusal("  sources: [{topic: /a, time_offset_s: 7}]\n").find("time_offset_s"),
+            std::string::npos);
+}
+
 TEST(CalibrationConfig, AbsoluteJointsGetAGlitchLimitToo)
 {
   const CalibrationConfig config = loadCalibrationConfig(kConfig + "/tricycle.yaml");

@@ -1,6 +1,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <sstream>
 
 #include <gtest/gtest.h>
@@ -122,6 +123,61 @@ TEST(SimBag, SameSeedSameBytesOtherSeedOtherBytes)
   EXPECT_GT(a.size(), 100000u);
   EXPECT_EQ(a, contents(directory + "/b.bag"));
   EXPECT_NE(a, contents(directory + "/c.bag"));
+}
+
+TEST(SimBag, OneLaserListedUnderLasersGivesTheSameBytes)
+{
+  const Scratch scratch;
+  const std::string& directory = scratch;
+  const sim::Scenario as_laser =
+      sim::loadScenarioYaml(writeScenario(directory, kScenario), kWorlds);
+  std::string listed = kScenario;
+  listed.replace(listed.find("laser: {"), 8, "lasers:\n  - {");
+  const sim::Scenario as_list = sim::loadScenarioYaml(writeScenario(directory, listed), kWorlds);
+  ASSERT_TRUE(as_list.extra_lasers.empty());
+  simulateToBag(as_laser, directory + "/a.bag", directory + "/a.yaml");
+  simulateToBag(as_list, directory + "/b.bag", directory + "/b.yaml");
+  EXPECT_EQ(contents(directory + "/a.bag"), contents(directory + "/b.bag"));
+  EXPECT_EQ(contents(directory + "/a.yaml"), contents(directory + "/b.yaml"));
+}
+
+TEST(SimBag, FrontAndRearLasersOnTheirTopicsWithTheirTruth)
+{
+  const Scratch scratch;
+  const std::string& directory = scratch;
+  sim::Scenario scenario = sim::loadScenarioYaml(
+      std::string(ODOMETRY_CALIBRATION_CONFIG_DIR) + "/sim/scenarios/diff_drive_front_rear.yaml",
+      kWorlds);
+  ASSERT_EQ(scenario.extra_lasers.size(), 1u);
+  scenario.duration_s = 2.0;
+  scenario.extra_lasers[0].time_offset_s = 0.05;
+  const auto summary = simulateToBag(scenario, directory + "/fr.bag", directory + "/fr.yaml");
+  // 10 Hz and 15 Hz over [0, 2] s (the 15 Hz period rounds up to 66666667 ns: the scan due at
+  // 2 s falls after the end).
+  EXPECT_EQ(summary.scans, 21u + 30u);
+  rosbag::Bag bag(directory + "/fr.bag", rosbag::bagmode::Read);
+  std::map<std::string, std::size_t> scans;
+  std::map<std::string, std::string> frames;
+  double first_rear_stamp_s = -1.0;
+  for (const rosbag::MessageInstance& m : rosbag::View(bag)) {
+    if (const auto scan = m.instantiate<sensor_msgs::LaserScan>()) {
+      ++scans[m.getTopic()];
+      frames[m.getTopic()] = scan->header.frame_id;
+      EXPECT_EQ(scan->header.seq + 1, scans[m.getTopic()]);  // each laser counts its own
+      if (m.getTopic() == "/scan_rear" && first_rear_stamp_s < 0.0)
+        first_rear_stamp_s = scan->header.stamp.toSec() - scenario.start_time_s;
+    }
+  }
+  EXPECT_EQ(scans["/scan_front"], 21u);
+  EXPECT_EQ(scans["/scan_rear"], 30u);
+  EXPECT_EQ(frames["/scan_rear"], "laser_rear");
+  EXPECT_NEAR(first_rear_stamp_s, 0.05, 1e-6);  // its own clock
+  const YAML::Node truth = YAML::LoadFile(directory + "/fr.yaml");
+  ASSERT_EQ(truth["extra_lasers"].size(), 1u);
+  EXPECT_DOUBLE_EQ(truth["extra_lasers"][0]["T_base_laser"]["x"].as<double>(), -0.3);
+  EXPECT_DOUBLE_EQ(truth["extra_lasers"][0]["laser"]["time_offset_s"].as<double>(), 0.05);
+  EXPECT_EQ(truth["extra_lasers"][0]["laser"]["topic"].as<std::string>(), "/scan_rear");
+  EXPECT_DOUBLE_EQ(truth["T_base_laser"]["x"].as<double>(), 0.3);
 }
 
 TEST(SimBag, ScenarioErrorsNameTheKey)

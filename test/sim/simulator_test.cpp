@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 
 #include <gtest/gtest.h>
 
@@ -59,6 +60,54 @@ TEST(Simulator, MessageCountsRatesAndTimeOffset)
   EXPECT_NEAR(recorder.scans[1].stamp_s - recorder.scans[0].stamp_s, 0.125, 1e-9);
   EXPECT_NEAR(recorder.joints[10].stamp_s, recorder.truth[10].stamp_s - 0.15, 1e-12);
   EXPECT_EQ(recorder.scans[0].ranges.size(), 181u);
+}
+
+TEST(Simulator, ExtraLasersScanAtTheirOwnRatesPosesAndClocks)
+{
+  Scenario one = smallScenario("diff_drive");
+  Scenario two = one;
+  LaserOptions rear = two.laser;
+  rear.T_base_laser = Pose2(-0.3, 0.02, M_PI + 0.03);
+  rear.rate_hz = 15.0;
+  rear.rays = 91;
+  rear.time_offset_s = 0.05;
+  rear.topic = "/scan_rear";
+  rear.frame_id = "laser_rear";
+  two.extra_lasers.push_back(rear);
+  const World world = room();
+  const auto robot = makeRobot(one.robot);
+  Recorder alone, both;
+  simulate(one, world, *robot, alone);
+  simulate(two, world, *robot, both);
+  std::vector<ScanSample> first, second;
+  for (const ScanSample& scan : both.scans)
+    (scan.laser_index == 0 ? first : second).push_back(scan);
+  // The first laser reads what it read alone: its random streams are its own; only the
+  // integration steps, split at the rear laser's instants too, move the path by micrometres.
+  ASSERT_EQ(first.size(), alone.scans.size());
+  double largest_m = 0.0;
+  for (std::size_t k = 0; k < first.size(); ++k) {
+    EXPECT_EQ(first[k].stamp_s, alone.scans[k].stamp_s);
+    ASSERT_EQ(first[k].ranges.size(), alone.scans[k].ranges.size());
+    for (std::size_t i = 0; i < first[k].ranges.size(); ++i) {
+      if (std::isfinite(first[k].ranges[i]) && std::isfinite(alone.scans[k].ranges[i]))
+        largest_m =
+            std::max(largest_m, double(std::abs(first[k].ranges[i] - alone.scans[k].ranges[i])));
+    }
+  }
+  EXPECT_LT(largest_m, 1e-3);
+  std::printf("largest range change of the first laser: %.3g m\n", largest_m);
+  // The rear laser: 15 Hz over 10 s, its stamps 0.05 s after the true time; its period rounds
+  // to 66666667 ns, so the scan due at 10 s comes 50 ns after the end: 150 scans.
+  ASSERT_EQ(second.size(), 150u);
+  EXPECT_EQ(second[0].ranges.size(), 91u);
+  EXPECT_NEAR(second[0].stamp_s, 0.05, 1e-12);
+  EXPECT_NEAR(second[3].stamp_s - second[0].stamp_s, 0.2, 1e-8);  // 3 x 66666667 ns
+  // Its rays start from its own pose: at t = 0 the robot stands at the origin facing +x, so
+  // the rear laser's middle ray (pointing backwards, 0.03 rad off) reads the wall behind it,
+  // 5 - 0.3 m away along the x axis (room wall at x = -5).
+  const double middle = second[0].ranges[45];
+  EXPECT_NEAR(middle * std::cos(0.03), 5.0 - 0.3, 0.05);
 }
 
 TEST(Simulator, IntegratingTheEncodersReproducesTheTruth)

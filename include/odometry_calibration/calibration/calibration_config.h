@@ -3,6 +3,7 @@
 // that name the key.
 #pragma once
 
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -48,6 +49,21 @@ inline bool matchesScans(EgoMotionSource source)
   return source == EgoMotionSource::kScan || source == EgoMotionSource::kCloud;
 }
 
+/// One ego-motion source of `ego_motion.sources` (issue 35: several sensors, e.g. a front and a
+/// rear laser, calibrated together with the wheels). Each makes its own pairs against the same
+/// encoder track; the sources share the cloud, sigma, keyframe and matching keys.
+struct EgoMotionSourceConfig
+{
+  std::string topic;                              ///< the source's messages
+  EgoMotionSource type = EgoMotionSource::kScan;  ///< scan, cloud, odometry or pose
+  std::string frame;  ///< the sensor's frame (base_link -> frame); "": the messages' frame
+  /// Encoder values are taken at this source's stamps + this [s]; NaN: keyframes.time_offset_s.
+  double time_offset_s = std::numeric_limits<double>::quiet_NaN();
+  /// Start value and matcher guesses of this sensor's pose [x, y, theta] (m, m, rad); empty:
+  /// the model section's sensor_pose (a rear laser needs its own: its guesses turned round).
+  std::vector<double> sensor_pose;
+};
+
 /// Everything a calibration run needs.
 struct CalibrationConfig
 {
@@ -60,6 +76,9 @@ struct CalibrationConfig
   double ego_motion_sigma_m = 0.005;    ///< pose source: sigma of a displacement's x, y [m]
   double ego_motion_sigma_rad = 0.002;  ///< pose source: sigma of its heading [rad]
   CollectorOptions collector;           ///< keyframes, time offset, PLICP
+  /// `ego_motion.sources`: several sources in one calibration; empty (the default): the one
+  /// source of ego_motion.source, scan_topic and topic (egoMotionSources gives both as a list).
+  std::vector<EgoMotionSourceConfig> ego_motion_sources;
   /// Estimate the encoder-laser time offset (bag tool) by searching this range [s]; the
   /// configured time_offset_s is then only the matcher's starting point.
   bool estimate_time_offset = false;
@@ -79,6 +98,16 @@ struct CalibrationConfig
   std::string prior_model = "diff_drive";
   std::string output_directory = "odometry_calibration_results";
 };
+
+/// The configuration's ego-motion sources: `ego_motion.sources` with each time offset resolved,
+/// or, without that list, the one source of ego_motion.source, scan_topic and topic.
+std::vector<EgoMotionSourceConfig> egoMotionSources(const CalibrationConfig& config);
+
+/// The one-source configuration of source `index` of egoMotionSources(config) (issue 35: each
+/// source paired on its own): its type and topic as ego_motion.source and scan_topic or topic,
+/// its time offset as keyframes.time_offset_s, ego_motion.sources empty. Throws
+/// std::out_of_range naming the index beyond the sources.
+CalibrationConfig configForSource(const CalibrationConfig& config, std::size_t index);
 
 /// Reads and validates a configuration. Throws std::runtime_error naming the file and the key.
 CalibrationConfig loadCalibrationConfig(const std::string& path);

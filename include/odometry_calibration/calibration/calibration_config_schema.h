@@ -16,6 +16,9 @@ namespace odometry_calibration {
 /// The keys of one entry of `joints` ("joints[].name", ...), in the README's order.
 const std::vector<ConfigSchemaEntry<JointConfig>>& jointConfigSchema();
 
+/// The keys of one entry of `ego_motion.sources` ("ego_motion.sources[].topic", ...).
+const std::vector<ConfigSchemaEntry<EgoMotionSourceConfig>>& sourceConfigSchema();
+
 /// Every other key ("joint_state_topic", "keyframes.interval_s", ...), section by section.
 const std::vector<ConfigSchemaEntry<CalibrationConfig>>& calibrationConfigSchema();
 
@@ -23,7 +26,7 @@ const std::vector<ConfigSchemaEntry<CalibrationConfig>>& calibrationConfigSchema
 /// last part of calibrationConfigSchema().
 const std::vector<ConfigSchemaEntry<CalibrationConfig>>& modelConfigSchema();
 
-/// Every declaration, the joints' first.
+/// Every declaration, the joints' first, then the ego-motion sources'.
 std::vector<const ConfigKeySpec*> calibrationConfigSpecs();
 
 /// The effective configuration as YAML that parseCalibrationConfig reads back to the same

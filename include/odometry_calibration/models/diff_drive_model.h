@@ -9,6 +9,7 @@
 
 #include "odometry_calibration/models/diff_drive_kinematics.h"
 #include "odometry_calibration/models/model.h"
+#include "odometry_calibration/models/observability.h"
 #include "odometry_calibration/models/sensor_motion_state.h"
 
 namespace odometry_calibration {
@@ -38,6 +39,14 @@ DiffDriveEncoderLayout diffDriveLayoutForJoints(const JointLayout& joints,
                                                 const std::string& left_joint,
                                                 const std::string& right_joint,
                                                 double ticks_per_turn);
+
+/// What the diff_drive fit's observability verdict says each parameter needs.
+ObservabilityHints diffDriveObservabilityHints();
+
+/// Whether intrinsics (r_L, r_R, b) are the mirrored, unphysical solution: (-r_L, -r_R, -b) with
+/// the sensor at (-x, -y, theta + pi) predicts the same motions; the physical one has positive
+/// radii.
+bool diffDriveMirrored(const Eigen::Vector3d& intrinsics);
 
 /// The fitted model: intrinsics (r_L, r_R, b), the sensor's pose, and their 6x6 covariance.
 class DiffDriveModel : public MotionModel

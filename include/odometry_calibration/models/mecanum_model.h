@@ -12,6 +12,7 @@
 #include "odometry_calibration/data/pair_features.h"
 #include "odometry_calibration/models/mecanum_kinematics.h"
 #include "odometry_calibration/models/model.h"
+#include "odometry_calibration/models/observability.h"
 #include "odometry_calibration/models/sensor_motion_state.h"
 
 namespace odometry_calibration {
@@ -61,6 +62,14 @@ MecanumMotionCoverage mecanumMotionCoverage(const std::vector<MotionPair>& pairs
 /// radii's diagonal pattern and the sensor yaw are confused; no turning: lx + ly and the sensor
 /// position; no straight driving: the radii's common scale); empty when all three are there.
 std::vector<std::string> mecanumMotionWarnings(const MecanumMotionCoverage& coverage);
+
+/// What the mecanum fit's observability verdict says each parameter needs.
+ObservabilityHints mecanumObservabilityHints();
+
+/// Whether intrinsics (r_FL, r_FR, r_RL, r_RR, lx + ly) are the mirrored, unphysical solution:
+/// all negated with the sensor at (-x, -y, theta + pi) predict the same motions; the physical
+/// one has positive radii.
+bool mecanumMirrored(const Eigen::Matrix<double, 5, 1>& intrinsics);
 
 /// The fitted model: intrinsics (r_FL, r_FR, r_RL, r_RR, lx + ly), the sensor's pose, and their
 /// 8x8 covariance. Unfitted, it predicts with the start values (the nominal robot).

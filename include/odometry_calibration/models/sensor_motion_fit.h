@@ -4,6 +4,11 @@
 // the whitened SE(2) error e = Z^-1 * (T_bs^-1 * Delta_base * T_bs) under a Huber loss with
 // Ceres (Levenberg-Marquardt, automatic derivatives, SE(2) manifold for the pose).
 //
+// Several sensors at once (issue 35: a front and a rear laser): one set of intrinsics and one
+// pose per sensor, each pair tagged with its sensor (`SensorPairs`) and weighted by its own
+// covariance, the covariances of each sensor rescaled by that sensor's own robust noise scale.
+// The one-sensor functions below are the several-sensor ones with every pair of sensor 0.
+//
 // A kinematic model plugs in as a type with
 //   using Layout = ...;                           // where its joints are
 //   static constexpr int kIntrinsics = N;         // number of intrinsic parameters
@@ -125,6 +130,40 @@ inline ceres::Solver::Options sensorFitSolverOptions(int max_iterations, double 
   return solver_options;
 }
 
+/// Pairs of one or several sensors: `sensor[i]` is pair i's sensor (0, 1, ...), an empty
+/// `sensor` puts every pair on sensor 0. The pairs are referenced, not copied.
+struct SensorPairs
+{
+  const std::vector<MotionPair>& pairs;
+  std::vector<std::size_t> sensor;
+
+  std::size_t sensorOf(std::size_t i) const { return sensor.empty() ? 0 : sensor[i]; }
+};
+
+/// Adds one residual per pair to `problem` on the intrinsics and its sensor's pose
+/// (`sensor_poses[sensorOf(i)]`, 3 values each on the SE(2) manifold), its covariance scaled by
+/// its sensor's `noise_scales` entry: the several-sensor form of the function below.
+template <class Kinematics>
+void addSensorMotionResiduals(ceres::Problem& problem, const SensorPairs& pairs,
+                              const typename Kinematics::Layout& layout, double huber_threshold,
+                              const std::vector<double>& noise_scales, double* intrinsic,
+                              const std::vector<double*>& sensor_poses)
+{
+  using Residual = SensorMotionResidual<Kinematics>;
+  for (std::size_t i = 0; i < pairs.pairs.size(); ++i) {
+    const std::size_t sensor = pairs.sensorOf(i);
+    auto* cost = new ceres::AutoDiffCostFunction<Residual, 3, Kinematics::kIntrinsics, 3>(
+        new Residual(pairs.pairs[i], layout, noise_scales[sensor]));
+    ceres::LossFunction* loss =
+        huber_threshold > 0.0 ? new ceres::HuberLoss(huber_threshold) : nullptr;
+    problem.AddResidualBlock(cost, loss, intrinsic, sensor_poses[sensor]);
+  }
+  for (double* sensor_pose : sensor_poses) {
+    if (problem.HasParameterBlock(sensor_pose))
+      problem.SetManifold(sensor_pose, newSe2Manifold());
+  }
+}
+
 /// Adds one residual per pair to `problem`: the pair's whitened SE(2) error
 /// (SensorMotionResidual, its covariance scaled by `noise_scale`) under a Huber loss when
 /// `huber_threshold` > 0, on the blocks `intrinsic` (Kinematics::kIntrinsics values) and
@@ -134,15 +173,8 @@ void addSensorMotionResiduals(ceres::Problem& problem, const std::vector<MotionP
                               const typename Kinematics::Layout& layout, double huber_threshold,
                               double noise_scale, double* intrinsic, double* sensor_pose)
 {
-  using Residual = SensorMotionResidual<Kinematics>;
-  for (const MotionPair& pair : pairs) {
-    auto* cost = new ceres::AutoDiffCostFunction<Residual, 3, Kinematics::kIntrinsics, 3>(
-        new Residual(pair, layout, noise_scale));
-    ceres::LossFunction* loss =
-        huber_threshold > 0.0 ? new ceres::HuberLoss(huber_threshold) : nullptr;
-    problem.AddResidualBlock(cost, loss, intrinsic, sensor_pose);
-  }
-  problem.SetManifold(sensor_pose, newSe2Manifold());
+  addSensorMotionResiduals<Kinematics>(problem, SensorPairs{pairs, {}}, layout, huber_threshold,
+                                       {noise_scale}, intrinsic, {sensor_pose});
 }
 
 /// RMS of the SE(2) errors of the model's predictions over `pairs` (those with `keep[i]` when
@@ -188,8 +220,36 @@ struct SensorMotionSolve
   std::unique_ptr<ceres::Problem> problem;
   ceres::Solver::Summary summary;
   int iterations = 0;
-  double noise_scale = 1.0;
+  double noise_scale = 1.0;          ///< sensor 0's
+  std::vector<double> noise_scales;  ///< each sensor's
 };
+
+/// The robust noise scale of each sensor (sensorMotionNoiseScale over that sensor's pairs; 1
+/// for a sensor without pairs).
+template <class Kinematics>
+std::vector<double> sensorMotionNoiseScales(const SensorPairs& pairs,
+                                            const typename Kinematics::Layout& layout,
+                                            const double* intrinsic,
+                                            const std::vector<const double*>& sensor_poses)
+{
+  std::vector<std::vector<double>> norms(sensor_poses.size());
+  for (std::size_t i = 0; i < pairs.pairs.size(); ++i) {
+    const std::size_t sensor = pairs.sensorOf(i);
+    Eigen::Vector3d whitened;
+    SensorMotionResidual<Kinematics>(pairs.pairs[i], layout)(intrinsic, sensor_poses[sensor],
+                                                             whitened.data());
+    norms[sensor].push_back(whitened.norm());
+  }
+  std::vector<double> scales(sensor_poses.size(), 1.0);
+  for (std::size_t s = 0; s < norms.size(); ++s) {
+    if (norms[s].empty())
+      continue;
+    std::vector<double>& n = norms[s];
+    std::nth_element(n.begin(), n.begin() + n.size() / 2, n.end());
+    scales[s] = std::max(n[n.size() / 2] / 1.538, 1e-6);
+  }
+  return scales;
+}
 
 /// The robust noise scale of a solution: the median whitened error norm of the pairs against
 /// that of unit Gaussian noise (3-D: sqrt(chi2_3 median 2.366) = 1.538), at least 1e-6.
@@ -198,31 +258,26 @@ double sensorMotionNoiseScale(const std::vector<MotionPair>& pairs,
                               const typename Kinematics::Layout& layout, const double* intrinsic,
                               const double* sensor_pose)
 {
-  std::vector<double> norms;
-  for (const MotionPair& pair : pairs) {
-    Eigen::Vector3d whitened;
-    SensorMotionResidual<Kinematics>(pair, layout)(intrinsic, sensor_pose, whitened.data());
-    norms.push_back(whitened.norm());
-  }
-  std::nth_element(norms.begin(), norms.begin() + norms.size() / 2, norms.end());
-  return std::max(norms[norms.size() / 2] / 1.538, 1e-6);
+  return sensorMotionNoiseScales<Kinematics>(SensorPairs{pairs, {}}, layout, intrinsic,
+                                             {sensor_pose})[0];
 }
 
-/// Solves for the blocks `intrinsic` and `sensor_pose` (start values in, solution out): a first
+/// Solves for the blocks `intrinsic` and `sensor_poses` (start values in, solution out): a first
 /// solve with the supplied covariances; then, if options.estimate_noise_scale and there are at
-/// least 10 pairs, a second one with them rescaled by sensorMotionNoiseScale at the first
-/// solution.
+/// least 10 pairs, a second one with each sensor's rescaled by its sensorMotionNoiseScales at
+/// the first solution.
 template <class Kinematics>
-SensorMotionSolve solveSensorMotion(const std::vector<MotionPair>& pairs,
+SensorMotionSolve solveSensorMotion(const SensorPairs& pairs,
                                     const typename Kinematics::Layout& layout,
                                     const SensorMotionFitOptions& options, double* intrinsic,
-                                    double* sensor_pose)
+                                    const std::vector<double*>& sensor_poses)
 {
   SensorMotionSolve solve;
+  solve.noise_scales.assign(sensor_poses.size(), 1.0);
   auto build = [&]() {
     solve.problem = std::make_unique<ceres::Problem>();
     addSensorMotionResiduals<Kinematics>(*solve.problem, pairs, layout, options.huber_threshold,
-                                         solve.noise_scale, intrinsic, sensor_pose);
+                                         solve.noise_scales, intrinsic, sensor_poses);
   };
   build();
   const ceres::Solver::Options solver_options =
@@ -230,13 +285,77 @@ SensorMotionSolve solveSensorMotion(const std::vector<MotionPair>& pairs,
   ceres::Solve(solver_options, solve.problem.get(), &solve.summary);
   solve.iterations = static_cast<int>(solve.summary.iterations.size()) - 1;
   if (options.estimate_noise_scale && std::isfinite(solve.summary.final_cost) &&
-      pairs.size() >= 10) {
-    solve.noise_scale = sensorMotionNoiseScale<Kinematics>(pairs, layout, intrinsic, sensor_pose);
+      pairs.pairs.size() >= 10) {
+    solve.noise_scales = sensorMotionNoiseScales<Kinematics>(
+        pairs, layout, intrinsic,
+        std::vector<const double*>(sensor_poses.begin(), sensor_poses.end()));
+    solve.noise_scale = solve.noise_scales[0];
     build();
     ceres::Solve(solver_options, solve.problem.get(), &solve.summary);
     solve.iterations += static_cast<int>(solve.summary.iterations.size()) - 1;
   }
   return solve;
+}
+
+/// solveSensorMotion for the pairs of one sensor (pose `sensor_pose`).
+template <class Kinematics>
+SensorMotionSolve solveSensorMotion(const std::vector<MotionPair>& pairs,
+                                    const typename Kinematics::Layout& layout,
+                                    const SensorMotionFitOptions& options, double* intrinsic,
+                                    double* sensor_pose)
+{
+  return solveSensorMotion<Kinematics>(SensorPairs{pairs, {}}, layout, options, intrinsic,
+                                       {sensor_pose});
+}
+
+/// The pairs of a fit sorted by their whitened errors: inliers, and per sensor the outliers and
+/// the gross ones among them; chi2_per_dof of the inliers (NaN without degrees of freedom).
+struct SensorPairClasses
+{
+  std::vector<bool> inlier;
+  std::vector<std::size_t> outliers, gross_outliers;
+  double chi2_per_dof = std::numeric_limits<double>::quiet_NaN();
+};
+
+/// The several-sensor form of the function below: each pair whitened with its sensor's noise
+/// scale, the degrees of freedom 3 per inlier less the N + 3 S parameters.
+template <class Kinematics>
+SensorPairClasses classifySensorMotionPairs(const SensorPairs& pairs,
+                                            const typename Kinematics::Layout& layout,
+                                            const SensorMotionFitOptions& options,
+                                            const double* intrinsic,
+                                            const std::vector<const double*>& sensor_poses,
+                                            const std::vector<double>& noise_scales)
+{
+  constexpr int N = Kinematics::kIntrinsics;
+  const std::size_t sensors = sensor_poses.size();
+  SensorPairClasses classes;
+  classes.outliers.assign(sensors, 0);
+  classes.gross_outliers.assign(sensors, 0);
+  double chi2_inliers = 0.0;
+  std::size_t inlier_count = 0;
+  for (std::size_t i = 0; i < pairs.pairs.size(); ++i) {
+    const std::size_t sensor = pairs.sensorOf(i);
+    Eigen::Vector3d whitened;
+    SensorMotionResidual<Kinematics>(pairs.pairs[i], layout, noise_scales[sensor])(
+        intrinsic, sensor_poses[sensor], whitened.data());
+    const double chi2 = whitened.squaredNorm();
+    const bool is_inlier =
+        options.huber_threshold <= 0.0 || chi2 <= options.huber_threshold * options.huber_threshold;
+    classes.inlier.push_back(is_inlier);
+    if (is_inlier) {
+      chi2_inliers += chi2;
+      ++inlier_count;
+      continue;
+    }
+    ++classes.outliers[sensor];
+    if (chi2 > options.gross_threshold * options.gross_threshold)
+      ++classes.gross_outliers[sensor];
+  }
+  const double dof = 3.0 * static_cast<double>(inlier_count) - (N + 3.0 * sensors);
+  if (dof > 0.0)
+    classes.chi2_per_dof = chi2_inliers / dof;
+  return classes;
 }
 
 /// Marks each pair an inlier when its whitened error (noise scale applied) is within the Huber
@@ -249,28 +368,60 @@ void classifySensorMotionPairs(const std::vector<MotionPair>& pairs,
                                const double* sensor_pose,
                                SensorMotionFit<Kinematics::kIntrinsics>* fit)
 {
-  constexpr int N = Kinematics::kIntrinsics;
-  double chi2_inliers = 0.0;
-  std::size_t inlier_count = 0;
-  for (const MotionPair& pair : pairs) {
-    Eigen::Vector3d whitened;
-    SensorMotionResidual<Kinematics>(pair, layout, fit->noise_scale)(intrinsic, sensor_pose,
-                                                                     whitened.data());
-    const double chi2 = whitened.squaredNorm();
-    const bool is_inlier =
-        options.huber_threshold <= 0.0 || chi2 <= options.huber_threshold * options.huber_threshold;
-    fit->inlier.push_back(is_inlier);
-    if (is_inlier) {
-      chi2_inliers += chi2;
-      ++inlier_count;
-    } else if (chi2 > options.gross_threshold * options.gross_threshold) {
-      ++fit->gross_outliers;
-    }
+  const SensorPairClasses classes = classifySensorMotionPairs<Kinematics>(
+      SensorPairs{pairs, {}}, layout, options, intrinsic, {sensor_pose}, {fit->noise_scale});
+  fit->inlier.insert(fit->inlier.end(), classes.inlier.begin(), classes.inlier.end());
+  fit->outliers = classes.outliers[0];
+  fit->gross_outliers += classes.gross_outliers[0];
+  if (std::isfinite(classes.chi2_per_dof))
+    fit->chi2_per_dof = classes.chi2_per_dof;
+}
+
+/// The several-sensor form of the function below: the covariance of (the `intrinsics` values,
+/// then x, y, theta of each of `sensor_poses`), scaled by `chi2_per_dof` when finite, into
+/// `covariance` (left empty when the problem is rank-deficient). Returns whether it is
+/// available (finite, every variance positive).
+inline bool sensorMotionCovariance(ceres::Problem& problem, const double* intrinsic, int intrinsics,
+                                   const std::vector<const double*>& sensor_poses,
+                                   double chi2_per_dof, Eigen::MatrixXd* covariance)
+{
+  ceres::Covariance::Options covariance_options;
+  covariance_options.algorithm_type = ceres::DENSE_SVD;
+  covariance_options.null_space_rank = 0;
+  covariance_options.min_reciprocal_condition_number = 1e-14;
+  ceres::Covariance solver(covariance_options);
+  // Block k of the matrix: the intrinsics (k = 0), then the sensors; its first row and size.
+  std::vector<const double*> block{intrinsic};
+  std::vector<int> first{0}, size{intrinsics};
+  for (const double* pose : sensor_poses) {
+    block.push_back(pose);
+    first.push_back(first.back() + size.back());
+    size.push_back(3);
   }
-  fit->outliers = pairs.size() - inlier_count;
-  const double dof = 3.0 * static_cast<double>(inlier_count) - (N + 3);
-  if (dof > 0.0)
-    fit->chi2_per_dof = chi2_inliers / dof;
+  std::vector<std::pair<const double*, const double*>> wanted = {{intrinsic, intrinsic}};
+  for (std::size_t a = 1; a < block.size(); ++a)
+    wanted.emplace_back(block[a], block[a]);
+  for (std::size_t a = 1; a < block.size(); ++a)
+    wanted.emplace_back(intrinsic, block[a]);
+  for (std::size_t a = 1; a < block.size(); ++a)
+    for (std::size_t b = a + 1; b < block.size(); ++b)
+      wanted.emplace_back(block[a], block[b]);
+  if (!solver.Compute(wanted, &problem))
+    return false;
+  covariance->setZero(first.back() + size.back(), first.back() + size.back());
+  for (const auto& [row_block, column_block] : wanted) {
+    const std::size_t a = std::find(block.begin(), block.end(), row_block) - block.begin();
+    const std::size_t b = std::find(block.begin(), block.end(), column_block) - block.begin();
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> part(size[a], size[b]);
+    solver.GetCovarianceBlock(row_block, column_block, part.data());
+    covariance->block(first[a], first[b], size[a], size[b]) = part;
+    if (a != b)
+      covariance->block(first[b], first[a], size[b], size[a]) = part.transpose();
+  }
+  if (std::isfinite(chi2_per_dof))
+    *covariance *= chi2_per_dof;
+  // No residual at all (e.g. no motion: every prediction is zero) measures nothing.
+  return covariance->allFinite() && covariance->diagonal().minCoeff() > 0.0;
 }
 
 /// The covariance of (intrinsics, x, y, theta) at the solution of `problem` in the parameters'
@@ -281,30 +432,11 @@ template <int N>
 void sensorMotionCovariance(ceres::Problem& problem, const double* intrinsic,
                             const double* sensor_pose, SensorMotionFit<N>* fit)
 {
-  ceres::Covariance::Options covariance_options;
-  covariance_options.algorithm_type = ceres::DENSE_SVD;
-  covariance_options.null_space_rank = 0;
-  covariance_options.min_reciprocal_condition_number = 1e-14;
-  ceres::Covariance covariance(covariance_options);
-  const std::vector<std::pair<const double*, const double*>> blocks = {
-      {intrinsic, intrinsic}, {sensor_pose, sensor_pose}, {intrinsic, sensor_pose}};
-  if (!covariance.Compute(blocks, &problem))
-    return;
-  Eigen::Matrix<double, N, N, Eigen::RowMajor> kk;
-  Eigen::Matrix<double, 3, 3, Eigen::RowMajor> ss;
-  Eigen::Matrix<double, N, 3, Eigen::RowMajor> ks;
-  covariance.GetCovarianceBlock(intrinsic, intrinsic, kk.data());
-  covariance.GetCovarianceBlock(sensor_pose, sensor_pose, ss.data());
-  covariance.GetCovarianceBlock(intrinsic, sensor_pose, ks.data());
-  fit->covariance.template topLeftCorner<N, N>() = kk;
-  fit->covariance.template bottomRightCorner<3, 3>() = ss;
-  fit->covariance.template topRightCorner<N, 3>() = ks;
-  fit->covariance.template bottomLeftCorner<3, N>() = ks.transpose();
-  if (std::isfinite(fit->chi2_per_dof))
-    fit->covariance *= fit->chi2_per_dof;
-  // No residual at all (e.g. no motion: every prediction is zero) measures nothing.
+  Eigen::MatrixXd covariance;
   fit->covariance_available =
-      fit->covariance.allFinite() && fit->covariance.diagonal().minCoeff() > 0.0;
+      sensorMotionCovariance(problem, intrinsic, N, {sensor_pose}, fit->chi2_per_dof, &covariance);
+  if (covariance.rows() == N + 3)
+    fit->covariance = covariance;
 }
 
 /// Fits the intrinsics and the sensor pose from one start (no global starts): solveSensorMotion,

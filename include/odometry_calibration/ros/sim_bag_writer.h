@@ -1,4 +1,5 @@
 // Writes the simulator's streams into a rosbag: sensor_msgs/JointState, sensor_msgs/LaserScan
+// (each laser of the scenario on its own topic and frame)
 // (or sensor_msgs/PointCloud2 of the multi-beam lidar: x, y, z, intensity, ring, time),
 // and the ground truth as nav_msgs/Odometry plus its own tf tree (sim_world -> sim_base_link
 // -> sim_<laser frame>), kept apart from the frames a calibration uses (odom, base_link,
@@ -43,6 +44,8 @@ public:
 private:
   std::unique_ptr<rosbag::Bag> bag_;
   sim::Scenario scenario_;
+  std::vector<sim::LaserOptions> lasers_;  ///< every laser, in ScanSample::laser_index order
+  std::vector<std::uint32_t> scan_seqs_;   ///< the extra lasers' header seq (the first's below)
   std::vector<std::string> joint_names_;
   std::uint32_t joint_seq_ = 0, scan_seq_ = 0, truth_seq_ = 0, tracker_seq_ = 0;
   bool wrote_static_tf_ = false;

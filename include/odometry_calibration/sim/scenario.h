@@ -52,6 +52,9 @@ struct LaserOptions
   double range_ripple_period_rays = 40.0;  ///< rays per period of the ripple [rays], >= 2
   std::string frame_id = "laser";          ///< header frame of the scans
   std::string topic = "/scan";             ///< bag topic
+  /// The laser's clock: its scans (sweeps) are stamped at the true time of their first ray
+  /// (start) + this [s]; each laser of a robot has its own (issue 35). 0 = the true time.
+  double time_offset_s = 0.0;
   // Multi-beam only: the rings' elevations are equally spaced over [min, max]; each sweep
   // turns once counter-clockwise from -pi during the 1 / rate_hz before its cloud is
   // published, the cloud stamped at the sweep's start, each point with its `time` after it.
@@ -120,7 +123,12 @@ struct Scenario
   std::string world_path;              ///< world YAML (resolved path)
   Pose2 start_pose;                    ///< T_world_base at t = 0
   RobotOptions robot;
-  LaserOptions laser;
+  LaserOptions laser;  ///< the (first) laser; the only one unless extra_lasers are given
+  /// The robot's further lasers (issue 35: e.g. a rear safety scanner), planar each, with their
+  /// own pose, rays, rate and time offset, their scans drawn from random streams of their own
+  /// (so the first laser's scans do not change when one is added). YAML: `lasers:`, a list
+  /// whose first entry is `laser` and the others these.
+  std::vector<LaserOptions> extra_lasers;
   EncoderOptions encoders;
   DrivePlanOptions motion;
   TrackerOptions tracker;
@@ -131,6 +139,10 @@ struct Scenario
 
 /// Throws std::invalid_argument naming the first invalid field.
 void validate(const Scenario& scenario);
+
+/// Every laser of the scenario: `laser`, then the extra lasers (the ScanSample::laser_index
+/// order).
+std::vector<LaserOptions> allLasers(const Scenario& scenario);
 
 /// Reads a scenario. `world:` is a shipped world name (office, corridor, hall: looked up in
 /// `worlds_directory`) or a path relative to the scenario file. Unknown keys are rejected.

@@ -35,6 +35,8 @@ struct ScanSample
   double scan_time_s = 0.0;  ///< time between scans [s] (sensor_msgs/LaserScan scan_time)
   /// Ranges [m]: +inf no return within range_max, -inf closer than range_min, NaN dropout.
   std::vector<float> ranges;
+  /// Which laser took it: 0 the scenario's `laser`, k its extra_lasers[k - 1] (allLasers).
+  std::size_t laser_index = 0;
 };
 
 /// One sweep of the multi-beam lidar: its points in the sensor's frame, in firing order

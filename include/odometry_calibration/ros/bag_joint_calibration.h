@@ -1,0 +1,25 @@
+// calibrate_bag with several ego-motion sources (issue 35: `ego_motion.sources`, e.g. a front and
+// a rear laser): each source paired on its own against the same encoder track (its own run of
+// the bags through a calibration session: its own consistency checks, scale check and time
+// offset, paired again at its estimate when that is off), fitted alone, then one joint fit of
+// the wheels and every source's pose (models/joint_fits.h).
+#pragma once
+
+#include <ostream>
+
+#include "odometry_calibration/calibration/calibration_config.h"
+#include "odometry_calibration/ros/bag_calibration.h"
+
+namespace odometry_calibration {
+
+/// The joint calibration of `config`'s sources from the options' bags: prints each source's run
+/// and fit alone, then the joint fit (a table per sensor and the agreement of the fits alone),
+/// writes each source's own files under <output>/source_<k>/ and the joint result.yaml (the
+/// joint wheels, the first sensor's pose as the model's, and every sensor's pose under
+/// `sensors`) and joint_report.txt in <output>. Supports models diff_drive and mecanum; throws
+/// std::runtime_error naming the model otherwise, and what a run or a fit throws. Returns the
+/// exit status (calibrationExitStatus of the joint fit, every sensor's warnings counted).
+int calibrateBagsJointly(const BagCalibrationOptions& options, CalibrationConfig config,
+                         std::ostream& out);
+
+}  // namespace odometry_calibration

@@ -1,0 +1,99 @@
+// End-to-end (issue 35): calibrate_bag on a simulated bag of a robot with a front and a rear
+// laser and a configuration listing both as ego_motion.sources: each laser paired and fitted on
+// its own, then one joint fit of the wheels and both poses, written to result.yaml.
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
+
+#include "odometry_calibration/ros/bag_calibration.h"
+#include "odometry_calibration/ros/sim_bag_writer.h"
+#include "odometry_calibration/sim/scenario.h"
+
+#include "support/files.h"
+
+namespace odometry_calibration {
+namespace {
+
+namespace fs = std::filesystem;
+const std::string kConfig = ODOMETRY_CALIBRATION_CONFIG_DIR;
+
+TEST(CalibrateBagJoint, FrontAndRearLasersGiveOneSetOfWheelsAndBothPoses)
+{
+  char pattern[] = "/tmp/calibrate_bag_joint_test.XXXXXX";
+  const std::string directory = mkdtemp(pattern);
+  sim::Scenario scenario = sim::loadScenarioYaml(
+      kConfig + "/sim/scenarios/diff_drive_front_rear.yaml", kConfig + "/sim/worlds");
+  scenario.duration_s = 90.0;
+  scenario.seed = 5;
+  scenario.extra_lasers.at(0).time_offset_s = 0.05;  // the rear laser's own clock
+  const std::string bag = directory + "/front_rear.bag";
+  simulateToBag(scenario, bag, "");
+  BagCalibrationOptions options;
+  options.config_path = kConfig + "/diff_drive_front_rear.yaml";
+  options.bags = {bag};
+  options.output_dir = directory + "/out";
+  options.quiet = true;
+  std::ostringstream out;
+  const int status = calibrateBags(options, out);
+  const std::string text = out.str();
+  EXPECT_TRUE(status == 0 || status == 4) << status << "\n" << text;
+  EXPECT_NE(text.find("=== source 1: /scan_rear ==="), std::string::npos) << text;
+  EXPECT_NE(text.find("wheel parameters each sensor implies alone"), std::string::npos) << text;
+
+  const YAML::Node result = YAML::LoadFile(options.output_dir + "/result.yaml");
+  const YAML::Node sensors = result["sensors"];
+  ASSERT_EQ(sensors.size(), 2u) << text;
+  const std::vector<sim::LaserOptions> lasers = sim::allLasers(scenario);
+  for (std::size_t s = 0; s < 2; ++s) {
+    const YAML::Node pose = sensors[s]["T_base_sensor"];
+    const Pose2& truth = lasers[s].T_base_laser;
+    EXPECT_NEAR(pose["x_m"].as<double>(), truth.x(), 0.01) << s;
+    EXPECT_NEAR(pose["y_m"].as<double>(), truth.y(), 0.01) << s;
+    EXPECT_NEAR(normalizeAngle(pose["theta_rad"].as<double>() - truth.theta()), 0.0, 0.01) << s;
+    EXPECT_GT(pose["x_m_sigma"].as<double>(), 0.0);
+  }
+  EXPECT_EQ(sensors[1]["topic"].as<std::string>(), "/scan_rear");
+  EXPECT_EQ(sensors[1]["frame"].as<std::string>(), "laser_rear");
+  // Each laser's own time offset: the rear one's stamps run 0.05 s late, its encoders are taken
+  // 0.05 s earlier (tau = -0.05).
+  EXPECT_NEAR(sensors[0]["time_offset_s"].as<double>(), 0.0, 0.01);
+  EXPECT_NEAR(sensors[1]["time_offset_s"].as<double>(), -0.05, 0.01);
+  // The model the node would load: the joint wheels, the first sensor's pose.
+  const YAML::Node model = result["model"];
+  EXPECT_NEAR(model["left_wheel_radius_m"].as<double>(), 0.076, 0.005 * 0.076);
+  EXPECT_NEAR(model["right_wheel_radius_m"].as<double>(), 0.078, 0.005 * 0.078);
+  EXPECT_NEAR(model["wheel_separation_m"].as<double>(), 0.32, 0.005 * 0.32);
+  EXPECT_TRUE(fs::is_regular_file(options.output_dir + "/joint_report.txt"));
+  EXPECT_TRUE(fs::is_regular_file(options.output_dir + "/source_1/result.yaml"));
+  fs::remove_all(directory);
+}
+
+TEST(CalibrateBagJoint, SeveralSourcesWithAModelWithoutJointFitAreRefusedNamingIt)
+{
+  char pattern[] = "/tmp/calibrate_bag_joint_test.XXXXXX";
+  const std::string directory = mkdtemp(pattern);
+  std::string config = test_support::readFile(kConfig + "/diff_drive_front_rear.yaml");
+  config.replace(config.find("model: diff_drive"), 17, "model: linear");
+  const std::string config_path = directory + "/linear.yaml";
+  std::ofstream(config_path) << config;
+  BagCalibrationOptions options;
+  options.config_path = config_path;
+  options.bags = {directory + "/never_read.bag"};
+  options.output_dir = directory + "/out";
+  std::ostringstream out;
+  try {
+    calibrateBags(options, out);
+    ADD_FAILURE() << "several sources with model linear accepted";
+  } catch (const std::runtime_error& error) {
+    EXPECT_NE(std::string(error.what()).find("not 'linear'"), std::string::npos) << error.what();
+  }
+  EXPECT_FALSE(fs::exists(options.output_dir));
+  fs::remove_all(directory);
+}
+
+}  // namespace
+}  // namespace odometry_calibration
