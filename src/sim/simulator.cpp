@@ -337,8 +337,8 @@ public:
       }
       if (now_ == next_scan_ && multibeam_) {
         if (now_ >= scan_period_) {  // a sweep that began at the start or later
-          CloudSample cloud = castSweep(laser_, T_base_laser_, world_, history_, now_,
-                                        scan_period_, rng_, range_noise_, unit_);
+          CloudSample cloud = castSweep(laser_, T_base_laser_, world_, history_, now_, scan_period_,
+                                        rng_, range_noise_, unit_);
           cloud.stamp_s += laser_.time_offset_s;
           sink_.onCloud(cloud);
           ++summary_.scans;
