@@ -273,14 +273,36 @@ void classifySensorMotionPairs(const std::vector<MotionPair>& pairs,
     fit->chi2_per_dof = chi2_inliers / dof;
 }
 
+/// Beyond this magnitude a Jacobian entry is no measurement (a start or a datum of 1e308
+/// overflowing the prediction): J^T J would overflow too.
+constexpr double kMaxCovarianceJacobianEntry = 1e100;
+
+/// Whether `problem`'s Jacobian at its parameters' values can be handed to an SVD: every entry
+/// finite and below kMaxCovarianceJacobianEntry. Eigen's SVD inside ceres::Covariance crashes
+/// (SIGSEGV) on one that is not, where no exception can be caught (issue 32).
+inline bool covarianceComputable(ceres::Problem& problem)
+{
+  double cost = 0.0;
+  ceres::CRSMatrix jacobian;
+  if (!problem.Evaluate(ceres::Problem::EvaluateOptions(), &cost, nullptr, nullptr, &jacobian) ||
+      !std::isfinite(cost))
+    return false;
+  return std::all_of(jacobian.values.begin(), jacobian.values.end(), [](double entry) {
+    return std::isfinite(entry) && std::abs(entry) < kMaxCovarianceJacobianEntry;
+  });
+}
+
 /// The covariance of (intrinsics, x, y, theta) at the solution of `problem` in the parameters'
 /// own coordinates, scaled by chi2_per_dof when that is known, into `fit`. DENSE_SVD with
 /// null_space_rank 0 refuses a rank-deficient problem instead of inventing a number for an
-/// unobservable direction: covariance_available stays false then.
+/// unobservable direction: covariance_available stays false then, as it does when the
+/// Jacobian cannot be handed to the SVD (covarianceComputable).
 template <int N>
 void sensorMotionCovariance(ceres::Problem& problem, const double* intrinsic,
                             const double* sensor_pose, SensorMotionFit<N>* fit)
 {
+  if (!covarianceComputable(problem))
+    return;
   ceres::Covariance::Options covariance_options;
   covariance_options.algorithm_type = ceres::DENSE_SVD;
   covariance_options.null_space_rank = 0;
