@@ -125,6 +125,10 @@ std::vector<Entry> topLevelEntries()
   return {
       text<CalibrationConfig>("joint_state_topic", "/joint_states", false,
                               "sensor_msgs/JointState topic", AT(joint_state_topic)),
+      text<CalibrationConfig>("joint_state_publisher", "", true,
+                              "node whose JointState is used when two publish the joints (empty: "
+                              "one publisher only, a second is refused)",
+                              AT(joint_state_publisher)),
       choice<CalibrationConfig>(
           "model", "diff_drive", knownModelNames(), "model fitted",
           [](CalibrationConfig& c, const std::string& v) { c.model = v; },
@@ -156,6 +160,10 @@ std::vector<Entry> egoMotionEntries()
                               "sensor_msgs/LaserScan topic (source scan)", AT(scan_topic)),
       text<CalibrationConfig>("ego_motion.topic", "", true,
                               "topic of the cloud, odometry or pose source", AT(ego_motion_topic)),
+      integer<CalibrationConfig>("ego_motion.max_scan_rays", 10000, rangeClosed(100, 1000000),
+                                 "a LaserScan with more rays is skipped and counted (bounded "
+                                 "memory and time per scan)",
+                                 AT(max_scan_rays)),
       number<CalibrationConfig>("ego_motion.sigma_m", 0.005, "m", rangeClosed(1e-6, 1.0),
                                 "odometry/pose source: sigma of a displacement's x, y",
                                 AT(ego_motion_sigma_m)),

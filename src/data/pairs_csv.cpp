@@ -12,6 +12,8 @@
 #include <iterator>
 #include <sstream>
 
+#include <Eigen/Cholesky>
+
 #include "odometry_calibration/common/atomic_file.h"
 
 namespace odometry_calibration {
@@ -128,6 +130,30 @@ std::vector<EncoderSample> parseSamples(const std::string& field, std::size_t jo
   return samples;
 }
 
+/// Refuses values no real pair has, which a fit would take for data (issue 32): a keyframe
+/// motion beyond kMaxMotionM, a covariance that is not positive definite or beyond
+/// kMaxVarianceUnits (its whitening would be NaN or nothing), a joint value beyond
+/// kMaxJointValue (a raw 32-bit counter reaches 4.3e9).
+void checkPairValues(const MotionPair& pair, const LineFailure& fail)
+{
+  constexpr double kMaxMotionM = 1e3, kMaxVarianceUnits = 1e6, kMaxJointValue = 1e15;
+  const Pose2& motion = pair.sensor_motion;
+  if (std::abs(motion.x()) > kMaxMotionM || std::abs(motion.y()) > kMaxMotionM ||
+      std::abs(motion.theta()) > kMaxMotionM) {
+    fail("the sensor motion (" + std::to_string(motion.x()) + ", " + std::to_string(motion.y()) +
+         ", " + std::to_string(motion.theta()) + ") is beyond 1000 m or rad: no keyframe pair");
+  }
+  if (pair.covariance.llt().info() != Eigen::Success ||
+      !(pair.covariance.diagonal().minCoeff() > 0.0) ||
+      pair.covariance.diagonal().maxCoeff() > kMaxVarianceUnits) {
+    fail("the covariance is not positive definite with variances up to 1e6");
+  }
+  for (const EncoderSample& sample : pair.encoder_samples) {
+    if (sample.values.size() > 0 && sample.values.cwiseAbs().maxCoeff() > kMaxJointValue)
+      fail("a joint value beyond 1e15 at stamp " + std::to_string(sample.stamp_s));
+  }
+}
+
 /// One row: stamps, motion, covariance (upper triangle) and the samples.
 MotionPair parsePairRow(const std::string& line, std::size_t joint_count, const LineFailure& fail)
 {
@@ -151,6 +177,7 @@ MotionPair parsePairRow(const std::string& line, std::size_t joint_count, const 
   pair.encoder_samples = parseSamples(fields[11], joint_count, fail);
   if (pair.encoder_samples.size() < 2)
     fail("a pair needs at least two encoder samples");
+  checkPairValues(pair, fail);
   return pair;
 }
 

@@ -1,5 +1,6 @@
 #include "odometry_calibration/datasets/tricycle_dataset.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -136,6 +137,10 @@ void parseHeaderLine(const std::string& body, std::size_t line, const std::strin
   // Other comment lines carry no data we use.
 }
 
+/// A pose value beyond this (m or rad) is no pose of a robot but a corrupted number: a tracker
+/// x of 1e10 averaged into an ATE of 1.8e8 m, one of 1e308 overflowed the fit (issue 32).
+constexpr double kMaxPoseValue = 1e6;
+
 /// Refuses a sample line that is not 13 tokens with the four labels in their places.
 void checkRowLayout(const std::vector<std::string>& tokens, const std::string& source,
                     std::size_t line)
@@ -187,9 +192,52 @@ TricycleDatasetRow parseRow(const std::vector<std::string>& tokens, const std::s
                                   "'");
     }
   }
+  for (std::size_t i = 0; i < 6; ++i) {
+    if (std::abs(values[i]) > kMaxPoseValue) {
+      static const char* kNames[] = {"x", "y", "theta"};
+      throw DatasetParseError(source, line,
+                              std::string(i < 3 ? "model_pose" : "tracker_pose") + " " +
+                                  kNames[i % 3] + " = " + tokens[value_tokens[i]] +
+                                  " is beyond +-1e6 (m or rad): no pose of the robot, a " +
+                                  "corrupted value; remove or repair the line");
+    }
+  }
   row.T_odom_base_model = Pose2(values[0], values[1], values[2]);
   row.T_world_sensor = Pose2(values[3], values[4], values[5]);
   return row;
+}
+
+/// Refuses a tracker pose that leaps away from both neighbours while they agree: a corrupted
+/// value (a tracker x of 1000 among poses a few centimetres apart raised the calibrated ATE from
+/// 0.38 m to 20 m, issue 32). A leap counts beyond max(1 m, 100 times the median step) when the
+/// neighbours are within a tenth of it of each other.
+void refuseTrackerSpikes(const TricycleDataset& dataset)
+{
+  const std::vector<TricycleDatasetRow>& rows = dataset.rows;
+  if (rows.size() < 3)
+    return;
+  auto distance = [&](std::size_t a, std::size_t b) {
+    return std::hypot(rows[a].T_world_sensor.x() - rows[b].T_world_sensor.x(),
+                      rows[a].T_world_sensor.y() - rows[b].T_world_sensor.y());
+  };
+  std::vector<double> steps;
+  for (std::size_t i = 1; i < rows.size(); ++i)
+    steps.push_back(distance(i - 1, i));
+  std::nth_element(steps.begin(), steps.begin() + steps.size() / 2, steps.end());
+  const double leap_m = std::max(1.0, 100.0 * steps[steps.size() / 2]);
+  for (std::size_t i = 1; i + 1 < rows.size(); ++i) {
+    const double before_m = distance(i - 1, i), after_m = distance(i, i + 1);
+    if (before_m > leap_m && after_m > leap_m &&
+        distance(i - 1, i + 1) < 0.1 * std::min(before_m, after_m)) {
+      throw DatasetParseError(
+          dataset.source, rows[i].line,
+          "tracker_pose leaps " + std::to_string(before_m) +
+              " m away from the lines before and after it (which are " +
+              std::to_string(distance(i - 1, i + 1)) +
+              " m apart): a corrupted value, which would count in the ATE; remove or repair the "
+              "line");
+    }
+  }
 }
 
 }  // namespace
@@ -238,6 +286,7 @@ TricycleDataset parseTricycleDataset(std::istream& input, const std::string& sou
     dataset.rows.push_back(row);
     dataset.last_line_unterminated = unterminated;
   }
+  refuseTrackerSpikes(dataset);
   return dataset;
 }
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "odometry_calibration/common/number_text.h"
 #include "odometry_calibration/data/pair_features.h"
 
 namespace odometry_calibration {
@@ -72,6 +73,33 @@ bool distinctJointIndices(const std::vector<int>& indices)
   std::vector<int> sorted = indices;
   std::sort(sorted.begin(), sorted.end());
   return std::adjacent_find(sorted.begin(), sorted.end()) == sorted.end();
+}
+
+std::string physicalBoundsProblem(const std::vector<std::string>& names,
+                                  const std::vector<double>& values)
+{
+  for (std::size_t i = 0; i < names.size() && i < values.size(); ++i) {
+    const std::string& name = names[i];
+    const double value = values[i];
+    auto contains = [&](const char* part) { return name.find(part) != std::string::npos; };
+    const double max_length =
+        contains("radius")                                                            ? 5.0
+        : contains("separation") || contains("axis_length") || contains("lx_plus_ly") ? 50.0
+        : name == "sensor_x" || name == "sensor_y"                                    ? -100.0
+                                                                                      : 0.0;
+    std::string problem;
+    if (!std::isfinite(value))
+      problem = "is not finite";
+    else if (max_length > 0.0 && !(value > 0.0 && value <= max_length))
+      problem = "is outside (0, " + formatNumber(max_length) + "] m";
+    else if (max_length < 0.0 && !(std::abs(value) <= -max_length))
+      problem = "puts the sensor more than 100 m from the base";
+    if (!problem.empty()) {
+      return "the fitted " + name + " = " + formatNumber(value) + " " + problem +
+             ": no physical value (check the start values, the joints' signs and the pairs)";
+    }
+  }
+  return "";
 }
 
 }  // namespace odometry_calibration

@@ -20,6 +20,12 @@ int main(int argc, char** argv)
   try {
     odometry_calibration::CalibrationNode node(handle, private_handle);
     ros::spin();
+    // Stopped (SIGINT): pairs the disk never took are lost, and the exit status says so.
+    if (const std::size_t lost = node.finish(); lost > 0) {
+      std::cerr << "odometry_calibration_node: " << lost
+                << " pairs lost (never written to the pairs file)" << std::endl;
+      return 3;
+    }
   } catch (const std::exception& error) {
     ROS_FATAL("cannot start: %s", error.what());
     std::cerr << "odometry_calibration_node: cannot start: " << error.what() << std::endl;

@@ -6,7 +6,7 @@
 #include "odometry_calibration/calibration/calibration_result.h"
 #include "odometry_calibration/common/atomic_file.h"
 #include "odometry_calibration/common/median.h"
-#include "odometry_calibration/common/staged_directory.h"
+#include "odometry_calibration/common/staged_file_set.h"
 #include "odometry_calibration/report/controller_yaml.h"
 
 namespace odometry_calibration {
@@ -52,9 +52,12 @@ ReportPlots writeResultFiles(const std::string& output_dir, ResultFiles files)
     throw std::runtime_error("cannot create the output directory '" + output_dir +
                              "': " + (error ? error.message() : "a file has that name"));
   }
-  // The plots first, in a folder that only appears on commit below.
-  StagedDirectory plot_folder(output_dir, kPlotFolderName);
-  const ReportPlots plots = writeReportPlots(files.plots, plot_folder.path(), files.gnuplot);
+  // Every file staged beside its place first; the set replaces the old one only when all are
+  // written (a full disk leaves the old set as it was, and no new file).
+  StagedFileSet set(output_dir);
+  const std::string plot_folder = set.stagedPath(kPlotFolderName);
+  std::filesystem::create_directory(plot_folder);
+  const ReportPlots plots = writeReportPlots(files.plots, plot_folder, files.gnuplot);
 
   MarkdownReportInput& markdown = files.markdown;
   markdown.plots = plots;
@@ -65,23 +68,22 @@ ReportPlots writeResultFiles(const std::string& output_dir, ResultFiles files)
       std::string("`") + kTextReportFileName + "`: what the terminal showed",
       std::string("`") + kPlotFolderName +
           "/`: the images, their data (`.dat`) and gnuplot scripts (`.gp`)"};
+  std::vector<std::string> names = {kPairsFileName, kResultFileName, kTextReportFileName,
+                                    kPlotFolderName, kReportFileName};
+  std::vector<std::string> removed;
   if (!files.controller_yaml.empty()) {
     markdown.files.push_back(std::string("`") + kControllerFileName +
                              "`: the fitted geometry as the robot's controller takes it, with σ");
-  }
-  const std::string report = markdownReport(markdown);
-
-  writePairsCsv(output_dir + "/" + kPairsFileName, files.pairs);
-  writeFileAtomically(output_dir + "/" + kResultFileName, files.result_yaml);
-  if (!files.controller_yaml.empty()) {
-    writeFileAtomically(output_dir + "/" + kControllerFileName, files.controller_yaml);
+    writeFileAtomically(set.stagedPath(kControllerFileName), files.controller_yaml);
+    names.push_back(kControllerFileName);
   } else {  // an earlier fit's controller values must not pass for this one's
-    std::error_code ignored;
-    std::filesystem::remove(output_dir + "/" + kControllerFileName, ignored);
+    removed.push_back(kControllerFileName);
   }
-  writeFileAtomically(output_dir + "/" + kTextReportFileName, files.text_report);
-  plot_folder.commit();
-  writeFileAtomically(output_dir + "/" + kReportFileName, report);
+  writePairsCsv(set.stagedPath(kPairsFileName), files.pairs);
+  writeFileAtomically(set.stagedPath(kResultFileName), files.result_yaml);
+  writeFileAtomically(set.stagedPath(kTextReportFileName), files.text_report);
+  writeFileAtomically(set.stagedPath(kReportFileName), markdownReport(markdown));
+  set.commit(names, removed);
   return plots;
 }
 

@@ -19,6 +19,7 @@
 #include "odometry_calibration/ros/point_cloud_conversion.h"
 #include "odometry_calibration/ros/wire_length_check.h"
 #include "odometry_calibration/scan/cloud_to_scan.h"
+#include "odometry_calibration/session/calibration_session.h"
 
 namespace odometry_calibration {
 namespace {
@@ -129,8 +130,8 @@ bool readJointState(const rosbag::MessageInstance& message, const CalibrationCon
 }
 
 /// A LaserScan into `input`; false when the message is not one.
-bool readLaserScan(const rosbag::MessageInstance& message, std::vector<std::uint8_t>& bytes,
-                   ReadTimers& timers, BagInput& input)
+bool readLaserScan(const rosbag::MessageInstance& message, long long max_rays,
+                   std::vector<std::uint8_t>& bytes, ReadTimers& timers, BagInput& input)
 {
   const auto scan = deserialiseChecked<sensor_msgs::LaserScan>(
       message, ros_conversions::WireMessage::kLaserScan, bytes);
@@ -139,7 +140,10 @@ bool readLaserScan(const rosbag::MessageInstance& message, std::vector<std::uint
   const auto converted = timers.endReading();
   input.stamp_s = scan->header.stamp.toSec();
   input.frame = scan->header.frame_id;
-  try {  // an impossible geometry: skipped and counted, as the live node does
+  try {  // an impossible geometry or too many rays: skipped and counted, as the live node does
+    if (const std::string problem = scanRaysProblem(scan->ranges.size(), max_rays);
+        !problem.empty())
+      throw std::invalid_argument(problem);
     input.scan = ros_conversions::fromLaserScanMsg(*scan);
     input.kind = BagInput::Kind::kScan;
   } catch (const std::invalid_argument& error) {
@@ -311,11 +315,12 @@ void BagMessageReader::read(rosbag::View& view, const CalibrationConfig& config)
     }
     BagInput input;
     input.fraction = (message.getTime().toSec() - begin_s) / span_s;
+    input.publisher = message.getCallerId();
     const bool read_one =
         message.getTopic() == config.joint_state_topic
             ? readJointState(message, config, channels, message_bytes_, timers, input)
         : config.ego_motion == EgoMotionSource::kScan
-            ? readLaserScan(message, message_bytes_, timers, input)
+            ? readLaserScan(message, config.max_scan_rays, message_bytes_, timers, input)
         : config.ego_motion == EgoMotionSource::kCloud
             ? readCloud(message, config, message_bytes_, cloud_frame_, timers, input)
             : readPose(message, message_bytes_, input);

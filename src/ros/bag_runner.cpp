@@ -133,22 +133,23 @@ void feed(CalibrationSession& session, BagInput& input, EgoMotionSource source)
 {
   switch (input.kind) {
     case BagInput::Kind::kBadJoints:
-      session.skipJointState(input.problem);
+      session.skipJointState(input.problem, input.publisher);
       break;
     case BagInput::Kind::kJoints:
-      session.addJointPositions(input.stamp_s, input.raw);
+      session.addJointPositions(input.stamp_s, input.raw, input.publisher);
       break;
     case BagInput::Kind::kBadScan:
-      session.skipEgoMessage(egoMessageType(source), input.problem);
+      session.skipEgoMessage(egoMessageType(source), input.problem, input.publisher);
       break;
     case BagInput::Kind::kScan:
       if (source == EgoMotionSource::kCloud)
-        session.addCloudScan(input.stamp_s, input.scan, input.frame, input.problem);
+        session.addCloudScan(input.stamp_s, input.scan, input.frame, input.problem,
+                             input.publisher);
       else
-        session.addScan(input.stamp_s, input.scan, input.frame);
+        session.addScan(input.stamp_s, input.scan, input.frame, input.publisher);
       break;
     case BagInput::Kind::kPose:
-      session.addSensorPose(input.stamp_s, input.pose, input.frame);
+      session.addSensorPose(input.stamp_s, input.pose, input.frame, input.publisher);
       break;
   }
 }
@@ -171,6 +172,15 @@ void takeCounts(const CalibrationSession& session, const std::string& ego_topic,
   result->clouds_without_times = counts.clouds_without_times;
   result->first_cloud_time_problem = counts.first_cloud_time_problem;
   result->restarts = counts.restarts;
+  result->ignored_joint_states = counts.ignored_encoder_messages;
+  result->joint_state_publisher = counts.encoder_publisher;
+  result->ignored_joint_state_publisher = counts.ignored_encoder_publisher;
+  if (!config.joint_state_publisher.empty() && counts.encoder_publisher.empty()) {
+    throw std::runtime_error("joint_state_publisher '" + config.joint_state_publisher +
+                             "' published no JointState on '" + config.joint_state_topic +
+                             "' in the bags (" + std::to_string(counts.ignored_encoder_messages) +
+                             " came from " + publisherName(counts.ignored_encoder_publisher) + ")");
+  }
   if (result->joint_state_messages == 0) {
     throw std::runtime_error("no sensor_msgs/JointState on '" + config.joint_state_topic +
                              "' in the bags");
@@ -216,6 +226,9 @@ BagRunResult runBagsUnchecked(const std::vector<std::string>& bag_paths,
       if (progress && ++messages % 500 == 0)
         progress({input.fraction, messages, seconds(Clock::now() - run_start)});
     }
+    // Two publishers of one input: refused as soon as the second one shows.
+    if (const std::string conflict = result.session->counts().publisher_conflict; !conflict.empty())
+      throw std::runtime_error(conflict);
   }
   result.session->flush();
   if (progress)
@@ -260,6 +273,12 @@ BagRunResult runBags(const std::vector<std::string>& bag_paths, const Calibratio
 std::vector<std::string> bagRunNotes(const BagRunResult& run)
 {
   std::vector<std::string> notes;
+  if (run.ignored_joint_states > 0) {
+    notes.push_back("ignored " + std::to_string(run.ignored_joint_states) +
+                    " JointState messages from " +
+                    publisherName(run.ignored_joint_state_publisher) +
+                    " (joint_state_publisher: " + publisherName(run.joint_state_publisher) + ")");
+  }
   if (run.bad_joint_states > 0) {
     notes.push_back("skipped " + std::to_string(run.bad_joint_states) +
                     " JointState messages, first: " + run.first_bad_joint_state);

@@ -86,13 +86,24 @@ CalibrationNode::~CalibrationNode()
   save_service_.shutdown();
   reset_service_.shutdown();
   timer_ = ros::WallTimer();
+  finish();
+}
+
+std::size_t CalibrationNode::finish()
+{
   joint_subscriber_.shutdown();
   ego_subscriber_.shutdown();
-  const SessionCounts counts = session_->counts();
-  if (counts.pairs_unwritten > 0) {
-    ROS_ERROR("%zu pairs were never written to the pairs file (the disk did not take them)",
-              counts.pairs_unwritten);
+  if (finished_)
+    return lost_pairs_;
+  finished_ = true;
+  lost_pairs_ = session_->writePendingPairs();
+  if (lost_pairs_ > 0) {
+    ROS_ERROR(
+        "%zu pairs were lost: never written to the pairs file in %s (the disk did not take "
+        "them)",
+        lost_pairs_, options_.session.output_directory.c_str());
   }
+  return lost_pairs_;
 }
 
 void CalibrationNode::advertise()
@@ -136,64 +147,76 @@ void CalibrationNode::subscribe()
 
 // --- Inputs: converted, then the session's -------------------------------------------------
 
-void CalibrationNode::onJointState(const sensor_msgs::JointState::ConstPtr& message)
+void CalibrationNode::onJointState(const ros::MessageEvent<const sensor_msgs::JointState>& event)
 {
+  const auto& message = event.getConstMessage();
   Eigen::VectorXd raw;
   try {
     raw = applySigns(config_, ros_conversions::rawJointPositions(*message, channels_));
   } catch (const std::invalid_argument& error) {
-    session_->skipJointState(error.what());
+    session_->skipJointState(error.what(), event.getPublisherName());
     return;
   }
-  session_->addJointPositions(message->header.stamp.toSec(), raw);
+  session_->addJointPositions(message->header.stamp.toSec(), raw, event.getPublisherName());
 }
 
-void CalibrationNode::onScan(const sensor_msgs::LaserScan::ConstPtr& message)
+void CalibrationNode::onScan(const ros::MessageEvent<const sensor_msgs::LaserScan>& event)
 {
+  const auto& message = event.getConstMessage();
+  if (const std::string problem = scanRaysProblem(message->ranges.size(), config_.max_scan_rays);
+      !problem.empty()) {  // refused before it is copied
+    session_->skipEgoMessage("LaserScan", problem, event.getPublisherName());
+    return;
+  }
   Scan scan;
   try {
     scan = ros_conversions::fromLaserScanMsg(*message);
   } catch (const std::invalid_argument& error) {
-    session_->skipEgoMessage("LaserScan", error.what());
+    session_->skipEgoMessage("LaserScan", error.what(), event.getPublisherName());
     return;
   }
-  session_->addScan(message->header.stamp.toSec(), scan, message->header.frame_id);
+  session_->addScan(message->header.stamp.toSec(), scan, message->header.frame_id,
+                    event.getPublisherName());
 }
 
-void CalibrationNode::onCloud(const sensor_msgs::PointCloud2::ConstPtr& message)
+void CalibrationNode::onCloud(const ros::MessageEvent<const sensor_msgs::PointCloud2>& event)
 {
+  const auto& message = event.getConstMessage();
   // Converted and filtered before the session's lock: the encoders keep flowing meanwhile.
   try {
     const auto lidar = ros_conversions::fromPointCloud2Msg(*message, config_.cloud.point_times);
     const Scan scan = cloudToScan(lidar.cloud, lidar.has_times, config_.cloud);
     session_->addCloudScan(message->header.stamp.toSec(), scan, message->header.frame_id,
-                           lidar.time_problem);
+                           lidar.time_problem, event.getPublisherName());
   } catch (const std::invalid_argument& error) {
-    session_->skipEgoMessage("PointCloud2", error.what());
+    session_->skipEgoMessage("PointCloud2", error.what(), event.getPublisherName());
   }
 }
 
-void CalibrationNode::onOdometry(const nav_msgs::Odometry::ConstPtr& message)
+void CalibrationNode::onOdometry(const ros::MessageEvent<const nav_msgs::Odometry>& event)
 {
-  onSensorPose(message->header.stamp.toSec(), message->pose.pose, message->child_frame_id);
+  const auto& message = event.getConstMessage();
+  onSensorPose(message->header.stamp.toSec(), message->pose.pose, message->child_frame_id,
+               event.getPublisherName());
 }
 
-void CalibrationNode::onPose(const geometry_msgs::PoseStamped::ConstPtr& message)
+void CalibrationNode::onPose(const ros::MessageEvent<const geometry_msgs::PoseStamped>& event)
 {
-  onSensorPose(message->header.stamp.toSec(), message->pose, "");
+  const auto& message = event.getConstMessage();
+  onSensorPose(message->header.stamp.toSec(), message->pose, "", event.getPublisherName());
 }
 
 void CalibrationNode::onSensorPose(double stamp_s, const geometry_msgs::Pose& pose,
-                                   const std::string& frame)
+                                   const std::string& frame, const std::string& publisher)
 {
   Pose2 T_world_sensor;
   try {
     T_world_sensor = ros_conversions::fromPoseMsg(pose);
   } catch (const std::invalid_argument& error) {
-    session_->skipEgoMessage("pose", error.what());
+    session_->skipEgoMessage("pose", error.what(), publisher);
     return;
   }
-  session_->addSensorPose(stamp_s, T_world_sensor, frame);
+  session_->addSensorPose(stamp_s, T_world_sensor, frame, publisher);
 }
 
 }  // namespace odometry_calibration

@@ -125,7 +125,9 @@ void CalibrationNode::publishDiagnostics(double period_s)
     diagnostic_msgs::DiagnosticStatus status;
     status.name = ros::this_node::getName() + ": " + report.name;
     status.hardware_id = hardware_id;
-    status.level = report.level == SessionStatusReport::Level::kWarn
+    status.level = report.level == SessionStatusReport::Level::kError
+                       ? diagnostic_msgs::DiagnosticStatus::ERROR
+                   : report.level == SessionStatusReport::Level::kWarn
                        ? diagnostic_msgs::DiagnosticStatus::WARN
                        : diagnostic_msgs::DiagnosticStatus::OK;
     status.message = report.message;

@@ -9,6 +9,15 @@
 #include "odometry_calibration/calibration/saved_calibration_score.h"
 
 namespace odometry_calibration {
+
+std::string scanRaysProblem(std::size_t rays, long long max_rays)
+{
+  if (static_cast<long long>(rays) <= max_rays)
+    return "";
+  return "a scan of " + std::to_string(rays) +
+         " rays, more than ego_motion.max_scan_rays = " + std::to_string(max_rays) +
+         " (raise it for a laser with more rays)";
+}
 namespace {
 
 namespace fs = std::filesystem;
@@ -44,6 +53,9 @@ CalibrationSession::CalibrationSession(const CalibrationConfig& config,
   keep_history_ = options_.keep_encoder_history.value_or(config_.estimate_time_offset);
   candidate_intervals_s_ = options_.candidate_intervals_s.value_or(config_.fit_intervals_s);
   inputs_ = std::make_unique<InputMonitor>(options_.topics, options_.silent_topic_timeout_s, now());
+  publishers_ = std::make_unique<InputPublishers>(
+      options_.topics, std::array<std::string, 2>{config_.joint_state_publisher, ""});
+  encoder_watch_ = std::make_unique<EncoderWatch>(channels_);
   if (!options_.output_directory.empty())
     fs::create_directories(options_.output_directory);
   if (options_.load_saved_calibration && !options_.output_directory.empty())
@@ -186,6 +198,11 @@ SessionCounts CalibrationSession::counts() const
   counts.pairs_unwritten = store_->unwritten();
   counts.encoder_messages = inputs_->messages(SessionInput::kEncoders);
   counts.ego_messages = inputs_->messages(SessionInput::kEgoMotion);
+  counts.publisher_conflict = publishers_->conflict();
+  counts.ignored_encoder_messages = publishers_->ignored(SessionInput::kEncoders);
+  counts.ignored_ego_messages = publishers_->ignored(SessionInput::kEgoMotion);
+  counts.encoder_publisher = publishers_->publisher(SessionInput::kEncoders);
+  counts.ignored_encoder_publisher = publishers_->otherPublisher(SessionInput::kEncoders);
   return counts;
 }
 

@@ -89,6 +89,10 @@ CalibrateOutcome CalibrationSession::calibrate(const CalibrationRequest& request
   SessionFitRequest fit_request = snapshot(&guidance);
   outcome.pairs_collected = fit_request.pairs.size();
   const std::string name = request.model.empty() ? fit_request.config.model : request.model;
+  if (const std::string conflict = counts().publisher_conflict; !conflict.empty()) {
+    outcome.message = "cannot calibrate: " + conflict;
+    return outcome;
+  }
   try {
     configureModel(name, request.options, &fit_request.config);
   } catch (const std::exception& error) {

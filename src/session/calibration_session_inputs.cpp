@@ -32,10 +32,37 @@ void CalibrationSession::rejectInput(SessionInput input, const std::string& what
                          " so far): " + problem);
 }
 
-void CalibrationSession::addJointPositions(double stamp_s, const Eigen::VectorXd& raw)
+bool CalibrationSession::admit(SessionInput input, const std::string& publisher, bool carries_data)
+{
+  inputs_->received(input, now());
+  const bool had_conflict = !publishers_->conflict().empty();
+  const PublisherVerdict verdict = publishers_->check(input, publisher, carries_data);
+  if (verdict == PublisherVerdict::kUse)
+    return true;
+  if (verdict == PublisherVerdict::kConflict) {
+    if (!had_conflict) {
+      last_problem_ = publishers_->conflict();
+      say(SessionLogLevel::kError, publishers_->conflict());
+    }
+    return false;
+  }
+  const std::size_t ignored = publishers_->ignored(input);
+  if (ignored == 1 || ignored % 1000 == 0) {
+    say(SessionLogLevel::kWarn,
+        "ignoring " + inputs_->topic(input) + " from " + publisherName(publisher) +
+            " (joint_state_publisher: " + publisherName(config_.joint_state_publisher) + "; " +
+            std::to_string(ignored) + " ignored so far)");
+  }
+  return false;
+}
+
+void CalibrationSession::addJointPositions(double stamp_s, const Eigen::VectorXd& raw,
+                                           const std::string& publisher)
 {
   std::lock_guard<std::mutex> lock(mutex_);
-  inputs_->received(SessionInput::kEncoders, now());
+  if (!admit(SessionInput::kEncoders, publisher))
+    return;
+  encoder_watch_->add(raw);
   Eigen::VectorXd accepted;
   std::vector<CollectorEvent> events;
   try {
@@ -53,10 +80,11 @@ void CalibrationSession::addJointPositions(double stamp_s, const Eigen::VectorXd
   integrate(stamp_s, accepted);
 }
 
-void CalibrationSession::skipJointState(const std::string& problem)
+void CalibrationSession::skipJointState(const std::string& problem, const std::string& publisher)
 {
   std::lock_guard<std::mutex> lock(mutex_);
-  inputs_->received(SessionInput::kEncoders, now());
+  if (!admit(SessionInput::kEncoders, publisher, false))
+    return;
   rejectInput(SessionInput::kEncoders, "JointState", problem);
 }
 
@@ -89,6 +117,9 @@ void CalibrationSession::integrate(double stamp_s, const Eigen::VectorXd& accept
 
 std::vector<CollectorEvent> CalibrationSession::takeScan(double stamp_s, const Scan& scan)
 {
+  if (const std::string problem = scanRaysProblem(scan.ranges_m.size(), config_.max_scan_rays);
+      !problem.empty())
+    throw std::invalid_argument(problem);
   const std::size_t usable = countUsableReadings(scan);
   if (static_cast<int>(usable) < config_.collector.plicp.min_points) {
     throw std::invalid_argument(
@@ -121,10 +152,12 @@ void CalibrationSession::notifySensorPose() const
                           sensor_frame_.empty() ? options_.default_sensor_frame : sensor_frame_);
 }
 
-void CalibrationSession::addScan(double stamp_s, const Scan& scan, const std::string& frame)
+void CalibrationSession::addScan(double stamp_s, const Scan& scan, const std::string& frame,
+                                 const std::string& publisher)
 {
   std::lock_guard<std::mutex> lock(mutex_);
-  inputs_->received(SessionInput::kEgoMotion, now());
+  if (!admit(SessionInput::kEgoMotion, publisher))
+    return;
   noteFrame(frame);
   std::vector<CollectorEvent> events;
   try {
@@ -137,7 +170,7 @@ void CalibrationSession::addScan(double stamp_s, const Scan& scan, const std::st
 }
 
 void CalibrationSession::addCloudScan(double stamp_s, const Scan& scan, const std::string& frame,
-                                      const std::string& time_problem)
+                                      const std::string& time_problem, const std::string& publisher)
 {
   std::unique_lock<std::mutex> lock(mutex_);
   std::string problem;
@@ -149,9 +182,10 @@ void CalibrationSession::addCloudScan(double stamp_s, const Scan& scan, const st
   }
   if (!problem.empty()) {
     lock.unlock();
-    return skipEgoMessage("PointCloud2", problem);
+    return skipEgoMessage("PointCloud2", problem, publisher);
   }
-  inputs_->received(SessionInput::kEgoMotion, now());
+  if (!admit(SessionInput::kEgoMotion, publisher))
+    return;
   cloud_frame_fixed_ = true;
   noteFrame(frame);
   if (!time_problem.empty()) {
@@ -172,18 +206,21 @@ void CalibrationSession::addCloudScan(double stamp_s, const Scan& scan, const st
   handleEvents(events, stamp_s);
 }
 
-void CalibrationSession::skipEgoMessage(const std::string& what, const std::string& problem)
+void CalibrationSession::skipEgoMessage(const std::string& what, const std::string& problem,
+                                        const std::string& publisher)
 {
   std::lock_guard<std::mutex> lock(mutex_);
-  inputs_->received(SessionInput::kEgoMotion, now());
+  if (!admit(SessionInput::kEgoMotion, publisher, false))
+    return;
   rejectInput(SessionInput::kEgoMotion, what, problem);
 }
 
 void CalibrationSession::addSensorPose(double stamp_s, const Pose2& T_world_sensor,
-                                       const std::string& frame)
+                                       const std::string& frame, const std::string& publisher)
 {
   std::lock_guard<std::mutex> lock(mutex_);
-  inputs_->received(SessionInput::kEgoMotion, now());
+  if (!admit(SessionInput::kEgoMotion, publisher))
+    return;
   noteFrame(frame);
   const double sigma_m = config_.ego_motion_sigma_m, sigma_rad = config_.ego_motion_sigma_rad;
   const Eigen::Matrix3d covariance =
@@ -214,6 +251,13 @@ void CalibrationSession::tick()
   for (const std::string& warning : inputs_->silentWarnings(now()))
     say(SessionLogLevel::kWarn, warning);
   store_->writePending();
+}
+
+std::size_t CalibrationSession::writePendingPairs()
+{
+  std::lock_guard<std::mutex> lock(mutex_);
+  store_->writePending();
+  return store_->unwritten();
 }
 
 void CalibrationSession::restart(const std::string& reason, double stamp_s)

@@ -67,7 +67,15 @@ std::vector<SessionStatusReport> CalibrationSession::statusReports(double period
   if (!file_problem.empty())
     problems.push_back(file_problem);
   const CollectorStatistics& s = collector_->statistics();
-  if (!problems.empty()) {
+  for (const std::string& problem : encoder_watch_->problems(s.glitches))
+    problems.push_back(problem);
+  status.add("messages from other publishers ignored",
+             std::to_string(publishers_->ignored(SessionInput::kEncoders) +
+                            publishers_->ignored(SessionInput::kEgoMotion)));
+  if (!publishers_->conflict().empty()) {
+    status.level = SessionStatusReport::Level::kError;
+    status.message = publishers_->conflict();
+  } else if (!problems.empty()) {
     status.level = SessionStatusReport::Level::kWarn;
     status.message = problems.front();
   } else if (s.consecutive_matches > 10 && matchingSuccess(s) < 0.9) {

@@ -4,8 +4,29 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "odometry_calibration/models/model_checks.h"
+
 namespace odometry_calibration {
 namespace {
+
+/// A fit whose parameters are no physical values (a radius of 77 m or below zero, a value that
+/// is not finite) is marked not converged, so that it never becomes the active model and
+/// calibrate_bag reports it NOT converged (issue 32).
+void refuseUnphysicalFit(ModelReport* report)
+{
+  std::vector<std::string> names;
+  std::vector<double> values;
+  for (const ParameterEstimate& parameter : report->parameters) {
+    names.push_back(parameter.name);
+    values.push_back(parameter.value);
+  }
+  const std::string problem = physicalBoundsProblem(names, values);
+  if (problem.empty() || !report->converged)
+    return;
+  report->converged = false;
+  report->termination = problem;
+  report->warnings.push_back(problem);
+}
 
 /// The pairs of one interval: the evaluation pairs at keyframes.interval_s, else a candidate's.
 std::vector<MotionPair> pairsAt(const SessionFitRequest& request, double interval_s)
@@ -104,6 +125,7 @@ SessionFit fitSessionPairs(const SessionFitRequest& request)
   if (same_pairs)
     job_options.time_offset_search = request.offset_search;
   fit.job = runCalibrationJob(config, fit_pairs, request.encoder_history, job_options);
+  refuseUnphysicalFit(&fit.job.report);
   if (!interval_warning.empty())
     fit.job.report.warnings.push_back(interval_warning);
   if (config.estimate_time_offset && !fit.offset_estimated) {

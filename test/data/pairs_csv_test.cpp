@@ -105,6 +105,23 @@ TEST_F(PairsCsv, ErrorsNameTheLine)
   short_sample.replace(short_sample.rfind(' '), std::string::npos, "\n");
   EXPECT_NE(message(header + short_sample).find("samples"), std::string::npos);
   EXPECT_NE(message("# joints: a:sideways\n").find("a:sideways"), std::string::npos);
+  // Values no pair has (issue 32): a motion of 1e10 m, a covariance that is not positive
+  // definite, a joint value of 1e300.
+  auto replaced = [&](std::size_t field, const std::string& value) {
+    std::string changed = row;
+    std::size_t begin = 0;
+    for (std::size_t i = 0; i < field; ++i)
+      begin = changed.find(',', begin) + 1;
+    changed.replace(begin, changed.find(',', begin) - begin, value);
+    return header + changed;
+  };
+  EXPECT_NE(message(replaced(2, "1e10")).find("p.csv:4: the sensor motion"), std::string::npos);
+  EXPECT_NE(message(replaced(5, "-1")).find("not positive definite"), std::string::npos);
+  EXPECT_NE(message(replaced(6, "1e3")).find("not positive definite"), std::string::npos);
+  std::string huge_joint = row;
+  huge_joint.replace(huge_joint.rfind(' ') + 1, std::string::npos, "1e300\n");
+  EXPECT_NE(message(header + huge_joint).find("a joint value beyond 1e15"), std::string::npos)
+      << message(header + huge_joint);
 }
 
 TEST_F(PairsCsv, SeveralFilesMustShareTheirJoints)

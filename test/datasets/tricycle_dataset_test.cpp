@@ -113,6 +113,33 @@ TEST(TricycleDataset, ReportsTheLineAndWhatWasExpected)
   EXPECT_EQ(errorLine("#laser wrt base_link\n#\ttranslation:\t[ 1.5, 0 ],\n"), 2u);
 }
 
+TEST(TricycleDataset, RefusesAbsurdAndLeapingTrackerPoses)
+{
+  // Issue 32: a tracker x of 1e308 crashed the fit, one of 1e10 gave an ATE of 1.8e8 m, one of
+  // 1000 among poses centimetres apart an ATE of 20 m instead of 0.38 m.
+  std::string message;
+  EXPECT_EQ(errorLine("time: 1.0 ticks: 3 5 model_pose: 0 0 0 tracker_pose: 1e308 0 0\n", &message),
+            1u);
+  EXPECT_NE(message.find("tracker_pose x = 1e308 is beyond +-1e6"), std::string::npos) << message;
+  EXPECT_EQ(errorLine("time: 1.0 ticks: 3 5 model_pose: 0 -1e10 0 tracker_pose: 0 0 0\n"), 1u);
+  std::string rows;
+  for (int i = 0; i < 20; ++i) {
+    const double x = i == 10 ? 1000.0 : 0.02 * i;
+    rows += "time: " + std::to_string(1.0 + 0.04 * i) + " ticks: 3 " + std::to_string(5 + i) +
+            " model_pose: 0 0 0 tracker_pose: " + std::to_string(x) + " 0 0\n";
+  }
+  EXPECT_EQ(errorLine(rows, &message), 11u);
+  EXPECT_NE(message.find("tracker_pose leaps 999.8"), std::string::npos) << message;
+  // The same drive with a real jump (the robot carried 5 m away, staying there): accepted.
+  std::string carried;
+  for (int i = 0; i < 20; ++i) {
+    const double x = 0.02 * i + (i >= 10 ? 5.0 : 0.0);
+    carried += "time: " + std::to_string(1.0 + 0.04 * i) + " ticks: 3 " + std::to_string(5 + i) +
+               " model_pose: 0 0 0 tracker_pose: " + std::to_string(x) + " 0 0\n";
+  }
+  EXPECT_EQ(errorLine(carried), 0u);
+}
+
 TEST(TricycleDataset, ToleratesBlankLinesAndWindowsLineEnds)
 {
   const TricycleDataset dataset = parse(std::string(kHeader) + "\n" + kTwoRows + "\r\n");

@@ -55,6 +55,29 @@ TEST(DiffDriveModel, RecoversRadiiSeparationAndLaserPose)
   EXPECT_TRUE(report.warnings.empty()) << report.warnings.front();
 }
 
+TEST(DiffDriveModel, AbsurdStartsGiveNoCovarianceInsteadOfACrash)
+{
+  // Issue 32: a start radius or sensor x of 1e308 overflowed the Jacobian, and Eigen's SVD in
+  // the Ceres covariance crashed (SIGSEGV). Such a fit now ends without a covariance.
+  const auto data = sim::generatePairs(truthOptions(7));
+  for (const bool sensor : {false, true}) {
+    DiffDriveOptions options = nominal();
+    options.yaw_starts = 1;
+    if (sensor)
+      options.initial_T_base_sensor = Pose2(1e308, 0.0, 0.0);
+    else
+      options.initial_left_radius_m = 1e308;
+    DiffDriveModel model(options);
+    const ModelReport report = model.fit(data.pairs);
+    const bool far_from_truth = !(std::abs(report.parameters[0].value - 0.0765) < 0.01);
+    if (report.converged && !far_from_truth) {
+      continue;  // the solver found its way back: a normal fit
+    }
+    for (const ParameterEstimate& parameter : report.parameters)
+      EXPECT_TRUE(std::isnan(parameter.sigma)) << parameter.name << " " << parameter.sigma;
+  }
+}
+
 TEST(DiffDriveModel, MirroredStartLandsOnThePhysicalSolution)
 {
   // Negated radii and separation with the sensor at (-x, -y, theta + pi) predict exactly the

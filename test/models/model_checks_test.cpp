@@ -1,5 +1,6 @@
 #include "odometry_calibration/models/model_checks.h"
 
+#include <cmath>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -108,6 +109,31 @@ TEST(ModelChecks, OptionsMustBePositiveAndTheSolverLimitsInRange)
             "diff_drive option 'yaw_starts' must be in [1, 360]");
   EXPECT_EQ(refusal([] { requireSolverLimits(500, 361, "diff_drive"); }),
             "diff_drive option 'yaw_starts' must be in [1, 360]");
+}
+
+TEST(ModelChecks, UnphysicalFittedParametersAreNamed)
+{
+  const std::vector<std::string> names = {"left_wheel_radius", "right_wheel_radius",
+                                          "wheel_separation",  "sensor_x",
+                                          "sensor_y",          "sensor_theta"};
+  EXPECT_EQ(physicalBoundsProblem(names, {0.0765, 0.0775, 0.32, 0.145, 0.01, 0.02}), "");
+  EXPECT_NE(physicalBoundsProblem(names, {77.0, 0.0775, 0.32, 0.145, 0.01, 0.02})
+                .find("left_wheel_radius = 77 is outside (0, 5] m"),
+            std::string::npos);
+  EXPECT_NE(physicalBoundsProblem(names, {0.0765, -0.0775, 0.32, 0.145, 0.01, 0.02})
+                .find("right_wheel_radius = -0.0775"),
+            std::string::npos);
+  EXPECT_NE(physicalBoundsProblem(names, {0.0765, 0.0775, 0.0, 0.145, 0.01, 0.02})
+                .find("wheel_separation = 0 is outside (0, 50] m"),
+            std::string::npos);
+  EXPECT_NE(physicalBoundsProblem(names, {0.0765, 0.0775, 0.32, 1e10, 0.01, 0.02})
+                .find("sensor_x = 1e+10 puts the sensor more than 100 m"),
+            std::string::npos);
+  EXPECT_NE(physicalBoundsProblem(names, {0.0765, 0.0775, 0.32, 0.145, 0.01, std::nan("")})
+                .find("sensor_theta = nan is not finite"),
+            std::string::npos);
+  // A model-free model's parameters: only finite.
+  EXPECT_EQ(physicalBoundsProblem({"log_length_scale"}, {-40.0}), "");
 }
 
 }  // namespace

@@ -69,9 +69,14 @@ struct CalibrationConfig
 {
   std::vector<JointConfig> joints;
   std::string joint_state_topic = "/joint_states";
+  /// The node whose JointState messages carry the wheel joints (empty: whichever single one
+  /// does; a second is refused). Others' messages are ignored and counted.
+  std::string joint_state_publisher;
   EgoMotionSource ego_motion = EgoMotionSource::kScan;
   std::string scan_topic = "/scan";
-  std::string ego_motion_topic;         ///< odometry / pose / cloud source topic
+  std::string ego_motion_topic;  ///< odometry / pose / cloud source topic
+  /// A LaserScan with more rays is skipped and counted (`ego_motion.max_scan_rays`).
+  long long max_scan_rays = 10000;
   CloudToScanOptions cloud;             ///< cloud source: how a cloud becomes a scan
   double ego_motion_sigma_m = 0.005;    ///< pose source: sigma of a displacement's x, y [m]
   double ego_motion_sigma_rad = 0.002;  ///< pose source: sigma of its heading [rad]

@@ -46,6 +46,14 @@ void requirePositiveOption(double value, const std::string& model, const std::st
 void requireSolverLimits(int max_iterations, int yaw_starts, const std::string& model);
 
 /// Whether the joint indices are all valid (not negative) and different from each other.
+/// Why a fitted parameter is no physical value (empty when all are): every value finite, wheel
+/// radii in (0, 5] m, separations and axis lengths in (0, 50] m (the configuration's ranges of
+/// the start values), the sensor within 100 m of the base. `names`, `units` and `values` of the
+/// report's parameters (model.h), in any model's layout; parameters of other names (a GP's
+/// hyperparameters) are only checked to be finite.
+std::string physicalBoundsProblem(const std::vector<std::string>& names,
+                                  const std::vector<double>& values);
+
 bool distinctJointIndices(const std::vector<int>& indices);
 
 }  // namespace odometry_calibration

@@ -317,6 +317,25 @@ struct SensorPairClasses
   double chi2_per_dof = std::numeric_limits<double>::quiet_NaN();
 };
 
+/// Beyond this magnitude a Jacobian entry is no measurement (a start or a datum of 1e308
+/// overflowing the prediction): J^T J would overflow too.
+constexpr double kMaxCovarianceJacobianEntry = 1e100;
+
+/// Whether `problem`'s Jacobian at its parameters' values can be handed to an SVD: every entry
+/// finite and below kMaxCovarianceJacobianEntry. Eigen's SVD inside ceres::Covariance crashes
+/// (SIGSEGV) on one that is not, where no exception can be caught (issue 32).
+inline bool covarianceComputable(ceres::Problem& problem)
+{
+  double cost = 0.0;
+  ceres::CRSMatrix jacobian;
+  if (!problem.Evaluate(ceres::Problem::EvaluateOptions(), &cost, nullptr, nullptr, &jacobian) ||
+      !std::isfinite(cost))
+    return false;
+  return std::all_of(jacobian.values.begin(), jacobian.values.end(), [](double entry) {
+    return std::isfinite(entry) && std::abs(entry) < kMaxCovarianceJacobianEntry;
+  });
+}
+
 /// The several-sensor form of the function below: each pair whitened with its sensor's noise
 /// scale, the degrees of freedom 3 per inlier less the N + 3 S parameters.
 template <class Kinematics>
@@ -385,6 +404,8 @@ inline bool sensorMotionCovariance(ceres::Problem& problem, const double* intrin
                                    const std::vector<const double*>& sensor_poses,
                                    double chi2_per_dof, Eigen::MatrixXd* covariance)
 {
+  if (!covarianceComputable(problem))
+    return false;
   ceres::Covariance::Options covariance_options;
   covariance_options.algorithm_type = ceres::DENSE_SVD;
   covariance_options.null_space_rank = 0;
@@ -427,7 +448,8 @@ inline bool sensorMotionCovariance(ceres::Problem& problem, const double* intrin
 /// The covariance of (intrinsics, x, y, theta) at the solution of `problem` in the parameters'
 /// own coordinates, scaled by chi2_per_dof when that is known, into `fit`. DENSE_SVD with
 /// null_space_rank 0 refuses a rank-deficient problem instead of inventing a number for an
-/// unobservable direction: covariance_available stays false then.
+/// unobservable direction: covariance_available stays false then, as it does when the
+/// Jacobian cannot be handed to the SVD (covarianceComputable).
 template <int N>
 void sensorMotionCovariance(ceres::Problem& problem, const double* intrinsic,
                             const double* sensor_pose, SensorMotionFit<N>* fit)

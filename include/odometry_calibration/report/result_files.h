@@ -1,7 +1,8 @@
 // The files of a bag calibration, written together at the end of a successful run: the pairs,
-// the result YAML, the text report, the plot folder and the Markdown report. Each file is
-// replaced atomically and the plot folder in one rename, so an interrupted or failed run never
-// leaves a half-written file; a plot that cannot be drawn never fails the run.
+// the result YAML, the controller form, the text report, the plot folder and the Markdown
+// report. All are staged beside their places and replace the previous set only when every one
+// is written (common/staged_file_set.h), so a failed run (a full disk) leaves the old set as
+// it was and no new file; a plot that cannot be drawn never fails the run.
 #pragma once
 
 #include <string>
@@ -44,7 +45,7 @@ ResultFiles resultFilesForJob(const JointLayout& joints, const CalibrationJobRes
 
 /// Creates `output_dir` if needed and writes everything into it. Returns what happened to the
 /// plots (their problem is empty when all were drawn). Throws std::runtime_error naming the
-/// path when a file cannot be written (nothing is left half-written).
+/// path when a file cannot be written (the previous set is then left whole, and no new file).
 ReportPlots writeResultFiles(const std::string& output_dir, ResultFiles files);
 
 }  // namespace odometry_calibration

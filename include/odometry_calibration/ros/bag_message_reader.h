@@ -42,6 +42,7 @@ struct BagInput
   Pose2 pose;
   std::string frame;  ///< the scan's or cloud's frame, the odometry's child frame (or empty)
   std::string problem;
+  std::string publisher;  ///< the connection's callerid: the node that published it (or empty)
 };
 
 /// rosbag trusts a bag's index: a corrupted index entry makes it read outside its buffers

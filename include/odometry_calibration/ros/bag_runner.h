@@ -36,9 +36,13 @@ struct BagRunResult
   std::size_t ego_motion_messages = 0;
   std::size_t bad_joint_states = 0;   ///< skipped: missing joints, mismatched arrays, NaN
   std::string first_bad_joint_state;  ///< the first such problem, in words
-  std::string ego_message_type;       ///< "LaserScan", "PointCloud2" or "pose", for messages
-  std::size_t bad_clouds = 0;         ///< skipped ego-motion messages (clouds: layout, band, frame)
-  std::string first_bad_cloud;        ///< the first such problem, in words
+  /// JointStates from another node than joint_state_publisher (ignored), that node and the
+  /// one used (connection callerids).
+  std::size_t ignored_joint_states = 0;
+  std::string ignored_joint_state_publisher, joint_state_publisher;
+  std::string ego_message_type;  ///< "LaserScan", "PointCloud2" or "pose", for messages
+  std::size_t bad_clouds = 0;    ///< skipped ego-motion messages (clouds: layout, band, frame)
+  std::string first_bad_cloud;   ///< the first such problem, in words
   /// PointCloud2 used without their per-point times (a bad time, a missing configured field)
   std::size_t clouds_without_times = 0;
   std::string first_cloud_time_problem;  ///< why the first of them, in words
@@ -57,7 +61,8 @@ struct BagRunResult
 /// Runs the bags through a collector. Only messages within [start_offset_s, end_offset_s]
 /// after the first message are used (end <= 0: to the end). Throws std::runtime_error for a
 /// bag that cannot be read (missing, truncated, unindexed: the message says which and what to
-/// do) or a topic that carries no message.
+/// do), a topic that carries no message, or two nodes publishing one input (the connections'
+/// callerids; the message names both and how to choose: session/input_publishers.h).
 /// With `candidate_intervals_s`, the session also pairs at those keyframe intervals (for the
 /// choice of the fit interval).
 BagRunResult runBags(const std::vector<std::string>& bag_paths, const CalibrationConfig& config,

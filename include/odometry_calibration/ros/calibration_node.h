@@ -54,15 +54,21 @@ public:
   CalibrationNode(ros::NodeHandle handle, ros::NodeHandle private_handle);
   ~CalibrationNode();
 
+  /// At exit: the inputs stop, the pairs not yet in the pairs file are written a last time;
+  /// returns how many still could not be (said on the log with the file's problem).
+  std::size_t finish();
+
 private:
   void subscribe();
   void advertise();
-  void onJointState(const sensor_msgs::JointState::ConstPtr& message);
-  void onScan(const sensor_msgs::LaserScan::ConstPtr& message);
-  void onCloud(const sensor_msgs::PointCloud2::ConstPtr& message);
-  void onOdometry(const nav_msgs::Odometry::ConstPtr& message);
-  void onPose(const geometry_msgs::PoseStamped::ConstPtr& message);
-  void onSensorPose(double stamp_s, const geometry_msgs::Pose& pose, const std::string& frame);
+  // Message events: the session checks who published each message (input_publishers.h).
+  void onJointState(const ros::MessageEvent<const sensor_msgs::JointState>& event);
+  void onScan(const ros::MessageEvent<const sensor_msgs::LaserScan>& event);
+  void onCloud(const ros::MessageEvent<const sensor_msgs::PointCloud2>& event);
+  void onOdometry(const ros::MessageEvent<const nav_msgs::Odometry>& event);
+  void onPose(const ros::MessageEvent<const geometry_msgs::PoseStamped>& event);
+  void onSensorPose(double stamp_s, const geometry_msgs::Pose& pose, const std::string& frame,
+                    const std::string& publisher);
   void onTimer(const ros::WallTimerEvent& event);
   bool onCalibrate(Calibrate::Request& request, Calibrate::Response& response);
   bool onSave(std_srvs::Trigger::Request& request, std_srvs::Trigger::Response& response);
@@ -85,6 +91,8 @@ private:
   CalibrationConfig config_;
   std::vector<EncoderChannelOptions> channels_;
   std::unique_ptr<CalibrationSession> session_;
+  bool finished_ = false;       ///< finish() ran
+  std::size_t lost_pairs_ = 0;  ///< pairs finish() could not write
   /// The sensor's frame as the session last said (set and read in its callbacks).
   std::string sensor_frame_;
 

@@ -22,7 +22,9 @@
 #include "odometry_calibration/calibration/calibration_config.h"
 #include "odometry_calibration/calibration/fit_interval.h"
 #include "odometry_calibration/pairing/pair_collector.h"
+#include "odometry_calibration/session/encoder_watch.h"
 #include "odometry_calibration/session/input_monitor.h"
+#include "odometry_calibration/session/input_publishers.h"
 #include "odometry_calibration/session/pairs_store.h"
 #include "odometry_calibration/session/session_assistant.h"
 #include "odometry_calibration/session/session_fit.h"
@@ -32,6 +34,11 @@
 namespace odometry_calibration {
 
 class CandidateCollectors;
+
+/// Why a scan of `rays` rays is refused (more than `max_rays`, ego_motion.max_scan_rays: its
+/// memory and matching time are unbounded otherwise); empty when it is not. The front ends
+/// check it before converting a message.
+std::string scanRaysProblem(std::size_t rays, long long max_rays);
 
 struct SessionOptions
 {
@@ -106,6 +113,12 @@ struct SessionCounts
   std::string first_bad_encoder_message, first_bad_ego_message, first_cloud_time_problem;
   std::vector<std::string> restarts;  ///< time going backwards, in words (the first 100)
   std::size_t restart_count = 0;      ///< every restart
+  /// Two publishers of one input with none chosen (input_publishers.h), in words; empty: none.
+  std::string publisher_conflict;
+  /// Messages from another publisher than the one used (ignored; refused after a conflict).
+  std::size_t ignored_encoder_messages = 0, ignored_ego_messages = 0;
+  std::string encoder_publisher;          ///< whose JointStates are used ("" before any)
+  std::string ignored_encoder_publisher;  ///< the first other publisher ("" without one)
 };
 
 class CalibrationSession
@@ -122,25 +135,34 @@ public:
   CalibrationSession& operator=(const CalibrationSession&) = delete;
 
   // --- Inputs (calibration_session_inputs.cpp) ---
+  // Each input names its `publisher` (a bag connection's callerid, a live message's publisher;
+  // "" when unknown): a second publisher of one input is refused, or ignored when the
+  // configuration chooses one (input_publishers.h).
   /// The configured joints' positions (encoderChannels order, signs applied) at `stamp_s`.
-  void addJointPositions(double stamp_s, const Eigen::VectorXd& raw);
+  void addJointPositions(double stamp_s, const Eigen::VectorXd& raw,
+                         const std::string& publisher = "");
   /// A JointState that could not be read (`problem` says why): counted and warned.
-  void skipJointState(const std::string& problem);
+  void skipJointState(const std::string& problem, const std::string& publisher = "");
   /// A laser scan in `frame` (empty: unnamed). A scan with fewer usable readings than
   /// scan_matching.min_points is skipped and counted.
-  void addScan(double stamp_s, const Scan& scan, const std::string& frame);
+  void addScan(double stamp_s, const Scan& scan, const std::string& frame,
+               const std::string& publisher = "");
   /// A 3D lidar's cloud made a scan: the first cloud's frame is the sensor's, a cloud in
   /// another is skipped; `time_problem` non-empty: used without its per-point times.
   void addCloudScan(double stamp_s, const Scan& scan, const std::string& frame,
-                    const std::string& time_problem);
+                    const std::string& time_problem, const std::string& publisher = "");
   /// An ego-motion message that gave nothing (`what`: its type, `problem`: why).
-  void skipEgoMessage(const std::string& what, const std::string& problem);
+  void skipEgoMessage(const std::string& what, const std::string& problem,
+                      const std::string& publisher = "");
   /// The sensor's pose from another tool (odometry, pose); `frame` its child frame (or empty).
-  void addSensorPose(double stamp_s, const Pose2& T_world_sensor, const std::string& frame);
+  void addSensorPose(double stamp_s, const Pose2& T_world_sensor, const std::string& frame,
+                     const std::string& publisher = "");
   /// The end of the data: pairs waiting for scans are made now.
   void flush();
   /// Periodic work: silent-input warnings, pairs the disk did not take.
   void tick();
+  /// Writes the pairs the disk did not take yet; returns how many still are not written.
+  std::size_t writePendingPairs();
 
   // --- Queries ---
   std::vector<MotionPair> pairs() const;
@@ -187,6 +209,10 @@ private:
   void noteFrame(const std::string& frame);
   void notifySensorPose() const;
   void warnInput(const std::string& problem, const std::string& text);
+  /// Whether a message of `input` from `publisher` is used (counted as received either way);
+  /// `carries_data`: false for one that could not be read (it names no publisher of the
+  /// joints, so it starts no conflict).
+  bool admit(SessionInput input, const std::string& publisher, bool carries_data = true);
   /// A message that could not be used: counted (the first one's problem kept) and warned.
   void rejectInput(SessionInput input, const std::string& what, const std::string& problem);
   void say(SessionLogLevel level, const std::string& text) const;
@@ -228,6 +254,8 @@ private:
   std::unique_ptr<SessionOdometry> odometry_;
   std::unique_ptr<SessionAssistant> assistant_;
   std::unique_ptr<InputMonitor> inputs_;
+  std::unique_ptr<InputPublishers> publishers_;
+  std::unique_ptr<EncoderWatch> encoder_watch_;  ///< stuck or glitching encoders, for the status
   std::shared_ptr<const MotionModel> active_model_;
   std::string active_model_origin_;
   double model_interval_s_ = 0.5;  ///< window of the active model's predictions [s]

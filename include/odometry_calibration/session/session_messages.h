@@ -27,7 +27,8 @@ struct SessionStatusReport
   enum class Level
   {
     kOk,
-    kWarn
+    kWarn,
+    kError  ///< the session cannot go on as configured (e.g. two publishers of one input)
   };
   std::string name;  ///< appended to the front end's own name, e.g. "calibration"
   Level level = Level::kOk;
