@@ -92,8 +92,9 @@ struct RunOptions
 /// How a verdict reads against the change.
 enum class Naming
 {
-  kRight,       ///< kind right; the laser (a mounting) or the wheels right; quantity right if told
-  kCannotTell,  ///< kind not told, or a mounting of a laser not told
+  kRight,       ///< the quantity told, and right
+  kSourceOnly,  ///< the right laser (a mounting) or the wheels, the quantity not told
+  kCannotTell,  ///< the kind not told, or a mounting of a laser not told
   kWrong,       ///< a wrong kind, a wrong laser or a wrong quantity
   kNothing,     ///< nothing significant
 };
@@ -111,8 +112,8 @@ inline Naming naming(const ChangeVerdict& verdict, Change change)
     return verdict.candidates.front().hypothesis.name == expectedQuantity(change) ? Naming::kRight
                                                                                   : Naming::kWrong;
   if (sensor < 0)
-    return Naming::kRight;  // the wheels, not told which
-  return verdict.sensor == sensor ? Naming::kRight
+    return Naming::kSourceOnly;  // the wheels, not told which quantity
+  return verdict.sensor == sensor ? Naming::kSourceOnly
          : verdict.sensor < 0     ? Naming::kCannotTell
                                   : Naming::kWrong;
 }
