@@ -71,6 +71,21 @@ std::string verdictWords(const ChangeVerdict& verdict)
          " about as well";
 }
 
+/// The sensor of a told mounting change whose rivals within `margin` are all of that sensor;
+/// -1 otherwise.
+int toldSensor(const ChangeVerdict& verdict, double margin)
+{
+  if (!verdict.kind_told || verdict.kind != ChangeKind::kMounting)
+    return -1;
+  const ChangeCandidate& best = verdict.candidates.front();
+  for (const ChangeCandidate& candidate : verdict.candidates) {
+    if (candidate.hypothesis.kind == ChangeKind::kMounting && best.chi2 - candidate.chi2 < margin &&
+        candidate.hypothesis.sensor != best.hypothesis.sensor)
+      return -1;
+  }
+  return best.hypothesis.sensor;
+}
+
 }  // namespace
 
 void validate(const ChangeAttributionOptions& options)
@@ -98,11 +113,12 @@ ChangeAttribution::ChangeAttribution(std::unique_ptr<ChangeHypotheses> hypothese
 }
 
 bool ChangeAttribution::add(std::size_t index, const std::vector<EncoderSample>& samples,
-                            const Eigen::Vector3d& residual, const Eigen::Matrix3d& covariance)
+                            const Eigen::Vector3d& residual, const Eigen::Matrix3d& covariance,
+                            std::size_t sensor)
 {
   Eigen::MatrixXd jacobian;
   try {
-    jacobian = hypotheses_->sensitivity(samples);
+    jacobian = hypotheses_->sensorSensitivity(samples, sensor);
   } catch (const std::exception&) {
     return false;
   }
@@ -195,6 +211,7 @@ ChangeVerdict ChangeAttribution::verdict(std::size_t change_index) const
       if (candidate.hypothesis.kind == best.hypothesis.kind && best.chi2 - candidate.chi2 < margin)
         verdict.quantity_told = false;
     }
+    verdict.sensor = toldSensor(verdict, margin);
   }
   verdict.words = verdictWords(verdict);
   return verdict;

@@ -43,9 +43,9 @@ Eigen::MatrixXd centralDifferences(const std::function<Pose2(const Eigen::Vector
 std::vector<ChangeHypothesis> mountingHypotheses(const std::string& sensor,
                                                  const std::string& frame)
 {
-  return {{sensor + " mounting x" + frame, ChangeKind::kMounting, "cm", 20.0},
-          {sensor + " mounting y" + frame, ChangeKind::kMounting, "cm", 20.0},
-          {sensor + " mounting yaw", ChangeKind::kMounting, "deg", 20.0}};
+  return {{sensor + " mounting x" + frame, ChangeKind::kMounting, "cm", 20.0, 0},
+          {sensor + " mounting y" + frame, ChangeKind::kMounting, "cm", 20.0, 0},
+          {sensor + " mounting yaw", ChangeKind::kMounting, "deg", 20.0, 0}};
 }
 
 /// A differential drive (or a skid-steer's two averaged sides): r_L, r_R, b relative, the
@@ -151,7 +151,67 @@ private:
   Eigen::Index joints_ = 0;
 };
 
+/// Several sensors on one robot: the wheel columns of each sensor's own hypotheses in shared
+/// columns, its three mounting columns in a block of its own.
+class SensorsChangeHypotheses : public ChangeHypotheses
+{
+public:
+  explicit SensorsChangeHypotheses(std::vector<std::unique_ptr<ChangeHypotheses>> per_sensor)
+      : per_sensor_(std::move(per_sensor))
+  {
+    const std::vector<ChangeHypothesis>& first = per_sensor_.front()->hypotheses();
+    wheels_ = static_cast<Eigen::Index>(first.size()) - kMountingColumns;
+    hypotheses_.assign(first.begin(), first.begin() + wheels_);
+    for (std::size_t s = 0; s < per_sensor_.size(); ++s) {
+      const std::vector<ChangeHypothesis>& own = per_sensor_[s]->hypotheses();
+      if (static_cast<Eigen::Index>(own.size()) != wheels_ + kMountingColumns)
+        throw std::invalid_argument("change hypotheses: the sensors' models differ in kind");
+      for (Eigen::Index i = 0; i < wheels_; ++i) {
+        if (own[static_cast<std::size_t>(i)].name != first[static_cast<std::size_t>(i)].name)
+          throw std::invalid_argument("change hypotheses: the sensors' models differ in kind");
+      }
+      for (auto h = own.end() - kMountingColumns; h != own.end(); ++h) {
+        hypotheses_.push_back(*h);
+        hypotheses_.back().sensor = static_cast<int>(s);
+      }
+    }
+  }
+
+  Eigen::MatrixXd sensitivity(const std::vector<EncoderSample>& samples) const override
+  {
+    return sensorSensitivity(samples, 0);
+  }
+  std::size_t sensors() const override { return per_sensor_.size(); }
+  Eigen::MatrixXd sensorSensitivity(const std::vector<EncoderSample>& samples,
+                                    std::size_t sensor) const override
+  {
+    if (sensor >= per_sensor_.size())
+      throw std::invalid_argument("change hypotheses: no sensor " + std::to_string(sensor));
+    const Eigen::MatrixXd own = per_sensor_[sensor]->sensitivity(samples);
+    Eigen::MatrixXd jacobian =
+        Eigen::MatrixXd::Zero(3, static_cast<Eigen::Index>(hypotheses_.size()));
+    jacobian.leftCols(wheels_) = own.leftCols(wheels_);
+    jacobian.middleCols(wheels_ + kMountingColumns * static_cast<Eigen::Index>(sensor),
+                        kMountingColumns) = own.rightCols(kMountingColumns);
+    return jacobian;
+  }
+
+private:
+  static constexpr Eigen::Index kMountingColumns = 3;  // x, y, yaw: the last of each sensor's
+  std::vector<std::unique_ptr<ChangeHypotheses>> per_sensor_;
+  Eigen::Index wheels_ = 0;
+};
+
 }  // namespace
+
+Eigen::MatrixXd ChangeHypotheses::sensorSensitivity(const std::vector<EncoderSample>& samples,
+                                                    std::size_t sensor) const
+{
+  if (sensor != 0)
+    throw std::invalid_argument("change hypotheses: no sensor " + std::to_string(sensor) +
+                                " (one sensor described)");
+  return sensitivity(samples);
+}
 
 std::unique_ptr<ChangeHypotheses> makeChangeHypotheses(std::shared_ptr<const MotionModel> model,
                                                        const std::string& sensor_name,
@@ -175,6 +235,25 @@ std::unique_ptr<ChangeHypotheses> makeChangeHypotheses(std::shared_ptr<const Mot
         });
   }
   return std::make_unique<JointScaleHypotheses>(std::move(model), sensor_name, joint_names);
+}
+
+std::unique_ptr<ChangeHypotheses> makeSensorsChangeHypotheses(
+    const std::vector<std::shared_ptr<const MotionModel>>& models,
+    const std::vector<std::string>& sensor_names, const std::vector<std::string>& joint_names)
+{
+  if (models.empty() || models.size() != sensor_names.size())
+    throw std::invalid_argument("change hypotheses: one name per sensor needed (" +
+                                std::to_string(models.size()) + " models, " +
+                                std::to_string(sensor_names.size()) + " names)");
+  std::vector<std::unique_ptr<ChangeHypotheses>> per_sensor;
+  for (std::size_t s = 0; s < models.size(); ++s) {
+    if (sensor_names[s].empty() ||
+        std::count(sensor_names.begin(), sensor_names.end(), sensor_names[s]) > 1)
+      throw std::invalid_argument("change hypotheses: sensor " + std::to_string(s) +
+                                  "'s name is empty or repeated ('" + sensor_names[s] + "')");
+    per_sensor.push_back(makeChangeHypotheses(models[s], sensor_names[s], joint_names));
+  }
+  return std::make_unique<SensorsChangeHypotheses>(std::move(per_sensor));
 }
 
 }  // namespace odometry_calibration

@@ -87,28 +87,81 @@ double cusumThreshold(double k, double arl0)
 }
 
 HealthMonitor::HealthMonitor(std::shared_ptr<const MotionModel> model, HealthMonitorOptions options)
-    : model_(std::move(model)), options_(options)
+    : HealthMonitor(std::vector<WatchedSensor>{{std::move(model), options.sensor_name}}, options)
 {
-  if (!model_)
-    throw std::invalid_argument("health monitor: no model to watch");
+}
+
+HealthMonitor::HealthMonitor(std::vector<WatchedSensor> sensors, HealthMonitorOptions options)
+    : options_(std::move(options))
+{
+  if (sensors.empty())
+    throw std::invalid_argument("health monitor: no sensor to watch");
   validate(options_);
+  for (std::size_t s = 0; s < sensors.size(); ++s) {
+    if (!sensors[s].model)
+      throw std::invalid_argument("health monitor: no model to watch");
+    if (sensors[s].name.empty())
+      throw std::invalid_argument("health monitor: sensor " + std::to_string(s) + " has no name");
+    for (std::size_t t = 0; t < s; ++t) {
+      if (sensors[t].name == sensors[s].name)
+        throw std::invalid_argument("health monitor: two sensors are called '" + sensors[s].name +
+                                    "'");
+    }
+  }
   k_ = 0.5 * options_.design_shift_sigma;
-  // Two one-sided charts per signal share the false alarms (Bonferroni).
-  h_ = cusumThreshold(k_, 2.0 * kHealthSignalCount * options_.false_alarm_pairs);
+  // Two one-sided charts per signal and sensor share the false alarms (Bonferroni).
+  h_ = cusumThreshold(k_, 2.0 * kHealthSignalCount * static_cast<double>(sensors.size()) *
+                              options_.false_alarm_pairs);
   const char* names[] = {"travel",        "sideways",      "rotation",
                          "heading drift", "turn sideways", "turn along"};
   const char* outputs[] = {"x", "y", "theta"};
-  for (int s = 0; s < kHealthSignalCount; ++s) {
-    charts_[static_cast<std::size_t>(s)].name = names[s];
-    charts_[static_cast<std::size_t>(s)].output = outputs[kSignalOutput[s]];
+  for (std::size_t s = 0; s < sensors.size(); ++s) {
+    SensorState state;
+    state.watched = std::move(sensors[s]);
+    for (int c = 0; c < kHealthSignalCount; ++c) {
+      HealthChart& chart = state.charts[static_cast<std::size_t>(c)];
+      chart.name = names[c];
+      chart.output = outputs[kSignalOutput[c]];
+      chart.sensor = s;
+      chart.sensor_name = state.watched.name;
+    }
+    sensors_.push_back(std::move(state));
   }
 }
 
-bool HealthMonitor::addPair(const MotionPair& pair)
+/// The attribution, on the first pair: the joints named by the options or "1", "2", ...
+void HealthMonitor::makeAttribution(const MotionPair& pair)
 {
+  std::vector<std::string> joints = options_.joint_names;  // none given: "1", "2", ...
+  for (Eigen::Index j = 0;
+       options_.joint_names.empty() && j < pair.encoder_samples.front().values.size(); ++j)
+    joints.push_back(std::to_string(j + 1));
+  if (sensors_.size() == 1) {
+    attribution_ = std::make_unique<ChangeAttribution>(
+        makeChangeHypotheses(sensors_.front().watched.model, sensors_.front().watched.name, joints),
+        options_.attribution);
+    return;
+  }
+  std::vector<std::shared_ptr<const MotionModel>> models;
+  std::vector<std::string> names;
+  for (const SensorState& sensor : sensors_) {
+    models.push_back(sensor.watched.model);
+    names.push_back(sensor.watched.name);
+  }
+  attribution_ = std::make_unique<ChangeAttribution>(
+      makeSensorsChangeHypotheses(models, names, joints), options_.attribution);
+}
+
+bool HealthMonitor::addPair(const MotionPair& pair, std::size_t sensor_index)
+{
+  if (sensor_index >= sensors_.size())
+    throw std::invalid_argument("health monitor: a pair of sensor " + std::to_string(sensor_index) +
+                                ", but " + std::to_string(sensors_.size()) +
+                                " sensor(s) are watched");
+  SensorState& sensor = sensors_[sensor_index];
   MotionPrediction prediction;
   try {
-    prediction = model_->predict(pair.encoder_samples);
+    prediction = sensor.watched.model->predict(pair.encoder_samples);
   } catch (const std::exception&) {
     ++skipped_;
     return false;
@@ -126,74 +179,70 @@ bool HealthMonitor::addPair(const MotionPair& pair)
   }
   const Eigen::Vector3d z = residual.cwiseQuotient(sigma);
   ++pairs_;
-  if (!attribution_) {
-    std::vector<std::string> joints = options_.joint_names;  // none given: "1", "2", ...
-    for (Eigen::Index j = 0;
-         options_.joint_names.empty() && j < pair.encoder_samples.front().values.size(); ++j)
-      joints.push_back(std::to_string(j + 1));
-    attribution_ = std::make_unique<ChangeAttribution>(
-        makeChangeHypotheses(model_, options_.sensor_name, joints), options_.attribution);
-  }
-  if (noise_learnt_) {
-    const Eigen::Matrix3d scale = output_scale_.asDiagonal();
-    attribution_->add(pairs_, pair.encoder_samples, residual, scale * covariance * scale);
+  if (!attribution_)
+    makeAttribution(pair);
+  if (sensor.noise_learnt) {
+    const Eigen::Matrix3d scale = sensor.output_scale.asDiagonal();
+    attribution_->add(pairs_, pair.encoder_samples, residual, scale * covariance * scale,
+                      sensor_index);
   }
   const bool was_alarm = alarm_;
   const bool travels = std::abs(p.x()) > options_.min_travel_m;
   const bool turns = std::abs(p.theta()) > options_.min_rotation_rad;
   if (travels || turns)
-    learnNoise(z);
+    learnNoise(sensor, z);
   const double direction = p.x() > 0.0 ? 1.0 : -1.0;
   const double turn = p.theta() > 0.0 ? 1.0 : -1.0;
   if (travels) {
-    feed(kTravelSignal, direction * z(0), pair.end_stamp_s);
-    feed(kSidewaysSignal, direction * z(1), pair.end_stamp_s);
+    feed(sensor, kTravelSignal, direction * z(0), pair.end_stamp_s);
+    feed(sensor, kSidewaysSignal, direction * z(1), pair.end_stamp_s);
     if (!turns)
-      feed(kHeadingDriftSignal, direction * z(2), pair.end_stamp_s);
+      feed(sensor, kHeadingDriftSignal, direction * z(2), pair.end_stamp_s);
   }
   if (turns) {
-    feed(kRotationSignal, turn * z(2), pair.end_stamp_s);
-    feed(kTurnSidewaysSignal, turn * z(1), pair.end_stamp_s);
-    feed(kTurnAlongSignal, turn * z(0), pair.end_stamp_s);
+    feed(sensor, kRotationSignal, turn * z(2), pair.end_stamp_s);
+    feed(sensor, kTurnSidewaysSignal, turn * z(1), pair.end_stamp_s);
+    feed(sensor, kTurnAlongSignal, turn * z(0), pair.end_stamp_s);
   }
   return alarm_ && !was_alarm;
 }
 
-/// Until burn_in_pairs pairs that move have come: their z per output, then its robust spread.
-void HealthMonitor::learnNoise(const Eigen::Vector3d& z)
+/// Until burn_in_pairs pairs of `sensor` that move have come: their z per output, then its
+/// robust spread.
+void HealthMonitor::learnNoise(SensorState& sensor, const Eigen::Vector3d& z)
 {
-  if (noise_learnt_)
+  if (sensor.noise_learnt)
     return;
   for (int k = 0; k < 3; ++k)
-    noise_burn_in_[static_cast<std::size_t>(k)].push_back(z(k));
-  if (noise_burn_in_[0].size() < static_cast<std::size_t>(options_.burn_in_pairs))
+    sensor.noise_burn_in[static_cast<std::size_t>(k)].push_back(z(k));
+  if (sensor.noise_burn_in[0].size() < static_cast<std::size_t>(options_.burn_in_pairs))
     return;
   for (int k = 0; k < 3; ++k) {
-    std::vector<double>& values = noise_burn_in_[static_cast<std::size_t>(k)];
+    std::vector<double>& values = sensor.noise_burn_in[static_cast<std::size_t>(k)];
     const double centre = median(values);
     std::vector<double> deviations;
     for (double v : values)
       deviations.push_back(std::abs(v - centre));
-    output_scale_(k) = std::max(1.4826 * median(deviations), 1e-6);
+    sensor.output_scale(k) = std::max(1.4826 * median(deviations), 1e-6);
     values.clear();
     values.shrink_to_fit();
   }
-  noise_learnt_ = true;
+  sensor.noise_learnt = true;
 }
 
-void HealthMonitor::feed(HealthSignal signal, double value, double stamp_s)
+void HealthMonitor::feed(SensorState& sensor, HealthSignal signal, double value, double stamp_s)
 {
-  HealthChart& chart = charts_[static_cast<std::size_t>(signal)];
-  std::vector<double>& burn_in = burn_in_[static_cast<std::size_t>(signal)];
+  HealthChart& chart = sensor.charts[static_cast<std::size_t>(signal)];
+  std::vector<double>& burn_in = sensor.burn_in[static_cast<std::size_t>(signal)];
   ++chart.count;
   const double clip = options_.clip_sigma;
   if (!chart.calibrated) {
     burn_in.push_back(value);
-    if (!noise_learnt_)
+    if (!sensor.noise_learnt)
       return;
     // Ready with the noise: its output's spread (all moving pairs); the values so far start the
     // running centre.
-    chart.scale = output_scale_(kSignalOutput[signal]);
+    chart.scale = sensor.output_scale(kSignalOutput[signal]);
     for (double v : burn_in) {
       chart.centre_sum += std::clamp(v / chart.scale, -clip, clip);
       ++chart.centre_count;
@@ -231,11 +280,13 @@ void HealthMonitor::feed(HealthSignal signal, double value, double stamp_s)
     alarm_stamp_s_ = stamp_s;
     const bool up = chart.upper > h_;
     change_at_ = up ? chart.upper_zero_at : chart.lower_zero_at;
-    char where[120];
+    alarm_sensor_ = chart.sensor;
+    const std::string of_sensor = sensors_.size() > 1 ? " of " + sensor.watched.name : "";
+    char where[160];
     std::snprintf(where, sizeof(where),
-                  "output %s (%s chart, CUSUM %.1f > %.1f): ", chart.output.c_str(),
-                  chart.name.c_str(), std::max(chart.upper, chart.lower), h_);
-    alarm_where_ = where + shiftWords(signal, up, options_.sensor_name);
+                  "output %s%s (%s chart, CUSUM %.1f > %.1f): ", chart.output.c_str(),
+                  of_sensor.c_str(), chart.name.c_str(), std::max(chart.upper, chart.lower), h_);
+    alarm_where_ = where + shiftWords(signal, up, sensor.watched.name);
   }
 }
 
@@ -246,17 +297,20 @@ HealthStatus HealthMonitor::status() const
   status.alarm = alarm_;
   status.pairs = pairs_;
   status.threshold = h_;
-  status.charts.assign(charts_.begin(), charts_.end());
-  for (const HealthChart& chart : charts_)
+  status.sensors = sensors_.size();
+  for (const SensorState& sensor : sensors_)
+    status.charts.insert(status.charts.end(), sensor.charts.begin(), sensor.charts.end());
+  for (const HealthChart& chart : status.charts)
     status.statistic = std::max(status.statistic, std::max(chart.upper, chart.lower) / h_);
   status.alarm_output = alarm_output_;
+  status.alarm_sensor = alarm_sensor_;
   status.alarm_stamp_s = alarm_stamp_s_;
   if (alarm_) {
     status.cause = attribution_->verdict(change_at_);
     status.message = alarm_where_ + "; " + status.cause.words +
                      "; the calibration no longer fits the robot: refit (call ~calibrate)";
   } else {
-    const bool calibrated = std::any_of(charts_.begin(), charts_.end(),
+    const bool calibrated = std::any_of(status.charts.begin(), status.charts.end(),
                                         [](const HealthChart& c) { return c.calibrated; });
     char text[120];
     std::snprintf(text, sizeof(text), "ok: statistic %.2f of 1 (%zu pairs scored%s)",

@@ -1,6 +1,7 @@
 #include "odometry_calibration/session/session_assistant.h"
 
 #include <cstdio>
+#include <stdexcept>
 
 #include "odometry_calibration/common/number_text.h"
 
@@ -20,6 +21,9 @@ SessionAssistant::SessionAssistant(const SessionAssistantOptions& options,
     health.sensor_name = "lidar";
   else if (config.ego_motion != EgoMotionSource::kScan)
     health.sensor_name = "ego-motion sensor";
+  // Several sources: each named by its frame, or its topic (issue 35).
+  for (const EgoMotionSourceConfig& source : config.ego_motion_sources)
+    source_names_.push_back(source.frame.empty() ? source.topic : source.frame);
   if (!options_.guidance)
     return;
   // The fitted model's guidance, or the prior model's when the fitted one has none (gp).
@@ -44,13 +48,13 @@ SessionAssistant::SessionAssistant(const SessionAssistantOptions& options,
   }
 }
 
-void SessionAssistant::addPair(const MotionPair& pair)
+void SessionAssistant::addPair(const MotionPair& pair, std::size_t source)
 {
-  if (guidance_)
+  if (guidance_ && source == 0)
     guidance_->addPair(pair);
-  if (!health_monitor_)
+  if (!health_monitor_ || source >= health_monitor_->sensors())
     return;
-  const bool raised = health_monitor_->addPair(pair);
+  const bool raised = health_monitor_->addPair(pair, source);
   if (!raised && (!health_monitor_->status().alarm || health_cause_told_))
     return;
   // The alarm, and once more when more pairs have told what changed (the cause is recomputed
@@ -68,6 +72,27 @@ void SessionAssistant::watch(const std::shared_ptr<const MotionModel>& model,
   if (!options_.health_monitor || !model)
     return;
   health_monitor_ = std::make_unique<HealthMonitor>(model, options_.health_options);
+  health_model_origin_ = origin;
+  health_cause_told_ = false;
+}
+
+void SessionAssistant::watch(const std::vector<std::shared_ptr<const MotionModel>>& models,
+                             const std::string& origin)
+{
+  if (models.size() == 1) {
+    watch(models.front(), origin);
+    return;
+  }
+  if (models.size() != source_names_.size())
+    throw std::invalid_argument("calibration health: " + std::to_string(models.size()) +
+                                " models for " + std::to_string(source_names_.size()) +
+                                " ego-motion sources");
+  if (!options_.health_monitor)
+    return;
+  std::vector<WatchedSensor> sensors;
+  for (std::size_t s = 0; s < models.size(); ++s)
+    sensors.push_back({models[s], source_names_[s]});
+  health_monitor_ = std::make_unique<HealthMonitor>(sensors, options_.health_options);
   health_model_origin_ = origin;
   health_cause_told_ = false;
 }
@@ -131,7 +156,8 @@ SessionStatusReport SessionAssistant::healthStatus() const
   status.add("CUSUM threshold h [sigma]", formatNumber(health.threshold, 4));
   status.add("pairs scored", std::to_string(health.pairs));
   for (const HealthChart& chart : health.charts) {
-    status.add("chart " + chart.name + " (" + chart.output + ")",
+    const std::string sensor = health.sensors > 1 ? chart.sensor_name + " " : "";
+    status.add("chart " + sensor + chart.name + " (" + chart.output + ")",
                chart.calibrated
                    ? "U " + formatNumber(chart.upper, 4) + ", L " + formatNumber(chart.lower, 4) +
                          ", recent mean " + formatNumber(chart.mean_recent, 4) + " sigma"

@@ -112,6 +112,9 @@ void validateChanges(const Scenario& s)
   for (const ParameterChange& change : s.changes) {
     require(change.at_s >= previous_change_s && std::isfinite(change.at_s),
             "changes must be in time order at times >= 0 s");
+    require(change.laser_index <= s.extra_lasers.size(),
+            "changes: laser " + std::to_string(change.laser_index) + " does not exist (" +
+                std::to_string(s.extra_lasers.size() + 1) + " lasers, counted from 0)");
     require(std::abs(change.laser_yaw_change_rad) < M_PI,
             "changes: laser_yaw_change_rad must be within pi");
     require(std::abs(change.laser_x_change_m) < 10.0 && std::abs(change.laser_y_change_m) < 10.0,
@@ -359,6 +362,18 @@ void readMotionYaml(const YAML::Node& motion, const std::string& path, std::stri
   }
 }
 
+/// A change's `laser:`: an index into the scenario's lasers, or a laser's frame_id or topic.
+std::size_t changedLaserIndex(const YAML::Node& laser, const Scenario& s)
+{
+  const std::vector<LaserOptions> lasers = allLasers(s);
+  const std::string text = laser.as<std::string>();
+  for (std::size_t k = 0; k < lasers.size(); ++k) {
+    if (text == lasers[k].frame_id || text == lasers[k].topic || text == std::to_string(k))
+      return k;
+  }
+  throw std::runtime_error("laser: '" + text + "' is no laser's index (from 0), frame_id or topic");
+}
+
 /// changes: the robot's and the laser's changes mid-run (`where` names the entry being read),
 /// each checked to make a valid robot (unknown keys named now, not mid-run).
 void readChangesYaml(const YAML::Node& changes, const std::string& path, std::string& where,
@@ -370,11 +385,13 @@ void readChangesYaml(const YAML::Node& changes, const std::string& path, std::st
   for (const YAML::Node& entry : changes) {
     where = path + ": changes[" + std::to_string(index++) + "]";
     checkYamlKeys(entry,
-                  {"at_s", "robot", "laser_x_change_m", "laser_y_change_m", "laser_yaw_change_rad",
-                   "time_offset_change_s"},
+                  {"at_s", "robot", "laser", "laser_x_change_m", "laser_y_change_m",
+                   "laser_yaw_change_rad", "time_offset_change_s"},
                   where);
     ParameterChange change;
     readYaml(entry, "at_s", &change.at_s);
+    if (const YAML::Node laser = entry["laser"])
+      change.laser_index = changedLaserIndex(laser, s);
     readYaml(entry, "laser_x_change_m", &change.laser_x_change_m);
     readYaml(entry, "laser_y_change_m", &change.laser_y_change_m);
     readYaml(entry, "laser_yaw_change_rad", &change.laser_yaw_change_rad);

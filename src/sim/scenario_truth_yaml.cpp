@@ -115,6 +115,8 @@ void emitChanges(const std::vector<ParameterChange>& changes, YAML::Emitter& out
         out << YAML::Key << key << YAML::Value << value;
       out << YAML::EndMap;
     }
+    if (change.laser_index != 0)  // the first laser unless said (one-laser truths unchanged)
+      out << YAML::Key << "laser" << YAML::Value << change.laser_index;
     out << YAML::Key << "laser_x_change_m" << YAML::Value << change.laser_x_change_m;
     out << YAML::Key << "laser_y_change_m" << YAML::Value << change.laser_y_change_m;
     out << YAML::Key << "laser_yaw_change_rad" << YAML::Value << change.laser_yaw_change_rad;

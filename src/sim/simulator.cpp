@@ -248,7 +248,8 @@ struct ExtraLaser
         model(laser_options, seed),
         period_ns(periodNs(laser_options.rate_hz)),
         sweep_ns(std::llround(model.sweepDuration() * 1e9)),
-        index(laser_index)
+        index(laser_index),
+        T_base_laser(laser_options.T_base_laser)
   {
   }
 
@@ -257,6 +258,7 @@ struct ExtraLaser
   std::int64_t period_ns;
   std::int64_t sweep_ns;
   std::size_t index;
+  Pose2 T_base_laser;  ///< its pose now (changes move and turn it)
   std::int64_t next_ns = 0;
 };
 
@@ -369,23 +371,26 @@ private:
     for (ExtraLaser& laser : extra_lasers_) {
       if (now_ != laser.next_ns)
         continue;
-      publishScan(laser.model, laser.options.T_base_laser, laser.sweep_ns,
-                  laser.options.time_offset_s, laser.index);
+      publishScan(laser.model, laser.T_base_laser, laser.sweep_ns, laser.options.time_offset_s,
+                  laser.index);
       laser.next_ns += laser.period_ns;
     }
   }
 
-  /// The changes due by now: the robot after them, the laser moved and turned by them, the
-  /// encoders' clock shifted by them.
+  /// The changes due by now: the robot after them, the laser (the change's) moved and turned
+  /// by them, the encoders' clock shifted by them.
   void applyChanges()
   {
     while (next_change_ < scenario_.changes.size() &&
            now_ >= std::llround(scenario_.changes[next_change_].at_s * 1e9)) {
       const ParameterChange& change = scenario_.changes[next_change_];
       current_robot_ = changed_robots_[next_change_].get();
-      T_base_laser_ = Pose2(T_base_laser_.x() + change.laser_x_change_m,
-                            T_base_laser_.y() + change.laser_y_change_m,
-                            normalizeAngle(T_base_laser_.theta() + change.laser_yaw_change_rad));
+      Pose2& T_base_laser = change.laser_index == 0
+                                ? T_base_laser_
+                                : extra_lasers_.at(change.laser_index - 1).T_base_laser;
+      T_base_laser = Pose2(T_base_laser.x() + change.laser_x_change_m,
+                           T_base_laser.y() + change.laser_y_change_m,
+                           normalizeAngle(T_base_laser.theta() + change.laser_yaw_change_rad));
       encoder_time_offset_s_ += change.time_offset_change_s;
       ++next_change_;
     }

@@ -117,6 +117,40 @@ TEST(SimScenario, ChangesAreReadCheckedAndWrittenToTheTruth)
   std::remove(path.c_str());
 }
 
+TEST(SimScenario, AChangeNamesItsLaserByIndexFrameOrTopic)
+{
+  const std::string path = "/tmp/odometry_calibration_scenario_laser_changes_test.yaml";
+  auto load = [&](const std::string& changes) {
+    std::ofstream(path) << "robot: {type: diff_drive}\nlasers:\n"
+                           "  - {frame_id: laser_front, topic: /scan_front}\n"
+                           "  - {frame_id: laser_rear, topic: /scan_rear, pose: {x: -0.3}}\n"
+                           "changes:\n"
+                        << changes;
+    return loadScenarioYaml(path, shippedWorldsDirectory());
+  };
+  const Scenario s = load(
+      "  - {at_s: 5, laser: laser_rear, laser_yaw_change_rad: 0.035}\n"
+      "  - {at_s: 6, laser: /scan_front, laser_x_change_m: 0.01}\n"
+      "  - {at_s: 7, laser: 1, laser_y_change_m: 0.02}\n"
+      "  - {at_s: 8, laser_y_change_m: 0.03}\n");
+  ASSERT_EQ(s.changes.size(), 4u);
+  EXPECT_EQ(s.changes[0].laser_index, 1u);
+  EXPECT_EQ(s.changes[1].laser_index, 0u);
+  EXPECT_EQ(s.changes[2].laser_index, 1u);
+  EXPECT_EQ(s.changes[3].laser_index, 0u);  // the first laser unless said
+  const auto robot = makeRobot(s.robot);
+  const std::string truth = scenarioTruthYaml(s, *robot);
+  EXPECT_NE(truth.find("laser: 1"), std::string::npos) << truth;
+  try {
+    load("  - {at_s: 5, laser: laser_left, laser_yaw_change_rad: 0.035}\n");
+    ADD_FAILURE() << "an unknown laser was accepted";
+  } catch (const std::exception& error) {
+    EXPECT_NE(std::string(error.what()).find("'laser_left' is no laser"), std::string::npos)
+        << error.what();
+  }
+  std::remove(path.c_str());
+}
+
 TEST(SimScenario, TheRangeRippleIsReadCheckedAndWrittenToTheTruthOnlyWhenOn)
 {
   const std::string path = "/tmp/odometry_calibration_scenario_ripple_test.yaml";

@@ -350,6 +350,58 @@ TEST(Simulator, LaserShiftsAndClockJumpsTakeEffectAtTheirTime)
   }
 }
 
+TEST(Simulator, AChangeMovesTheLaserItNamesOnly)
+{
+  // Standing at the origin facing +x with a rear laser (issue 35); at 1 s the rear laser (index
+  // 1) yaws by 0.2 rad. The front laser reads what it read without the change; the rear one
+  // the same until 1 s, then its middle ray meets the wall behind (x = -5) 0.2 rad further round.
+  Scenario s = smallScenario("diff_drive");
+  s.duration_s = 2.0;
+  s.motion.type = "scripted";
+  s.motion.script = {{2.0, {0.0, 0.0, 0.0}}};
+  LaserOptions rear = s.laser;
+  rear.T_base_laser = Pose2(-0.3, 0.02, M_PI + 0.03);
+  rear.topic = "/scan_rear";
+  rear.frame_id = "laser_rear";
+  s.extra_lasers.push_back(rear);
+  Scenario changed = s;
+  ParameterChange turn;
+  turn.at_s = 1.0;
+  turn.laser_index = 1;
+  turn.laser_yaw_change_rad = 0.2;
+  changed.changes = {turn};
+  const auto robot = makeRobot(s.robot);
+  Recorder before, after;
+  simulate(s, room(), *robot, before);
+  simulate(changed, room(), *robot, after);
+  ASSERT_EQ(before.scans.size(), after.scans.size());
+  std::size_t rear_after_change = 0;
+  for (std::size_t k = 0; k < after.scans.size(); ++k) {
+    const ScanSample& scan = after.scans[k];
+    const bool moved = scan.laser_index == 1 && scan.stamp_s >= 1.0;
+    EXPECT_EQ(scan.ranges == before.scans[k].ranges, !moved) << k;
+    if (!moved || scan.laser_index != 1)
+      continue;
+    // The middle ray from (-0.3, 0.02) at pi + 0.23 reaches x = -5 after 4.7 / cos(0.23).
+    const double middle = scan.ranges[90];
+    EXPECT_NEAR(middle, 4.7 / std::cos(0.23), 0.05) << scan.stamp_s;
+    ++rear_after_change;
+  }
+  EXPECT_EQ(rear_after_change, 11u);  // 10 Hz, stamps 1.0 .. 2.0
+  // The truth's mounting is the first laser's: unchanged.
+  for (const TruthSample& t : after.truth)
+    EXPECT_EQ(t.T_base_laser.theta(), s.laser.T_base_laser.theta());
+  // A change of a laser the scenario lacks: refused, naming it.
+  changed.changes[0].laser_index = 2;
+  try {
+    validate(changed);
+    ADD_FAILURE() << "a change of a third laser was accepted";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_NE(std::string(error.what()).find("laser 2 does not exist"), std::string::npos)
+        << error.what();
+  }
+}
+
 TEST(Simulator, RejectsAStartInsideTheFurnitureAndWrongJointNames)
 {
   Scenario s = smallScenario("diff_drive");

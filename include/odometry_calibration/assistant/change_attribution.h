@@ -26,6 +26,13 @@
 // and says "cannot tell" otherwise; nothing is named unless the best X exceeds the chi-square
 // significance threshold (default 10.8: p = 0.001 with no change).
 //
+// With several sensors (issue 35) each pair carries its sensor's index: a wheel candidate is
+// regressed on every sensor's pairs, a sensor's mounting candidate on that sensor's pairs alone
+// (its column is zero in the others'), so the pairs of a laser that did not move count against
+// a wheel change that would have shown in them too. The verdict names the sensor when the kind
+// is a mounting and every mounting candidate the best does not beat decisively is of one
+// sensor (its x and its yaw may compete while the other laser is out of the question).
+//
 // What the data cannot carry, the verdict cannot either: left against right radius is told by
 // the along-track residual (a radius moves the travel, the separation does not), so a scan
 // matcher whose along-track motion is biased (a corridor) can tell the wrong side
@@ -75,6 +82,9 @@ struct ChangeVerdict
   bool kind_told = false;                   ///< wheel vs mounting decided
   ChangeKind kind = ChangeKind::kWheel;     ///< valid when kind_told
   bool quantity_told = false;               ///< the best candidate decided within its kind
+  /// A mounting change told to be of this sensor (ChangeHypothesis::sensor); -1: a wheel
+  /// change, or not told which sensor.
+  int sensor = -1;
   /// In words, e.g. "cause: the right wheel radius has changed (+2.0 +- 0.1 %)".
   std::string words;
 };
@@ -87,10 +97,11 @@ public:
   ChangeAttribution(std::unique_ptr<ChangeHypotheses> hypotheses,
                     ChangeAttributionOptions options = {});
 
-  /// Adds pair number `index` (increasing) with its residual and covariance; false when its
-  /// sensitivity cannot be computed (the pair is left out).
+  /// Adds pair number `index` (increasing) of sensor `sensor` (0 with one) with its residual
+  /// and covariance; false when its sensitivity cannot be computed (the pair is left out).
   bool add(std::size_t index, const std::vector<EncoderSample>& samples,
-           const Eigen::Vector3d& residual, const Eigen::Matrix3d& covariance);
+           const Eigen::Vector3d& residual, const Eigen::Matrix3d& covariance,
+           std::size_t sensor = 0);
   /// The verdict, the change point searched from slack_pairs before pair `change_index` on.
   ChangeVerdict verdict(std::size_t change_index) const;
   const ChangeHypotheses& hypotheses() const { return *hypotheses_; }

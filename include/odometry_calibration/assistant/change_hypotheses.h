@@ -14,10 +14,14 @@
 //     along-track one (y), no rotation residual.
 // The attribution (change_attribution.h) regresses the residuals on these columns.
 //
-// One set of hypotheses describes one ego-motion source (its mounting on the robot); a robot
-// with two lasers has one monitor, and one set, per laser.
+// One set of hypotheses describes one ego-motion source (its mounting on the robot). With
+// several sources (issue 35: a front and a rear laser, one set of wheels), the set holds the
+// wheel quantities once (a wheel change shows in every sensor's pairs) and each sensor's
+// mounting x, y, yaw (a knocked laser shows in its own pairs only); a pair's sensitivity has
+// its own sensor's mounting columns and zeros in the others'.
 #pragma once
 
+#include <cstddef>
 #include <memory>
 #include <string>
 #include <vector>
@@ -45,6 +49,9 @@ struct ChangeHypothesis
   /// Largest change considered [unit]: wear and knocks, not another robot (and the first-order
   /// sensitivity holds); a change point whose estimate lies beyond is not this change.
   double plausible = 20.0;
+  /// The sensor whose mounting it is (index of the watched sensors, 0 with one); -1 for a wheel
+  /// change, which every sensor sees.
+  int sensor = -1;
 };
 
 /// The candidate changes of one model and sensor, and their sensitivities per pair.
@@ -57,6 +64,14 @@ public:
   /// in hypotheses() order), by central differences over `samples`. Throws
   /// std::invalid_argument when the model cannot predict the samples.
   virtual Eigen::MatrixXd sensitivity(const std::vector<EncoderSample>& samples) const = 0;
+  /// The sensors described (1 unless made by makeSensorsChangeHypotheses).
+  virtual std::size_t sensors() const { return 1; }
+  /// The sensitivity of a pair of sensor `sensor` (columns in hypotheses() order: the wheels',
+  /// that sensor's mounting, zeros for the other sensors' mountings). With one sensor,
+  /// sensitivity(). Throws std::invalid_argument for a sensor beyond sensors() or samples the
+  /// model cannot predict.
+  virtual Eigen::MatrixXd sensorSensitivity(const std::vector<EncoderSample>& samples,
+                                            std::size_t sensor) const;
 
 protected:
   std::vector<ChangeHypothesis> hypotheses_;
@@ -73,5 +88,15 @@ protected:
 std::unique_ptr<ChangeHypotheses> makeChangeHypotheses(
     std::shared_ptr<const MotionModel> model, const std::string& sensor_name,
     const std::vector<std::string>& joint_names = {});
+
+/// The hypotheses of several sensors on one robot (issue 35): `models[s]` predicts sensor s's
+/// motion (the joint calibration's wheels with that sensor's pose), `sensor_names[s]` names it
+/// (e.g. its frame, "laser_rear"). The wheel quantities of makeChangeHypotheses once (each
+/// sensor's pairs sense them through its own model), then each sensor's mounting x, y, yaw
+/// (ChangeHypothesis::sensor = s). Throws std::invalid_argument for no sensor, a null model,
+/// a name missing, empty or repeated, or models of different kinds.
+std::unique_ptr<ChangeHypotheses> makeSensorsChangeHypotheses(
+    const std::vector<std::shared_ptr<const MotionModel>>& models,
+    const std::vector<std::string>& sensor_names, const std::vector<std::string>& joint_names = {});
 
 }  // namespace odometry_calibration

@@ -33,8 +33,14 @@
 // regressed on each candidate change (change_attribution.h, change_hypotheses.h) to name the
 // cause, again at every status() while the alarm stands (more pairs, a surer verdict).
 //
-// One monitor watches one ego-motion source (its model and its pairs): a robot with two lasers
-// runs one per laser, named by `sensor_name`.
+// Several sensors (issue 35: a front and a rear laser calibrated jointly, one set of wheels and a
+// pose per laser): one monitor watches them all, each pair tagged with its sensor. Each sensor
+// has its own six charts and learns its own noise (its model predicts its motion: the joint
+// calibration's wheels with its pose); the false alarms are shared by all the charts; the
+// attribution's candidates are the wheel quantities, regressed on every sensor's pairs, and each
+// sensor's mounting x, y, yaw, regressed on its own (change_hypotheses.h), so a knocked laser
+// is named as that laser and a wheel change, seen by every laser, as the wheels. With one
+// sensor the monitor is the one-source monitor it always was (same charts, same numbers).
 #pragma once
 
 #include <array>
@@ -84,12 +90,21 @@ enum HealthSignal
   kHealthSignalCount
 };
 
+/// One watched sensor: the model predicting its motion, and its name in the messages.
+struct WatchedSensor
+{
+  std::shared_ptr<const MotionModel> model;
+  std::string name;  ///< e.g. "laser_rear" (its frame or topic); "laser" with one sensor
+};
+
 /// One signal's state.
 struct HealthChart
 {
   /// "travel", "sideways", "rotation", "heading drift", "turn sideways", "turn along"
   std::string name;
   std::string output;             ///< the output it watches: "x", "y" or "theta"
+  std::size_t sensor = 0;         ///< the sensor whose pairs feed it (WatchedSensor index)
+  std::string sensor_name;        ///< its name
   std::size_t count = 0;          ///< pairs that fed it
   bool calibrated = false;        ///< burn-in done
   double centre = 0.0;            ///< robust centre of the burn-in values [sigma]
@@ -112,9 +127,11 @@ struct HealthStatus
   double threshold = 0.0;  ///< h [sigma]
   /// max over the charts of max(U, L) / h: the published statistic (alarm at 1).
   double statistic = 0.0;
-  std::vector<HealthChart> charts;
-  std::string alarm_output;    ///< "x", "y" or "theta" of the chart that fired
-  double alarm_stamp_s = 0.0;  ///< end stamp of the pair that raised the alarm [s]
+  std::vector<HealthChart> charts;  ///< sensor 0's six signals, then sensor 1's, ...
+  std::size_t sensors = 1;          ///< sensors watched
+  std::string alarm_output;         ///< "x", "y" or "theta" of the chart that fired
+  std::size_t alarm_sensor = 0;     ///< the sensor of the chart that fired
+  double alarm_stamp_s = 0.0;       ///< end stamp of the pair that raised the alarm [s]
   /// With the alarm: what changed, from the pairs since the change point (now).
   ChangeVerdict cause;
   /// In words: "ok" or what drifted, the cause and "refit (call ~calibrate)".
@@ -125,31 +142,47 @@ struct HealthStatus
 class HealthMonitor
 {
 public:
-  /// Throws std::invalid_argument for a null model or invalid options.
+  /// One sensor, named by options.sensor_name. Throws std::invalid_argument for a null model
+  /// or invalid options.
   HealthMonitor(std::shared_ptr<const MotionModel> model, HealthMonitorOptions options);
+  /// Several sensors of one robot (each model the joint calibration's wheels with that
+  /// sensor's pose; options.sensor_name unused). One sensor: as the constructor above with its
+  /// name. Throws std::invalid_argument for no sensor, a null model, a name empty or repeated,
+  /// or invalid options.
+  HealthMonitor(std::vector<WatchedSensor> sensors, HealthMonitorOptions options);
 
-  /// Scores one pair; returns true when this pair raised the alarm. Pairs the model cannot
-  /// predict (too few samples, bad joints) or with a non-finite residual are skipped.
-  bool addPair(const MotionPair& pair);
+  /// Scores one pair of sensor `sensor` (index of the sensors given; 0 with one); returns true
+  /// when this pair raised the alarm. Pairs the model cannot predict (too few samples, bad
+  /// joints) or with a non-finite residual are skipped. Throws std::invalid_argument for a
+  /// sensor beyond those watched.
+  bool addPair(const MotionPair& pair, std::size_t sensor = 0);
   HealthStatus status() const;
   std::size_t skipped() const { return skipped_; }
+  std::size_t sensors() const { return sensors_.size(); }
 
 private:
-  void learnNoise(const Eigen::Vector3d& z);
-  void feed(HealthSignal signal, double value, double stamp_s);
+  /// One sensor's model, charts and noise.
+  struct SensorState
+  {
+    WatchedSensor watched;
+    std::array<HealthChart, kHealthSignalCount> charts;
+    std::array<std::vector<double>, kHealthSignalCount> burn_in;
+    std::array<std::vector<double>, 3> noise_burn_in;  ///< z per output of pairs that move
+    bool noise_learnt = false;
+    Eigen::Vector3d output_scale = Eigen::Vector3d::Ones();  ///< robust spread of z per output
+  };
+  void makeAttribution(const MotionPair& pair);
+  void learnNoise(SensorState& sensor, const Eigen::Vector3d& z);
+  void feed(SensorState& sensor, HealthSignal signal, double value, double stamp_s);
 
-  std::shared_ptr<const MotionModel> model_;
+  std::vector<SensorState> sensors_;
   HealthMonitorOptions options_;
   double k_ = 0.5, h_ = 0.0;
-  std::array<HealthChart, kHealthSignalCount> charts_;
-  std::array<std::vector<double>, kHealthSignalCount> burn_in_;
-  std::array<std::vector<double>, 3> noise_burn_in_;  ///< z per output of pairs that move
-  bool noise_learnt_ = false;
-  Eigen::Vector3d output_scale_ = Eigen::Vector3d::Ones();  ///< robust spread of z per output
-  std::unique_ptr<ChangeAttribution> attribution_;          ///< made on the first pair
+  std::unique_ptr<ChangeAttribution> attribution_;  ///< made on the first pair
   std::size_t pairs_ = 0, skipped_ = 0;
   bool alarm_ = false;
   std::string alarm_where_, alarm_output_;
+  std::size_t alarm_sensor_ = 0;
   std::size_t change_at_ = 0;  ///< pairs scored before the estimated change point
   double alarm_stamp_s_ = 0.0;
 };

@@ -42,9 +42,17 @@ public:
                    const std::string& config_text, const std::string& config_source,
                    SessionLog log);
 
-  void addPair(const MotionPair& pair);
+  /// A pair of ego-motion source `source` (its index in egoMotionSources(config); 0 with one
+  /// source). The guidance, made for the first source's pose, takes source 0's pairs only; a
+  /// monitor watching one model scores source 0's pairs only.
+  void addPair(const MotionPair& pair, std::size_t source = 0);
   /// Watches `model` from now on; `origin` says what it is ("fit of 480 pairs").
   void watch(const std::shared_ptr<const MotionModel>& model, const std::string& origin);
+  /// Several sources (issue 35): watches `models[s]` for source s (the joint calibration's
+  /// wheels with that source's pose), each named by its frame (its topic without one). One
+  /// model: as watch(). Throws std::invalid_argument when the count is not the sources'.
+  void watch(const std::vector<std::shared_ptr<const MotionModel>>& models,
+             const std::string& origin);
   /// After a fit of the guidance's model: the guidance linearised at the fitted values, fed
   /// `pairs` again.
   void recentre(const std::string& model, const ModelReport& report,
@@ -68,8 +76,9 @@ private:
   SessionAssistantOptions options_;
   SessionLog log_;
   std::unique_ptr<ExcitationGuidance> guidance_;
-  std::string guidance_model_;            ///< the model the guidance is for
-  ModelFactoryOptions guidance_factory_;  ///< its options (joints resolved)
+  std::string guidance_model_;             ///< the model the guidance is for
+  ModelFactoryOptions guidance_factory_;   ///< its options (joints resolved)
+  std::vector<std::string> source_names_;  ///< each ego-motion source's frame or topic
   std::unique_ptr<HealthMonitor> health_monitor_;
   std::string health_model_origin_;  ///< what the monitor watches
   bool health_cause_told_ = false;   ///< the alarm's cause was logged with its quantity

@@ -100,14 +100,17 @@ struct TrackerOptions
 /// parameters, the laser's mounting pose in base_link these extra x, y and yaw, and the encoder
 /// stamps this extra offset. The encoders and the drive carry on; only the physics, the laser's
 /// pose and the encoders' clock change. Changes add up (each is relative to the pose and offset
-/// before it).
+/// before it). With several lasers (issue 35) the mounting change moves one of them,
+/// `laser_index` (YAML `laser:`, its index in `lasers:` or its frame_id or topic).
 struct ParameterChange
 {
   double at_s = 0.0;                               ///< simulated time of the change [s]
   std::map<std::string, double> robot_parameters;  ///< new values of robot keys (makeRobot)
-  double laser_x_change_m = 0.0;                   ///< added to the laser's mounting x [m]
-  double laser_y_change_m = 0.0;                   ///< added to the laser's mounting y [m]
-  double laser_yaw_change_rad = 0.0;               ///< added to the laser's mounting yaw [rad]
+  /// The laser the x, y and yaw changes move: 0 the first (`laser`), k the k-th extra laser.
+  std::size_t laser_index = 0;
+  double laser_x_change_m = 0.0;      ///< added to the laser's mounting x [m]
+  double laser_y_change_m = 0.0;      ///< added to the laser's mounting y [m]
+  double laser_yaw_change_rad = 0.0;  ///< added to the laser's mounting yaw [rad]
   /// Added to encoders.time_offset_s [s]: a negative change makes the encoder stamps jump back,
   /// so it must be shorter than one encoder period.
   double time_offset_change_s = 0.0;
