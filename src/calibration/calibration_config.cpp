@@ -141,7 +141,7 @@ std::vector<EgoMotionSourceConfig> readSources(const YAML::Node& root)
     return {};
   if (!sources.IsSequence() || sources.size() == 0 || sources.size() > 16)
     throw std::runtime_error("ego_motion.sources: a list of 1 to 16 sources is required");
-  for (const char* single : {"source", "scan_topic", "topic"}) {
+  for (const char* single : {"source", "scan_topic", "topic", "publisher"}) {
     if (root["ego_motion"][single])
       throw std::runtime_error(std::string("ego_motion.") + single +
                                ": give either ego_motion.sources or the one source's keys");
@@ -398,6 +398,7 @@ std::vector<EgoMotionSourceConfig> egoMotionSources(const CalibrationConfig& con
     one.type = config.ego_motion;
     one.topic =
         config.ego_motion == EgoMotionSource::kScan ? config.scan_topic : config.ego_motion_topic;
+    one.publisher = config.ego_motion_publisher;
     sources.push_back(one);
   }
   for (EgoMotionSourceConfig& source : sources) {
@@ -422,6 +423,7 @@ CalibrationConfig configForSource(const CalibrationConfig& config, std::size_t i
     one.scan_topic = source.topic;
   else
     one.ego_motion_topic = source.topic;
+  one.ego_motion_publisher = source.publisher;
   one.collector.time_offset_s = source.time_offset_s;
   if (source.sensor_pose.size() == 3) {
     const Pose2 pose(source.sensor_pose[0], source.sensor_pose[1], source.sensor_pose[2]);

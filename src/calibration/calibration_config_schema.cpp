@@ -107,6 +107,10 @@ std::vector<SourceEntry> sourceEntries()
                                   AT(frame)),
       offset,
       pose,
+      text<EgoMotionSourceConfig>("ego_motion.sources[].publisher", "", true,
+                                  "node whose messages on the topic are used when two publish it "
+                                  "(empty: one publisher only, a second is refused)",
+                                  AT(publisher)),
   };
 }
 
@@ -160,6 +164,10 @@ std::vector<Entry> egoMotionEntries()
                               "sensor_msgs/LaserScan topic (source scan)", AT(scan_topic)),
       text<CalibrationConfig>("ego_motion.topic", "", true,
                               "topic of the cloud, odometry or pose source", AT(ego_motion_topic)),
+      text<CalibrationConfig>("ego_motion.publisher", "", true,
+                              "node whose ego-motion messages are used when two publish the topic "
+                              "(empty: one publisher only, a second is refused)",
+                              AT(ego_motion_publisher)),
       integer<CalibrationConfig>("ego_motion.max_scan_rays", 10000, rangeClosed(100, 1000000),
                                  "a LaserScan with more rays is skipped and counted (bounded "
                                  "memory and time per scan)",

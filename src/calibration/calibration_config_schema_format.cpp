@@ -67,7 +67,8 @@ void writeJoints(std::ostringstream& out, const CalibrationConfig& config)
 void writeSources(std::ostringstream& out, const CalibrationConfig& config, std::size_t depth)
 {
   if (config.ego_motion_sources.empty()) {  // the keys shown, commented out: one source below
-    out << std::string(2 * depth, ' ') << "# sources:  (one source: source, scan_topic, topic)\n";
+    out << std::string(2 * depth, ' ')
+        << "# sources:  (one source: source, scan_topic, topic, publisher)\n";
     for (const auto& entry : sourceConfigSchema()) {
       const std::string name = entry.spec.key.substr(entry.spec.key.find("].") + 2);
       out << std::string(2 * depth + 2, ' ') << "# " << name << ": (unused)  # "
@@ -92,7 +93,7 @@ bool replacedBySources(const CalibrationConfig& config, const std::string& key)
 {
   return !config.ego_motion_sources.empty() &&
          (key == "ego_motion.source" || key == "ego_motion.scan_topic" ||
-          key == "ego_motion.topic");
+          key == "ego_motion.topic" || key == "ego_motion.publisher");
 }
 
 }  // namespace

@@ -154,6 +154,18 @@ void feed(CalibrationSession& session, BagInput& input, EgoMotionSource source)
   }
 }
 
+/// A publisher chosen by `key` (`chosen`, empty: none) that published nothing of `what` in the
+/// bags, where `ignored` messages came from `other`: refused, naming both.
+void requireChosenPublisher(const std::string& key, const std::string& chosen,
+                            const std::string& what, const std::string& used, std::size_t ignored,
+                            const std::string& other)
+{
+  if (chosen.empty() || !used.empty())
+    return;
+  throw std::runtime_error(key + " '" + chosen + "' published no " + what + " in the bags (" +
+                           std::to_string(ignored) + " came from " + publisherName(other) + ")");
+}
+
 /// The session's counts as the run's, and the checks that the bags held usable data.
 void takeCounts(const CalibrationSession& session, const std::string& ego_topic,
                 const CalibrationConfig& config, BagRunResult* result)
@@ -175,12 +187,17 @@ void takeCounts(const CalibrationSession& session, const std::string& ego_topic,
   result->ignored_joint_states = counts.ignored_encoder_messages;
   result->joint_state_publisher = counts.encoder_publisher;
   result->ignored_joint_state_publisher = counts.ignored_encoder_publisher;
-  if (!config.joint_state_publisher.empty() && counts.encoder_publisher.empty()) {
-    throw std::runtime_error("joint_state_publisher '" + config.joint_state_publisher +
-                             "' published no JointState on '" + config.joint_state_topic +
-                             "' in the bags (" + std::to_string(counts.ignored_encoder_messages) +
-                             " came from " + publisherName(counts.ignored_encoder_publisher) + ")");
-  }
+  result->ignored_ego_messages = counts.ignored_ego_messages;
+  result->ego_publisher = counts.ego_publisher;
+  result->ignored_ego_publisher = counts.ignored_ego_publisher;
+  requireChosenPublisher("joint_state_publisher", config.joint_state_publisher,
+                         "JointState on '" + config.joint_state_topic + "'",
+                         counts.encoder_publisher, counts.ignored_encoder_messages,
+                         counts.ignored_encoder_publisher);
+  requireChosenPublisher("ego_motion.publisher", config.ego_motion_publisher,
+                         egoMessageType(config.ego_motion) + " on '" + ego_topic + "'",
+                         counts.ego_publisher, counts.ignored_ego_messages,
+                         counts.ignored_ego_publisher);
   if (result->joint_state_messages == 0) {
     throw std::runtime_error("no sensor_msgs/JointState on '" + config.joint_state_topic +
                              "' in the bags");
@@ -278,6 +295,12 @@ std::vector<std::string> bagRunNotes(const BagRunResult& run)
                     " JointState messages from " +
                     publisherName(run.ignored_joint_state_publisher) +
                     " (joint_state_publisher: " + publisherName(run.joint_state_publisher) + ")");
+  }
+  if (run.ignored_ego_messages > 0) {
+    notes.push_back("ignored " + std::to_string(run.ignored_ego_messages) + " " +
+                    run.ego_message_type + " messages from " +
+                    publisherName(run.ignored_ego_publisher) +
+                    " (ego_motion.publisher: " + publisherName(run.ego_publisher) + ")");
   }
   if (run.bad_joint_states > 0) {
     notes.push_back("skipped " + std::to_string(run.bad_joint_states) +

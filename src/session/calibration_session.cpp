@@ -54,7 +54,8 @@ CalibrationSession::CalibrationSession(const CalibrationConfig& config,
   candidate_intervals_s_ = options_.candidate_intervals_s.value_or(config_.fit_intervals_s);
   inputs_ = std::make_unique<InputMonitor>(options_.topics, options_.silent_topic_timeout_s, now());
   publishers_ = std::make_unique<InputPublishers>(
-      options_.topics, std::array<std::string, 2>{config_.joint_state_publisher, ""});
+      options_.topics,
+      std::array<std::string, 2>{config_.joint_state_publisher, config_.ego_motion_publisher});
   encoder_watch_ = std::make_unique<EncoderWatch>(channels_);
   if (!options_.output_directory.empty())
     fs::create_directories(options_.output_directory);
@@ -203,6 +204,8 @@ SessionCounts CalibrationSession::counts() const
   counts.ignored_ego_messages = publishers_->ignored(SessionInput::kEgoMotion);
   counts.encoder_publisher = publishers_->publisher(SessionInput::kEncoders);
   counts.ignored_encoder_publisher = publishers_->otherPublisher(SessionInput::kEncoders);
+  counts.ego_publisher = publishers_->publisher(SessionInput::kEgoMotion);
+  counts.ignored_ego_publisher = publishers_->otherPublisher(SessionInput::kEgoMotion);
   return counts;
 }
 

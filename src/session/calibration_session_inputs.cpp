@@ -47,11 +47,13 @@ bool CalibrationSession::admit(SessionInput input, const std::string& publisher,
     return false;
   }
   const std::size_t ignored = publishers_->ignored(input);
+  const std::string& chosen = input == SessionInput::kEncoders ? config_.joint_state_publisher
+                                                               : config_.ego_motion_publisher;
   if (ignored == 1 || ignored % 1000 == 0) {
-    say(SessionLogLevel::kWarn,
-        "ignoring " + inputs_->topic(input) + " from " + publisherName(publisher) +
-            " (joint_state_publisher: " + publisherName(config_.joint_state_publisher) + "; " +
-            std::to_string(ignored) + " ignored so far)");
+    say(SessionLogLevel::kWarn, "ignoring " + inputs_->topic(input) + " from " +
+                                    publisherName(publisher) + " (" + publisherKey(input) + ": " +
+                                    publisherName(chosen) + "; " + std::to_string(ignored) +
+                                    " ignored so far)");
   }
   return false;
 }

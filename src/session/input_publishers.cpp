@@ -7,6 +7,11 @@ std::string publisherName(const std::string& publisher)
   return publisher.empty() ? "(unnamed)" : "'" + publisher + "'";
 }
 
+std::string publisherKey(SessionInput input)
+{
+  return input == SessionInput::kEncoders ? "joint_state_publisher" : "ego_motion.publisher";
+}
+
 InputPublishers::InputPublishers(const std::array<std::string, 2>& topics,
                                  const std::array<std::string, 2>& chosen)
 {
@@ -25,13 +30,11 @@ std::string InputPublishers::conflictText(SessionInput input, const std::string&
       " on " + entry.topic + ": " + publisherName(entry.owner) + " and " + publisherName(second) +
       "; their messages interleaved would give a wrong calibration, so " + entry.topic +
       " is refused. ";
-  if (encoders) {
-    text += "Set joint_state_publisher: <node> in the configuration (e.g. " +
-            (entry.owner.empty() ? std::string("the driver") : entry.owner) +
-            ") to use one and ignore the other, or remap or stop the other publisher";
-  } else {
-    text += "Remap or stop the other publisher so that one node publishes the topic";
-  }
+  const std::string example = !entry.owner.empty() ? entry.owner
+                              : encoders           ? "the driver"
+                                                   : "the laser's driver";
+  text += "Set " + publisherKey(input) + ": <node> in the configuration (e.g. " + example +
+          ") to use one and ignore the other, or remap or stop the other publisher";
   return text;
 }
 

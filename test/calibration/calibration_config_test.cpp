@@ -88,6 +88,35 @@ TEST(CalibrationConfig, EgoMotionSourcesListSeveralSensors)
   EXPECT_DOUBLE_EQ(listed.collector.time_offset_s, 0.1);
 }
 
+TEST(CalibrationConfig, EgoMotionPublisherChosenPerSource)
+{
+  // Issue 32: the node whose scans are used when two publish the topic.
+  const std::string joints = "joints: [{name: l}, {name: r}]\n";
+  const CalibrationConfig one = parseCalibrationConfig(
+      joints + "ego_motion: {scan_topic: /scan, publisher: /laser_driver}\n", "one.yaml");
+  EXPECT_EQ(one.ego_motion_publisher, "/laser_driver");
+  EXPECT_EQ(egoMotionSources(one).at(0).publisher, "/laser_driver");
+  EXPECT_EQ(configForSource(one, 0).ego_motion_publisher, "/laser_driver");
+  EXPECT_EQ(parseCalibrationConfig(joints, "none.yaml").ego_motion_publisher, "");
+  // With several sources each has its own; the one-source key beside the list is refused.
+  const CalibrationConfig two = parseCalibrationConfig(
+      joints +
+          "ego_motion:\n  sources:\n    - {topic: /front, publisher: /front_driver}\n"
+          "    - {topic: /rear}\n",
+      "two.yaml");
+  EXPECT_EQ(configForSource(two, 0).ego_motion_publisher, "/front_driver");
+  EXPECT_EQ(configForSource(two, 1).ego_motion_publisher, "");
+  try {
+    parseCalibrationConfig(joints + "ego_motion:\n  publisher: /a\n  sources: [{topic: /front}]\n",
+                           "both.yaml");
+    FAIL() << "ego_motion.publisher beside ego_motion.sources was accepted";
+  } catch (const std::runtime_error& error) {
+    EXPECT_NE(std::string(error.what()).find("ego_motion.publisher: give either"),
+              std::string::npos)
+        << error.what();
+  }
+}
+
 TEST(CalibrationConfig, EgoMotionSourcesMistakesAreNamed)
 {
   const std::string joints = "joints: [{name: l}, {name: r}]\n";

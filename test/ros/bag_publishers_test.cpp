@@ -1,7 +1,9 @@
 // A bag in which two nodes publish the wheel joints on /joint_states (issue 32): the driver's
 // readings and, interleaved, a joint_state_publisher's zeros, each connection with its own
 // callerid, as `rosbag record` writes them. runBags refuses it naming both nodes; with
-// joint_state_publisher set it calibrates as on the clean bag.
+// joint_state_publisher set it calibrates as on the clean bag. The same for two nodes publishing
+// /scan (the driver and a stale replay) and ego_motion.publisher.
+#include <deque>
 #include <filesystem>
 
 #include <gtest/gtest.h>
@@ -32,11 +34,15 @@ boost::shared_ptr<ros::M_string> publishedBy(const std::string& callerid)
 }
 
 /// `clean`'s joint states and scans again, from '/driver' and '/laser_driver'; with
-/// `intruder`, each joint state followed by one of zeros from '/joint_state_publisher'.
-void rewrite(const std::string& clean, const std::string& path, bool intruder)
+/// `intruder`, each joint state followed by one of zeros from '/joint_state_publisher'; with
+/// `scan_intruder`, each scan followed by the one of ten scans earlier, stamped now, from
+/// '/laser_replay' (a stale laser beside the driver).
+void rewrite(const std::string& clean, const std::string& path, bool intruder,
+             bool scan_intruder = false)
 {
   rosbag::Bag in(clean, rosbag::bagmode::Read);
   rosbag::Bag out(path, rosbag::bagmode::Write);
+  std::deque<sensor_msgs::LaserScan> earlier;
   for (const rosbag::MessageInstance& message : rosbag::View(in)) {
     if (const auto joints = message.instantiate<sensor_msgs::JointState>()) {
       out.write(message.getTopic(), message.getTime(), *joints,
@@ -51,6 +57,15 @@ void rewrite(const std::string& clean, const std::string& path, bool intruder)
     } else if (const auto scan = message.instantiate<sensor_msgs::LaserScan>()) {
       out.write(message.getTopic(), message.getTime(), *scan,
                 publishedBy<sensor_msgs::LaserScan>("/laser_driver"));
+      if (!scan_intruder)
+        continue;
+      earlier.push_back(*scan);
+      sensor_msgs::LaserScan stale = earlier.front();
+      if (earlier.size() > 10)
+        earlier.pop_front();
+      stale.header.stamp = scan->header.stamp + ros::Duration(1e-3);
+      out.write(message.getTopic(), message.getTime() + ros::Duration(1e-3), stale,
+                publishedBy<sensor_msgs::LaserScan>("/laser_replay"));
     }
   }
 }
@@ -68,11 +83,13 @@ protected:
     simulateToBag(scenario, directory_ + "/sim.bag", "");
     rewrite(directory_ + "/sim.bag", clean_ = directory_ + "/clean.bag", false);
     rewrite(directory_ + "/sim.bag", two_ = directory_ + "/two_publishers.bag", true);
+    rewrite(directory_ + "/sim.bag", two_lasers_ = directory_ + "/two_laser_publishers.bag", false,
+            true);
     config_ = loadCalibrationConfig(kConfig + "/diff_drive.yaml");
   }
   void TearDown() override { std::filesystem::remove_all(directory_); }
 
-  std::string directory_, clean_, two_;
+  std::string directory_, clean_, two_, two_lasers_;
   CalibrationConfig config_;
 };
 
@@ -119,6 +136,56 @@ TEST_F(BagPublishers, AChosenPublisherThatNeverPublishedIsNamed)
     FAIL() << "a joint_state_publisher absent from the bag was accepted";
   } catch (const std::runtime_error& error) {
     EXPECT_NE(std::string(error.what()).find("'/base_driver' published no JointState"),
+              std::string::npos)
+        << error.what();
+  }
+}
+
+TEST_F(BagPublishers, TwoScanPublishersAreRefusedNamingBoth)
+{
+  try {
+    runBags({two_lasers_}, config_);
+    FAIL() << "a bag with two LaserScan publishers was accepted";
+  } catch (const std::runtime_error& error) {
+    const std::string what = error.what();
+    for (const char* part : {"'/laser_driver'", "'/laser_replay'", "ego_motion.publisher:"})
+      EXPECT_NE(what.find(part), std::string::npos) << part << " in: " << what;
+  }
+}
+
+TEST_F(BagPublishers, TheChosenScanPublisherCalibratesWithinATenthOfAPercentOfTheCleanBag)
+{
+  const BagRunResult clean = runBags({clean_}, config_);
+  config_.ego_motion_publisher = "/laser_driver";
+  const BagRunResult chosen = runBags({two_lasers_}, config_);
+  EXPECT_EQ(chosen.ignored_ego_messages, clean.ego_motion_messages);
+  EXPECT_EQ(chosen.ignored_ego_publisher, "/laser_replay");
+  EXPECT_EQ(chosen.ego_publisher, "/laser_driver");
+  EXPECT_EQ(chosen.ignored_joint_states, 0u);
+  EXPECT_EQ(chosen.pairs.size(), clean.pairs.size());
+  const auto notes = bagRunNotes(chosen);
+  ASSERT_FALSE(notes.empty());
+  EXPECT_NE(notes.front().find("ignored " + std::to_string(clean.ego_motion_messages) +
+                               " LaserScan messages from '/laser_replay' (ego_motion.publisher: "
+                               "'/laser_driver')"),
+            std::string::npos)
+      << notes.front();
+  const ModelReport expected = makeModel("diff_drive", config_.models)->fit(clean.pairs);
+  const ModelReport fitted = makeModel("diff_drive", config_.models)->fit(chosen.pairs);
+  ASSERT_TRUE(expected.converged && fitted.converged);
+  for (std::size_t p = 0; p < 3; ++p) {  // r_L, r_R, b
+    EXPECT_NEAR(fitted.parameters[p].value, expected.parameters[p].value,
+                1e-3 * expected.parameters[p].value);
+  }
+  // A chosen laser that never published is named.
+  config_.ego_motion_publisher = "/front_laser";
+  try {
+    runBags({two_lasers_}, config_);
+    FAIL() << "an ego_motion.publisher absent from the bag was accepted";
+  } catch (const std::runtime_error& error) {
+    EXPECT_NE(std::string(error.what())
+                  .find("ego_motion.publisher '/front_laser' published no "
+                        "LaserScan on '/scan'"),
               std::string::npos)
         << error.what();
   }

@@ -1,7 +1,8 @@
 // Two publishers of one input (issue 32): a second node publishing the wheel joints (at zero,
 // as joint_state_publisher does beside the driver) interleaved with the driver's readings. The
 // session refuses the input naming both nodes, or, with joint_state_publisher set, ignores and
-// counts the other's messages and calibrates as on the clean drive.
+// counts the other's messages and calibrates as on the clean drive. The same for a second node
+// publishing the scans (a stale laser beside the driver) and ego_motion.publisher.
 #include <algorithm>
 
 #include <gtest/gtest.h>
@@ -46,15 +47,21 @@ const Drive& officeDrive()
 }
 
 /// Feeds the drive in stamp order from '/driver' (scans from '/laser_driver'); with
-/// `intruder`, a JointState of zeros from '/joint_state_publisher' after each reading.
-void feed(CalibrationSession& session, bool intruder)
+/// `intruder`, a JointState of zeros from '/joint_state_publisher' after each reading; with
+/// `scan_intruder`, after each scan the one of ten scans earlier from '/laser_replay' (a stale
+/// laser, e.g. a bag played beside the driver), stamped now.
+void feed(CalibrationSession& session, bool intruder, bool scan_intruder = false)
 {
   const Drive& drive = officeDrive();
   std::size_t scan = 0;
   for (const sim::JointStateSample& joints : drive.joints) {
-    for (; scan < drive.scans.size() && drive.scans[scan].stamp_s <= joints.stamp_s; ++scan)
-      session.addScan(drive.scans[scan].stamp_s, test::toScan(drive.scans[scan]), "laser",
-                      "/laser_driver");
+    for (; scan < drive.scans.size() && drive.scans[scan].stamp_s <= joints.stamp_s; ++scan) {
+      const double stamp_s = drive.scans[scan].stamp_s;
+      session.addScan(stamp_s, test::toScan(drive.scans[scan]), "laser", "/laser_driver");
+      if (scan_intruder)
+        session.addScan(stamp_s + 1e-3, test::toScan(drive.scans[scan >= 10 ? scan - 10 : 0]),
+                        "laser", "/laser_replay");
+    }
     const Eigen::VectorXd positions =
         Eigen::Map<const Eigen::VectorXd>(joints.positions.data(), joints.positions.size());
     session.addJointPositions(joints.stamp_s, positions, "/driver");
@@ -128,6 +135,58 @@ TEST_F(Publishers, TheChosenPublisherCalibratesAsTheCleanDrive)
   EXPECT_EQ(counts.ignored_encoder_messages, officeDrive().joints.size());
   EXPECT_EQ(counts.ignored_encoder_publisher, "/joint_state_publisher");
   EXPECT_EQ(counts.encoder_publisher, "/driver");
+  EXPECT_EQ(chosen->pairs().size(), clean->pairs().size());
+  const CalibrateOutcome outcome = chosen->calibrate({});
+  ASSERT_TRUE(outcome.success) << outcome.message;
+  const auto& expected = clean_fit.fit->job.report.parameters;
+  const auto& fitted = outcome.fit->job.report.parameters;
+  ASSERT_EQ(fitted.size(), expected.size());
+  for (std::size_t p = 0; p < 3; ++p)  // r_L, r_R, b
+    EXPECT_NEAR(fitted[p].value, expected[p].value, 1e-3 * std::abs(expected[p].value));
+}
+
+TEST_F(Publishers, ASecondScanPublisherIsRefusedNamingBoth)
+{
+  auto session = makeSession();
+  feed(*session, false, true);
+  const SessionCounts counts = session->counts();
+  ASSERT_FALSE(counts.publisher_conflict.empty());
+  for (const char* part :
+       {"'/laser_driver'", "'/laser_replay'", "ego_motion.publisher:", "on /scan", "remap"})
+    EXPECT_NE(counts.publisher_conflict.find(part), std::string::npos)
+        << part << " in: " << counts.publisher_conflict;
+  EXPECT_EQ(errors_.size(), 1u);
+  EXPECT_EQ(counts.ignored_ego_messages, 2 * officeDrive().scans.size() - 1);
+  EXPECT_EQ(counts.ignored_encoder_messages, 0u);
+  const CalibrateOutcome outcome = session->calibrate({});
+  EXPECT_FALSE(outcome.success);
+  EXPECT_NE(outcome.message.find("'/laser_replay'"), std::string::npos) << outcome.message;
+}
+
+TEST_F(Publishers, TheChosenScanPublisherCalibratesAsTheCleanDrive)
+{
+  auto clean = makeSession();
+  feed(*clean, false);
+  const CalibrateOutcome clean_fit = clean->calibrate({});
+  ASSERT_TRUE(clean_fit.success) << clean_fit.message;
+
+  config_.ego_motion_publisher = "/laser_driver";
+  std::vector<std::string> warnings;
+  options_.log = [&](SessionLogLevel level, const std::string& text) {
+    if (level == SessionLogLevel::kWarn && text.rfind("ignoring", 0) == 0)
+      warnings.push_back(text);
+  };
+  auto chosen = makeSession();
+  feed(*chosen, false, true);
+  const SessionCounts counts = chosen->counts();
+  EXPECT_TRUE(counts.publisher_conflict.empty()) << counts.publisher_conflict;
+  EXPECT_EQ(counts.ignored_ego_messages, officeDrive().scans.size());
+  EXPECT_EQ(counts.ignored_ego_publisher, "/laser_replay");
+  EXPECT_EQ(counts.ego_publisher, "/laser_driver");
+  ASSERT_FALSE(warnings.empty());
+  EXPECT_NE(warnings.front().find("(ego_motion.publisher: '/laser_driver'; 1 ignored so far)"),
+            std::string::npos)
+      << warnings.front();
   EXPECT_EQ(chosen->pairs().size(), clean->pairs().size());
   const CalibrateOutcome outcome = chosen->calibrate({});
   ASSERT_TRUE(outcome.success) << outcome.message;

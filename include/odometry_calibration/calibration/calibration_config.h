@@ -62,6 +62,9 @@ struct EgoMotionSourceConfig
   /// Start value and matcher guesses of this sensor's pose [x, y, theta] (m, m, rad); empty:
   /// the model section's sensor_pose (a rear laser needs its own: its guesses turned round).
   std::vector<double> sensor_pose;
+  /// The node whose messages on `topic` are used when two publish it (issue 32; empty: whichever
+  /// single one does, a second is refused). Others' messages are ignored and counted.
+  std::string publisher;
 };
 
 /// Everything a calibration run needs.
@@ -75,6 +78,9 @@ struct CalibrationConfig
   EgoMotionSource ego_motion = EgoMotionSource::kScan;
   std::string scan_topic = "/scan";
   std::string ego_motion_topic;  ///< odometry / pose / cloud source topic
+  /// The node whose ego-motion messages are used when two publish the topic (issue 32, as
+  /// joint_state_publisher; empty: one publisher only, a second is refused).
+  std::string ego_motion_publisher;
   /// A LaserScan with more rays is skipped and counted (`ego_motion.max_scan_rays`).
   long long max_scan_rays = 10000;
   CloudToScanOptions cloud;             ///< cloud source: how a cloud becomes a scan

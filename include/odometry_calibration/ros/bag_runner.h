@@ -40,6 +40,10 @@ struct BagRunResult
   /// one used (connection callerids).
   std::size_t ignored_joint_states = 0;
   std::string ignored_joint_state_publisher, joint_state_publisher;
+  /// Ego-motion messages from another node than ego_motion.publisher (ignored), that node and
+  /// the one used (connection callerids).
+  std::size_t ignored_ego_messages = 0;
+  std::string ignored_ego_publisher, ego_publisher;
   std::string ego_message_type;  ///< "LaserScan", "PointCloud2" or "pose", for messages
   std::size_t bad_clouds = 0;    ///< skipped ego-motion messages (clouds: layout, band, frame)
   std::string first_bad_cloud;   ///< the first such problem, in words

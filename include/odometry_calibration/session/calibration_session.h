@@ -119,6 +119,8 @@ struct SessionCounts
   std::size_t ignored_encoder_messages = 0, ignored_ego_messages = 0;
   std::string encoder_publisher;          ///< whose JointStates are used ("" before any)
   std::string ignored_encoder_publisher;  ///< the first other publisher ("" without one)
+  std::string ego_publisher;              ///< whose ego-motion messages are used ("" before any)
+  std::string ignored_ego_publisher;      ///< the first other publisher ("" without one)
 };
 
 class CalibrationSession

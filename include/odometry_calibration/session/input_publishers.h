@@ -4,7 +4,8 @@
 // calibration. Each input's publisher (a bag connection's callerid, a live message's publisher)
 // is checked against the first one seen: a second one is a conflict, said once with both names
 // and how to choose, after which that input is refused; with a chosen publisher
-// (`joint_state_publisher` for the encoders) the others' messages are ignored and counted.
+// (`joint_state_publisher` for the encoders, `ego_motion.publisher` for the sensor) the others'
+// messages are ignored and counted.
 #pragma once
 
 #include <array>
@@ -64,6 +65,10 @@ private:
   std::array<Input, 2> inputs_;
   std::string conflict_;
 };
+
+/// The configuration key choosing `input`'s publisher: joint_state_publisher for the encoders,
+/// ego_motion.publisher (ego_motion.sources[].publisher with several sources) for the sensor.
+std::string publisherKey(SessionInput input);
 
 /// A publisher's name for messages: quoted, "(unnamed)" for "".
 std::string publisherName(const std::string& publisher);

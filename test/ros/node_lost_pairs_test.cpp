@@ -1,0 +1,133 @@
+// rostest (test/ros/node_lost_pairs.test, issue 32): the live node whose pairs file cannot grow
+// beyond its first rows (RLIMIT_FSIZE, which fails writes as a full disk does, also as root)
+// keeps the other pairs in memory; stopped with SIGINT it names how many were lost and exits 3.
+// Every pair it published on ~pairs is either a row of pairs.csv or counted as lost.
+#include <fcntl.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <csignal>
+#include <cstdlib>
+#include <fstream>
+#include <iterator>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <ros/ros.h>
+
+#include "node_test_support.h"
+#include "odometry_calibration/CalibrationPair.h"
+
+namespace odometry_calibration {
+namespace {
+
+using test::waitFor;
+
+/// pairs.csv may not grow beyond this [bytes]: its three header lines and a few rows (a row
+/// holds its encoder samples: about 1.5 kB at 50 Hz and 0.5 s keyframes).
+constexpr rlim_t kFileSizeLimit = 8000;
+
+std::string readText(const std::string& path)
+{
+  std::ifstream in(path);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+/// Starts the node as /lost_pairs with its files limited to kFileSizeLimit bytes, its output
+/// into `log_path`; returns its process id. (Between fork and exec only system calls: the
+/// parent's ROS threads may hold the allocator's lock.)
+pid_t startLimitedNode(const std::string& log_path)
+{
+  const std::string node =
+      std::string(ODOMETRY_CALIBRATION_TOOLS_DIR) + "/odometry_calibration_node";
+  const pid_t pid = ::fork();
+  if (pid != 0)
+    return pid;
+  const int log = ::open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  ::dup2(log, STDOUT_FILENO);
+  ::dup2(log, STDERR_FILENO);
+  const rlimit limit{kFileSizeLimit, kFileSizeLimit};
+  ::setrlimit(RLIMIT_FSIZE, &limit);
+  ::execl(node.c_str(), node.c_str(), "__name:=lost_pairs", static_cast<char*>(nullptr));
+  ::_exit(127);
+}
+
+/// The exit status of `pid` within `timeout_s` (-1: still running, then killed).
+int waitExit(pid_t pid, double timeout_s)
+{
+  int status = 0;
+  bool exited = false;  // (waitpid reaps once: a second call would say ECHILD)
+  waitFor([&] { return exited = exited || ::waitpid(pid, &status, WNOHANG) == pid; }, timeout_s);
+  if (!exited) {
+    ::kill(pid, SIGKILL);
+    ::waitpid(pid, &status, 0);
+    return -1;
+  }
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+TEST(NodeLostPairs, SigintNamesThePairsTheDiskDidNotTakeAndExitsNonzero)
+{
+  ros::NodeHandle handle, private_handle("~");
+  std::string bag, output_directory;
+  ASSERT_TRUE(private_handle.getParam("bag", bag));
+  ASSERT_TRUE(private_handle.getParam("output_directory", output_directory));
+  ASSERT_EQ(std::system(("mkdir -p " + output_directory).c_str()), 0);
+  std::atomic<std::size_t> published{0};
+  // (No spinner: the pairs wait in the queue while the bag plays.)
+  ros::Subscriber pairs = handle.subscribe<odometry_calibration::CalibrationPair>(
+      "/lost_pairs/pairs", 1000,
+      [&](const odometry_calibration::CalibrationPair::ConstPtr&) { ++published; });
+
+  const std::string log_path = output_directory + "/node.log";
+  const pid_t node = startLimitedNode(log_path);
+  ASSERT_GT(node, 0);
+  ASSERT_TRUE(ros::service::waitForService("/lost_pairs/calibrate", ros::Duration(20)))
+      << readText(log_path);
+  ASSERT_TRUE(waitFor([&] { return pairs.getNumPublishers() > 0; }, 10));
+  const std::string play = "rosbag play --quiet -r 4 -u 24 " + bag +
+                           " --wait-for-subscribers --topics /joint_states /scan > " +
+                           output_directory + "/play.log 2>&1";
+  ASSERT_EQ(std::system(play.c_str()), 0) << play;
+  // Until the matching queue is done: no new pair for 2 s.
+  for (std::size_t before = published + 1; before != published;) {
+    before = published;
+    waitFor([] { return false; }, 2.0);
+  }
+
+  ASSERT_EQ(::kill(node, SIGINT), 0);
+  const int status = waitExit(node, 20.0);
+  const std::string log = readText(log_path);
+  EXPECT_EQ(status, 3) << log;
+
+  // pairs.csv: three header lines, whole rows only, within the limit.
+  const std::string csv = readText(output_directory + "/pairs.csv");
+  ASSERT_FALSE(csv.empty());
+  EXPECT_LE(csv.size(), kFileSizeLimit);
+  EXPECT_EQ(csv.back(), '\n');
+  const std::size_t lines = static_cast<std::size_t>(std::count(csv.begin(), csv.end(), '\n'));
+  ASSERT_GE(lines, 3u);
+  const std::size_t rows = lines - 3;
+  EXPECT_GT(rows, 0u);
+  ASSERT_GT(published, rows + 5) << "too few pairs to lose: " << published;
+  const std::size_t lost = published - rows;
+  EXPECT_NE(log.find(std::to_string(lost) + " pairs lost (never written to the pairs file)"),
+            std::string::npos)
+      << "published " << published << ", rows " << rows << ", log:\n"
+      << log;
+  RecordProperty("pairs_published", static_cast<int>(published));
+  RecordProperty("pairs_lost", static_cast<int>(lost));
+}
+
+}  // namespace
+}  // namespace odometry_calibration
+
+int main(int argc, char** argv)
+{
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "node_lost_pairs_test");
+  return RUN_ALL_TESTS();
+}
