@@ -8,6 +8,12 @@ namespace odometry_calibration {
 namespace {
 
 constexpr double kTwoPi = 2.0 * M_PI;
+/// Coverage beyond 270 degrees by less than this still counts as 270 degrees (no wrap-around)
+/// [rad]: a 270-degree scan's float32 angle increment and minimum put its last ray up to a few
+/// 1e-7 rad beyond 1.5 pi. A point that the unwrapped walks then miss lies at least
+/// 90 degrees - 1e-5 rad from the query, hence no nearer than |q| cos(1e-5) = |q| (1 - 5e-11),
+/// where the walks' own bound (angularBoundReached) already puts every point 90 degrees away.
+constexpr double kWrapTolerance_rad = 1e-5;
 
 /// Angle wrapped into [0, 2 pi) [rad]: exact steps for angles within a few turns, fmod beyond
 /// (a scan's angles are validated, but a loop must never run 1e30 times).
@@ -70,7 +76,8 @@ public:
     // Beyond 270 degrees of coverage a query may sit between the last and the first ray, so the
     // walks wrap around; below it a point more than 180 degrees away (unwrapped) is always more
     // than 90 degrees away for real, hence no nearer than |q|, and the walks can stop at the ends.
-    wraps_ = !angles_rad_.empty() && angles_rad_.back() - angles_rad_.front() > 1.5 * M_PI;
+    wraps_ = !angles_rad_.empty() &&
+             angles_rad_.back() - angles_rad_.front() > 1.5 * M_PI + kWrapTolerance_rad;
     buildJumpTables();
   }
 
