@@ -44,11 +44,17 @@ MatchQueue::~MatchQueue()
 std::shared_ptr<MatchJob> MatchQueue::submit(std::shared_ptr<const LazyPreparedScan> reference,
                                              std::shared_ptr<const LazyPreparedScan> current,
                                              const Pose2& T_ref_new_guess,
-                                             const PlicpOptions& options, ScanMatcher matcher)
+                                             const PlicpOptions& options, ScanMatcher matcher,
+                                             std::shared_ptr<const LazyPreparedScan> fine_reference,
+                                             std::shared_ptr<const LazyPreparedScan> fine_current)
 {
   auto job = std::make_shared<MatchJob>();
   job->reference = std::move(reference);
   job->current = std::move(current);
+  if (fine_reference && fine_current) {
+    job->fine_reference = std::move(fine_reference);
+    job->fine_current = std::move(fine_current);
+  }
   job->T_ref_new_guess = T_ref_new_guess;
   job->options = options;
   job->matcher = std::move(matcher);
@@ -68,11 +74,19 @@ void MatchQueue::runFront(std::unique_lock<std::mutex>& lock)
   try {
     job->result = timedMatch(*job->reference, *job->current, job->T_ref_new_guess, job->options,
                              &job->preparation_time_s, &job->matching_time_s, job->matcher);
+    if (!job->result.valid() && job->fine_reference) {
+      job->fine_rematched = true;
+      job->result =
+          timedMatch(*job->fine_reference, *job->fine_current, job->T_ref_new_guess, job->options,
+                     &job->preparation_time_s, &job->matching_time_s, job->matcher);
+    }
   } catch (...) {
     job->error = std::current_exception();
   }
   job->reference.reset();  // the scans are not needed any more
   job->current.reset();
+  job->fine_reference.reset();
+  job->fine_current.reset();
   lock.lock();
   job->done = true;
   done_.notify_all();

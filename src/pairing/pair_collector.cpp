@@ -1,6 +1,7 @@
 #include "odometry_calibration/pairing/pair_collector.h"
 
 #include "odometry_calibration/geometry/se2.h"
+#include "odometry_calibration/pairing/decimated_scan.h"
 
 #include <algorithm>
 #include <cmath>
@@ -55,6 +56,7 @@ void validate(const CollectorOptions& o)
   require((o.covariance_floor.array() >= 0.0).all(), "covariance_floor must be >= 0");
   require(!o.pair_motion_from_chain || o.check_consistency,
           "pair_motion_from_chain needs check_consistency (the consecutive matches)");
+  require(o.consecutive_max_rays >= 0, "consecutive_max_rays must be >= 0 (0: every ray)");
   validate(o.plicp);
 }
 
@@ -89,12 +91,14 @@ void PairCollector::foldConsecutiveMatches() const
     const PlicpResult step = matches_->wait(consecutive_.front());
     statistics_.preparation_time_s += consecutive_.front()->preparation_time_s;
     statistics_.matching_time_s += consecutive_.front()->matching_time_s;
+    const bool rematched = consecutive_.front()->fine_rematched;
     consecutive_.pop_front();
     // A one-threaded run matches only while the chain is valid: later matches after a failure
     // were submitted speculatively and are dropped uncounted.
     if (!chain_valid_)
       continue;
     ++statistics_.consecutive_matches;
+    statistics_.consecutive_rematched_all_rays += rematched ? 1 : 0;
     if (step.valid()) {
       chain_ = chain_ * step.T_ref_new;
     } else {
@@ -113,6 +117,7 @@ void PairCollector::reset()
   glitch_spans_.clear();
   keyframe_.reset();
   previous_scan_.reset();
+  previous_full_scan_.reset();
   chain_valid_ = false;
   last_input_stamp_s_ = -1e300;
   last_scan_stamp_s_ = -1e300;
@@ -224,7 +229,7 @@ std::vector<CollectorEvent> PairCollector::processReadyScans(bool all)
     const PendingInput input = pending_.front();
     pending_.pop_front();
     CollectorEvent event = input.scan
-                               ? processScan(input.stamp_s, input.scan)
+                               ? processScan(input.stamp_s, input.scan, input.chain_scan)
                                : processPose(input.stamp_s, input.T_world_sensor, input.covariance);
     if (event.type != CollectorEvent::Type::kNothing)
       events.push_back(std::move(event));
@@ -279,9 +284,18 @@ std::vector<CollectorEvent> PairCollector::addScan(double stamp_s, const Scan& s
     return {restart("the scan stream")};
   last_scan_stamp_s_ = stamp_s;
   last_input_stamp_s_ = std::max(last_input_stamp_s_, stamp_s);
-  // Prepared later, by the first match that needs it (possibly on the matching thread).
-  pending_.push_back({stamp_s, std::make_shared<LazyPreparedScan>(scan, options_.plicp.line_fit),
-                      Pose2(), Eigen::Matrix3d::Zero()});
+  // Prepared later, by the first match that needs it (possibly on the matching thread): a scan
+  // that does not become a keyframe is prepared only as the chain sees it.
+  auto prepared = std::make_shared<LazyPreparedScan>(scan, options_.plicp.line_fit);
+  const int rays = static_cast<int>(scan.ranges_m.size());
+  const int max_rays = options_.consecutive_max_rays;
+  const int stride = max_rays > 0 ? (rays + max_rays - 1) / max_rays : 1;
+  auto chain_scan =
+      options_.check_consistency && stride > 1
+          ? std::make_shared<LazyPreparedScan>(decimateRays(scan, stride), options_.plicp.line_fit)
+          : prepared;
+  pending_.push_back(
+      {stamp_s, std::move(prepared), std::move(chain_scan), Pose2(), Eigen::Matrix3d::Zero()});
   return processReadyScans(false);
 }
 
@@ -341,7 +355,8 @@ void PairCollector::compensateSweep(double stamp_s, LazyPreparedScan& prepared_s
 }
 
 void PairCollector::submitConsecutiveMatch(double stamp_s,
-                                           const std::shared_ptr<LazyPreparedScan>& prepared)
+                                           const std::shared_ptr<LazyPreparedScan>& prepared,
+                                           const std::shared_ptr<LazyPreparedScan>& chain_scan)
 {
   // Consecutive-scan chain: the reference for the keyframe match's consistency. The match is
   // submitted now, with the guess from the encoders as they are now, and folded in before the
@@ -352,8 +367,11 @@ void PairCollector::submitConsecutiveMatch(double stamp_s,
   std::string reason;
   const auto window = encoderWindow(previous_scan_stamp_s_, stamp_s, &reason);
   const Pose2 guess = window ? predict(*window) : Pose2();
-  consecutive_.push_back(
-      matches_->submit(previous_scan_, prepared, guess, consecutive_options_, options_.matcher));
+  consecutive_.push_back(matches_->submit(previous_scan_, chain_scan, guess, consecutive_options_,
+                                          options_.matcher,
+                                          // A failed coarse match is matched again with every ray.
+                                          chain_scan != prepared ? previous_full_scan_ : nullptr,
+                                          chain_scan != prepared ? prepared : nullptr));
 }
 
 bool PairCollector::consistentWithChain(const PlicpResult& match)
@@ -378,11 +396,15 @@ bool PairCollector::consistentWithChain(const PlicpResult& match)
 }
 
 CollectorEvent PairCollector::processScan(double stamp_s,
-                                          std::shared_ptr<LazyPreparedScan> prepared)
+                                          std::shared_ptr<LazyPreparedScan> prepared,
+                                          std::shared_ptr<LazyPreparedScan> chain_scan)
 {
   compensateSweep(stamp_s, *prepared);
-  submitConsecutiveMatch(stamp_s, prepared);
-  previous_scan_ = prepared;
+  if (chain_scan != prepared)
+    chain_scan->setSweepVelocity(prepared->sweepVelocity());
+  submitConsecutiveMatch(stamp_s, prepared, chain_scan);
+  previous_scan_ = chain_scan;
+  previous_full_scan_ = prepared;
   previous_scan_stamp_s_ = stamp_s;
 
   auto start_keyframe = [&](CollectorEvent event) {
@@ -424,7 +446,7 @@ std::vector<CollectorEvent> PairCollector::addSensorPose(double stamp_s,
     return {restart("the sensor pose stream")};
   last_scan_stamp_s_ = stamp_s;
   last_input_stamp_s_ = std::max(last_input_stamp_s_, stamp_s);
-  pending_.push_back({stamp_s, nullptr, T_world_sensor, covariance});
+  pending_.push_back({stamp_s, nullptr, nullptr, T_world_sensor, covariance});
   return processReadyScans(false);
 }
 

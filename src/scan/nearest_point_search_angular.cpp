@@ -8,6 +8,14 @@ namespace odometry_calibration {
 namespace {
 
 constexpr double kTwoPi = 2.0 * M_PI;
+/// Coverage beyond 270 degrees by less than this still counts as 270 degrees (no wrap-around)
+/// [rad]: a 270-degree scan's float32 angle increment and minimum put its last ray up to a few
+/// 1e-7 rad beyond 1.5 pi, and the wrap-around walks cost a bearing (atan2) per query and a
+/// wrapped index per visited point. A point more than 180 degrees away unwrapped then lies at
+/// least 90 degrees - 1e-5 rad away, no nearer than |q| cos(1e-5) = |q| (1 - 5e-11), which the
+/// walks' angular bound treats like a point 90 degrees away; queries beyond the field of view
+/// are walked from both of its ends (find).
+constexpr double kWrapTolerance_rad = 1e-5;
 
 /// Angle wrapped into [0, 2 pi) [rad]: exact steps for angles within a few turns, fmod beyond
 /// (a scan's angles are validated, but a loop must never run 1e30 times).
@@ -69,8 +77,10 @@ public:
     }
     // Beyond 270 degrees of coverage a query may sit between the last and the first ray, so the
     // walks wrap around; below it a point more than 180 degrees away (unwrapped) is always more
-    // than 90 degrees away for real, hence no nearer than |q|, and the walks can stop at the ends.
-    wraps_ = !angles_rad_.empty() && angles_rad_.back() - angles_rad_.front() > 1.5 * M_PI;
+    // than 90 degrees away for real, hence no nearer than |q|, and the walks can stop at the ends
+    // (both ends for a query beyond the field of view: find).
+    wraps_ = !angles_rad_.empty() &&
+             angles_rad_.back() - angles_rad_.front() > 1.5 * M_PI + kWrapTolerance_rad;
     buildJumpTables();
   }
 
@@ -108,6 +118,15 @@ public:
     }
     walk(search, start, +1);
     walk(search, start - 1, -1);
+    if (!wraps_ && n > 1 && (start == 0 || start == n - 1)) {
+      // A query beyond either end of the field of view (behind the sensor) may lie nearer to
+      // the other end's rays than to this end's, which the walks from this end never reach.
+      // Walks from the other end stop at once when it is out of reach.
+      if (start == 0)
+        walk(search, n - 1, -1);
+      else
+        walk(search, 0, +1);
+    }
     NearestPoint answer;
     // Points not visited lie beyond the reach, visited ones at least at the runner-up's distance.
     answer.isolation_m = std::min(std::sqrt(search.runner_up2_m2), search.reach_m);

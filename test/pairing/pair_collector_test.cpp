@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "odometry_calibration/models/diff_drive_kinematics.h"
+#include "odometry_calibration/pairing/decimated_scan.h"
 #include "odometry_calibration/pairing/pair_collector.h"
 #include "odometry_calibration/sim/robot.h"
 #include "odometry_calibration/sim/simulator.h"
@@ -442,6 +443,82 @@ TEST(PairCollector, ScaleCheckComparesKeyframeMatchesWithTheChain)
   EXPECT_EQ(unchecked.scale_check_pairs, 0u);
   EXPECT_TRUE(std::isnan(unchecked.keyframeVersusChainPercent()));
   EXPECT_TRUE(std::isnan(unchecked.keyframeVersusChainStandardErrorPercent()));
+}
+
+TEST(DecimateRays, KeepsEveryKthRayWithItsBearingReadingAndTime)
+{
+  Scan scan;
+  scan.angle_min_rad = -1.0;
+  scan.angle_increment_rad = 0.01;
+  scan.range_min_m = 0.1;
+  scan.range_max_m = 10.0;
+  scan.time_increment_s = 1e-4;
+  for (int i = 0; i < 10; ++i) {
+    scan.ranges_m.push_back(1.0 + 0.1 * i);
+    scan.valid.push_back(i % 3 == 0 ? 0 : 1);
+    scan.ray_times_s.push_back(2e-4 * i);
+  }
+  const Scan coarse = decimateRays(scan, 4);  // rays 0, 4, 8
+  ASSERT_EQ(coarse.ranges_m.size(), 3u);
+  EXPECT_DOUBLE_EQ(coarse.ranges_m[2], 1.8);
+  EXPECT_EQ(coarse.valid, (std::vector<std::uint8_t>{0, 1, 1}));
+  EXPECT_DOUBLE_EQ(coarse.ray_times_s[1], 8e-4);
+  EXPECT_TRUE(coarse.ray_angles_rad.empty());
+  EXPECT_DOUBLE_EQ(coarse.angle_min_rad + 2 * coarse.angle_increment_rad, -1.0 + 8 * 0.01);
+  EXPECT_DOUBLE_EQ(coarse.time_increment_s, 4e-4);
+  EXPECT_EQ(decimateRays(scan, 1).ranges_m, scan.ranges_m);
+  EXPECT_THROW(decimateRays(scan, 0), std::invalid_argument);
+}
+
+TEST(PairCollector, ACoarseChainKeepsTheKeyframeMatchesAndRedoesItsFailuresWithEveryRay)
+{
+  // 682-ray scans, at most 180 rays for the chain: every 4th ray (171).
+  CollectorOptions options;
+  CollectorStatistics plain_statistics, coarse_statistics, fallback_statistics;
+  const std::vector<MotionPair> plain = roomPairs(options, &plain_statistics);
+  options.consecutive_max_rays = 180;
+  std::atomic<std::size_t> largest_chain_scan{0}, smallest_keyframe_scan{1000000};
+  options.matcher = [&](const PreparedScan& reference, const PreparedScan& current,
+                        const Pose2& guess, const PlicpOptions& plicp) {
+    const std::size_t points = std::max(reference.points.size(), current.points.size());
+    if (plicp.compute_covariance) {
+      smallest_keyframe_scan = std::min<std::size_t>(smallest_keyframe_scan, points);
+    } else {
+      largest_chain_scan = std::max<std::size_t>(largest_chain_scan, points);
+    }
+    return matchScans(reference, current, guess, plicp);
+  };
+  const std::vector<MotionPair> coarse = roomPairs(options, &coarse_statistics);
+  ASSERT_GT(plain.size(), 20u);
+  EXPECT_LE(largest_chain_scan, 171u);
+  EXPECT_GT(smallest_keyframe_scan, 400u);
+  // The keyframe matches are the same: the pairs too, as the coarse chain agrees with them.
+  ASSERT_EQ(coarse.size(), plain.size());
+  for (std::size_t k = 0; k < plain.size(); ++k) {
+    EXPECT_EQ(coarse[k].start_stamp_s, plain[k].start_stamp_s);
+    EXPECT_EQ(coarse[k].sensor_motion.x(), plain[k].sensor_motion.x());
+    EXPECT_EQ(coarse[k].covariance, plain[k].covariance);
+  }
+  EXPECT_EQ(coarse_statistics.consecutive_matches, plain_statistics.consecutive_matches);
+  EXPECT_EQ(coarse_statistics.consecutive_rematched_all_rays, 0u);
+  // Every coarse match failing: each is redone with every ray, which gives the plain chain.
+  options.matcher = [](const PreparedScan& reference, const PreparedScan& current,
+                       const Pose2& guess, const PlicpOptions& plicp) {
+    if (!plicp.compute_covariance && current.points.size() <= 171) {
+      PlicpResult result;
+      result.status = PlicpStatus::kNoConvergence;
+      result.T_ref_new = guess;
+      return result;
+    }
+    return matchScans(reference, current, guess, plicp);
+  };
+  const std::vector<MotionPair> fallback = roomPairs(options, &fallback_statistics);
+  ASSERT_EQ(fallback.size(), plain.size());
+  EXPECT_EQ(fallback_statistics.consecutive_failures, 0u);
+  EXPECT_EQ(fallback_statistics.consecutive_rematched_all_rays,
+            fallback_statistics.consecutive_matches);
+  EXPECT_EQ(fallback_statistics.chained_m, plain_statistics.chained_m);
+  EXPECT_EQ(fallback_statistics.scale_check_pairs, plain_statistics.scale_check_pairs);
 }
 
 TEST(PairCollector, PairMotionFromTheChainOfConsecutiveMatches)

@@ -292,8 +292,8 @@ TEST(ScanLines, OptionsAreValidated)
   }
 }
 
-/// The office room seen from (3, 3, 0.4) with the parameter's field of view (240 deg, or 360
-/// deg: the walks wrap around), its lines and both searches over it.
+/// The office room seen from (3, 3, 0.4) with the parameter's field of view (240 deg, 270 deg,
+/// or more: the walks wrap around), its lines and both searches over it.
 class NearestPointSearchFieldOfView : public ::testing::TestWithParam<double>
 {
 protected:
@@ -454,8 +454,12 @@ TEST_P(NearestPointSearchFieldOfView, TrackedQueriesAnswerAsSearchesDoWithFewerS
   }
 }
 
+// 270 degrees and a hair (5e-6 rad, as a float32 angle increment puts it): searched without
+// wrap-around; 1e-4 rad beyond 270 degrees: with it.
 INSTANTIATE_TEST_SUITE_P(FieldsOfView, NearestPointSearchFieldOfView,
-                         ::testing::Values(240.0 * synthetic::kDegToRad, 2.0 * M_PI));
+                         ::testing::Values(240.0 * synthetic::kDegToRad, 1.5 * M_PI - 1e-3,
+                                           1.5 * M_PI - 0.2, 1.5 * M_PI + 5e-6, 1.5 * M_PI + 1e-4,
+                                           2.0 * M_PI));
 
 }  // namespace
 }  // namespace odometry_calibration

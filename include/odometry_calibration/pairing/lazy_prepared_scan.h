@@ -30,6 +30,7 @@ public:
   /// The sensor's velocity during the sweep, used by the preparation (motion compensation,
   /// scan.h). Call before the first get().
   void setSweepVelocity(const SensorVelocity& velocity) { velocity_ = velocity; }
+  const SensorVelocity& sweepVelocity() const { return velocity_; }
 
   /// The prepared scan (prepared by the first caller; the others wait for it).
   const PreparedScan& get() const;

@@ -33,7 +33,12 @@ struct MatchJob
   std::shared_ptr<const LazyPreparedScan> current;
   Pose2 T_ref_new_guess;
   PlicpOptions options;
-  ScanMatcher matcher;              ///< empty: matchScans
+  ScanMatcher matcher;  ///< empty: matchScans
+  /// Optional: the same two scans with more rays (the coarse scans are decimated), matched
+  /// instead when the match of `reference` and `current` fails.
+  std::shared_ptr<const LazyPreparedScan> fine_reference;
+  std::shared_ptr<const LazyPreparedScan> fine_current;
+  bool fine_rematched = false;      ///< whether the result is the fine scans' match
   PlicpResult result;               ///< valid once done
   double preparation_time_s = 0.0;  ///< spent preparing the scans (if this job did) [s]
   double matching_time_s = 0.0;     ///< spent matching [s]
@@ -59,11 +64,15 @@ public:
   MatchQueue(const MatchQueue&) = delete;
   MatchQueue& operator=(const MatchQueue&) = delete;
 
-  /// Queues matchScans(reference->get(), current->get(), guess, options) (or `matcher`'s).
+  /// Queues matchScans(reference->get(), current->get(), guess, options) (or `matcher`'s);
+  /// when that fails and fine_reference and fine_current are given, their match (same guess and
+  /// options) is the result.
   std::shared_ptr<MatchJob> submit(std::shared_ptr<const LazyPreparedScan> reference,
                                    std::shared_ptr<const LazyPreparedScan> current,
                                    const Pose2& T_ref_new_guess, const PlicpOptions& options,
-                                   ScanMatcher matcher = nullptr);
+                                   ScanMatcher matcher = nullptr,
+                                   std::shared_ptr<const LazyPreparedScan> fine_reference = nullptr,
+                                   std::shared_ptr<const LazyPreparedScan> fine_current = nullptr);
 
   /// The job's result, once it is done; runs queued jobs on the calling thread while it waits.
   /// Rethrows what matchScans threw.
