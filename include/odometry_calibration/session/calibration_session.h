@@ -186,6 +186,11 @@ public:
   /// (odometry integrated again, health monitor, guidance recentred, new time offset for new
   /// pairs) and is written to last_fit.yaml.
   CalibrateOutcome calibrate(const CalibrationRequest& request);
+  /// Makes `fit` (of the configuration's model, fitted elsewhere: one sensor's view of a joint
+  /// fit of several sources, joint_calibration_session.h) the active model as calibrate() does
+  /// with a converged fit of its own, also with adopt_fits off; `pairs_collected` for the
+  /// outcome. A fit that did not converge is refused (the outcome says so).
+  CalibrateOutcome adoptFit(const SessionFit& fit, std::size_t pairs_collected);
   /// Writes the last successful fit: result.yaml, controller.yaml (diff_drive, skid_steer,
   /// mecanum), laser_joint.urdf (with a sensor pose). Returns {success, message}.
   std::pair<bool, std::string> save();
@@ -224,8 +229,9 @@ private:
   void configureModel(const std::string& name, const std::string& options,
                       CalibrationConfig* config) const;
   /// A converged fit becomes the active model; the outcome's message says what happened.
+  /// `always`: also with adopt_fits off (adoptFit).
   void adopt(const std::string& name, const CalibrationConfig& config, const std::string& guidance,
-             CalibrateOutcome* outcome);
+             CalibrateOutcome* outcome, bool always = false);
   /// The corrected odometry integrated again with the fit (empty without odometry).
   OdometryReplay replayOdometry(const SessionFit& fit) const;
   /// The sensor pose after `fit`: its own, or the one known before.

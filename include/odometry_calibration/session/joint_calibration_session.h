@@ -1,0 +1,99 @@
+// The calibration session of a configuration's ego-motion sources (issue 35: `ego_motion.sources`,
+// e.g. a front and a rear laser), free of ROS: one CalibrationSession per source (its own pair
+// collector, consistency checks, time offset, pairs file, guidance), all fed the same encoder
+// track; a fit fits each source alone and then the wheels and every source's pose jointly
+// (calibration/joint_source_fit.h, the same function calibrate_bag calls), and every source's
+// session adopts its view of the joint fit (the joint wheels, its own pose and time offset).
+// With one source it is that source's CalibrationSession unchanged: the same options, files,
+// messages and fits as before.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "odometry_calibration/calibration/joint_source_fit.h"
+#include "odometry_calibration/session/calibration_session.h"
+
+namespace odometry_calibration {
+
+/// What a fit of several sources gave besides the outcome.
+struct JointCalibrateOutcome
+{
+  /// success, message; `fit`: the first sensor's view of the joint fit (one source: the fit).
+  CalibrateOutcome outcome;
+  std::optional<JointFitReport> joint;  ///< the joint fit, when one ran
+  std::string text;                     ///< its tables in words (formatJointFitReport)
+};
+
+class JointCalibrationSession
+{
+public:
+  /// One session per source of egoMotionSources(config). With several: source k's
+  /// configuration is configForSource(config, k); its options are `options` with the
+  /// output directory <output_directory>/source_<k> (pairs.csv, its result.yaml: the joint
+  /// wheels and its pose, loaded on the next start), its topic as the ego-motion input's name,
+  /// its frame (or "<default_sensor_frame>_<k>") until its messages name theirs, adopt_fits
+  /// off (the joint fit is adopted), and the odometry only in source 0's session.
+  /// `listener(k)`: source k's listener. Throws as CalibrationSession's constructor, and
+  /// std::invalid_argument for several sources of a model without a joint fit.
+  JointCalibrationSession(const CalibrationConfig& config, const std::string& config_text,
+                          const std::string& config_source, const SessionOptions& options,
+                          const std::function<SessionListener(std::size_t)>& listener);
+  ~JointCalibrationSession();
+  JointCalibrationSession(const JointCalibrationSession&) = delete;
+  JointCalibrationSession& operator=(const JointCalibrationSession&) = delete;
+
+  std::size_t sourceCount() const { return sessions_.size(); }
+  /// Source `index`'s session (its ego-motion inputs go there); throws std::out_of_range.
+  CalibrationSession& source(std::size_t index) { return *sessions_.at(index); }
+  const CalibrationSession& source(std::size_t index) const { return *sessions_.at(index); }
+  /// Source `index` as configured (topic, type, frame, time offset, pose).
+  const EgoMotionSourceConfig& sourceConfig(std::size_t index) const { return sources_.at(index); }
+
+  /// The encoders into every source's session (the same track for all).
+  void addJointPositions(double stamp_s, const Eigen::VectorXd& raw,
+                         const std::string& publisher = "");
+  void skipJointState(const std::string& problem, const std::string& publisher = "");
+  void flush();
+  void tick();
+  /// Every source's pairs not yet written; returns how many still are not, in all.
+  std::size_t writePendingPairs();
+
+  /// One source: its session's calibrate(). Several: each source fitted alone (a source that
+  /// cannot be, named by its topic, stops the call), then jointly (config.model only, no
+  /// options); the joint fit converged, each source's session adopts its view of it.
+  JointCalibrateOutcome calibrate(const CalibrationRequest& request);
+  /// One source: its session's save(). Several: every source's save() (under source_<k>/),
+  /// then result.yaml (jointResultYaml), laser_joints.urdf (one joint per sensor),
+  /// controller.yaml (diff_drive, mecanum) and joint_report.txt in the output directory.
+  std::pair<bool, std::string> save();
+  /// Every source's reset(), in words.
+  std::pair<bool, std::string> reset();
+
+private:
+  JointCalibrateOutcome calibrateJointly(const CalibrationRequest& request);
+  /// Each source's fit alone; nullopt with `failure` set when one could not be fitted.
+  std::optional<std::vector<SessionFit>> fitSourcesAlone(const CalibrationRequest& request,
+                                                         std::size_t* pairs_collected,
+                                                         std::string* failure);
+  std::string adoptJointFit(const JointFitReport& joint, const std::vector<SessionFit>& fits,
+                            bool* success);
+  std::string saveJoint() const;
+
+  CalibrationConfig config_;
+  SessionOptions options_;
+  std::vector<EgoMotionSourceConfig> sources_;
+  std::vector<std::unique_ptr<CalibrationSession>> sessions_;
+  std::mutex fit_mutex_;  ///< calibrate(), save(), reset(): one at a time
+  /// The last converged joint fit, for save().
+  std::optional<JointFitReport> joint_;
+  std::vector<JointSourceInput> joint_inputs_;
+  std::string joint_text_;
+};
+
+}  // namespace odometry_calibration
