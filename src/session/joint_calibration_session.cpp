@@ -28,6 +28,12 @@ SessionOptions sourceOptions(const SessionOptions& options, const EgoMotionSourc
                                  : source.frame;
   own.adopt_fits = false;
   own.odometry = options.odometry && index == 0;
+  if (options.log) {  // each source's lines name it (a laser whose pairs are rejected, ...)
+    own.log = [log = options.log, topic = source.topic](SessionLogLevel level,
+                                                        const std::string& text) {
+      log(level, "[" + topic + "] " + text);
+    };
+  }
   return own;
 }
 

@@ -194,6 +194,20 @@ TEST_F(JointSession, FitsBothLasersAsSeparateSessionsAndTheSharedJointFitDo)
     const CalibrationResult own = readCalibrationResult(source + "/result.yaml");
     EXPECT_NEAR(own.T_base_sensor.x(), fit.joint->sensors[k].T_base_sensor.x(), 1e-6) << k;
   }
+  // A new session (the node started again) loads each sensor's saved pose, and each source's
+  // log lines name its topic.
+  std::vector<std::string> log;
+  options_.log = [&](SessionLogLevel, const std::string& text) { log.push_back(text); };
+  JointCalibrationSession restarted(config_, config_text_, "front_rear", options_, nullptr);
+  for (std::size_t k = 0; k < 2; ++k) {
+    ASSERT_TRUE(restarted.source(k).sensorPose()) << k;
+    EXPECT_NEAR(restarted.source(k).sensorPose()->theta(),
+                fit.joint->sensors[k].T_base_sensor.theta(), 1e-6)
+        << k;
+  }
+  ASSERT_EQ(log.size(), 4u);  // each source: its saved calibration, its pairs resumed
+  EXPECT_EQ(log[2].rfind("[/scan_rear] loaded the saved calibration", 0), 0u) << log[2];
+  EXPECT_NE(log[2].find("/out/source_1/result.yaml"), std::string::npos) << log[2];
 }
 
 TEST_F(JointSession, ASilentLaserIsNamedByItsTopic)

@@ -38,7 +38,8 @@ public:
   /// output directory <output_directory>/source_<k> (pairs.csv, its result.yaml: the joint
   /// wheels and its pose, loaded on the next start), its topic as the ego-motion input's name,
   /// its frame (or "<default_sensor_frame>_<k>") until its messages name theirs, adopt_fits
-  /// off (the joint fit is adopted), and the odometry only in source 0's session.
+  /// off (the joint fit is adopted), the odometry only in source 0's session, and its log lines
+  /// starting with "[<topic>] ".
   /// `listener(k)`: source k's listener. Throws as CalibrationSession's constructor, and
   /// std::invalid_argument for several sources of a model without a joint fit.
   JointCalibrationSession(const CalibrationConfig& config, const std::string& config_text,
