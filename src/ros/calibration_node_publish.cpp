@@ -158,12 +158,12 @@ void CalibrationNode::appendStatuses(const std::vector<SessionStatusReport>& rep
 
 void CalibrationNode::publishAssistant()
 {
-  if (const std::optional<double> statistic = session_->healthStatistic()) {
+  if (const std::optional<double> statistic = sessions_->healthStatistic()) {
     std_msgs::Float64 message;
     message.data = *statistic;
     health_statistic_publisher_.publish(message);
   }
-  const AssistantMarker state = session_->assistantMarker();
+  const AssistantMarker state = sessions_->assistantMarker();
   if (state.text.empty())
     return;
   visualization_msgs::Marker marker;

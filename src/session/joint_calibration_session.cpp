@@ -1,5 +1,6 @@
 #include "odometry_calibration/session/joint_calibration_session.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <stdexcept>
@@ -101,6 +102,32 @@ std::size_t JointCalibrationSession::writePendingPairs()
   for (const auto& session : sessions_)
     unwritten += session->writePendingPairs();
   return unwritten;
+}
+
+AssistantMarker JointCalibrationSession::assistantMarker() const
+{
+  if (sessions_.size() == 1)
+    return sessions_.front()->assistantMarker();
+  AssistantMarker marker;
+  marker.ready = true;
+  for (std::size_t k = 0; k < sessions_.size(); ++k) {
+    const AssistantMarker own = sessions_[k]->assistantMarker();
+    marker.alarm = marker.alarm || own.alarm;
+    marker.ready = marker.ready && own.ready;
+    if (!own.text.empty())
+      marker.text += (marker.text.empty() ? "" : "\n") + sources_[k].topic + ": " + own.text;
+  }
+  return marker;
+}
+
+std::optional<double> JointCalibrationSession::healthStatistic() const
+{
+  std::optional<double> largest;
+  for (const auto& session : sessions_) {
+    if (const std::optional<double> statistic = session->healthStatistic())
+      largest = std::max(largest.value_or(*statistic), *statistic);
+  }
+  return largest;
 }
 
 JointCalibrateOutcome JointCalibrationSession::calibrate(const CalibrationRequest& request)

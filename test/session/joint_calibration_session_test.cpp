@@ -173,6 +173,9 @@ TEST_F(JointSession, FitsBothLasersAsSeparateSessionsAndTheSharedJointFitDo)
   EXPECT_NEAR(fit.joint->intrinsics[2].value, 0.32, 0.005 * 0.32);
   EXPECT_NE(fit.outcome.message.find("[/scan_rear] pose"), std::string::npos)
       << fit.outcome.message;
+  // Each source's health monitor watches its view of the joint fit.
+  EXPECT_TRUE(session.healthStatistic());
+  EXPECT_TRUE(session.source(1).healthStatistic());
 
   // Saved: the joint result with both sensors, each source's own files, one URDF joint each.
   const auto [saved, message] = session.save();
@@ -220,6 +223,12 @@ TEST_F(JointSession, ASilentLaserIsNamedByItsTopic)
   EXPECT_NE(fit.outcome.message.find("source 1 (/scan_rear): only 0 pairs collected"),
             std::string::npos)
       << fit.outcome.message;
+  // The guidance marker: each laser's on its own line, not ready while the rear one is silent.
+  const AssistantMarker marker = session.assistantMarker();
+  EXPECT_FALSE(marker.ready);
+  EXPECT_EQ(marker.text.rfind("/scan_front: ", 0), 0u) << marker.text;
+  EXPECT_NE(marker.text.find("\n/scan_rear: "), std::string::npos) << marker.text;
+  EXPECT_FALSE(session.healthStatistic());  // nothing fitted: nothing watched
   const auto [saved, message] = session.save();
   EXPECT_FALSE(saved);
   EXPECT_NE(message.find("no successful joint"), std::string::npos) << message;

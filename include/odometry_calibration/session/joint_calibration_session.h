@@ -65,6 +65,12 @@ public:
   /// Every source's pairs not yet written; returns how many still are not, in all.
   std::size_t writePendingPairs();
 
+  /// The guidance marker: one source's; several: each source's text on its own line after its
+  /// topic, an alarm when any source's monitor has one, ready when every source is.
+  AssistantMarker assistantMarker() const;
+  /// The health monitors' largest statistic (none when no source's monitor watches).
+  std::optional<double> healthStatistic() const;
+
   /// One source: its session's calibrate(). Several: each source fitted alone (a source that
   /// cannot be, named by its topic, stops the call), then jointly (config.model only, no
   /// options); the joint fit converged, each source's session adopts its view of it.
