@@ -33,8 +33,11 @@ SourceRun pairAndFitSource(const BagCalibrationOptions& options, const Calibrati
   SourceRun source;
   source.source = egoMotionSources(config).at(index);
   source.config = configForSource(config, index);
-  source.run = runBagsAtEstimatedOffset(options.bags, &source.config, options.start_s,
-                                        options.end_s, nullptr, &source.pairing);
+  // Paired also at keyframes.fit_intervals_s, the interval chosen among them, as the live
+  // node's session of this source does (joint_calibration_session.h).
+  source.run =
+      runBagsAtEstimatedOffset(options.bags, &source.config, options.start_s, options.end_s,
+                               nullptr, &source.pairing, 0.01, source.config.fit_intervals_s);
   CalibrationRequest request;
   request.offset_search = source.pairing.search;
   CalibrateOutcome outcome = source.run.session->calibrate(request);
