@@ -145,7 +145,9 @@ std::optional<std::vector<SessionFit>> JointCalibrationSession::fitSourcesAlone(
   for (std::size_t k = 0; k < sessions_.size(); ++k) {
     const CalibrateOutcome alone = sessions_[k]->calibrate(request);
     *pairs_collected += alone.pairs_collected;
-    if (!alone.success || !alone.fit) {
+    // As calibrate_bag: a fit alone that did not converge still gives the joint fit its start
+    // (its table says so); a source without one stops the call.
+    if (!alone.fit) {
       *failure = "source " + std::to_string(k) + " (" + sources_[k].topic + "): " + alone.message;
       return std::nullopt;
     }

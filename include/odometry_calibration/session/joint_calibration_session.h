@@ -71,9 +71,10 @@ public:
   /// The health monitors' largest statistic (none when no source's monitor watches).
   std::optional<double> healthStatistic() const;
 
-  /// One source: its session's calibrate(). Several: each source fitted alone (a source that
-  /// cannot be, named by its topic, stops the call), then jointly (config.model only, no
-  /// options); the joint fit converged, each source's session adopts its view of it.
+  /// One source: its session's calibrate(). Several: each source fitted alone (a source whose
+  /// fit cannot run, named by its topic, stops the call; as in calibrate_bag, one that did not
+  /// converge does not), then jointly (config.model only, no options); the joint fit
+  /// converged, each source's session adopts its view of it.
   JointCalibrateOutcome calibrate(const CalibrationRequest& request);
   /// One source: its session's save(). Several: every source's save() (under source_<k>/),
   /// then result.yaml (jointResultYaml), laser_joints.urdf (one joint per sensor),
