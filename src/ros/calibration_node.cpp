@@ -1,5 +1,6 @@
 #include "odometry_calibration/ros/calibration_node.h"
 
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 
@@ -35,12 +36,6 @@ CalibrationNode::CalibrationNode(ros::NodeHandle handle, ros::NodeHandle private
 {
   const std::string config_text = readTextFile(options_.config_path, "the configuration");
   config_ = parseCalibrationConfig(config_text, options_.config_path);
-  if (config_.ego_motion_sources.size() > 1) {  // issue 35: the joint fit is calibrate_bag's
-    throw std::runtime_error(options_.config_path + ": ego_motion.sources lists " +
-                             std::to_string(config_.ego_motion_sources.size()) +
-                             " sources; the live node calibrates one (calibrate_bag fits "
-                             "several jointly)");
-  }
   channels_ = encoderChannels(config_);
   SessionOptions& session = options_.session;
   if (session.output_directory.empty())
@@ -54,9 +49,14 @@ CalibrationNode::CalibrationNode(ros::NodeHandle handle, ros::NodeHandle private
   session.wall_clock = [] { return ros::WallTime::now().toSec(); };
   session.log = rosLog;
   advertise();  // before the session: it publishes from its first moment
-  session_ = std::make_unique<CalibrationSession>(config_, config_text, options_.config_path,
-                                                  session, listener());
-  publishSensorPose(session_->sensorPose(), session_->sensorFrame());
+  sensor_frames_.assign(std::max<std::size_t>(1, config_.ego_motion_sources.size()),
+                        session.default_sensor_frame);
+  sessions_ =
+      std::make_unique<JointCalibrationSession>(config_, config_text, options_.config_path, session,
+                                                [this](std::size_t k) { return listener(k); });
+  session_ = &sessions_->source(0);
+  for (std::size_t k = 0; k < sessions_->sourceCount(); ++k)
+    publishSensorPose(k, sessions_->source(k).sensorPose(), sessions_->source(k).sensorFrame());
   subscribe();
   // Fits can take seconds: services run on their own thread so the inputs keep flowing.
   ros::NodeHandle service_handle(private_handle_);
@@ -69,10 +69,17 @@ CalibrationNode::CalibrationNode(ros::NodeHandle handle, ros::NodeHandle private
                                           &CalibrationNode::onTimer, this);
   service_spinner_ = std::make_unique<ros::AsyncSpinner>(1, &service_queue_);
   service_spinner_->start();
+  std::string ego_topics = session.topics[1];
+  if (sessions_->sourceCount() > 1) {
+    ego_topics.clear();
+    for (std::size_t k = 0; k < sessions_->sourceCount(); ++k)
+      ego_topics += (k == 0 ? "" : ", ") + sessions_->sourceConfig(k).topic;
+    ego_topics += " (fitted jointly)";
+  }
   ROS_INFO(
       "collecting pairs: JointState on %s, ego-motion on %s, keyframes every %.2f s, time "
       "offset %.3f s; output in %s",
-      session.topics[0].c_str(), session.topics[1].c_str(), config_.collector.keyframe_interval_s,
+      session.topics[0].c_str(), ego_topics.c_str(), config_.collector.keyframe_interval_s,
       session_->timeOffset(), session.output_directory.c_str());
 }
 
@@ -92,11 +99,12 @@ CalibrationNode::~CalibrationNode()
 std::size_t CalibrationNode::finish()
 {
   joint_subscriber_.shutdown();
-  ego_subscriber_.shutdown();
+  for (ros::Subscriber& subscriber : ego_subscribers_)
+    subscriber.shutdown();
   if (finished_)
     return lost_pairs_;
   finished_ = true;
-  lost_pairs_ = session_->writePendingPairs();
+  lost_pairs_ = sessions_->writePendingPairs();
   if (lost_pairs_ > 0) {
     ROS_ERROR(
         "%zu pairs were lost: never written to the pairs file in %s (the disk did not take "
@@ -127,22 +135,51 @@ void CalibrationNode::subscribe()
   const auto hints = ros::TransportHints().tcpNoDelay();
   joint_subscriber_ = handle_.subscribe(config_.joint_state_topic, 2000,
                                         &CalibrationNode::onJointState, this, hints);
-  const std::string& topic = config_.ego_motion_topic;
-  switch (config_.ego_motion) {
+  for (std::size_t k = 0; k < sessions_->sourceCount(); ++k)
+    subscribeSource(k);
+}
+
+void CalibrationNode::subscribeSource(std::size_t k)
+{
+  // Each source's callback carries its index: its messages go to its own session.
+  const auto hints = ros::TransportHints().tcpNoDelay();
+  const EgoMotionSourceConfig& source = sessions_->sourceConfig(k);
+  ros::Subscriber subscriber;
+  switch (source.type) {
     case EgoMotionSource::kScan:
-      ego_subscriber_ =
-          handle_.subscribe(config_.scan_topic, 400, &CalibrationNode::onScan, this, hints);
+      subscriber = handle_.subscribe<sensor_msgs::LaserScan>(
+          source.topic, 400,
+          [this, k](const ros::MessageEvent<const sensor_msgs::LaserScan>& event) {
+            onScan(k, event);
+          },
+          ros::VoidConstPtr(), hints);
       break;
     case EgoMotionSource::kCloud:
-      ego_subscriber_ = handle_.subscribe(topic, 50, &CalibrationNode::onCloud, this, hints);
+      subscriber = handle_.subscribe<sensor_msgs::PointCloud2>(
+          source.topic, 50,
+          [this, k](const ros::MessageEvent<const sensor_msgs::PointCloud2>& event) {
+            onCloud(k, event);
+          },
+          ros::VoidConstPtr(), hints);
       break;
     case EgoMotionSource::kOdometry:
-      ego_subscriber_ = handle_.subscribe(topic, 400, &CalibrationNode::onOdometry, this, hints);
+      subscriber = handle_.subscribe<nav_msgs::Odometry>(
+          source.topic, 400,
+          [this, k](const ros::MessageEvent<const nav_msgs::Odometry>& event) {
+            onOdometry(k, event);
+          },
+          ros::VoidConstPtr(), hints);
       break;
     case EgoMotionSource::kPose:
-      ego_subscriber_ = handle_.subscribe(topic, 400, &CalibrationNode::onPose, this, hints);
+      subscriber = handle_.subscribe<geometry_msgs::PoseStamped>(
+          source.topic, 400,
+          [this, k](const ros::MessageEvent<const geometry_msgs::PoseStamped>& event) {
+            onPose(k, event);
+          },
+          ros::VoidConstPtr(), hints);
       break;
   }
+  ego_subscribers_.push_back(subscriber);
 }
 
 // --- Inputs: converted, then the session's -------------------------------------------------
@@ -154,69 +191,73 @@ void CalibrationNode::onJointState(const ros::MessageEvent<const sensor_msgs::Jo
   try {
     raw = applySigns(config_, ros_conversions::rawJointPositions(*message, channels_));
   } catch (const std::invalid_argument& error) {
-    session_->skipJointState(error.what(), event.getPublisherName());
+    sessions_->skipJointState(error.what(), event.getPublisherName());
     return;
   }
-  session_->addJointPositions(message->header.stamp.toSec(), raw, event.getPublisherName());
+  sessions_->addJointPositions(message->header.stamp.toSec(), raw, event.getPublisherName());
 }
 
-void CalibrationNode::onScan(const ros::MessageEvent<const sensor_msgs::LaserScan>& event)
+void CalibrationNode::onScan(std::size_t k,
+                             const ros::MessageEvent<const sensor_msgs::LaserScan>& event)
 {
   const auto& message = event.getConstMessage();
   if (const std::string problem = scanRaysProblem(message->ranges.size(), config_.max_scan_rays);
       !problem.empty()) {  // refused before it is copied
-    session_->skipEgoMessage("LaserScan", problem, event.getPublisherName());
+    sessions_->source(k).skipEgoMessage("LaserScan", problem, event.getPublisherName());
     return;
   }
   Scan scan;
   try {
     scan = ros_conversions::fromLaserScanMsg(*message);
   } catch (const std::invalid_argument& error) {
-    session_->skipEgoMessage("LaserScan", error.what(), event.getPublisherName());
+    sessions_->source(k).skipEgoMessage("LaserScan", error.what(), event.getPublisherName());
     return;
   }
-  session_->addScan(message->header.stamp.toSec(), scan, message->header.frame_id,
-                    event.getPublisherName());
+  sessions_->source(k).addScan(message->header.stamp.toSec(), scan, message->header.frame_id,
+                               event.getPublisherName());
 }
 
-void CalibrationNode::onCloud(const ros::MessageEvent<const sensor_msgs::PointCloud2>& event)
+void CalibrationNode::onCloud(std::size_t k,
+                              const ros::MessageEvent<const sensor_msgs::PointCloud2>& event)
 {
   const auto& message = event.getConstMessage();
   // Converted and filtered before the session's lock: the encoders keep flowing meanwhile.
   try {
     const auto lidar = ros_conversions::fromPointCloud2Msg(*message, config_.cloud.point_times);
     const Scan scan = cloudToScan(lidar.cloud, lidar.has_times, config_.cloud);
-    session_->addCloudScan(message->header.stamp.toSec(), scan, message->header.frame_id,
-                           lidar.time_problem, event.getPublisherName());
+    sessions_->source(k).addCloudScan(message->header.stamp.toSec(), scan, message->header.frame_id,
+                                      lidar.time_problem, event.getPublisherName());
   } catch (const std::invalid_argument& error) {
-    session_->skipEgoMessage("PointCloud2", error.what(), event.getPublisherName());
+    sessions_->source(k).skipEgoMessage("PointCloud2", error.what(), event.getPublisherName());
   }
 }
 
-void CalibrationNode::onOdometry(const ros::MessageEvent<const nav_msgs::Odometry>& event)
+void CalibrationNode::onOdometry(std::size_t k,
+                                 const ros::MessageEvent<const nav_msgs::Odometry>& event)
 {
   const auto& message = event.getConstMessage();
-  onSensorPose(message->header.stamp.toSec(), message->pose.pose, message->child_frame_id,
+  onSensorPose(k, message->header.stamp.toSec(), message->pose.pose, message->child_frame_id,
                event.getPublisherName());
 }
 
-void CalibrationNode::onPose(const ros::MessageEvent<const geometry_msgs::PoseStamped>& event)
+void CalibrationNode::onPose(std::size_t k,
+                             const ros::MessageEvent<const geometry_msgs::PoseStamped>& event)
 {
   const auto& message = event.getConstMessage();
-  onSensorPose(message->header.stamp.toSec(), message->pose, "", event.getPublisherName());
+  onSensorPose(k, message->header.stamp.toSec(), message->pose, "", event.getPublisherName());
 }
 
-void CalibrationNode::onSensorPose(double stamp_s, const geometry_msgs::Pose& pose,
+void CalibrationNode::onSensorPose(std::size_t k, double stamp_s, const geometry_msgs::Pose& pose,
                                    const std::string& frame, const std::string& publisher)
 {
   Pose2 T_world_sensor;
   try {
     T_world_sensor = ros_conversions::fromPoseMsg(pose);
   } catch (const std::invalid_argument& error) {
-    session_->skipEgoMessage("pose", error.what(), publisher);
+    sessions_->source(k).skipEgoMessage("pose", error.what(), publisher);
     return;
   }
-  session_->addSensorPose(stamp_s, T_world_sensor, frame, publisher);
+  sessions_->source(k).addSensorPose(stamp_s, T_world_sensor, frame, publisher);
 }
 
 }  // namespace odometry_calibration

@@ -38,26 +38,27 @@ nav_msgs::Path toPathMsg(const std::vector<StampedPose2>& poses, const std::stri
 
 }  // namespace
 
-SessionListener CalibrationNode::listener()
+SessionListener CalibrationNode::listener(std::size_t k)
 {
   SessionListener listener;
-  listener.pair = [this](const MotionPair& pair) { publishPair(pair); };
+  listener.pair = [this, k](const MotionPair& pair) { publishPair(k, pair); };
   listener.odometry = [this](const OdometryState& state) { publishOdometry(state); };
-  listener.sensor_pose = [this](const std::optional<Pose2>& T_base_sensor,
-                                const std::string& frame) {
-    publishSensorPose(T_base_sensor, frame);
+  listener.sensor_pose = [this, k](const std::optional<Pose2>& T_base_sensor,
+                                   const std::string& frame) {
+    publishSensorPose(k, T_base_sensor, frame);
   };
   return listener;
 }
 
-void CalibrationNode::publishPair(const MotionPair& pair)
+void CalibrationNode::publishPair(std::size_t k, const MotionPair& pair)
 {
-  pairs_publisher_.publish(ros_conversions::toPairMsg(pair, jointLayout(config_), sensor_frame_));
+  pairs_publisher_.publish(
+      ros_conversions::toPairMsg(pair, jointLayout(config_), sensor_frames_.at(k)));
 }
 
 void CalibrationNode::publishOdometry(const OdometryState& state)
 {
-  const std::string child = state.tracks_base ? options_.base_frame : sensor_frame_;
+  const std::string child = state.tracks_base ? options_.base_frame : sensor_frames_.front();
   nav_msgs::Odometry msg;
   msg.header.stamp = ros::Time(std::max(0.0, state.stamp_s));
   msg.header.frame_id = options_.odom_frame;
@@ -78,10 +79,10 @@ void CalibrationNode::publishOdometry(const OdometryState& state)
   }
 }
 
-void CalibrationNode::publishSensorPose(const std::optional<Pose2>& T_base_sensor,
+void CalibrationNode::publishSensorPose(std::size_t k, const std::optional<Pose2>& T_base_sensor,
                                         const std::string& frame)
 {
-  sensor_frame_ = frame;
+  sensor_frames_.at(k) = frame;
   if (!options_.publish_extrinsic_tf || !T_base_sensor)
     return;
   geometry_msgs::TransformStamped transform;
@@ -101,7 +102,7 @@ void CalibrationNode::onTimer(const ros::WallTimerEvent&)
                               ? options_.diagnostics_period_s
                               : std::max(0.0, (now - last_diagnostics_time_).toSec());
   last_diagnostics_time_ = now;
-  session_->tick();
+  sessions_->tick();
   publishDiagnostics(period_s);
   publishAssistant();
   publishPaths();
@@ -120,10 +121,26 @@ void CalibrationNode::publishDiagnostics(double period_s)
 {
   diagnostic_msgs::DiagnosticArray array;
   array.header.stamp = ros::Time::now();
-  const std::string hardware_id = session_->sensorFrame();
-  for (const SessionStatusReport& report : session_->statusReports(period_s)) {
+  // With several sources, each source's statuses are named with its topic (a silent laser or
+  // one whose pairs are all rejected shows as that laser's).
+  const bool several = sessions_->sourceCount() > 1;
+  for (std::size_t k = 0; k < sessions_->sourceCount(); ++k) {
+    CalibrationSession& session = sessions_->source(k);
+    const std::string suffix = several ? " (" + sessions_->sourceConfig(k).topic + ")" : "";
+    appendStatuses(session.statusReports(period_s), session.sensorFrame(), suffix, &array);
+  }
+  // The joint calibration's health monitor (several sources): names the laser that moved.
+  appendStatuses(sessions_->jointStatusReports(), options_.base_frame, "", &array);
+  diagnostics_publisher_.publish(array);
+}
+
+void CalibrationNode::appendStatuses(const std::vector<SessionStatusReport>& reports,
+                                     const std::string& hardware_id, const std::string& suffix,
+                                     diagnostic_msgs::DiagnosticArray* array) const
+{
+  for (const SessionStatusReport& report : reports) {
     diagnostic_msgs::DiagnosticStatus status;
-    status.name = ros::this_node::getName() + ": " + report.name;
+    status.name = ros::this_node::getName() + ": " + report.name + suffix;
     status.hardware_id = hardware_id;
     status.level = report.level == SessionStatusReport::Level::kError
                        ? diagnostic_msgs::DiagnosticStatus::ERROR
@@ -137,19 +154,18 @@ void CalibrationNode::publishDiagnostics(double period_s)
       entry.value = value;
       status.values.push_back(entry);
     }
-    array.status.push_back(status);
+    array->status.push_back(status);
   }
-  diagnostics_publisher_.publish(array);
 }
 
 void CalibrationNode::publishAssistant()
 {
-  if (const std::optional<double> statistic = session_->healthStatistic()) {
+  if (const std::optional<double> statistic = sessions_->healthStatistic()) {
     std_msgs::Float64 message;
     message.data = *statistic;
     health_statistic_publisher_.publish(message);
   }
-  const AssistantMarker state = session_->assistantMarker();
+  const AssistantMarker state = sessions_->assistantMarker();
   if (state.text.empty())
     return;
   visualization_msgs::Marker marker;

@@ -1,4 +1,5 @@
-// The live node's services: ~calibrate, ~save, ~reset, each one call into the session.
+// The live node's services: ~calibrate, ~save, ~reset, each one call into the session (with
+// several ego-motion sources ~calibrate is their joint fit, ~save saves every sensor).
 #include <tuple>
 
 #include "odometry_calibration/eval/model_report.h"
@@ -12,7 +13,8 @@ bool CalibrationNode::onCalibrate(Calibrate::Request& request, Calibrate::Respon
   CalibrationRequest call;
   call.model = request.model;
   call.options = request.options;
-  const CalibrateOutcome outcome = session_->calibrate(call);
+  const JointCalibrateOutcome joint = sessions_->calibrate(call);
+  const CalibrateOutcome& outcome = joint.outcome;
   response.success = outcome.success;
   response.message = outcome.message;
   if (!outcome.fit)
@@ -23,7 +25,9 @@ bool CalibrationNode::onCalibrate(Calibrate::Request& request, Calibrate::Respon
   response.report =
       ros_conversions::toReportMsg(job.report, outcome.pairs_collected, job.time_offset_s);
   report_publisher_.publish(response.report);
-  const std::string summary = formatModelReport(job.report);
+  // Several sources: every sensor's table and the fits alone (the first sensor's view is the
+  // reply's report); one source: its report.
+  const std::string summary = joint.joint ? joint.text : formatModelReport(job.report);
   if (outcome.success && job.report.warnings.empty())
     ROS_INFO("%s\n%s", response.message.c_str(), summary.c_str());
   else
@@ -33,7 +37,7 @@ bool CalibrationNode::onCalibrate(Calibrate::Request& request, Calibrate::Respon
 
 bool CalibrationNode::onSave(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& response)
 {
-  const auto [success, message] = session_->save();
+  const auto [success, message] = sessions_->save();
   response.success = success;
   response.message = message;
   ROS_INFO("%s", message.c_str());
@@ -42,7 +46,7 @@ bool CalibrationNode::onSave(std_srvs::Trigger::Request&, std_srvs::Trigger::Res
 
 bool CalibrationNode::onReset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& response)
 {
-  std::tie(response.success, response.message) = session_->reset();
+  std::tie(response.success, response.message) = sessions_->reset();
   ROS_INFO("%s", response.message.c_str());
   return true;
 }

@@ -257,4 +257,10 @@ std::optional<double> CalibrationSession::healthStatistic() const
   return assistant_->healthStatistic();
 }
 
+std::pair<std::shared_ptr<const MotionModel>, std::string> CalibrationSession::activeModel() const
+{
+  std::lock_guard<std::mutex> lock(mutex_);
+  return {active_model_, active_model_origin_};
+}
+
 }  // namespace odometry_calibration

@@ -1,14 +1,17 @@
 // The live calibration node (DESIGN.md, "Interfaces users touch"): an adapter around the
-// ROS-free calibration session (session/calibration_session.h). JointState and LaserScan (or
-// another ego-motion topic) are converted and handed to the session; its pairs, odometry,
-// sensor pose, paths, statuses and assistant are published; ~calibrate, ~save and ~reset call
-// the session. Every decision is the session's, so calibrate_bag makes the same ones.
+// ROS-free calibration session (session/joint_calibration_session.h: one CalibrationSession per
+// ego-motion source). JointState and LaserScan (or another ego-motion topic; with
+// ego_motion.sources every source's topic) are converted and handed to the session; its pairs,
+// odometry, sensor poses (base -> each sensor's frame), paths, statuses and assistant are
+// published; ~calibrate (with several sources: the joint fit), ~save and ~reset call the
+// session. Every decision is the session's, so calibrate_bag makes the same ones.
 #pragma once
 
 #include <memory>
 #include <optional>
 #include <string>
 
+#include <diagnostic_msgs/DiagnosticArray.h>
 #include <geometry_msgs/PoseStamped.h>
 #include <nav_msgs/Odometry.h>
 #include <ros/callback_queue.h>
@@ -21,7 +24,7 @@
 #include <tf2_ros/transform_broadcaster.h>
 
 #include "odometry_calibration/Calibrate.h"
-#include "odometry_calibration/session/calibration_session.h"
+#include "odometry_calibration/session/joint_calibration_session.h"
 
 namespace odometry_calibration {
 
@@ -63,25 +66,33 @@ private:
   void advertise();
   // Message events: the session checks who published each message (input_publishers.h).
   void onJointState(const ros::MessageEvent<const sensor_msgs::JointState>& event);
-  void onScan(const ros::MessageEvent<const sensor_msgs::LaserScan>& event);
-  void onCloud(const ros::MessageEvent<const sensor_msgs::PointCloud2>& event);
-  void onOdometry(const ros::MessageEvent<const nav_msgs::Odometry>& event);
-  void onPose(const ros::MessageEvent<const geometry_msgs::PoseStamped>& event);
-  void onSensorPose(double stamp_s, const geometry_msgs::Pose& pose, const std::string& frame,
-                    const std::string& publisher);
+  // Source `k`'s messages (ego_motion.sources order; 0 with one source).
+  void subscribeSource(std::size_t k);
+  void onScan(std::size_t k, const ros::MessageEvent<const sensor_msgs::LaserScan>& event);
+  void onCloud(std::size_t k, const ros::MessageEvent<const sensor_msgs::PointCloud2>& event);
+  void onOdometry(std::size_t k, const ros::MessageEvent<const nav_msgs::Odometry>& event);
+  void onPose(std::size_t k, const ros::MessageEvent<const geometry_msgs::PoseStamped>& event);
+  void onSensorPose(std::size_t k, double stamp_s, const geometry_msgs::Pose& pose,
+                    const std::string& frame, const std::string& publisher);
   void onTimer(const ros::WallTimerEvent& event);
   bool onCalibrate(Calibrate::Request& request, Calibrate::Response& response);
   bool onSave(std_srvs::Trigger::Request& request, std_srvs::Trigger::Response& response);
   bool onReset(std_srvs::Trigger::Request& request, std_srvs::Trigger::Response& response);
 
   // Publishing what the session reports (calibration_node_publish.cpp).
-  SessionListener listener();
-  void publishPair(const MotionPair& pair);
+  /// Source `k`'s listener.
+  SessionListener listener(std::size_t k);
+  void publishPair(std::size_t k, const MotionPair& pair);
   void publishOdometry(const OdometryState& state);
-  /// Re-sends base -> sensor (with ~publish_extrinsic_tf and a known pose).
-  void publishSensorPose(const std::optional<Pose2>& T_base_sensor, const std::string& frame);
+  /// Re-sends base -> source k's sensor (with ~publish_extrinsic_tf and a known pose).
+  void publishSensorPose(std::size_t k, const std::optional<Pose2>& T_base_sensor,
+                         const std::string& frame);
   void publishPaths();
   void publishDiagnostics(double period_s);
+  /// `reports` as statuses named "<node>: <name><suffix>" into `array`.
+  void appendStatuses(const std::vector<SessionStatusReport>& reports,
+                      const std::string& hardware_id, const std::string& suffix,
+                      diagnostic_msgs::DiagnosticArray* array) const;
   void publishAssistant();
 
   /// Declared first, destroyed last: the services and the timer are registered on it.
@@ -90,13 +101,15 @@ private:
   NodeOptions options_;
   CalibrationConfig config_;
   std::vector<EncoderChannelOptions> channels_;
-  std::unique_ptr<CalibrationSession> session_;
-  bool finished_ = false;       ///< finish() ran
-  std::size_t lost_pairs_ = 0;  ///< pairs finish() could not write
-  /// The sensor's frame as the session last said (set and read in its callbacks).
-  std::string sensor_frame_;
+  std::unique_ptr<JointCalibrationSession> sessions_;
+  CalibrationSession* session_ = nullptr;  ///< source 0's: odometry, paths, assistant
+  bool finished_ = false;                  ///< finish() ran
+  std::size_t lost_pairs_ = 0;             ///< pairs finish() could not write
+  /// Each source's sensor frame as its session last said (set and read in its callbacks).
+  std::vector<std::string> sensor_frames_;
 
-  ros::Subscriber joint_subscriber_, ego_subscriber_;
+  ros::Subscriber joint_subscriber_;
+  std::vector<ros::Subscriber> ego_subscribers_;  ///< one per source
   ros::Publisher odom_publisher_, nominal_path_publisher_, corrected_path_publisher_,
       scan_path_publisher_, pairs_publisher_, report_publisher_, diagnostics_publisher_,
       guidance_marker_publisher_, health_statistic_publisher_;

@@ -17,6 +17,7 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "odometry_calibration/calibration/calibration_config.h"
@@ -182,12 +183,20 @@ public:
   std::vector<SessionStatusReport> statusReports(double period_s);
   AssistantMarker assistantMarker() const;
   std::optional<double> healthStatistic() const;  ///< none when nothing is watched
+  /// The active model (none before any) and what it is ("nominal ..." for the configuration's
+  /// own values, else a fit or a saved calibration): for a monitor outside the session.
+  std::pair<std::shared_ptr<const MotionModel>, std::string> activeModel() const;
 
   // --- Actions (calibration_session_actions.cpp) ---
   /// Fits (session_fit.h) the pairs held at the call; a converged fit becomes the active model
   /// (odometry integrated again, health monitor, guidance recentred, new time offset for new
   /// pairs) and is written to last_fit.yaml.
   CalibrateOutcome calibrate(const CalibrationRequest& request);
+  /// Makes `fit` (of the configuration's model, fitted elsewhere: one sensor's view of a joint
+  /// fit of several sources, joint_calibration_session.h) the active model as calibrate() does
+  /// with a converged fit of its own, also with adopt_fits off; `pairs_collected` for the
+  /// outcome. A fit that did not converge is refused (the outcome says so).
+  CalibrateOutcome adoptFit(const SessionFit& fit, std::size_t pairs_collected);
   /// Writes the last successful fit: result.yaml, controller.yaml (diff_drive, skid_steer,
   /// mecanum), laser_joint.urdf (with a sensor pose). Returns {success, message}.
   std::pair<bool, std::string> save();
@@ -226,8 +235,9 @@ private:
   void configureModel(const std::string& name, const std::string& options,
                       CalibrationConfig* config) const;
   /// A converged fit becomes the active model; the outcome's message says what happened.
+  /// `always`: also with adopt_fits off (adoptFit).
   void adopt(const std::string& name, const CalibrationConfig& config, const std::string& guidance,
-             CalibrateOutcome* outcome);
+             CalibrateOutcome* outcome, bool always = false);
   /// The corrected odometry integrated again with the fit (empty without odometry).
   OdometryReplay replayOdometry(const SessionFit& fit) const;
   /// The sensor pose after `fit`: its own, or the one known before.

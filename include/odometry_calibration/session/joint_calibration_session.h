@@ -1,0 +1,124 @@
+// The calibration session of a configuration's ego-motion sources (issue 35: `ego_motion.sources`,
+// e.g. a front and a rear laser), free of ROS: one CalibrationSession per source (its own pair
+// collector, consistency checks, time offset, pairs file, guidance), all fed the same encoder
+// track; a fit fits each source alone and then the wheels and every source's pose jointly
+// (calibration/joint_source_fit.h, the same function calibrate_bag calls), and every source's
+// session adopts its view of the joint fit (the joint wheels, its own pose and time offset).
+// With several sources one health monitor watches the joint calibration (SessionAssistant's
+// several-sensor form: each source's pairs scored against its view of it, the wheels shared, so
+// that an alarm names the laser that moved or the wheels); the sources' own sessions do not
+// monitor. With one source it is that source's CalibrationSession unchanged: the same options,
+// files, messages and fits as before.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "odometry_calibration/calibration/joint_source_fit.h"
+#include "odometry_calibration/session/calibration_session.h"
+
+namespace odometry_calibration {
+
+/// What a fit of several sources gave besides the outcome.
+struct JointCalibrateOutcome
+{
+  /// success, message; `fit`: the first sensor's view of the joint fit (one source: the fit).
+  CalibrateOutcome outcome;
+  std::optional<JointFitReport> joint;  ///< the joint fit, when one ran
+  std::string text;                     ///< its tables in words (formatJointFitReport)
+};
+
+class JointCalibrationSession
+{
+public:
+  /// One session per source of egoMotionSources(config). With several: source k's
+  /// configuration is configForSource(config, k); its options are `options` with the
+  /// output directory <output_directory>/source_<k> (pairs.csv, its result.yaml: the joint
+  /// wheels and its pose, loaded on the next start), its topic as the ego-motion input's name,
+  /// its frame (or "<default_sensor_frame>_<k>") until its messages name theirs, adopt_fits
+  /// off (the joint fit is adopted), the odometry only in source 0's session, and its log lines
+  /// starting with "[<topic>] ".
+  /// `listener(k)`: source k's listener. Throws as CalibrationSession's constructor, and
+  /// std::invalid_argument for several sources of a model without a joint fit.
+  JointCalibrationSession(const CalibrationConfig& config, const std::string& config_text,
+                          const std::string& config_source, const SessionOptions& options,
+                          const std::function<SessionListener(std::size_t)>& listener);
+  ~JointCalibrationSession();
+  JointCalibrationSession(const JointCalibrationSession&) = delete;
+  JointCalibrationSession& operator=(const JointCalibrationSession&) = delete;
+
+  std::size_t sourceCount() const { return sessions_.size(); }
+  /// Source `index`'s session (its ego-motion inputs go there); throws std::out_of_range.
+  CalibrationSession& source(std::size_t index) { return *sessions_.at(index); }
+  const CalibrationSession& source(std::size_t index) const { return *sessions_.at(index); }
+  /// Source `index` as configured (topic, type, frame, time offset, pose).
+  const EgoMotionSourceConfig& sourceConfig(std::size_t index) const { return sources_.at(index); }
+
+  /// The encoders into every source's session (the same track for all).
+  void addJointPositions(double stamp_s, const Eigen::VectorXd& raw,
+                         const std::string& publisher = "");
+  void skipJointState(const std::string& problem, const std::string& publisher = "");
+  void flush();
+  void tick();
+  /// Every source's pairs not yet written; returns how many still are not, in all.
+  std::size_t writePendingPairs();
+
+  /// The guidance marker: one source's; several: each source's text on its own line after its
+  /// topic, an alarm when any source's monitor has one, ready when every source is.
+  AssistantMarker assistantMarker() const;
+  /// The health monitor's largest statistic (none when it does not watch).
+  std::optional<double> healthStatistic() const;
+  /// Several sources: the joint health monitor's status ("calibration health"), none before it
+  /// watches a calibration; one source: none (its session reports its own).
+  std::vector<SessionStatusReport> jointStatusReports() const;
+
+  /// One source: its session's calibrate(). Several: each source fitted alone (a source whose
+  /// fit cannot run, named by its topic, stops the call; as in calibrate_bag, one that did not
+  /// converge does not), then jointly (config.model only, no options); the joint fit
+  /// converged, each source's session adopts its view of it.
+  JointCalibrateOutcome calibrate(const CalibrationRequest& request);
+  /// One source: its session's save(). Several: every source's save() (under source_<k>/),
+  /// then result.yaml (jointResultYaml), laser_joints.urdf (one joint per sensor),
+  /// controller.yaml (diff_drive, mecanum) and joint_report.txt in the output directory.
+  std::pair<bool, std::string> save();
+  /// Every source's reset(), in words.
+  std::pair<bool, std::string> reset();
+
+private:
+  JointCalibrateOutcome calibrateJointly(const CalibrationRequest& request);
+  /// Each source's fit alone; nullopt with `failure` set when one could not be fitted.
+  std::optional<std::vector<SessionFit>> fitSourcesAlone(const CalibrationRequest& request,
+                                                         std::size_t* pairs_collected,
+                                                         std::string* failure);
+  std::string adoptJointFit(const JointFitReport& joint, const std::vector<SessionFit>& fits,
+                            bool* success);
+  std::string saveJoint() const;
+  /// Source `source`'s new pair into the joint monitor.
+  void monitorPair(const MotionPair& pair, std::size_t source);
+  /// The joint monitor watches `models` (one per source) from now on.
+  void watchJointly(const std::vector<std::shared_ptr<const MotionModel>>& models,
+                    const std::string& origin);
+  /// The joint monitor watches the sources' saved calibrations when every source loaded one.
+  void watchSavedCalibrations();
+
+  CalibrationConfig config_;
+  SessionOptions options_;
+  std::vector<EgoMotionSourceConfig> sources_;
+  std::vector<std::unique_ptr<CalibrationSession>> sessions_;
+  std::mutex fit_mutex_;  ///< calibrate(), save(), reset(): one at a time
+  /// The last converged joint fit, for save().
+  std::optional<JointFitReport> joint_;
+  std::vector<JointSourceInput> joint_inputs_;
+  std::string joint_text_;
+  /// Several sources: the health monitor of the joint calibration (no guidance: the sources'
+  /// sessions give theirs); null when the configuration turns the monitor off.
+  std::unique_ptr<SessionAssistant> monitor_;
+  mutable std::mutex monitor_mutex_;  ///< monitor_'s state; never held while calling a session
+};
+
+}  // namespace odometry_calibration
