@@ -13,6 +13,21 @@
 namespace odometry_calibration {
 namespace {
 
+/// k^T V k for a symmetric V from its lower triangle only: sum_j k_j (V_jj k_j + 2 sum_{i>j}
+/// V_ij k_i). Half the reads and multiplications of the full product V k (the O(M^2) part of a
+/// low-rank variance), the same sum up to rounding order.
+double symmetricQuadraticForm(const Eigen::MatrixXd& v, const Eigen::VectorXd& k)
+{
+  const Eigen::Index m = k.size();
+  double sum = 0.0;
+  for (Eigen::Index j = 0; j < m; ++j) {
+    const Eigen::Index below = m - j - 1;
+    const double off_diagonal = v.col(j).tail(below).dot(k.tail(below));
+    sum += k(j) * (v(j, j) * k(j) + 2.0 * off_diagonal);
+  }
+  return sum;
+}
+
 /// The targets minus the profiled mean, r = y - H^T C, with the mean's coefficients
 /// C = (H S^-1 H^T)^-1 H S^-1 y (profiledMeanCoefficients) written to *mean_coefficients, where
 /// apply_inverse(v) = S^-1 v for the posterior's covariance S of the targets (K + Sigma, or its
@@ -216,7 +231,7 @@ void GpPosterior::predict(const Eigen::VectorXd& x, double* mean, double* varian
     const Eigen::VectorXd k_z = kernel_.column(log_parameters_, variance_basis_, x);
     *mean = k_z.dot(projected_weights_);
     const double prior = kernel_.diagonal(log_parameters_, x)(0);
-    *variance = std::max(prior - k_z.dot(low_rank_variance_ * k_z), 0.0);
+    *variance = std::max(prior - symmetricQuadraticForm(low_rank_variance_, k_z), 0.0);
     return;
   }
   const Eigen::VectorXd k = kernel_.column(log_parameters_, basis_, x);
@@ -225,7 +240,7 @@ void GpPosterior::predict(const Eigen::VectorXd& x, double* mean, double* varian
   double explained = 0.0;
   if (kind_ == Kind::kExact && low_rank_variance_.size() > 0) {
     const Eigen::VectorXd k_z = kernel_.column(log_parameters_, variance_basis_, x);
-    explained = k_z.dot(low_rank_variance_ * k_z);
+    explained = symmetricQuadraticForm(low_rank_variance_, k_z);
   } else if (kind_ == Kind::kExact) {
     explained = factor_.triangularView<Eigen::Lower>().solve(k).squaredNorm();
   } else {

@@ -54,9 +54,12 @@ PlicpResult matchScans(const PreparedScan& reference, const PreparedScan& curren
   std::unique_ptr<NearestPointSearch> search;  // built once, shared by the ambiguity check
   PlicpResult result = matchOnce(reference, current, T_ref_new_guess, options, search);
   if (needsAmbiguityCheck(result, options)) {
-    result = checkAmbiguity(std::move(result), options, [&](const Pose2& start) {
-      return matchOnce(reference, current, start, options, search);
-    });
+    result =
+        checkAmbiguity(std::move(result), options, [&](const Pose2& start, bool with_covariance) {
+          PlicpOptions rematch_options = options;
+          rematch_options.compute_covariance = with_covariance;
+          return matchOnce(reference, current, start, rematch_options, search);
+        });
   }
   return result;
 }

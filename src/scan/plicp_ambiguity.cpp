@@ -25,12 +25,12 @@ bool needsAmbiguityCheck(const PlicpResult& result, const PlicpOptions& options)
 }
 
 PlicpResult checkAmbiguity(PlicpResult best, const PlicpOptions& options,
-                           const std::function<PlicpResult(const Pose2& start)>& rematch)
+                           const PlicpRematch& rematch)
 {
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(best.covariance.topLeftCorner<2, 2>());
   const Eigen::Vector2d weakest = eigen.eigenvectors().col(1);
   const Pose2 solution = best.T_ref_new;
-  std::vector<PlicpResult> others;
+  std::vector<std::pair<Pose2, PlicpResult>> others;  // (start, converged rematch)
   for (const Eigen::Vector3d& offset :
        {Eigen::Vector3d(options.ambiguity_offset_m * weakest.x(),
                         options.ambiguity_offset_m * weakest.y(), 0.0),
@@ -40,22 +40,22 @@ PlicpResult checkAmbiguity(PlicpResult best, const PlicpOptions& options,
         Eigen::Vector3d(0.0, 0.0, -options.ambiguity_offset_rad)}) {
     const Pose2 start(solution.x() + offset.x(), solution.y() + offset.y(),
                       solution.theta() + offset.z());
-    PlicpResult other = rematch(start);
+    PlicpResult other = rematch(start, false);
     if (other.converged())
-      others.push_back(std::move(other));
+      others.emplace_back(start, std::move(other));
   }
   // A clearly better fit (more of the new scan on reference surfaces) is the solution, also
   // when it finds the scene degenerate (the weak match was a wrong minimum, valid by chance).
   constexpr double kClearlyMoreInliers = 0.02;
-  for (const PlicpResult& other : others) {
+  for (const auto& [start, other] : others) {
     if (!other.valid() && other.inlier_fraction > best.inlier_fraction + kClearlyMoreInliers)
-      return other;
+      return rematch(start, true);  // the same match, with its covariance
   }
   // Others as good, elsewhere (beyond 3 sigma): the data cannot tell them apart. A start that
   // finds the scene degenerate with as good a fit counts too: held along the weak direction
   // where it started, it fits there as well as the solution does.
   Eigen::Matrix3d spread = Eigen::Matrix3d::Zero();
-  for (const PlicpResult& other : others) {
+  for (const auto& [start, other] : others) {
     if (other.inlier_fraction < best.inlier_fraction - kClearlyMoreInliers)
       continue;
     Eigen::Vector3d d = other.T_ref_new.vector() - best.T_ref_new.vector();

@@ -308,10 +308,11 @@ TEST(GpExact, LargePosteriorPredictsItsVarianceInLowRankCloseToTheExactOne)
                    .lowRankVariance());
 }
 
-TEST(GpExact, MidSizePosteriorPredictsItsVarianceInLowRankAndKeepsTheExactMean)
+TEST(GpExact, MidSizePosteriorPredictsInLowRankLikeLargeOnes)
 {
-  // 900 distinct inputs (between kGpLowRankVarianceInputs and kGpProjectedMeanInputs, issue
-  // 33): the variance through the projection, as on large sets, the mean exact, O(n).
+  // 900 distinct inputs (issue 33: one fast path above M = 200 inputs): the variance through the
+  // projection and the mean projected as on large sets, the mean within 1 % of the noise sigma
+  // of the exact one (the check at construction) where the data are.
   std::mt19937 rng(12);
   std::uniform_real_distribution<double> uniform(-2.0, 2.0);
   const int n = 900;
@@ -329,13 +330,15 @@ TEST(GpExact, MidSizePosteriorPredictsItsVarianceInLowRankAndKeepsTheExactMean)
   const GpPosterior gp =
       GpPosterior::exact(kernel, theta, data.inputs, data.targets, data.variances);
   ASSERT_TRUE(gp.lowRankVariance());
-  EXPECT_FALSE(gp.projectedMean());
+  EXPECT_TRUE(gp.projectedMean());
   for (int i = 0; i < 300; ++i) {
     const Eigen::Vector2d x(1.2 * uniform(rng), 1.2 * uniform(rng));
     double mean = 0.0, variance = 0.0;
     gp.predict(x, &mean, &variance);
     const double exact_mean = kernel.cross(theta, data.inputs, x).col(0).dot(gp.weights());
-    EXPECT_NEAR(mean, exact_mean, 1e-9 * std::abs(exact_mean) + 1e-15) << x.transpose();
+    if (x.cwiseAbs().maxCoeff() < 1.8) {
+      EXPECT_NEAR(mean, exact_mean, 0.01 * std::sqrt(0.02)) << x.transpose();
+    }
     // Where the data are, exact to 1e-4 of the prior variance; beyond their edge (up to 0.4
     // beyond, where M = 200 of 900 inputs cover less) on the safe side by at most 15 %.
     const double exact = gp.exactVariance(x);

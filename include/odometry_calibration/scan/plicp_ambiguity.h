@@ -18,12 +18,16 @@ namespace odometry_calibration {
 /// above ambiguity_sigma_m or a heading sigma above ambiguity_sigma_rad.
 bool needsAmbiguityCheck(const PlicpResult& result, const PlicpOptions& options);
 
+/// One rematch of the check: a match from `start`, with the covariance only if `with_covariance`.
+using PlicpRematch = std::function<PlicpResult(const Pose2& start, bool with_covariance)>;
+
 /// Matches again from `best`'s solution moved by +-ambiguity_offset_m along its weakest
-/// direction and turned by +-ambiguity_offset_rad (`rematch`: one match from a start). A start
-/// that finds the scene degenerate with a clearly better fit (2 % more inliers) is returned
-/// instead; converged starts that fit as well (valid, or degenerate and held where they
-/// started) but lie beyond 3 sigma add d d^T to the covariance (d: their offset).
+/// direction and turned by +-ambiguity_offset_rad. A start that finds the scene degenerate with
+/// a clearly better fit (2 % more inliers) is returned instead (matched once more, with its
+/// covariance); converged starts that fit as well (valid, or degenerate and held where they
+/// started) but lie beyond 3 sigma add d d^T to the covariance (d: their offset). The rematches
+/// skip their own covariance, which only a returned start needs (issue 33).
 PlicpResult checkAmbiguity(PlicpResult best, const PlicpOptions& options,
-                           const std::function<PlicpResult(const Pose2& start)>& rematch);
+                           const PlicpRematch& rematch);
 
 }  // namespace odometry_calibration
