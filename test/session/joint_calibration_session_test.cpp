@@ -35,22 +35,28 @@ struct Recording : sim::SimulationSink
   void onTruth(const sim::TruthSample&) override {}
 };
 
-/// 40 s of the front/rear robot (config/sim/scenarios/diff_drive_front_rear.yaml: radii 0.076 /
-/// 0.078 m, separation 0.32 m, front laser (0.30, 0, 0), rear (-0.30, 0.02, pi + 0.03)), seed
-/// 36 (no other test's), recorded once for the suite.
+/// `duration_s` of the front/rear robot (config/sim/scenarios/diff_drive_front_rear.yaml: radii
+/// 0.076 / 0.078 m, separation 0.32 m, front laser (0.30, 0, 0), rear (-0.30, 0.02, pi + 0.03))
+/// with `seed` and `changes`.
+Recording simulateFrontRear(double duration_s, unsigned seed,
+                            const std::vector<sim::ParameterChange>& changes = {})
+{
+  Recording r;
+  sim::Scenario scenario = sim::loadScenarioYaml(
+      kConfig + "/sim/scenarios/diff_drive_front_rear.yaml", kConfig + "/sim/worlds");
+  scenario.duration_s = duration_s;
+  scenario.seed = seed;
+  scenario.changes = changes;
+  const sim::World world = sim::loadWorldYaml(scenario.world_path);
+  const auto robot = sim::makeRobot(scenario.robot);
+  sim::simulate(scenario, world, *robot, r);
+  return r;
+}
+
+/// 40 s of the front/rear robot, seed 36 (no other test's), recorded once for the suite.
 const Recording& frontRearDrive()
 {
-  static const Recording recording = [] {
-    Recording r;
-    sim::Scenario scenario = sim::loadScenarioYaml(
-        kConfig + "/sim/scenarios/diff_drive_front_rear.yaml", kConfig + "/sim/worlds");
-    scenario.duration_s = 40.0;
-    scenario.seed = 36;
-    const sim::World world = sim::loadWorldYaml(scenario.world_path);
-    const auto robot = sim::makeRobot(scenario.robot);
-    sim::simulate(scenario, world, *robot, r);
-    return r;
-  }();
+  static const Recording recording = simulateFrontRear(40.0, 36);
   return recording;
 }
 
@@ -67,20 +73,11 @@ const char* const kFrames[2] = {"laser_front", "laser_rear"};
 const Recording& rearLaserTurnedDrive()
 {
   static const Recording recording = [] {
-    Recording r;
-    sim::Scenario scenario = sim::loadScenarioYaml(
-        kConfig + "/sim/scenarios/diff_drive_front_rear.yaml", kConfig + "/sim/worlds");
-    scenario.duration_s = 231.0;
-    scenario.seed = 37;
     sim::ParameterChange turn;
     turn.at_s = 200.0;
     turn.laser_index = 1;
     turn.laser_yaw_change_rad = 2.0 * M_PI / 180.0;
-    scenario.changes = {turn};
-    const sim::World world = sim::loadWorldYaml(scenario.world_path);
-    const auto robot = sim::makeRobot(scenario.robot);
-    sim::simulate(scenario, world, *robot, r);
-    return r;
+    return simulateFrontRear(231.0, 37, {turn});
   }();
   return recording;
 }
