@@ -29,6 +29,19 @@ void rosLog(SessionLogLevel level, const std::string& text)
     ROS_ERROR("%s", text.c_str());
 }
 
+/// Subscribes `callback` to `topic`'s full message events, which keep the connection header (the
+/// publisher's name: issue 32). roscpp's subscribe<M> with a callable converts it to a callback
+/// of the bare message and rebuilds the event without a header ("unknown_publisher").
+template <class M, class Callback>
+ros::Subscriber subscribeEvents(ros::NodeHandle& handle, const std::string& topic,
+                                uint32_t queue_size, const Callback& callback,
+                                const ros::TransportHints& hints)
+{
+  using Event = const ros::MessageEvent<const M>&;
+  return handle.subscribe<M, Event>(topic, queue_size, boost::function<void(Event)>(callback),
+                                    ros::VoidConstPtr(), hints);
+}
+
 }  // namespace
 
 CalibrationNode::CalibrationNode(ros::NodeHandle handle, ros::NodeHandle private_handle)
@@ -147,36 +160,36 @@ void CalibrationNode::subscribeSource(std::size_t k)
   ros::Subscriber subscriber;
   switch (source.type) {
     case EgoMotionSource::kScan:
-      subscriber = handle_.subscribe<sensor_msgs::LaserScan>(
-          source.topic, 400,
+      subscriber = subscribeEvents<sensor_msgs::LaserScan>(
+          handle_, source.topic, 400,
           [this, k](const ros::MessageEvent<const sensor_msgs::LaserScan>& event) {
             onScan(k, event);
           },
-          ros::VoidConstPtr(), hints);
+          hints);
       break;
     case EgoMotionSource::kCloud:
-      subscriber = handle_.subscribe<sensor_msgs::PointCloud2>(
-          source.topic, 50,
+      subscriber = subscribeEvents<sensor_msgs::PointCloud2>(
+          handle_, source.topic, 50,
           [this, k](const ros::MessageEvent<const sensor_msgs::PointCloud2>& event) {
             onCloud(k, event);
           },
-          ros::VoidConstPtr(), hints);
+          hints);
       break;
     case EgoMotionSource::kOdometry:
-      subscriber = handle_.subscribe<nav_msgs::Odometry>(
-          source.topic, 400,
+      subscriber = subscribeEvents<nav_msgs::Odometry>(
+          handle_, source.topic, 400,
           [this, k](const ros::MessageEvent<const nav_msgs::Odometry>& event) {
             onOdometry(k, event);
           },
-          ros::VoidConstPtr(), hints);
+          hints);
       break;
     case EgoMotionSource::kPose:
-      subscriber = handle_.subscribe<geometry_msgs::PoseStamped>(
-          source.topic, 400,
+      subscriber = subscribeEvents<geometry_msgs::PoseStamped>(
+          handle_, source.topic, 400,
           [this, k](const ros::MessageEvent<const geometry_msgs::PoseStamped>& event) {
             onPose(k, event);
           },
-          ros::VoidConstPtr(), hints);
+          hints);
       break;
   }
   ego_subscribers_.push_back(subscriber);

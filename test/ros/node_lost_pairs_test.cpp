@@ -2,6 +2,9 @@
 // beyond its first rows (RLIMIT_FSIZE, which fails writes as a full disk does, also as root)
 // keeps the other pairs in memory; stopped with SIGINT it names how many were lost and exits 3.
 // Every pair it published on ~pairs is either a row of pairs.csv or counted as lost.
+// Also: the node knows who publishes the scans (issue 32): with `ego_motion.publisher` naming the
+// bag player it takes the player's scans (a node that lost the connection's caller id would
+// ignore every scan as another publisher's and collect nothing).
 #include <fcntl.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
@@ -36,10 +39,10 @@ std::string readText(const std::string& path)
   return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 }
 
-/// Starts the node as /lost_pairs with its files limited to kFileSizeLimit bytes, its output
-/// into `log_path`; returns its process id. (Between fork and exec only system calls: the
-/// parent's ROS threads may hold the allocator's lock.)
-pid_t startLimitedNode(const std::string& log_path)
+/// Starts the node as /lost_pairs with its files limited to kFileSizeLimit bytes (unless
+/// `unlimited`), its output into `log_path`; returns its process id. (Between fork and exec only
+/// system calls: the parent's ROS threads may hold the allocator's lock.)
+pid_t startLimitedNode(const std::string& log_path, bool unlimited = false)
 {
   const std::string node =
       std::string(ODOMETRY_CALIBRATION_TOOLS_DIR) + "/odometry_calibration_node";
@@ -50,7 +53,8 @@ pid_t startLimitedNode(const std::string& log_path)
   ::dup2(log, STDOUT_FILENO);
   ::dup2(log, STDERR_FILENO);
   const rlimit limit{kFileSizeLimit, kFileSizeLimit};
-  ::setrlimit(RLIMIT_FSIZE, &limit);
+  if (!unlimited)
+    ::setrlimit(RLIMIT_FSIZE, &limit);
   ::execl(node.c_str(), node.c_str(), "__name:=lost_pairs", static_cast<char*>(nullptr));
   ::_exit(127);
 }
@@ -120,6 +124,52 @@ TEST(NodeLostPairs, SigintNamesThePairsTheDiskDidNotTakeAndExitsNonzero)
       << log;
   RecordProperty("pairs_published", static_cast<int>(published));
   RecordProperty("pairs_lost", static_cast<int>(lost));
+}
+
+TEST(NodeLostPairs, TheConfiguredScanPublisherIsTaken)
+{
+  ros::NodeHandle handle, private_handle("~");
+  std::string bag, output_directory;
+  ASSERT_TRUE(private_handle.getParam("bag", bag));
+  ASSERT_TRUE(private_handle.getParam("output_directory", output_directory));
+  output_directory += "/chosen_publisher";
+  ASSERT_EQ(std::system(("mkdir -p " + output_directory).c_str()), 0);
+  // diff_drive.yaml with both inputs' publisher chosen: the bag player, named below.
+  std::string config = readText(ODOMETRY_CALIBRATION_CONFIG_DIR "/diff_drive.yaml");
+  const std::size_t ego = config.find("\nego_motion:\n");
+  ASSERT_NE(ego, std::string::npos);
+  config.insert(ego + 13, "  publisher: /bag_player\n");
+  config += "joint_state_publisher: /bag_player\n";
+  const std::string config_path = output_directory + "/chosen.yaml";
+  std::ofstream(config_path) << config;
+  ros::param::set("/lost_pairs/config", config_path);
+  ros::param::set("/lost_pairs/output_directory", output_directory);
+  std::atomic<std::size_t> published{0};
+  ros::Subscriber pairs = handle.subscribe<odometry_calibration::CalibrationPair>(
+      "/lost_pairs/pairs", 1000,
+      [&](const odometry_calibration::CalibrationPair::ConstPtr&) { ++published; });
+
+  const std::string log_path = output_directory + "/node.log";
+  const pid_t node = startLimitedNode(log_path, true);
+  ASSERT_GT(node, 0);
+  ASSERT_TRUE(ros::service::waitForService("/lost_pairs/calibrate", ros::Duration(20)))
+      << readText(log_path);
+  ASSERT_TRUE(waitFor([&] { return pairs.getNumPublishers() > 0; }, 10));
+  const std::string play = "rosbag play --quiet -r 4 -u 12 " + bag +
+                           " --wait-for-subscribers --topics /joint_states /scan "
+                           "__name:=bag_player > " +
+                           output_directory + "/play.log 2>&1";
+  ASSERT_EQ(std::system(play.c_str()), 0) << play;
+  for (std::size_t before = published + 1; before != published;) {
+    before = published;
+    waitFor([] { return false; }, 2.0);
+  }
+  ASSERT_EQ(::kill(node, SIGINT), 0);
+  EXPECT_EQ(waitExit(node, 20.0), 0);
+  const std::string log = readText(log_path);
+  // 12 s of the bag at 0.5 s keyframes: about 20 pairs, every scan taken.
+  EXPECT_GE(published, 15u) << log;
+  EXPECT_EQ(log.find("ignoring"), std::string::npos) << log;
 }
 
 }  // namespace
