@@ -424,6 +424,8 @@ CalibrationConfig configForSource(const CalibrationConfig& config, std::size_t i
   else
     one.ego_motion_topic = source.topic;
   one.ego_motion_publisher = source.publisher;
+  if (!config.ego_motion_sources.empty())
+    one.ego_motion_publisher_key = "ego_motion.sources[" + std::to_string(index) + "].publisher";
   one.collector.time_offset_s = source.time_offset_s;
   if (source.sensor_pose.size() == 3) {
     const Pose2 pose(source.sensor_pose[0], source.sensor_pose[1], source.sensor_pose[2]);

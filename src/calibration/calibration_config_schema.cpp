@@ -102,9 +102,11 @@ std::vector<SourceEntry> sourceEntries()
           "what the topic carries, as ego_motion.source",
           [](EgoMotionSourceConfig& c, const std::string& v) { c.type = sourceType(v); },
           [](const EgoMotionSourceConfig& c) { return sourceTypeName(c.type); }),
-      text<EgoMotionSourceConfig>("ego_motion.sources[].frame", "", true,
-                                  "the sensor's frame (base_link -> frame; empty: the messages')",
-                                  AT(frame)),
+      text<EgoMotionSourceConfig>(
+          "ego_motion.sources[].frame", "", true,
+          "the sensor's frame until its messages name theirs, which then win "
+          "(base_link -> frame); the health monitor's name for it",
+          AT(frame)),
       offset,
       pose,
       text<EgoMotionSourceConfig>("ego_motion.sources[].publisher", "", true,

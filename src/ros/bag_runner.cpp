@@ -190,11 +190,12 @@ void takeCounts(const CalibrationSession& session, const std::string& ego_topic,
   result->ignored_ego_messages = counts.ignored_ego_messages;
   result->ego_publisher = counts.ego_publisher;
   result->ignored_ego_publisher = counts.ignored_ego_publisher;
+  result->ego_publisher_key = config.ego_motion_publisher_key;
   requireChosenPublisher("joint_state_publisher", config.joint_state_publisher,
                          "JointState on '" + config.joint_state_topic + "'",
                          counts.encoder_publisher, counts.ignored_encoder_messages,
                          counts.ignored_encoder_publisher);
-  requireChosenPublisher("ego_motion.publisher", config.ego_motion_publisher,
+  requireChosenPublisher(config.ego_motion_publisher_key, config.ego_motion_publisher,
                          egoMessageType(config.ego_motion) + " on '" + ego_topic + "'",
                          counts.ego_publisher, counts.ignored_ego_messages,
                          counts.ignored_ego_publisher);
@@ -299,8 +300,8 @@ std::vector<std::string> bagRunNotes(const BagRunResult& run)
   if (run.ignored_ego_messages > 0) {
     notes.push_back("ignored " + std::to_string(run.ignored_ego_messages) + " " +
                     run.ego_message_type + " messages from " +
-                    publisherName(run.ignored_ego_publisher) +
-                    " (ego_motion.publisher: " + publisherName(run.ego_publisher) + ")");
+                    publisherName(run.ignored_ego_publisher) + " (" + run.ego_publisher_key + ": " +
+                    publisherName(run.ego_publisher) + ")");
   }
   if (run.bad_joint_states > 0) {
     notes.push_back("skipped " + std::to_string(run.bad_joint_states) +

@@ -55,7 +55,8 @@ CalibrationSession::CalibrationSession(const CalibrationConfig& config,
   inputs_ = std::make_unique<InputMonitor>(options_.topics, options_.silent_topic_timeout_s, now());
   publishers_ = std::make_unique<InputPublishers>(
       options_.topics,
-      std::array<std::string, 2>{config_.joint_state_publisher, config_.ego_motion_publisher});
+      std::array<std::string, 2>{config_.joint_state_publisher, config_.ego_motion_publisher},
+      std::array<std::string, 2>{"joint_state_publisher", config_.ego_motion_publisher_key});
   encoder_watch_ = std::make_unique<EncoderWatch>(channels_);
   if (!options_.output_directory.empty())
     fs::create_directories(options_.output_directory);

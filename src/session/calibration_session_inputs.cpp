@@ -51,8 +51,8 @@ bool CalibrationSession::admit(SessionInput input, const std::string& publisher,
                                                                : config_.ego_motion_publisher;
   if (ignored == 1 || ignored % 1000 == 0) {
     say(SessionLogLevel::kWarn, "ignoring " + inputs_->topic(input) + " from " +
-                                    publisherName(publisher) + " (" + publisherKey(input) + ": " +
-                                    publisherName(chosen) + "; " + std::to_string(ignored) +
+                                    publisherName(publisher) + " (" + publishers_->key(input) +
+                                    ": " + publisherName(chosen) + "; " + std::to_string(ignored) +
                                     " ignored so far)");
   }
   return false;

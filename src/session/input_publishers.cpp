@@ -7,17 +7,14 @@ std::string publisherName(const std::string& publisher)
   return publisher.empty() ? "(unnamed)" : "'" + publisher + "'";
 }
 
-std::string publisherKey(SessionInput input)
-{
-  return input == SessionInput::kEncoders ? "joint_state_publisher" : "ego_motion.publisher";
-}
-
 InputPublishers::InputPublishers(const std::array<std::string, 2>& topics,
-                                 const std::array<std::string, 2>& chosen)
+                                 const std::array<std::string, 2>& chosen,
+                                 const std::array<std::string, 2>& keys)
 {
   for (std::size_t i = 0; i < topics.size(); ++i) {
     inputs_[i].topic = topics[i];
     inputs_[i].chosen = chosen[i];
+    inputs_[i].key = keys[i];
   }
 }
 
@@ -33,7 +30,7 @@ std::string InputPublishers::conflictText(SessionInput input, const std::string&
   const std::string example = !entry.owner.empty() ? entry.owner
                               : encoders           ? "the driver"
                                                    : "the laser's driver";
-  text += "Set " + publisherKey(input) + ": <node> in the configuration (e.g. " + example +
+  text += "Set " + entry.key + ": <node> in the configuration (e.g. " + example +
           ") to use one and ignore the other, or remap or stop the other publisher";
   return text;
 }

@@ -213,5 +213,26 @@ TEST(InputPublishers, AReadingThatCarriesNoJointsStartsNoConflict)
   EXPECT_EQ(publishers.check(SessionInput::kEncoders, "/driver"), PublisherVerdict::kUse);
 }
 
+TEST(InputPublishers, ASecondPublisherOfOneOfSeveralSourcesNamesThatSourcesKey)
+{
+  // With ego_motion.sources the key is the source's: ego_motion.publisher is refused there.
+  const CalibrationConfig config = loadCalibrationConfig(kConfig + "/diff_drive_front_rear.yaml");
+  const CalibrationConfig rear = configForSource(config, 1);
+  EXPECT_EQ(rear.ego_motion_publisher_key, "ego_motion.sources[1].publisher");
+  EXPECT_EQ(configForSource(config, 0).ego_motion_publisher_key, "ego_motion.sources[0].publisher");
+  InputPublishers publishers({"/joint_states", rear.scan_topic}, {"", ""},
+                             {"joint_state_publisher", rear.ego_motion_publisher_key});
+  EXPECT_EQ(publishers.check(SessionInput::kEgoMotion, "/rear_driver"), PublisherVerdict::kUse);
+  EXPECT_EQ(publishers.check(SessionInput::kEgoMotion, "/stale"), PublisherVerdict::kConflict);
+  EXPECT_NE(publishers.conflict().find("on /scan_rear: '/rear_driver' and '/stale'"),
+            std::string::npos)
+      << publishers.conflict();
+  EXPECT_NE(publishers.conflict().find("Set ego_motion.sources[1].publisher: <node>"),
+            std::string::npos)
+      << publishers.conflict();
+  // One source without a list: the key of today.
+  EXPECT_EQ(CalibrationConfig().ego_motion_publisher_key, "ego_motion.publisher");
+}
+
 }  // namespace
 }  // namespace odometry_calibration

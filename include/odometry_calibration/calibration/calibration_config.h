@@ -81,6 +81,9 @@ struct CalibrationConfig
   /// The node whose ego-motion messages are used when two publish the topic (issue 32, as
   /// joint_state_publisher; empty: one publisher only, a second is refused).
   std::string ego_motion_publisher;
+  /// The key that chooses it, for messages: ego_motion.publisher, or
+  /// ego_motion.sources[k].publisher in configForSource's configuration of source k of a list.
+  std::string ego_motion_publisher_key = "ego_motion.publisher";
   /// A LaserScan with more rays is skipped and counted (`ego_motion.max_scan_rays`).
   long long max_scan_rays = 10000;
   CloudToScanOptions cloud;             ///< cloud source: how a cloud becomes a scan

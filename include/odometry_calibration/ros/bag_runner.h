@@ -44,6 +44,7 @@ struct BagRunResult
   /// the one used (connection callerids).
   std::size_t ignored_ego_messages = 0;
   std::string ignored_ego_publisher, ego_publisher;
+  std::string ego_publisher_key = "ego_motion.publisher";  ///< the key choosing it (notes)
   std::string ego_message_type;  ///< "LaserScan", "PointCloud2" or "pose", for messages
   std::size_t bad_clouds = 0;    ///< skipped ego-motion messages (clouds: layout, band, frame)
   std::string first_bad_cloud;   ///< the first such problem, in words

@@ -28,9 +28,12 @@ class InputPublishers
 {
 public:
   /// `topics`: the encoder and ego-motion topics' names (for messages); `chosen`: each input's
-  /// configured publisher (empty: the first one seen, a second is a conflict).
+  /// configured publisher (empty: the first one seen, a second is a conflict); `keys`: the
+  /// configuration keys that choose them (for messages).
   InputPublishers(const std::array<std::string, 2>& topics,
-                  const std::array<std::string, 2>& chosen);
+                  const std::array<std::string, 2>& chosen,
+                  const std::array<std::string, 2>& keys = {"joint_state_publisher",
+                                                            "ego_motion.publisher"});
 
   /// The verdict for a message of `input` from `publisher` ("" when the front end cannot tell:
   /// an unnamed publisher, still one publisher). Counts it. `carries_data` false: a message
@@ -51,11 +54,14 @@ public:
   {
     return inputs_[index(input)].other;
   }
+  /// The configuration key choosing `input`'s publisher (joint_state_publisher,
+  /// ego_motion.publisher or ego_motion.sources[k].publisher).
+  const std::string& key(SessionInput input) const { return inputs_[index(input)].key; }
 
 private:
   struct Input
   {
-    std::string topic, chosen, owner, other;
+    std::string topic, chosen, key, owner, other;
     bool has_owner = false, refused = false;
     std::size_t used = 0, ignored = 0;
   };
@@ -65,10 +71,6 @@ private:
   std::array<Input, 2> inputs_;
   std::string conflict_;
 };
-
-/// The configuration key choosing `input`'s publisher: joint_state_publisher for the encoders,
-/// ego_motion.publisher (ego_motion.sources[].publisher with several sources) for the sensor.
-std::string publisherKey(SessionInput input);
 
 /// A publisher's name for messages: quoted, "(unnamed)" for "".
 std::string publisherName(const std::string& publisher);
