@@ -6,12 +6,9 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <set>
 #include <string>
 #include <vector>
-
-#include <sys/wait.h>
 
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <gtest/gtest.h>
@@ -27,21 +24,14 @@
 namespace odometry_calibration {
 namespace {
 
+using test::fileLines;
 using test::waitFor;
-
-std::size_t lines(const std::string& path)
-{
-  std::ifstream in(path);
-  std::size_t count = 0;
-  for (std::string line; std::getline(in, line);)
-    ++count;
-  return count;
-}
 
 /// The line counts of the node's pairs files, one per source.
 std::vector<std::size_t> pairFileLines(const std::string& node_output)
 {
-  return {lines(node_output + "/source_0/pairs.csv"), lines(node_output + "/source_1/pairs.csv")};
+  return {fileLines(node_output + "/source_0/pairs.csv"),
+          fileLines(node_output + "/source_1/pairs.csv")};
 }
 
 /// The yaw of a planar rotation's quaternion [rad].
@@ -95,13 +85,8 @@ TEST(NodeFrontRear, NodeAndCalibrateBagGiveTheSameWheelsAndBothLaserPoses)
                            "/scan_rear > " +
                            output_directory + "/play.log 2>&1";
   ASSERT_EQ(std::system(play.c_str()), 0) << play;
-  std::vector<std::size_t> before = pairFileLines(node_output);
-  for (int quiet_checks = 0, checks = 0; quiet_checks < 5 && checks < 60; ++checks) {
-    waitFor([] { return false; }, 1.0);
-    const std::vector<std::size_t> now = pairFileLines(node_output);
-    quiet_checks = now == before ? quiet_checks + 1 : 0;
-    before = now;
-  }
+  test::waitUntilSettled<std::vector<std::size_t>>([&] { return pairFileLines(node_output); }, 5,
+                                                   60);
   // Each laser's own statuses on /diagnostics, named by its topic.
   EXPECT_EQ(statuses.names().count("/front_rear: calibration (/scan_front)"), 1u);
   EXPECT_EQ(statuses.names().count("/front_rear: calibration (/scan_rear)"), 1u);
@@ -119,12 +104,8 @@ TEST(NodeFrontRear, NodeAndCalibrateBagGiveTheSameWheelsAndBothLaserPoses)
   ASSERT_TRUE(save.response.success) << save.response.message;
 
   const std::string bag_output = output_directory + "/calibrate_bag";
-  const std::string command = std::string(ODOMETRY_CALIBRATION_TOOLS_DIR) +
-                              "/calibrate_bag --quiet --config " + config + " --output-dir " +
-                              bag_output + " " + bag + " > " + bag_output + ".log 2>&1";
-  const int status = std::system(command.c_str());
-  ASSERT_TRUE(WIFEXITED(status) && (WEXITSTATUS(status) == 0 || WEXITSTATUS(status) == 4))
-      << command;
+  ASSERT_TRUE(test::runCalibrateBag(config, bag, bag_output))
+      << test::readText(bag_output + ".log");
 
   const YAML::Node node_result = YAML::LoadFile(node_output + "/result.yaml");
   const YAML::Node bag_result = YAML::LoadFile(bag_output + "/result.yaml");
@@ -178,9 +159,7 @@ TEST(NodeFrontRear, NodeAndCalibrateBagGiveTheSameWheelsAndBothLaserPoses)
     EXPECT_TRUE(std::filesystem::is_regular_file(node_output + "/source_" + std::to_string(s) +
                                                  "/result.yaml"));
   }
-  std::ifstream urdf(node_output + "/laser_joints.urdf");
-  const std::string urdf_text((std::istreambuf_iterator<char>(urdf)),
-                              std::istreambuf_iterator<char>());
+  const std::string urdf_text = test::readText(node_output + "/laser_joints.urdf");
   EXPECT_NE(urdf_text.find("<child link=\"laser_rear\"/>"), std::string::npos) << urdf_text;
   // The joint wheels near the truth (radii 0.076 / 0.078 m, separation 0.32 m) within 0.5 %.
   const YAML::Node model = node_result["model"];

@@ -15,7 +15,6 @@
 #include <csignal>
 #include <cstdlib>
 #include <fstream>
-#include <iterator>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -27,17 +26,12 @@
 namespace odometry_calibration {
 namespace {
 
+using test::readText;
 using test::waitFor;
 
 /// pairs.csv may not grow beyond this [bytes]: its three header lines and a few rows (a row
 /// holds its encoder samples: about 1.5 kB at 50 Hz and 0.5 s keyframes).
 constexpr rlim_t kFileSizeLimit = 8000;
-
-std::string readText(const std::string& path)
-{
-  std::ifstream in(path);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
 
 /// Starts the node as /lost_pairs with its files limited to kFileSizeLimit bytes (unless
 /// `unlimited`), its output into `log_path`; returns its process id. (Between fork and exec only
@@ -73,6 +67,41 @@ int waitExit(pid_t pid, double timeout_s)
   return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
 }
 
+/// Starts the node (startLimitedNode, its log `output_directory`/node.log), plays the first
+/// `play_s` seconds of `bag` at 4x with `player_arguments` appended, waits until no new pair
+/// came on ~pairs (`pairs`, counted into `published`) for 2 s, then stops the node with SIGINT;
+/// returns its exit status (-1 when a step failed, which is reported).
+int playToStoppedNode(const std::string& bag, const std::string& output_directory, int play_s,
+                      const std::string& player_arguments, bool unlimited,
+                      const ros::Subscriber& pairs, const std::atomic<std::size_t>& published)
+{
+  const std::string log_path = output_directory + "/node.log";
+  const pid_t node = startLimitedNode(log_path, unlimited);
+  if (node <= 0) {
+    ADD_FAILURE() << "fork failed";
+    return -1;
+  }
+  if (!ros::service::waitForService("/lost_pairs/calibrate", ros::Duration(20)) ||
+      !waitFor([&] { return pairs.getNumPublishers() > 0; }, 10)) {
+    ADD_FAILURE() << "the node did not come up:\n" << readText(log_path);
+    ::kill(node, SIGKILL);
+    waitExit(node, 5.0);
+    return -1;
+  }
+  const std::string play = "rosbag play --quiet -r 4 -u " + std::to_string(play_s) + " " + bag +
+                           " --wait-for-subscribers --topics /joint_states /scan " +
+                           player_arguments + " > " + output_directory + "/play.log 2>&1";
+  if (std::system(play.c_str()) != 0)
+    ADD_FAILURE() << play;
+  // Until the matching queue is done: no new pair for 2 s.
+  test::waitUntilSettled<std::size_t>([&] { return published.load(); }, 2, 120);
+  if (::kill(node, SIGINT) != 0) {
+    ADD_FAILURE() << "cannot signal the node";
+    return -1;
+  }
+  return waitExit(node, 20.0);
+}
+
 TEST(NodeLostPairs, SigintNamesThePairsTheDiskDidNotTakeAndExitsNonzero)
 {
   ros::NodeHandle handle, private_handle("~");
@@ -86,25 +115,8 @@ TEST(NodeLostPairs, SigintNamesThePairsTheDiskDidNotTakeAndExitsNonzero)
       "/lost_pairs/pairs", 1000,
       [&](const odometry_calibration::CalibrationPair::ConstPtr&) { ++published; });
 
-  const std::string log_path = output_directory + "/node.log";
-  const pid_t node = startLimitedNode(log_path);
-  ASSERT_GT(node, 0);
-  ASSERT_TRUE(ros::service::waitForService("/lost_pairs/calibrate", ros::Duration(20)))
-      << readText(log_path);
-  ASSERT_TRUE(waitFor([&] { return pairs.getNumPublishers() > 0; }, 10));
-  const std::string play = "rosbag play --quiet -r 4 -u 24 " + bag +
-                           " --wait-for-subscribers --topics /joint_states /scan > " +
-                           output_directory + "/play.log 2>&1";
-  ASSERT_EQ(std::system(play.c_str()), 0) << play;
-  // Until the matching queue is done: no new pair for 2 s.
-  for (std::size_t before = published + 1; before != published;) {
-    before = published;
-    waitFor([] { return false; }, 2.0);
-  }
-
-  ASSERT_EQ(::kill(node, SIGINT), 0);
-  const int status = waitExit(node, 20.0);
-  const std::string log = readText(log_path);
+  const int status = playToStoppedNode(bag, output_directory, 24, "", false, pairs, published);
+  const std::string log = readText(output_directory + "/node.log");
   EXPECT_EQ(status, 3) << log;
 
   // pairs.csv: three header lines, whole rows only, within the limit.
@@ -149,24 +161,10 @@ TEST(NodeLostPairs, TheConfiguredScanPublisherIsTaken)
       "/lost_pairs/pairs", 1000,
       [&](const odometry_calibration::CalibrationPair::ConstPtr&) { ++published; });
 
-  const std::string log_path = output_directory + "/node.log";
-  const pid_t node = startLimitedNode(log_path, true);
-  ASSERT_GT(node, 0);
-  ASSERT_TRUE(ros::service::waitForService("/lost_pairs/calibrate", ros::Duration(20)))
-      << readText(log_path);
-  ASSERT_TRUE(waitFor([&] { return pairs.getNumPublishers() > 0; }, 10));
-  const std::string play = "rosbag play --quiet -r 4 -u 12 " + bag +
-                           " --wait-for-subscribers --topics /joint_states /scan "
-                           "__name:=bag_player > " +
-                           output_directory + "/play.log 2>&1";
-  ASSERT_EQ(std::system(play.c_str()), 0) << play;
-  for (std::size_t before = published + 1; before != published;) {
-    before = published;
-    waitFor([] { return false; }, 2.0);
-  }
-  ASSERT_EQ(::kill(node, SIGINT), 0);
-  EXPECT_EQ(waitExit(node, 20.0), 0);
-  const std::string log = readText(log_path);
+  EXPECT_EQ(
+      playToStoppedNode(bag, output_directory, 12, "__name:=bag_player", true, pairs, published),
+      0);
+  const std::string log = readText(output_directory + "/node.log");
   // 12 s of the bag at 0.5 s keyframes: about 20 pairs, every scan taken.
   EXPECT_GE(published, 15u) << log;
   EXPECT_EQ(log.find("ignoring"), std::string::npos) << log;

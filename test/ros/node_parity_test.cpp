@@ -5,13 +5,9 @@
 // down-weighted pairs alike (issue 34).
 #include <cmath>
 #include <cstdlib>
-#include <fstream>
-#include <iterator>
 #include <map>
 #include <string>
 #include <vector>
-
-#include <sys/wait.h>
 
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <gtest/gtest.h>
@@ -24,16 +20,9 @@
 namespace odometry_calibration {
 namespace {
 
+using test::fileLines;
+using test::readText;
 using test::waitFor;
-
-std::size_t lines(const std::string& path)
-{
-  std::ifstream in(path);
-  std::size_t count = 0;
-  for (std::string line; std::getline(in, line);)
-    ++count;
-  return count;
-}
 
 const std::vector<std::string> kNodes = {"fixed", "intervals", "offset"};
 
@@ -42,7 +31,7 @@ std::vector<std::size_t> pairFileLines(const std::string& output_directory)
 {
   std::vector<std::size_t> counts;
   for (const std::string& name : kNodes)
-    counts.push_back(lines(output_directory + "/" + name + "/pairs.csv"));
+    counts.push_back(fileLines(output_directory + "/" + name + "/pairs.csv"));
   return counts;
 }
 
@@ -63,13 +52,8 @@ protected:
                              " --wait-for-subscribers --topics /joint_states /scan > " +
                              output_directory + "/play.log 2>&1";
     ASSERT_EQ(std::system(play.c_str()), 0) << play;
-    std::vector<std::size_t> before = pairFileLines(output_directory);
-    for (int quiet_checks = 0, checks = 0; quiet_checks < 5 && checks < 60; ++checks) {
-      waitFor([] { return false; }, 1.0);
-      const std::vector<std::size_t> now = pairFileLines(output_directory);
-      quiet_checks = now == before ? quiet_checks + 1 : 0;
-      before = now;
-    }
+    test::waitUntilSettled<std::vector<std::size_t>>(
+        [&] { return pairFileLines(output_directory); }, 5, 60);
   }
 };
 
@@ -89,24 +73,16 @@ TEST_P(NodeParity, NodeAndCalibrateBagGiveTheSamePairsAndParameters)
   ASSERT_TRUE(fit.response.success) << fit.response.message;
 
   const std::string bag_output = output_directory + "/calibrate_bag_" + name;
-  const std::string command = std::string(ODOMETRY_CALIBRATION_TOOLS_DIR) +
-                              "/calibrate_bag --quiet --config " + config + " --output-dir " +
-                              bag_output + " " + bag + " > " + bag_output + ".log 2>&1";
-  const int status = std::system(command.c_str());
-  ASSERT_TRUE(WIFEXITED(status) && (WEXITSTATUS(status) == 0 || WEXITSTATUS(status) == 4))
-      << command;
+  ASSERT_TRUE(test::runCalibrateBag(config, bag, bag_output)) << readText(bag_output + ".log");
 
   // The same pairs collected (the node's file holds every pair at keyframes.interval_s)...
   const YAML::Node node_fit = YAML::LoadFile(node_output + "/last_fit.yaml");
   const YAML::Node bag_fit = YAML::LoadFile(bag_output + "/result.yaml");
   // (three header lines: the format, the joints, the columns)
-  EXPECT_EQ(fit.response.report.pairs_collected + 3, lines(node_output + "/pairs.csv"));
+  EXPECT_EQ(fit.response.report.pairs_collected + 3, fileLines(node_output + "/pairs.csv"));
   if (name == "fixed") {  // the bag tool writes the fitted pairs: all of them here, as collected
-    std::ifstream node_pairs(node_output + "/pairs.csv"), bag_pairs(bag_output + "/pairs.csv");
-    const std::string node_text((std::istreambuf_iterator<char>(node_pairs)),
-                                std::istreambuf_iterator<char>());
-    const std::string bag_text((std::istreambuf_iterator<char>(bag_pairs)),
-                               std::istreambuf_iterator<char>());
+    const std::string node_text = readText(node_output + "/pairs.csv");
+    const std::string bag_text = readText(bag_output + "/pairs.csv");
     EXPECT_GT(node_text.size(), 1000u);
     EXPECT_EQ(node_text, bag_text);
   }
@@ -128,9 +104,7 @@ TEST_P(NodeParity, NodeAndCalibrateBagGiveTheSamePairsAndParameters)
       "| pairs | " + node_fit["fit"]["pairs"].as<std::string>() + " used, " +
       node_fit["fit"]["rejected"].as<std::string>() + " rejected, " +
       node_fit["fit"]["down_weighted"].as<std::string>() + " down-weighted |";
-  std::ifstream bag_report(bag_output + "/report.md");
-  const std::string report_text((std::istreambuf_iterator<char>(bag_report)),
-                                std::istreambuf_iterator<char>());
+  const std::string report_text = readText(bag_output + "/report.md");
   EXPECT_NE(report_text.find(counts_row), std::string::npos) << counts_row;
   RecordProperty("pairs_fitted", node_fit["fit"]["pairs"].as<std::string>());
 }

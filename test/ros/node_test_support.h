@@ -1,9 +1,14 @@
 // Helpers of the live node's rostests: waiting on ROS time-outs in wall time, the player's
-// end, the node's log lines, its process id.
+// end, the node's log lines, its process id, the files it writes, calibrate_bag beside it.
 #pragma once
 
+#include <sys/wait.h>
+
 #include <chrono>
+#include <cstdlib>
+#include <fstream>
 #include <functional>
+#include <iterator>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -26,6 +31,49 @@ inline bool waitFor(const std::function<bool()>& done, double timeout_s)
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   return done();
+}
+
+/// The whole text of a file ("" when it cannot be read).
+inline std::string readText(const std::string& path)
+{
+  std::ifstream in(path);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+/// The number of lines of a file (0 when it cannot be read).
+inline std::size_t fileLines(const std::string& path)
+{
+  std::ifstream in(path);
+  std::size_t count = 0;
+  for (std::string line; std::getline(in, line);)
+    ++count;
+  return count;
+}
+
+/// Waits until `counts()` (e.g. pairs files' line counts, pairs published) stays the same for
+/// `quiet_s` wall seconds in a row, or `timeout_s` have passed: the node's matching queue is done.
+template <typename Counts>
+void waitUntilSettled(const std::function<Counts()>& counts, int quiet_s, int timeout_s)
+{
+  Counts before = counts();
+  for (int quiet = 0, waited = 0; quiet < quiet_s && waited < timeout_s; ++waited) {
+    waitFor([] { return false; }, 1.0);
+    const Counts now = counts();
+    quiet = now == before ? quiet + 1 : 0;
+    before = now;
+  }
+}
+
+/// Runs calibrate_bag on `bag` with `config` into `output_directory` (its output into
+/// `output_directory`.log); returns whether it succeeded: exit 0, or 4 (fitted with warnings).
+inline bool runCalibrateBag(const std::string& config, const std::string& bag,
+                            const std::string& output_directory)
+{
+  const std::string command = std::string(ODOMETRY_CALIBRATION_TOOLS_DIR) +
+                              "/calibrate_bag --quiet --config " + config + " --output-dir " +
+                              output_directory + " " + bag + " > " + output_directory + ".log 2>&1";
+  const int status = std::system(command.c_str());
+  return WIFEXITED(status) && (WEXITSTATUS(status) == 0 || WEXITSTATUS(status) == 4);
 }
 
 /// Whether a node of that name is registered with the master.

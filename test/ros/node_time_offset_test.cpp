@@ -7,8 +7,6 @@
 #include <cstdlib>
 #include <filesystem>
 
-#include <sys/wait.h>
-
 #include <gtest/gtest.h>
 #include <ros/ros.h>
 #include <yaml-cpp/yaml.h>
@@ -64,13 +62,8 @@ TEST(NodeTimeOffset, CalibrateEstimatesTheOffsetLikeTheBagTool)
 
   // calibrate_bag on the same bag and configuration.
   const std::string bag_output = output_directory + "/calibrate_bag";
-  const std::string command = std::string(ODOMETRY_CALIBRATION_TOOLS_DIR) +
-                              "/calibrate_bag --quiet --config " + config + " --output-dir " +
-                              bag_output + " " + bag + " > " + output_directory +
-                              "/calibrate_bag.log 2>&1";
-  const int status = std::system(command.c_str());
-  ASSERT_TRUE(WIFEXITED(status) && (WEXITSTATUS(status) == 0 || WEXITSTATUS(status) == 4))
-      << command;  // 4: converged with warnings
+  ASSERT_TRUE(test::runCalibrateBag(config, bag, bag_output))
+      << test::readText(bag_output + ".log");
   const YAML::Node result = YAML::LoadFile(bag_output + "/result.yaml");
   const double bag_tau_s = result["time_offset_s"].as<double>();
   EXPECT_LE(std::abs(tau_s - bag_tau_s), sigma_s)
