@@ -289,10 +289,11 @@ std::vector<Entry> keyframeEntries()
       number<CalibrationConfig>(
           "keyframes.consistency_rotation_rad", 0.02, "rad", rangeClosed(1e-4, M_PI),
           "largest disagreement of the two, rotation", AT(collector.consistency_rotation_rad)),
-      integer<CalibrationConfig>("keyframes.consecutive_max_rays", 0, rangeClosed(0, 1000000),
-                                 "the consecutive matches use at most this many rays, every "
-                                 "k-th (0: all; the keyframe matches use all)",
-                                 AT(collector.consecutive_max_rays)),
+      integer<CalibrationConfig>(
+          "keyframes.consecutive_max_rays", 0, rangeClosed(0, 1000000),
+          "the consecutive matches use at most this many rays, every "
+          "k-th (0: all; else at least scan_matching.min_points; the keyframe matches use all)",
+          AT(collector.consecutive_max_rays)),
       flag<CalibrationConfig>("keyframes.estimate_time_offset", false,
                               "search the encoder-sensor time offset in time_offset_search_s",
                               AT(estimate_time_offset)),

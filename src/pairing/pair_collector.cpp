@@ -57,6 +57,10 @@ void validate(const CollectorOptions& o)
   require(!o.pair_motion_from_chain || o.check_consistency,
           "pair_motion_from_chain needs check_consistency (the consecutive matches)");
   require(o.consecutive_max_rays >= 0, "consecutive_max_rays must be >= 0 (0: every ray)");
+  // (Fewer rays than a match needs would fail every coarse match and redo it with every ray.)
+  require(o.consecutive_max_rays == 0 || o.consecutive_max_rays >= o.plicp.min_points,
+          "consecutive_max_rays must be 0 (every ray) or at least scan_matching.min_points (a "
+          "match needs that many points)");
   validate(o.plicp);
 }
 

@@ -251,6 +251,16 @@ TEST(CalibrationConfig, ErrorsNameTheKey)
             std::string::npos);
   EXPECT_NE(message(joints + "keyframes: {fit_intervals_s: [0, 1]}\n").find("fit_intervals_s"),
             std::string::npos);
+  // The consecutive chain's rays: every ray (0) or enough for a match (min_points, 20).
+  EXPECT_EQ(message(joints + "keyframes: {consecutive_max_rays: 20}\n"), "");
+  EXPECT_NE(message(joints + "keyframes: {consecutive_max_rays: 19}\n")
+                .find("keyframes: consecutive_max_rays must be 0 (every ray) or at least "
+                      "scan_matching.min_points"),
+            std::string::npos)
+      << message(joints + "keyframes: {consecutive_max_rays: 19}\n");
+  EXPECT_EQ(message(joints + "keyframes: {consecutive_max_rays: 10}\nscan_matching: {min_points: "
+                             "10}\n"),
+            "");
   EXPECT_NE(message(joints + "scan_matching: {segment_fallback_max_surface_points: -1}\n")
                 .find("segment_fallback_max_surface_points"),
             std::string::npos);
