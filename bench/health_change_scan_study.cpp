@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
+#include "health_study_table.h"
 #include "odometry_calibration/calibration/calibration_config.h"
-#include "odometry_calibration/common/arguments.h"
 #include "odometry_calibration/factory/model_factory.h"
 #include "odometry_calibration/pairing/pair_collector.h"
 #include "odometry_calibration/sim/simulator.h"
@@ -25,6 +25,7 @@ namespace {
 
 using namespace odometry_calibration;
 using namespace odometry_calibration::health_runs;
+using namespace odometry_calibration::health_study;
 
 const std::string kConfig = ODOMETRY_CALIBRATION_CONFIG_DIR;
 
@@ -129,39 +130,16 @@ std::string delay(double seconds)
   return text;
 }
 
-std::string cell(const ChangeVerdict& verdict)
-{
-  if (!verdict.significant)
-    return "nothing significant";
-  if (!verdict.kind_told)
-    return "wheel or mounting: cannot tell";
-  const ChangeCandidate& best = verdict.candidates.front();
-  if (!verdict.quantity_told)
-    return std::string(verdict.kind == ChangeKind::kWheel ? "wheels" : "mounting") +
-           ": cannot tell which";
-  char value[64];
-  std::snprintf(value, sizeof(value), " (%+.2f +- %.2f %s)", best.estimate, best.sigma,
-                best.hypothesis.unit.c_str());
-  return best.hypothesis.name + value;
-}
-
 }  // namespace
 
 int main(int argc, char** argv)
 {
   std::vector<std::string> seed_texts = {"301", "302", "303", "304", "305"};
   double within_s = 30.0;
-  try {
-    ArgumentParser parser;
-    parser.listOption("--seeds", &seed_texts).positiveNumber("--within", &within_s);
-    if (!parser.parse(argc, argv)) {
-      std::cout << "usage: study_health_changes_scans [--seeds 301,302,...] [--within S]\n";
-      return 0;
-    }
-  } catch (const std::exception& error) {
-    std::cerr << "study_health_changes_scans: " << error.what() << "\n";
-    return 2;
-  }
+  if (const int status =
+          parseSeedSweep(argc, argv, "study_health_changes_scans", &seed_texts, &within_s);
+      status >= 0)
+    return status;
   std::printf(
       "| change | seed | alarm after change [s] | cause at the alarm | cause %.0f s after "
       "the change | statistic | heading chart ready after the fit [s] |\n"
@@ -174,8 +152,8 @@ int main(int argc, char** argv)
       const RunResult r = runWithScans(change, seed, within_s);
       std::printf("| %s | %u | %s | %s | %s | %.2f | %.1f |\n", changeName(change), seed,
                   r.alarm ? delay(r.alarm_delay_s).c_str() : "none",
-                  r.alarm ? cell(r.at_alarm).c_str() : "", r.alarm ? cell(r.later).c_str() : "",
-                  r.statistic, r.heading_ready_s);
+                  r.alarm ? verdictCell(r.at_alarm).c_str() : "",
+                  r.alarm ? verdictCell(r.later).c_str() : "", r.statistic, r.heading_ready_s);
       std::fflush(stdout);
     }
   }

@@ -13,30 +13,14 @@
 #include <string>
 #include <vector>
 
-#include "odometry_calibration/common/arguments.h"
+#include "health_study_table.h"
 #include "support/health_change_run.h"
 
 namespace {
 
 using namespace odometry_calibration;
 using namespace odometry_calibration::health_runs;
-
-/// "right wheel radius (+2.01 +- 0.10 %)", "wheels: cannot tell which", "cannot tell".
-std::string verdictCell(const ChangeVerdict& verdict)
-{
-  if (!verdict.significant)
-    return "nothing significant";
-  const ChangeCandidate& best = verdict.candidates.front();
-  if (!verdict.kind_told)
-    return "wheel or mounting: cannot tell";
-  char value[64];
-  std::snprintf(value, sizeof(value), " (%+.2f +- %.2f %s)", best.estimate, best.sigma,
-                best.hypothesis.unit.c_str());
-  if (!verdict.quantity_told)
-    return std::string(verdict.kind == ChangeKind::kWheel ? "wheels" : "mounting") +
-           ": cannot tell which";
-  return best.hypothesis.name + value;
-}
+using namespace odometry_calibration::health_study;
 
 struct Tally
 {
@@ -50,17 +34,9 @@ int main(int argc, char** argv)
 {
   std::vector<std::string> seed_texts = {"201", "202", "203", "204", "205"};
   double within_s = 30.0;
-  try {
-    ArgumentParser parser;
-    parser.listOption("--seeds", &seed_texts).positiveNumber("--within", &within_s);
-    if (!parser.parse(argc, argv)) {
-      std::cout << "usage: study_health_changes [--seeds 201,202,...] [--within S]\n";
-      return 0;
-    }
-  } catch (const std::exception& error) {
-    std::cerr << "study_health_changes: " << error.what() << "\n";
-    return 2;
-  }
+  if (const int status = parseSeedSweep(argc, argv, "study_health_changes", &seed_texts, &within_s);
+      status >= 0)
+    return status;
   const std::vector<Change> changes = {Change::kRightRadius, Change::kSeparation, Change::kLaserYaw,
                                        Change::kLaserX, Change::kNone};
   std::printf(

@@ -12,34 +12,14 @@
 #include <string>
 #include <vector>
 
-#include "odometry_calibration/common/arguments.h"
+#include "health_study_table.h"
 #include "support/front_rear_health_run.h"
 
 namespace {
 
 using namespace odometry_calibration;
 using namespace odometry_calibration::front_rear_health;
-
-/// The verdict in a cell: the named quantity with its estimate, or what could not be told.
-std::string cell(const ChangeVerdict& verdict)
-{
-  if (!verdict.significant)
-    return "nothing significant";
-  if (!verdict.kind_told)
-    return "wheel or mounting: cannot tell";
-  const ChangeCandidate& best = verdict.candidates.front();
-  if (!verdict.quantity_told) {
-    if (verdict.kind == ChangeKind::kWheel)
-      return "wheels: cannot tell which";
-    return verdict.sensor >= 0 ? kLaserNames.at(static_cast<std::size_t>(verdict.sensor)) +
-                                     " mounting: cannot tell which"
-                               : "mounting: cannot tell which laser";
-  }
-  char value[64];
-  std::snprintf(value, sizeof(value), " (%+.2f +- %.2f %s)", best.estimate, best.sigma,
-                best.hypothesis.unit.c_str());
-  return best.hypothesis.name + value;
-}
+using namespace odometry_calibration::health_study;
 
 /// Per change: runs, alarms within the window, and how the cause read at the alarm and after.
 struct Tally
@@ -75,17 +55,9 @@ int main(int argc, char** argv)
 {
   std::vector<std::string> seed_texts = {"631", "632", "633", "634", "635"};
   double within_s = 30.0;
-  try {
-    ArgumentParser parser;
-    parser.listOption("--seeds", &seed_texts).positiveNumber("--within", &within_s);
-    if (!parser.parse(argc, argv)) {
-      std::cout << "usage: study_health_sensors [--seeds 631,632,...] [--within S]\n";
-      return 0;
-    }
-  } catch (const std::exception& error) {
-    std::cerr << "study_health_sensors: " << error.what() << "\n";
-    return 2;
-  }
+  if (const int status = parseSeedSweep(argc, argv, "study_health_sensors", &seed_texts, &within_s);
+      status >= 0)
+    return status;
   std::printf(
       "| change | seed | alarm after change [s] | chart that fired | cause at the alarm | cause "
       "%.0f s after the change | statistic |\n|---|---|---|---|---|---|---|\n",
@@ -113,8 +85,8 @@ int main(int argc, char** argv)
         std::snprintf(delay, sizeof(delay), "%.1f", r.alarm_delay_s);
       const std::string chart = r.alarm ? kLaserNames.at(r.alarm_sensor) : "";
       std::printf("| %s | %u | %s | %s | %s | %s | %.2f |\n", changeName(changes[c]), run.seed,
-                  delay, chart.c_str(), r.alarm ? cell(r.at_alarm).c_str() : "",
-                  r.alarm ? cell(r.later).c_str() : "", r.statistic);
+                  delay, chart.c_str(), r.alarm ? verdictCell(r.at_alarm, kLaserNames).c_str() : "",
+                  r.alarm ? verdictCell(r.later, kLaserNames).c_str() : "", r.statistic);
       std::fflush(stdout);
     }
   }
