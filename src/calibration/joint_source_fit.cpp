@@ -1,5 +1,6 @@
 #include "odometry_calibration/calibration/joint_source_fit.h"
 
+#include <cctype>
 #include <stdexcept>
 
 #include <yaml-cpp/yaml.h>
@@ -11,12 +12,31 @@ namespace odometry_calibration {
 
 std::string jointFitModelProblem(const std::string& model)
 {
-  if (model == "diff_drive" || model == "mecanum")
+  if (model == "diff_drive" || model == "skid_steer" || model == "mecanum" || model == "tricycle")
     return "";
-  return "ego_motion.sources: the joint fit of several sources supports models diff_drive and "
-         "mecanum so far, not '" +
+  return "ego_motion.sources: the joint fit of several sources supports models diff_drive, "
+         "skid_steer, mecanum and tricycle, not '" +
          model + "' (calibrate each source alone with a one-source configuration)";
 }
+
+namespace {
+
+/// `message` with "sensor <k>" (the joint fits' name of the k-th pair set) followed by source
+/// k's topic, so that the user reads which laser's pairs cannot be fitted.
+std::string namingSources(std::string message, const std::vector<JointSourceInput>& sources)
+{
+  for (std::size_t k = 0; k < sources.size(); ++k) {
+    const std::string sensor = "sensor " + std::to_string(k);
+    const std::size_t at = message.find(sensor);
+    const std::size_t end = at + sensor.size();
+    if (at != std::string::npos &&
+        (end == message.size() || !std::isdigit(static_cast<unsigned char>(message[end]))))
+      message.insert(end, " ('" + sources[k].topic + "')");
+  }
+  return message;
+}
+
+}  // namespace
 
 JointFitReport fitSourcesJointly(const CalibrationConfig& config,
                                  const std::vector<JointSourceInput>& sources)
@@ -29,35 +49,86 @@ JointFitReport fitSourcesJointly(const CalibrationConfig& config,
     pairs.push_back(source.pairs);
     starts.push_back(source.T_base_sensor_start);
   }
-  return config.model == "mecanum" ? fitJointMecanum(config.models.mecanum, pairs, starts)
-                                   : fitJointDiffDrive(config.models.diff_drive, pairs, starts);
+  const ModelFactoryOptions& models = config.models;
+  try {
+    if (config.model == "mecanum")
+      return fitJointMecanum(models.mecanum, pairs, starts);
+    if (config.model == "skid_steer")
+      return fitJointSkidSteer(models.skid_steer, pairs, starts);
+    if (config.model == "tricycle")
+      return fitJointTricycle(models.tricycle, pairs, starts);
+    return fitJointDiffDrive(models.diff_drive, pairs, starts);
+  } catch (const std::invalid_argument& error) {
+    throw std::invalid_argument(namingSources(error.what(), sources));
+  }
 }
+
+namespace {
+
+/// The joint fit's intrinsics' values, in the fit's order.
+std::vector<double> intrinsicValues(const JointFitReport& joint, std::size_t count)
+{
+  if (joint.intrinsics.size() != count) {
+    throw std::invalid_argument("joint fit of model '" + joint.model + "' has " +
+                                std::to_string(joint.intrinsics.size()) + " intrinsics, not " +
+                                std::to_string(count));
+  }
+  std::vector<double> values;
+  for (const ParameterEstimate& parameter : joint.intrinsics)
+    values.push_back(parameter.value);
+  return values;
+}
+
+/// The differential drive of the joint wheels with sensor pose `T_base_sensor` (diff_drive's
+/// own, or skid_steer's virtual wheels).
+DiffDriveModel jointDiffDrive(DiffDriveOptions options, const JointFitReport& joint,
+                              const Pose2& T_base_sensor)
+{
+  const std::vector<double> values = intrinsicValues(joint, 3);
+  options.initial_left_radius_m = values[0];
+  options.initial_right_radius_m = values[1];
+  options.initial_separation_m = values[2];
+  options.initial_T_base_sensor = T_base_sensor;
+  return DiffDriveModel(options);
+}
+
+}  // namespace
 
 std::shared_ptr<MotionModel> jointSensorModel(const CalibrationConfig& config,
                                               const JointFitReport& joint, std::size_t index)
 {
+  const Pose2& T_base_sensor = joint.sensors.at(index).T_base_sensor;
+  const ModelFactoryOptions& models = config.models;
   if (config.model == "mecanum") {
-    MecanumOptions options = config.models.mecanum;
+    MecanumOptions options = models.mecanum;
+    const std::vector<double> values = intrinsicValues(joint, 5);
     for (std::size_t wheel = 0; wheel < 4; ++wheel)
-      options.initial_radius_m[wheel] = joint.intrinsics.at(wheel).value;
-    options.initial_lx_plus_ly_m = joint.intrinsics.at(4).value;
-    options.initial_T_base_sensor = joint.sensors.at(index).T_base_sensor;
+      options.initial_radius_m[wheel] = values[wheel];
+    options.initial_lx_plus_ly_m = values[4];
+    options.initial_T_base_sensor = T_base_sensor;
     return std::make_shared<MecanumModel>(options);
   }
-  DiffDriveOptions options = config.models.diff_drive;
-  options.initial_left_radius_m = joint.intrinsics.at(0).value;
-  options.initial_right_radius_m = joint.intrinsics.at(1).value;
-  options.initial_separation_m = joint.intrinsics.at(2).value;
-  options.initial_T_base_sensor = joint.sensors.at(index).T_base_sensor;
-  return std::make_shared<DiffDriveModel>(options);
+  if (config.model == "skid_steer") {
+    return std::make_shared<SkidSteerModel>(
+        models.skid_steer,
+        jointDiffDrive(skidSteerVirtualWheels(models.skid_steer), joint, T_base_sensor));
+  }
+  if (config.model == "tricycle") {
+    TricycleModelOptions options = models.tricycle;
+    const std::vector<double> values = intrinsicValues(joint, 4);
+    options.initial = TricycleParameters::fromVectors(
+        Eigen::Vector4d(values[0], values[1], values[2], values[3]), T_base_sensor.vector());
+    return std::make_shared<TricycleModel>(options);
+  }
+  return std::make_shared<DiffDriveModel>(jointDiffDrive(models.diff_drive, joint, T_base_sensor));
 }
 
 std::string jointResultYaml(const CalibrationConfig& config, const JointFitReport& joint,
                             const std::vector<JointSourceInput>& sources, const std::string& source)
 {
-  std::string text =
-      calibrationResultYaml(sensorModelReport(joint, 0), *jointSensorModel(config, joint, 0),
-                            source, sources.front().time_offset_s, jointLayout(config).names);
+  std::string text = calibrationResultYaml(
+      sensorModelReport(joint, 0), *jointSensorModel(config, joint, 0), source,
+      sources.front().time_offset_s, jointLayout(config).names, sources.front().fit_interval_s);
   YAML::Emitter out;
   out.SetDoublePrecision(10);
   out << YAML::BeginMap << YAML::Key << "sensors" << YAML::Value << YAML::BeginSeq;
@@ -74,6 +145,8 @@ std::string jointResultYaml(const CalibrationConfig& config, const JointFitRepor
     }
     out << YAML::EndMap;
     out << YAML::Key << "time_offset_s" << YAML::Value << sources[s].time_offset_s;
+    if (sources[s].fit_interval_s > 0.0)
+      out << YAML::Key << "fit_interval_s" << YAML::Value << sources[s].fit_interval_s;
     out << YAML::Key << "pairs" << YAML::Value << sensor.pairs;
     out << YAML::EndMap;
   }

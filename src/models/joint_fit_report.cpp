@@ -30,6 +30,7 @@ ModelReport sensorModelReport(const JointFitReport& report, std::size_t index)
   one.model = report.model;
   one.parameters = report.intrinsics;
   one.parameters.insert(one.parameters.end(), sensor.pose.begin(), sensor.pose.end());
+  one.parameters.insert(one.parameters.end(), report.derived.begin(), report.derived.end());
   one.before = index < report.alone.size() ? report.alone[index].before : ResidualRms();
   one.after = sensor.after;
   one.residual_rms_xytheta = sensor.residual_rms_xytheta;

@@ -53,7 +53,38 @@ std::vector<EncoderSample> averageSides(const std::vector<EncoderSample>& sample
   return sides;
 }
 
-DiffDriveOptions SkidSteerModel::virtualWheels(const SkidSteerOptions& o)
+std::vector<MotionPair> averageSidesOfPairs(const std::vector<MotionPair>& pairs,
+                                            const SkidSteerOptions& options)
+{
+  std::vector<MotionPair> sides = pairs;
+  for (MotionPair& pair : sides) {
+    if (pair.encoder_samples.size() < 2) {
+      throw std::invalid_argument("skid_steer: every pair needs two or more encoder samples");
+    }
+    pair.encoder_samples =
+        averageSides(pair.encoder_samples, options.left_indices, options.right_indices);
+  }
+  return sides;
+}
+
+std::vector<ParameterEstimate> skidSteerMultipliers(const std::vector<ParameterEstimate>& effective,
+                                                    const SkidSteerOptions& options)
+{
+  if (effective.size() < 3)
+    throw std::invalid_argument("skidSteerMultipliers: needs the radii and the separation");
+  const double geometric[3] = {options.wheel_radius_m, options.wheel_radius_m,
+                               options.wheel_separation_m};
+  const char* names[3] = {"left_wheel_radius_multiplier", "right_wheel_radius_multiplier",
+                          "wheel_separation_multiplier"};
+  std::vector<ParameterEstimate> multipliers;
+  for (int i : {2, 0, 1}) {
+    multipliers.push_back({names[i], "-", effective[i].initial / geometric[i],
+                           effective[i].value / geometric[i], effective[i].sigma / geometric[i]});
+  }
+  return multipliers;
+}
+
+DiffDriveOptions skidSteerVirtualWheels(const SkidSteerOptions& o)
 {
   validate(o);
   DiffDriveOptions wheels;
@@ -68,7 +99,7 @@ DiffDriveOptions SkidSteerModel::virtualWheels(const SkidSteerOptions& o)
 }
 
 SkidSteerModel::SkidSteerModel(SkidSteerOptions options)
-    : options_(std::move(options)), wheels_(virtualWheels(options_))
+    : options_(std::move(options)), wheels_(skidSteerVirtualWheels(options_))
 {
 }
 
@@ -80,28 +111,12 @@ SkidSteerModel::SkidSteerModel(SkidSteerOptions options, DiffDriveModel wheels)
 
 ModelReport SkidSteerModel::fit(const std::vector<MotionPair>& pairs)
 {
-  std::vector<MotionPair> sides = pairs;
-  for (MotionPair& pair : sides) {
-    if (pair.encoder_samples.size() < 2) {
-      throw std::invalid_argument("skid_steer: every pair needs two or more encoder samples");
-    }
-    pair.encoder_samples =
-        averageSides(pair.encoder_samples, options_.left_indices, options_.right_indices);
-  }
-  ModelReport report = wheels_.fit(sides);
+  ModelReport report = wheels_.fit(averageSidesOfPairs(pairs, options_));
   report.model = name();
-  // The multipliers a diff_drive_controller applies to its geometric values: fitted /
-  // geometric, sigma scaled alike.
-  const double geometric[3] = {options_.wheel_radius_m, options_.wheel_radius_m,
-                               options_.wheel_separation_m};
-  const char* names[3] = {"left_wheel_radius_multiplier", "right_wheel_radius_multiplier",
-                          "wheel_separation_multiplier"};
-  const std::vector<ParameterEstimate> fitted(report.parameters.begin(),
-                                              report.parameters.begin() + 3);
-  for (int i : {2, 0, 1}) {
-    report.parameters.push_back({names[i], "-", fitted[i].initial / geometric[i],
-                                 fitted[i].value / geometric[i], fitted[i].sigma / geometric[i]});
-  }
+  // The multipliers a diff_drive_controller applies to its geometric values.
+  const std::vector<ParameterEstimate> multipliers =
+      skidSteerMultipliers(report.parameters, options_);
+  report.parameters.insert(report.parameters.end(), multipliers.begin(), multipliers.end());
   return report;
 }
 

@@ -196,6 +196,15 @@ void reportTricycleFit(const std::vector<MotionPair>& pairs, const TricycleEncod
 
 }  // namespace
 
+ObservabilityHints tricycleObservabilityHints()
+{
+  ObservabilityHints hints;
+  hints.unobservable_without_turning = "steering_scale, axis_length and sensor_y";
+  hints.confused_by_one_way_turns = "steering_offset cannot be separated from steering_scale";
+  hints.relative_parameters = tricycleParameters().relative;
+  return hints;
+}
+
 TricycleCalibrationResult calibrateTricycle(const std::vector<MotionPair>& pairs,
                                             const TricycleEncoderLayout& layout,
                                             const TricycleParameters& initial,
@@ -220,12 +229,9 @@ TricycleCalibrationResult calibrateTricycle(const std::vector<MotionPair>& pairs
       sensorMotionFitOptions(options.huber_threshold, options.max_iterations, options.yaw_starts));
   keepPhysicalTricycleSolution(&fit);
   reportTricycleFit(pairs, layout, fit, &result);
-  ObservabilityHints hints;
-  hints.unobservable_without_turning = "steering_scale, axis_length and sensor_y";
-  hints.confused_by_one_way_turns = "steering_offset cannot be separated from steering_scale";
-  hints.relative_parameters = tricycleParameters().relative;
-  result.warnings = observabilityWarnings(pairs, result.estimates, result.covariance,
-                                          result.covariance_available, hints, &result.notes);
+  result.warnings =
+      observabilityWarnings(pairs, result.estimates, result.covariance, result.covariance_available,
+                            tricycleObservabilityHints(), &result.notes);
   return result;
 }
 

@@ -9,6 +9,7 @@
 #include "odometry_calibration/common/atomic_file.h"
 #include "odometry_calibration/eval/joint_fit_text.h"
 #include "odometry_calibration/eval/model_report.h"
+#include "odometry_calibration/report/controller_yaml.h"
 #include "odometry_calibration/report/result_files.h"
 #include "odometry_calibration/ros/bag_runner.h"
 
@@ -50,8 +51,9 @@ SourceRun pairAndFitSource(const BagCalibrationOptions& options, const Calibrati
 /// What the joint fit takes from source `source`'s run and fit alone.
 JointSourceInput jointInput(const SourceRun& source)
 {
-  return {source.source.topic, source.run.session->sensorFrame(), source.fit->job.pairs,
-          source.fit->job.report.T_base_sensor, source.fit->job.time_offset_s};
+  return {source.source.topic,           source.run.session->sensorFrame(),
+          source.fit->job.pairs,         source.fit->job.report.T_base_sensor,
+          source.fit->job.time_offset_s, source.fit->fit_interval_s};
 }
 
 /// Each source's run and fit alone in words, its files under <output>/source_<k>/.
@@ -101,8 +103,16 @@ int calibrateBagsJointly(const BagCalibrationOptions& options, CalibrationConfig
   writeFileAtomically(output_dir + "/" + kResultFileName,
                       jointResultYaml(config, joint, inputs, options.bags.front()));
   writeFileAtomically(output_dir + "/joint_report.txt", text);
-  out << "\nwritten: " << output_dir << "/{" << kResultFileName
-      << ", joint_report.txt, source_<k>/}\n";
+  // As the node's ~save: one fixed joint per sensor, the joint wheels for the controller.
+  std::string urdf;
+  for (std::size_t s = 0; s < joint.sensors.size(); ++s)
+    urdf += laserJointUrdf(joint.sensors[s].T_base_sensor, "base_link", inputs[s].frame);
+  writeFileAtomically(output_dir + "/laser_joints.urdf", urdf);
+  const std::string controller = controllerYaml(sensorModelReport(joint, 0), options.bags.front());
+  if (!controller.empty())
+    writeFileAtomically(output_dir + "/controller.yaml", controller);
+  out << "\nwritten: " << output_dir << "/{" << kResultFileName << ", laser_joints.urdf, "
+      << (controller.empty() ? "" : "controller.yaml, ") << "joint_report.txt, source_<k>/}\n";
   int status = 0;
   for (std::size_t s = 0; s < joint.sensors.size(); ++s)
     status = std::max(status, calibrationExitStatus(sensorModelReport(joint, s)));

@@ -247,7 +247,7 @@ JointCalibrateOutcome JointCalibrationSession::calibrateJointly(const Calibratio
   for (std::size_t k = 0; k < sessions_.size(); ++k) {
     const CalibrationJobResult& job = (*fits)[k].job;
     inputs.push_back({sources_[k].topic, sessions_[k]->sensorFrame(), job.pairs,
-                      job.report.T_base_sensor, job.time_offset_s});
+                      job.report.T_base_sensor, job.time_offset_s, (*fits)[k].fit_interval_s});
     names.push_back(sources_[k].topic);
   }
   try {
@@ -343,12 +343,14 @@ std::string JointCalibrationSession::saveJoint() const
                            joint_inputs_[k].frame);
   }
   writeFileAtomically(directory + "/laser_joints.urdf", urdf);
+  // No controller form for every model (tricycle): then no controller.yaml.
   const std::string controller = controllerYaml(sensorModelReport(*joint_, 0), options_.source);
   if (!controller.empty())
     writeFileAtomically(directory + "/controller.yaml", controller);
   writeFileAtomically(directory + "/joint_report.txt", joint_text_);
   return "saved the joint fit in " + fs::absolute(directory).lexically_normal().string() +
-         " (result.yaml, laser_joints.urdf, controller.yaml, joint_report.txt)";
+         " (result.yaml, laser_joints.urdf, " + (controller.empty() ? "" : "controller.yaml, ") +
+         "joint_report.txt)";
 }
 
 std::pair<bool, std::string> JointCalibrationSession::reset()

@@ -1,8 +1,9 @@
 // The joint fit of several sensors (issue 35) on simulated pairs: a front and a rear sensor on
-// the same differential drive.
+// the same differential drive, mecanum base, skid-steer base and tricycle.
 #include "odometry_calibration/models/joint_fits.h"
 
 #include <cmath>
+#include <iostream>
 
 #include <gtest/gtest.h>
 
@@ -196,6 +197,185 @@ TEST(JointFits, RefusesMismatchedStartsAndTooFewPairs)
   } catch (const std::invalid_argument& error) {
     EXPECT_NE(std::string(error.what()).find("sensor 1"), std::string::npos) << error.what();
   }
+}
+
+/// The pairs of a front and a rear sensor (poses `truths`) on the robot `robot`, seeds
+/// `first_seed` and the next, `duration_s` each, noise 2 mm / 2 mrad.
+std::vector<std::vector<MotionPair>> frontRearPairs(const sim::RobotOptions& robot,
+                                                    const std::vector<Pose2>& truths,
+                                                    unsigned first_seed, double duration_s,
+                                                    const sim::DrivePlanOptions& motion = {})
+{
+  std::vector<std::vector<MotionPair>> pairs;
+  for (std::size_t s = 0; s < truths.size(); ++s) {
+    sim::PairGeneratorOptions options;
+    options.robot = robot;
+    options.T_base_sensor = truths[s];
+    options.duration_s = duration_s;
+    options.interval_s = 0.5;
+    options.motion = motion;
+    options.seed = first_seed + static_cast<unsigned>(s);
+    pairs.push_back(sim::generatePairs(options).pairs);
+  }
+  return pairs;
+}
+
+/// Each sensor's pose within 5 mm and 0.3 deg of `truths`; each intrinsic within its
+/// `tolerances` entry and 4 σ of `intrinsics`, its joint σ below the better fit alone's.
+void expectFrontRearTruth(const JointFitReport& report, const std::vector<double>& intrinsics,
+                          const std::vector<Pose2>& truths, const std::vector<double>& tolerances)
+{
+  ASSERT_TRUE(report.converged) << report.termination;
+  ASSERT_TRUE(report.covariance_available);
+  ASSERT_EQ(report.intrinsics.size(), intrinsics.size());
+  ASSERT_EQ(report.sensors.size(), truths.size());
+  for (std::size_t i = 0; i < intrinsics.size(); ++i) {
+    const ParameterEstimate& joint = report.intrinsics[i];
+    std::cout << joint.name << " " << joint.value << " +- " << joint.sigma << " (truth "
+              << intrinsics[i] << ")";
+    for (const ModelReport& alone : report.alone)
+      std::cout << "; alone " << alone.parameters[i].value << " +- " << alone.parameters[i].sigma;
+    std::cout << "\n";
+    EXPECT_NEAR(joint.value, intrinsics[i], tolerances.at(i)) << joint.name;
+    EXPECT_LT(std::abs(joint.value - intrinsics[i]), 4.0 * joint.sigma) << joint.name;
+    EXPECT_LT(joint.sigma,
+              std::min(report.alone[0].parameters[i].sigma, report.alone[1].parameters[i].sigma))
+        << joint.name;
+  }
+  for (std::size_t s = 0; s < truths.size(); ++s) {
+    const Pose2& fitted = report.sensors[s].T_base_sensor;
+    std::cout << "sensor " << s << ": " << fitted.x() << " " << fitted.y() << " " << fitted.theta()
+              << "\n";
+    EXPECT_NEAR(fitted.x(), truths[s].x(), 0.005) << s;
+    EXPECT_NEAR(fitted.y(), truths[s].y(), 0.005) << s;
+    EXPECT_LT(angleError(fitted.theta(), truths[s].theta()), 0.3 * M_PI / 180) << s;
+  }
+}
+
+/// The refusal `fit` throws, or "" when it throws none.
+template <class Fit>
+std::string refusal(const Fit& fit)
+{
+  try {
+    fit();
+  } catch (const std::invalid_argument& error) {
+    return error.what();
+  }
+  return "";
+}
+
+// A skid-steer base (four wheels, effective separation 1.45 times the 0.5 m track, right
+// wheels 1 % larger) with a front and a rear laser: one set of effective radii and separation,
+// the multipliers of the geometric values, one pose per laser.
+TEST(JointFits, SkidSteerFrontAndRearSensorsShareTheSides)
+{
+  const std::vector<Pose2> truths = {Pose2(0.30, 0.0, 0.0), Pose2(-0.30, 0.02, M_PI + 0.03)};
+  const sim::RobotOptions robot{"skid_steer",
+                                {{"wheel_radius_left_m", 0.1},
+                                 {"wheel_radius_right_m", 0.101},
+                                 {"wheel_separation_m", 0.5},
+                                 {"effective_separation_factor", 1.45}}};
+  const std::vector<std::vector<MotionPair>> pairs = frontRearPairs(robot, truths, 363, 180.0);
+  SkidSteerOptions options;
+  options.left_indices = {0, 1};
+  options.right_indices = {2, 3};
+  options.wheel_radius_m = 0.1;
+  options.wheel_separation_m = 0.5;
+  const JointFitReport report = fitJointSkidSteer(options, pairs, {Pose2(), Pose2()});
+  EXPECT_EQ(report.model, "skid_steer");
+  // Within 0.1 %.
+  expectFrontRearTruth(report, {0.1, 0.101, 1.45 * 0.5}, truths, {1e-4, 1.01e-4, 7.25e-4});
+  // The multipliers of the geometric values, as a one-laser skid_steer fit lists them after the
+  // pose; the fits alone list them too.
+  ASSERT_EQ(report.derived.size(), 3u);
+  EXPECT_EQ(report.derived[0].name, "wheel_separation_multiplier");
+  EXPECT_NEAR(report.derived[0].value, 1.45, 0.001 * 1.45);
+  EXPECT_NEAR(report.derived[0].sigma, report.intrinsics[2].sigma / 0.5, 1e-12);
+  EXPECT_NEAR(report.derived[2].value, 1.01, 0.001);
+  EXPECT_EQ(report.intrinsics[2].initial, 0.5);  // the geometric separation: the start value
+  const ModelReport rear = sensorModelReport(report, 1);
+  ASSERT_EQ(rear.parameters.size(), 9u);
+  EXPECT_EQ(rear.parameters[5].name, "sensor_theta");
+  EXPECT_EQ(rear.parameters[6].name, "wheel_separation_multiplier");
+  ASSERT_EQ(report.alone[1].parameters.size(), 9u);
+  EXPECT_EQ(report.alone[1].parameters[6].name, "wheel_separation_multiplier");
+  EXPECT_LT(aloneIntrinsicsSpread(report), 0.01);
+}
+
+TEST(JointFits, SkidSteerNamesTheSensorWhosePairsLackAWheel)
+{
+  const std::vector<Pose2> truths = {Pose2(0.30, 0.0, 0.0), Pose2(-0.30, 0.02, M_PI + 0.03)};
+  std::vector<std::vector<MotionPair>> pairs =
+      frontRearPairs({"skid_steer", {}}, truths, 365, 60.0);
+  SkidSteerOptions options;
+  options.left_indices = {0, 1};
+  options.right_indices = {2, 3};
+  for (EncoderSample& sample : pairs[1][4].encoder_samples)
+    sample.values.conservativeResize(3);  // the rear right wheel missing
+  const std::string message = refusal([&] {
+    fitJointSkidSteer(options, pairs, {Pose2(), Pose2()});
+  });
+  EXPECT_NE(message.find("skid_steer joint fit, sensor 1"), std::string::npos) << message;
+  pairs[1].resize(4);  // too few pairs
+  const std::string few = refusal([&] { fitJointSkidSteer(options, pairs, {Pose2(), Pose2()}); });
+  EXPECT_NE(few.find("skid_steer joint fit, sensor 1"), std::string::npos) << few;
+}
+
+/// The seed's tricycle (true values near those calibrated on its real log).
+sim::RobotOptions seedTricycle()
+{
+  return {"tricycle",
+          {{"steering_scale", 0.56},
+           {"traction_scale_m_per_turn", 0.0106},
+           {"axis_length_m", 1.54},
+           {"steering_offset_rad", -0.064}}};
+}
+
+TricycleModelOptions tricycleNominal()
+{
+  TricycleModelOptions options;
+  options.layout.steering_ticks_per_turn = 8192;
+  options.layout.traction_ticks_per_turn = 5000;
+  options.initial.steering_scale = 0.5;
+  options.initial.traction_scale_m_per_turn = 0.01;
+  options.initial.axis_length_m = 1.4;
+  return options;
+}
+
+// The tricycle with a laser over the steering wheel and one at the back turned round.
+TEST(JointFits, TricycleFrontAndRearSensorsShareTheKinematics)
+{
+  const std::vector<Pose2> truths = {Pose2(1.80, -0.015, -0.008), Pose2(-0.30, 0.02, M_PI + 0.03)};
+  sim::DrivePlanOptions motion;
+  motion.max_speed_mps = 0.8;
+  motion.max_turn_rate_radps = 0.5;
+  const std::vector<std::vector<MotionPair>> pairs =
+      frontRearPairs(seedTricycle(), truths, 367, 300.0, motion);
+  // The configured poses (ego_motion.sources[].sensor_pose) start each fit alone.
+  const std::vector<Pose2> starts = {Pose2(1.5, 0.0, 0.0), Pose2(-0.2, 0.0, M_PI)};
+  const JointFitReport report = fitJointTricycle(tricycleNominal(), pairs, starts);
+  EXPECT_EQ(report.model, "tricycle");
+  // Ks, Kt and the axis length within 0.1 %; the steering offset, an angle near zero, within
+  // 0.3 mrad (its σ from 300 s of pairs is 0.4 mrad: 0.1 % of it, 0.064 mrad, would take ~40
+  // times the data).
+  expectFrontRearTruth(report, {0.56, 0.0106, 1.54, -0.064}, truths,
+                       {5.6e-4, 1.06e-5, 1.54e-3, 3e-4});
+  EXPECT_EQ(report.intrinsics[2].initial, 1.4);  // the configured start value
+  EXPECT_TRUE(report.derived.empty());
+}
+
+TEST(JointFits, TricycleNamesTheSensorWhosePairsCannotBeFitted)
+{
+  const std::vector<Pose2> truths = {Pose2(1.80, -0.015, -0.008), Pose2(-0.30, 0.02, M_PI)};
+  std::vector<std::vector<MotionPair>> pairs = frontRearPairs(seedTricycle(), truths, 369, 30.0);
+  pairs[1].resize(6);
+  const std::vector<Pose2> starts = {Pose2(1.5, 0.0, 0.0), Pose2(-0.2, 0.0, M_PI)};
+  const std::string few = refusal([&] { fitJointTricycle(tricycleNominal(), pairs, starts); });
+  EXPECT_NE(few.find("tricycle joint fit, sensor 1"), std::string::npos) << few;
+  pairs[1] = pairs[0];
+  pairs[0][3].encoder_samples.resize(1);
+  const std::string one = refusal([&] { fitJointTricycle(tricycleNominal(), pairs, starts); });
+  EXPECT_NE(one.find("tricycle joint fit, sensor 0"), std::string::npos) << one;
 }
 
 }  // namespace

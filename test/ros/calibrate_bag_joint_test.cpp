@@ -69,6 +69,65 @@ TEST(CalibrateBagJoint, FrontAndRearLasersGiveOneSetOfWheelsAndBothPoses)
   EXPECT_NEAR(model["wheel_separation_m"].as<double>(), 0.32, 0.005 * 0.32);
   EXPECT_TRUE(fs::is_regular_file(options.output_dir + "/joint_report.txt"));
   EXPECT_TRUE(fs::is_regular_file(options.output_dir + "/source_1/result.yaml"));
+  // As the node's ~save: one URDF joint per laser, the joint wheels for the controller.
+  const std::string urdf = test_support::readFile(options.output_dir + "/laser_joints.urdf");
+  EXPECT_NE(urdf.find("laser_rear"), std::string::npos) << urdf;
+  EXPECT_NE(urdf.find("laser_front"), std::string::npos) << urdf;
+  const YAML::Node controller = YAML::LoadFile(options.output_dir + "/controller.yaml");
+  EXPECT_NEAR(controller["wheel_separation_multiplier"].as<double>() * 0.33,
+              model["wheel_separation_m"].as<double>(), 1e-6);
+  fs::remove_all(directory);
+}
+
+// The same with a skid-steer robot (config/sim/scenarios/skid_steer_front_rear.yaml: effective
+// separation 1.45 times the 0.5 m track, right wheels 1 % larger) and
+// config/skid_steer_front_rear.yaml: one set of sides and both poses, the multipliers of the
+// geometric values in result.yaml and controller.yaml.
+TEST(CalibrateBagJoint, SkidSteerFrontAndRearLasersGiveOneSetOfSidesAndBothPoses)
+{
+  char pattern[] = "/tmp/calibrate_bag_joint_test.XXXXXX";
+  const std::string directory = mkdtemp(pattern);
+  sim::Scenario scenario = sim::loadScenarioYaml(
+      kConfig + "/sim/scenarios/skid_steer_front_rear.yaml", kConfig + "/sim/worlds");
+  scenario.duration_s = 90.0;
+  scenario.seed = 380;
+  const std::string bag = directory + "/front_rear.bag";
+  simulateToBag(scenario, bag, "");
+  BagCalibrationOptions options;
+  options.config_path = kConfig + "/skid_steer_front_rear.yaml";
+  options.bags = {bag};
+  options.output_dir = directory + "/out";
+  options.quiet = true;
+  std::ostringstream out;
+  const int status = calibrateBags(options, out);
+  const std::string text = out.str();
+  EXPECT_TRUE(status == 0 || status == 4) << status << "\n" << text;
+  EXPECT_NE(text.find("Joint fit of 2 sensors ('skid_steer')"), std::string::npos) << text;
+  const YAML::Node result = YAML::LoadFile(options.output_dir + "/result.yaml");
+  const YAML::Node sensors = result["sensors"];
+  ASSERT_EQ(sensors.size(), 2u) << text;
+  const std::vector<sim::LaserOptions> lasers = sim::allLasers(scenario);
+  for (std::size_t s = 0; s < 2; ++s) {
+    const YAML::Node pose = sensors[s]["T_base_sensor"];
+    const Pose2& truth = lasers[s].T_base_laser;
+    EXPECT_NEAR(pose["x_m"].as<double>(), truth.x(), 0.01) << s;
+    EXPECT_NEAR(pose["y_m"].as<double>(), truth.y(), 0.01) << s;
+    EXPECT_NEAR(normalizeAngle(pose["theta_rad"].as<double>() - truth.theta()), 0.0, 0.01) << s;
+  }
+  EXPECT_EQ(result["model"]["model"].as<std::string>(), "skid_steer");
+  const YAML::Node sides = result["model"]["sides"];
+  EXPECT_NEAR(sides["left_wheel_radius_m"].as<double>(), 0.1, 0.005 * 0.1);
+  EXPECT_NEAR(sides["right_wheel_radius_m"].as<double>(), 0.101, 0.005 * 0.101);
+  EXPECT_NEAR(sides["wheel_separation_m"].as<double>(), 0.725, 0.005 * 0.725);
+  EXPECT_NE(test_support::readFile(options.output_dir + "/result.yaml")
+                .find("wheel_separation_multiplier"),
+            std::string::npos);
+  const YAML::Node controller = YAML::LoadFile(options.output_dir + "/controller.yaml");
+  EXPECT_DOUBLE_EQ(controller["wheel_separation"].as<double>(), 0.5);  // the geometric value
+  EXPECT_NEAR(controller["wheel_separation_multiplier"].as<double>(),
+              sides["wheel_separation_m"].as<double>() / 0.5, 1e-6);
+  EXPECT_NE(test_support::readFile(options.output_dir + "/laser_joints.urdf").find("laser_rear"),
+            std::string::npos);
   fs::remove_all(directory);
 }
 
@@ -92,6 +151,52 @@ TEST(CalibrateBagJoint, SeveralSourcesWithAModelWithoutJointFitAreRefusedNamingI
     EXPECT_NE(std::string(error.what()).find("not 'linear'"), std::string::npos) << error.what();
   }
   EXPECT_FALSE(fs::exists(options.output_dir));
+  fs::remove_all(directory);
+}
+
+// The tricycle (config/sim/scenarios/tricycle_front_rear.yaml: the seed's values, a laser over
+// the steering wheel and one at the back turned round) with config/tricycle_front_rear.yaml:
+// one set of Ks, Kt, axis length and steering offset, both poses; no controller.yaml (no
+// controller form).
+TEST(CalibrateBagJoint, TricycleFrontAndRearLasersGiveOneSetOfKinematicsAndBothPoses)
+{
+  char pattern[] = "/tmp/calibrate_bag_joint_test.XXXXXX";
+  const std::string directory = mkdtemp(pattern);
+  sim::Scenario scenario = sim::loadScenarioYaml(
+      kConfig + "/sim/scenarios/tricycle_front_rear.yaml", kConfig + "/sim/worlds");
+  scenario.duration_s = 90.0;
+  scenario.seed = 381;
+  const std::string bag = directory + "/front_rear.bag";
+  simulateToBag(scenario, bag, "");
+  BagCalibrationOptions options;
+  options.config_path = kConfig + "/tricycle_front_rear.yaml";
+  options.bags = {bag};
+  options.output_dir = directory + "/out";
+  options.quiet = true;
+  std::ostringstream out;
+  const int status = calibrateBags(options, out);
+  const std::string text = out.str();
+  EXPECT_TRUE(status == 0 || status == 4) << status << "\n" << text;
+  const YAML::Node result = YAML::LoadFile(options.output_dir + "/result.yaml");
+  const YAML::Node sensors = result["sensors"];
+  ASSERT_EQ(sensors.size(), 2u) << text;
+  const std::vector<sim::LaserOptions> lasers = sim::allLasers(scenario);
+  for (std::size_t s = 0; s < 2; ++s) {
+    const YAML::Node pose = sensors[s]["T_base_sensor"];
+    const Pose2& truth = lasers[s].T_base_laser;
+    EXPECT_NEAR(pose["x_m"].as<double>(), truth.x(), 0.01) << s;
+    EXPECT_NEAR(pose["y_m"].as<double>(), truth.y(), 0.01) << s;
+    EXPECT_NEAR(normalizeAngle(pose["theta_rad"].as<double>() - truth.theta()), 0.0, 0.01) << s;
+  }
+  const YAML::Node model = result["model"];
+  EXPECT_EQ(model["model"].as<std::string>(), "tricycle");
+  EXPECT_NEAR(model["steering_scale"].as<double>(), 0.56, 0.005 * 0.56);
+  EXPECT_NEAR(model["traction_scale_m_per_turn"].as<double>(), 0.0106, 0.005 * 0.0106);
+  EXPECT_NEAR(model["axis_length_m"].as<double>(), 1.54, 0.005 * 1.54);
+  EXPECT_NEAR(model["steering_offset_rad"].as<double>(), -0.064, 0.002);
+  EXPECT_TRUE(fs::is_regular_file(options.output_dir + "/laser_joints.urdf"));
+  EXPECT_FALSE(fs::exists(options.output_dir + "/controller.yaml"));
+  EXPECT_NE(text.find("laser_joints.urdf, joint_report.txt"), std::string::npos) << text;
   fs::remove_all(directory);
 }
 

@@ -343,5 +343,68 @@ TEST_F(JointSession, TheHealthMonitorNamesTheRearLaserThatTurned)
               *session.healthStatistic());
 }
 
+/// `duration_s` of scenario config/sim/scenarios/`name`.yaml with `seed`.
+Recording simulateScenario(const std::string& name, double duration_s, unsigned seed)
+{
+  Recording r;
+  sim::Scenario scenario =
+      sim::loadScenarioYaml(kConfig + "/sim/scenarios/" + name + ".yaml", kConfig + "/sim/worlds");
+  scenario.duration_s = duration_s;
+  scenario.seed = seed;
+  const sim::World world = sim::loadWorldYaml(scenario.world_path);
+  const auto robot = sim::makeRobot(scenario.robot);
+  sim::simulate(scenario, world, *robot, r);
+  return r;
+}
+
+// The node's session with a skid-steer and a tricycle robot carrying a front and a rear laser
+// (config/<model>_front_rear.yaml, the simulator's scenarios of those names): the joint fit of
+// that model is adopted by both sources and ~save writes its files (controller.yaml for
+// skid_steer with the multipliers of the geometric values; none for tricycle).
+TEST_F(JointSession, SkidSteerAndTricycleLasersAreFittedJointlyAndSaved)
+{
+  const struct
+  {
+    const char* name;
+    unsigned seed;
+    double truth_x[2];
+  } robots[] = {{"skid_steer_front_rear", 382, {0.35, -0.35}},
+                {"tricycle_front_rear", 383, {1.80, -0.30}}};
+  for (const auto& robot : robots) {
+    SCOPED_TRACE(robot.name);
+    std::string text = readFile(kConfig + "/" + std::string(robot.name) + ".yaml");
+    text.replace(text.find("estimate_time_offset: true"), 26, "estimate_time_offset: false");
+    const CalibrationConfig config = parseCalibrationConfig(text, robot.name);
+    SessionOptions options = options_;
+    options.output_directory = directory_ + "/" + robot.name;
+    JointCalibrationSession session(config, text, robot.name, options, nullptr);
+    feedJointSpan(session, simulateScenario(robot.name, 60.0, robot.seed), 0.0,
+                  std::numeric_limits<double>::infinity());
+    const JointCalibrateOutcome fit = session.calibrate({});
+    ASSERT_TRUE(fit.outcome.success) << fit.outcome.message;
+    EXPECT_EQ(fit.joint->model, config.model);
+    for (std::size_t k = 0; k < 2; ++k) {
+      EXPECT_NEAR(fit.joint->sensors[k].T_base_sensor.x(), robot.truth_x[k], 0.01) << k;
+      ASSERT_TRUE(session.source(k).sensorPose()) << k;
+      EXPECT_DOUBLE_EQ(session.source(k).sensorPose()->x(),
+                       fit.joint->sensors[k].T_base_sensor.x());
+    }
+    const auto [saved, message] = session.save();
+    ASSERT_TRUE(saved) << message;
+    const std::string directory = options.output_directory;
+    const CalibrationResult result = readCalibrationResult(directory + "/result.yaml");
+    EXPECT_EQ(result.model->name(), config.model);
+    EXPECT_DOUBLE_EQ(result.fit_interval_s, 0.5);
+    EXPECT_NE(readFile(directory + "/laser_joints.urdf").find("laser_rear"), std::string::npos);
+    const bool controller = config.model == "skid_steer";
+    EXPECT_EQ(fs::exists(directory + "/controller.yaml"), controller);
+    EXPECT_EQ(message.find("controller.yaml") != std::string::npos, controller) << message;
+    if (controller) {
+      EXPECT_NE(readFile(directory + "/controller.yaml").find("wheel_separation: 0.5 "),
+                std::string::npos);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace odometry_calibration

@@ -24,24 +24,30 @@ struct JointSourceInput
   std::vector<MotionPair> pairs;
   Pose2 T_base_sensor_start;   ///< its pose fitted alone: the joint fit's start
   double time_offset_s = 0.0;  ///< its time offset (estimated or configured) [s]
+  /// The keyframe interval of its pairs [s] (result.yaml's fit_interval_s; 0: not recorded).
+  double fit_interval_s = 0.0;
 };
 
-/// Why `model` has no joint fit of several sources ("" when it has: diff_drive, mecanum).
+/// Why `model` has no joint fit of several sources ("" when it has: diff_drive, skid_steer,
+/// mecanum, tricycle).
 std::string jointFitModelProblem(const std::string& model);
 
 /// The joint fit of config.model from every source's pairs and start pose. Throws
 /// std::invalid_argument naming the model (jointFitModelProblem) or the sensor whose pairs
-/// cannot be fitted.
+/// cannot be fitted ("sensor <k> ('<topic>'): ...").
 JointFitReport fitSourcesJointly(const CalibrationConfig& config,
                                  const std::vector<JointSourceInput>& sources);
 
-/// The joint wheels with sensor `index`'s pose as a one-sensor model of config.model.
+/// The joint wheels with sensor `index`'s pose as a one-sensor model of config.model (its
+/// prediction covariance zero, as a model from start values). Throws std::invalid_argument
+/// when the joint fit's intrinsics are not config.model's.
 std::shared_ptr<MotionModel> jointSensorModel(const CalibrationConfig& config,
                                               const JointFitReport& joint, std::size_t index);
 
 /// result.yaml of the joint fit: the first sensor's view as the one-sensor result (so that a
-/// one-source reader loads it: the joint wheels, the first sensor's pose and time offset), then
-/// `sensors`: every sensor's topic, frame, pose with σ, time offset and pair count. `source`:
+/// one-source reader loads it: the joint wheels, the first sensor's pose, time offset and fit
+/// interval), then `sensors`: every sensor's topic, frame, pose with σ, time offset, fit
+/// interval (when recorded) and pair count. `source`:
 /// result.yaml's `source` (the bag, the node).
 std::string jointResultYaml(const CalibrationConfig& config, const JointFitReport& joint,
                             const std::vector<JointSourceInput>& sources,

@@ -36,7 +36,10 @@ struct JointFitReport
 {
   std::string model;
   std::vector<ParameterEstimate> intrinsics;  ///< the one set of wheel parameters, with σ
-  std::vector<JointSensorReport> sensors;     ///< in the order of the pair sets
+  /// Values derived from the intrinsics that a sensor's one-sensor report lists after its pose
+  /// (skid_steer: the multipliers of the geometric values); empty for the other models.
+  std::vector<ParameterEstimate> derived;
+  std::vector<JointSensorReport> sensors;  ///< in the order of the pair sets
   /// Each sensor's pairs fitted alone (the usual one-sensor fit), in the same order.
   std::vector<ModelReport> alone;
   /// Covariance of (intrinsics, then x, y, theta of each sensor); empty when unavailable.
@@ -55,9 +58,9 @@ struct JointFitReport
 double aloneIntrinsicsSpread(const JointFitReport& report);
 
 /// Sensor `index`'s view of a joint fit as a one-sensor report: the intrinsics and its pose
-/// with σ, its pairs, outliers, residuals (before: at the start values of its fit alone) and
-/// observability verdict, the joint solve's convergence. For each sensor's table and result file.
-/// Throws std::out_of_range for an index beyond the sensors.
+/// with σ (then the derived values), its pairs, outliers, residuals (before: at the start values of
+/// its fit alone) and observability verdict, the joint solve's convergence. For each sensor's table
+/// and result file. Throws std::out_of_range for an index beyond the sensors.
 ModelReport sensorModelReport(const JointFitReport& report, std::size_t index);
 
 }  // namespace odometry_calibration

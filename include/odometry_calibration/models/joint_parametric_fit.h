@@ -106,24 +106,23 @@ void reportJointSensors(const std::vector<std::vector<MotionPair>>& pairs_per_se
   }
 }
 
-/// Fits one set of intrinsics and one pose per sensor to `pairs_per_sensor` (at least one set;
-/// each set fitted alone first from `start`'s intrinsics and its own `start_poses` entry, see
-/// the file comment). `mirrored` as in fitParametricModel; `hints` for each sensor's
-/// observability verdict. Throws what a fit alone throws for a set too small.
-template <class Kinematics, class Mirrored>
-JointFitReport fitJointParametricModel(
-    const std::string& model, const std::vector<std::vector<MotionPair>>& pairs_per_sensor,
-    const typename Kinematics::Layout& layout, const SensorMotionFitOptions& options,
-    const ParameterLayout& parameters, Mirrored mirrored, const ObservabilityHints& hints,
-    const SensorMotionState<Kinematics::kIntrinsics>& start, const std::vector<Pose2>& start_poses)
+/// The joint solve from `joint` (each sensor's pairs already fitted alone into report->alone,
+/// `joint` their mean intrinsics and each sensor's pose): one set of intrinsics and one pose
+/// per sensor, every pair weighted by its covariance times its sensor's noise scale; the
+/// convergence, covariance, each sensor's residuals and the parameter rows into `report` (the
+/// intrinsics' start values `configured`, the poses' their fits alone). fit_time_s is the
+/// caller's.
+template <class Kinematics>
+void solveJointParametricModel(const std::vector<std::vector<MotionPair>>& pairs_per_sensor,
+                               const typename Kinematics::Layout& layout,
+                               const SensorMotionFitOptions& options,
+                               const ParameterLayout& parameters, const ObservabilityHints& hints,
+                               const Eigen::Matrix<double, Kinematics::kIntrinsics, 1>& configured,
+                               JointStart<Kinematics::kIntrinsics> joint, JointFitReport* report)
 {
   constexpr int N = Kinematics::kIntrinsics;
-  const auto started = std::chrono::steady_clock::now();
-  JointFitReport report;
-  report.model = model;
-  JointStart<N> joint = fitSensorsAlone<Kinematics>(pairs_per_sensor, layout, options, parameters,
-                                                    mirrored, start, start_poses, &report);
-  const Eigen::VectorXd start_values = joint.vector();
+  JointStart<N> start_values = joint;
+  start_values.intrinsic = configured;
   std::vector<std::size_t> sensor_of_pair;
   const std::vector<MotionPair> all = concatenatePairs(pairs_per_sensor, &sensor_of_pair);
   const SensorPairs tagged{all, sensor_of_pair};
@@ -133,24 +132,45 @@ JointFitReport fitJointParametricModel(
   const std::vector<const double*> const_poses(pose_blocks.begin(), pose_blocks.end());
   const SensorMotionSolve solve =
       solveSensorMotion<Kinematics>(tagged, layout, options, joint.intrinsic.data(), pose_blocks);
-  report.iterations = solve.iterations;
-  report.termination = solve.summary.message;
-  report.converged = solve.summary.termination_type == ceres::CONVERGENCE &&
-                     std::isfinite(solve.summary.final_cost) && joint.vector().allFinite();
+  report->iterations = solve.iterations;
+  report->termination = solve.summary.message;
+  report->converged = solve.summary.termination_type == ceres::CONVERGENCE &&
+                      std::isfinite(solve.summary.final_cost) && joint.vector().allFinite();
   const SensorPairClasses classes = classifySensorMotionPairs<Kinematics>(
       tagged, layout, options, joint.intrinsic.data(), const_poses, solve.noise_scales);
-  report.chi2_per_dof = classes.chi2_per_dof;
-  if (report.converged) {
-    report.covariance_available =
+  report->chi2_per_dof = classes.chi2_per_dof;
+  if (report->converged) {
+    report->covariance_available =
         sensorMotionCovariance(*solve.problem, joint.intrinsic.data(), N, const_poses,
-                               classes.chi2_per_dof, &report.covariance);
+                               classes.chi2_per_dof, &report->covariance);
   }
   reportJointSensors<Kinematics>(pairs_per_sensor, layout, joint, classes, solve.noise_scales,
-                                 &report);
+                                 report);
   Eigen::VectorXd values = joint.vector();
   for (std::size_t s = 0; s < joint.poses.size(); ++s)
-    values(N + 3 * static_cast<Eigen::Index>(s) + 2) = report.sensors[s].T_base_sensor.theta();
-  describeJointFit(pairs_per_sensor, parameters, start_values, values, hints, &report);
+    values(N + 3 * static_cast<Eigen::Index>(s) + 2) = report->sensors[s].T_base_sensor.theta();
+  describeJointFit(pairs_per_sensor, parameters, start_values.vector(), values, hints, report);
+}
+
+/// Fits one set of intrinsics and one pose per sensor to `pairs_per_sensor` (at least one set;
+/// each set fitted alone first from `start`'s intrinsics and its own `start_poses` entry, see
+/// the file comment; then solveJointParametricModel, the intrinsics' start values reported as
+/// `start`'s). `mirrored` as in fitParametricModel; `hints` for each sensor's observability
+/// verdict. Throws what a fit alone throws for a set too small.
+template <class Kinematics, class Mirrored>
+JointFitReport fitJointParametricModel(
+    const std::string& model, const std::vector<std::vector<MotionPair>>& pairs_per_sensor,
+    const typename Kinematics::Layout& layout, const SensorMotionFitOptions& options,
+    const ParameterLayout& parameters, Mirrored mirrored, const ObservabilityHints& hints,
+    const SensorMotionState<Kinematics::kIntrinsics>& start, const std::vector<Pose2>& start_poses)
+{
+  const auto started = std::chrono::steady_clock::now();
+  JointFitReport report;
+  report.model = model;
+  const JointStart<Kinematics::kIntrinsics> joint = fitSensorsAlone<Kinematics>(
+      pairs_per_sensor, layout, options, parameters, mirrored, start, start_poses, &report);
+  solveJointParametricModel<Kinematics>(pairs_per_sensor, layout, options, parameters, hints,
+                                        start.intrinsics, joint, &report);
   report.fit_time_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   return report;

@@ -42,6 +42,23 @@ std::vector<EncoderSample> averageSides(const std::vector<EncoderSample>& sample
                                         const std::vector<int>& left_indices,
                                         const std::vector<int>& right_indices);
 
+/// Every pair's encoder samples averaged into the two virtual wheels (averageSides). Throws
+/// std::invalid_argument for a pair with fewer than two samples or without a wheel joint.
+std::vector<MotionPair> averageSidesOfPairs(const std::vector<MotionPair>& pairs,
+                                            const SkidSteerOptions& options);
+
+/// The differential drive of the two virtual wheels (joints 0 and 1 of averageSides), started
+/// at the geometric values and the options' sensor pose, with the options' solver settings.
+/// Throws std::invalid_argument for invalid options.
+DiffDriveOptions skidSteerVirtualWheels(const SkidSteerOptions& options);
+
+/// The multipliers a diff_drive_controller applies to its geometric values, from the fitted
+/// effective left radius, right radius and separation (the first three of `effective`, in that
+/// order): wheel_separation_multiplier, left_wheel_radius_multiplier,
+/// right_wheel_radius_multiplier, each fitted / geometric with σ (and start value) scaled alike.
+std::vector<ParameterEstimate> skidSteerMultipliers(const std::vector<ParameterEstimate>& effective,
+                                                    const SkidSteerOptions& options);
+
 /// The fitted skid-steer model. Its report lists the diff-drive parameters (effective radii
 /// and separation, sensor pose) and then wheel_separation_multiplier,
 /// left_wheel_radius_multiplier and right_wheel_radius_multiplier (fitted / geometric, with
@@ -50,6 +67,10 @@ class SkidSteerModel : public MotionModel
 {
 public:
   explicit SkidSteerModel(SkidSteerOptions options);
+  /// The model of `options`' sides whose virtual wheels are `wheels` (a differential drive on
+  /// joints 0 and 1, e.g. skidSteerVirtualWheels with a joint fit's values). Throws
+  /// std::invalid_argument for invalid options.
+  SkidSteerModel(SkidSteerOptions options, DiffDriveModel wheels);
 
   std::string name() const override { return "skid_steer"; }
   ModelReport fit(const std::vector<MotionPair>& pairs) override;
@@ -65,9 +86,6 @@ public:
   const SkidSteerOptions& options() const { return options_; }
 
 private:
-  SkidSteerModel(SkidSteerOptions options, DiffDriveModel wheels);
-  static DiffDriveOptions virtualWheels(const SkidSteerOptions& options);
-
   SkidSteerOptions options_;
   DiffDriveModel wheels_;  ///< the differential drive of the two averaged sides
 };

@@ -13,6 +13,7 @@
 #include "odometry_calibration/data/motion_pair.h"
 #include "odometry_calibration/geometry/se2.h"
 #include "odometry_calibration/models/model.h"
+#include "odometry_calibration/models/observability.h"
 #include "odometry_calibration/models/tricycle_kinematics.h"
 
 namespace odometry_calibration {
@@ -102,6 +103,10 @@ ResidualRms tricycleResidualRms(const std::vector<MotionPair>& pairs,
 
 /// Throws std::invalid_argument unless Ks, Kt and the axis length are > 0 and all are finite.
 void validateStartValues(const TricycleParameters& parameters);
+
+/// What the tricycle's observability verdict names: the parameters a run without turns leaves
+/// undetermined, the confusion of turns one way only, which parameters are judged relatively.
+ObservabilityHints tricycleObservabilityHints();
 
 /// Fits the parameters to the pairs, starting from `initial`. Throws std::invalid_argument for
 /// invalid options or start values, fewer than 7 pairs, or pairs with fewer than two encoder

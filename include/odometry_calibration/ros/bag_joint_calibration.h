@@ -16,9 +16,11 @@ namespace odometry_calibration {
 /// and fit alone, then the joint fit (a table per sensor and the agreement of the fits alone),
 /// writes each source's own files under <output>/source_<k>/ and the joint result.yaml (the
 /// joint wheels, the first sensor's pose as the model's, and every sensor's pose under
-/// `sensors`) and joint_report.txt in <output>. Supports models diff_drive and mecanum; throws
-/// std::runtime_error naming the model otherwise, and what a run or a fit throws. Returns the
-/// exit status (calibrationExitStatus of the joint fit, every sensor's warnings counted).
+/// `sensors`), laser_joints.urdf (one fixed joint per sensor, parent base_link), controller.yaml
+/// (the joint wheels; not for tricycle) and joint_report.txt in <output>. Supports models
+/// diff_drive, skid_steer, mecanum and tricycle; throws std::runtime_error naming the model
+/// otherwise, and what a run or a fit throws. Returns the exit status (calibrationExitStatus of the
+/// joint fit, every sensor's warnings counted).
 int calibrateBagsJointly(const BagCalibrationOptions& options, CalibrationConfig config,
                          std::ostream& out);
 

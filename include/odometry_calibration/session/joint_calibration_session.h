@@ -84,7 +84,8 @@ public:
   JointCalibrateOutcome calibrate(const CalibrationRequest& request);
   /// One source: its session's save(). Several: every source's save() (under source_<k>/),
   /// then result.yaml (jointResultYaml), laser_joints.urdf (one joint per sensor),
-  /// controller.yaml (diff_drive, mecanum) and joint_report.txt in the output directory.
+  /// controller.yaml (diff_drive, skid_steer, mecanum) and joint_report.txt in the output
+  /// directory.
   std::pair<bool, std::string> save();
   /// Every source's reset(), in words.
   std::pair<bool, std::string> reset();
