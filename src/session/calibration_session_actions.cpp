@@ -129,18 +129,6 @@ CalibrateOutcome CalibrationSession::calibrate(const CalibrationRequest& request
   return outcome;
 }
 
-CalibrateOutcome CalibrationSession::adoptFit(const SessionFit& fit, std::size_t pairs_collected)
-{
-  std::lock_guard<std::mutex> fitting(fit_mutex_);
-  CalibrateOutcome outcome;
-  outcome.pairs_collected = pairs_collected;
-  outcome.fit = fit;
-  std::string guidance;
-  const CalibrationConfig config = snapshot(&guidance).config;
-  adopt(config.model, config, guidance, &outcome, true);
-  return outcome;
-}
-
 /// What a fit changes in a session when it becomes the active model, and what it needs for the
 /// rest of its adoption; after the commit, the session's previous state (exchangeActive).
 struct PreparedAdoption::State
@@ -268,7 +256,7 @@ void CalibrationSession::exchangeActive(PreparedAdoption& adoption)
 }
 
 void CalibrationSession::adopt(const std::string& name, const CalibrationConfig& config,
-                               const std::string& guidance, CalibrateOutcome* outcome, bool always)
+                               const std::string& guidance, CalibrateOutcome* outcome)
 {
   const SessionFit& fit = *outcome->fit;
   if (!fit.job.report.converged) {
@@ -276,7 +264,7 @@ void CalibrationSession::adopt(const std::string& name, const CalibrationConfig&
                        "); the active model is unchanged";
     return;
   }
-  if (!options_.adopt_fits && !always) {  // calibrate_bag: the fit is the result, nothing runs on
+  if (!options_.adopt_fits) {  // calibrate_bag: the fit is the result, nothing runs on
     outcome->success = true;
     outcome->message = successMessage(name, fit);
     return;

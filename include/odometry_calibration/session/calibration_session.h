@@ -225,12 +225,9 @@ public:
   /// (odometry integrated again, health monitor, guidance recentred, new time offset for new
   /// pairs) and is written to last_fit.yaml.
   CalibrateOutcome calibrate(const CalibrationRequest& request);
-  /// Makes `fit` (of the configuration's model, fitted elsewhere: one sensor's view of a joint
-  /// fit of several sources, joint_calibration_session.h) the active model as calibrate() does
-  /// with a converged fit of its own, also with adopt_fits off; `pairs_collected` for the
-  /// outcome. A fit that did not converge is refused (the outcome says so).
-  CalibrateOutcome adoptFit(const SessionFit& fit, std::size_t pairs_collected);
-  // adoptFit in steps, for a caller that adopts fits in several sessions all or none
+  // A fit made elsewhere (one sensor's view of a joint fit of several sources) made the active
+  // model as calibrate() does with a converged fit of its own, also with adopt_fits off; in
+  // steps, for a caller that adopts fits in several sessions all or none
   // (joint_calibration_session.h): prepare each session's, commit each (rolling back the
   // committed ones when one fails), then finish each.
   /// `fit` of model `name` (configured as `models`: the call's model and options) made ready to
@@ -247,7 +244,7 @@ public:
   /// what it throws then is logged).
   void rollBackAdoption(PreparedAdoption& adoption);
   /// The rest of a committed adoption: last_fit.yaml, the guidance recentred, the health
-  /// monitor watching, the time offset's log line; the outcome as adoptFit gives it.
+  /// monitor watching, the time offset's log line; the outcome as calibrate() gives it.
   CalibrateOutcome finishAdoption(PreparedAdoption& adoption, std::size_t pairs_collected);
   /// What save() writes now; throws std::runtime_error when there is nothing to save.
   SessionFiles filesToSave() const;
@@ -290,9 +287,8 @@ private:
   void configureModel(const std::string& name, const CalibrationRequest& request,
                       CalibrationConfig* config) const;
   /// A converged fit becomes the active model; the outcome's message says what happened.
-  /// `always`: also with adopt_fits off (adoptFit).
   void adopt(const std::string& name, const CalibrationConfig& config, const std::string& guidance,
-             CalibrateOutcome* outcome, bool always = false);
+             CalibrateOutcome* outcome);
   // The steps of adopt() (the public ones take fit_mutex_ first).
   PreparedAdoption prepare(const SessionFit& fit, const std::string& name,
                            const CalibrationConfig& config, const std::string& guidance) const;
