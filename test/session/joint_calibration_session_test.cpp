@@ -516,6 +516,68 @@ TEST_F(JointSession, CalibrateTakesTheModelAndItsOptionsAJointFitTakes)
               plain.joint->intrinsics[0].value, tight.joint->intrinsics[0].value);
 }
 
+TEST_F(JointSession, AnAdoptionRolledBackLeavesTheSessionAsItWas)
+{
+  // The steps of a joint adoption on one session: a fit of the front laser with another time
+  // offset committed (model, pose, offset, odometry change), then put back.
+  CalibrationSession session(configForSource(config_, 0), config_text_, "front_rear", options_);
+  feedSpan(
+      frontRearDrive(), 0.0, 30.0,
+      [&](double t, const Eigen::VectorXd& raw) { session.addJointPositions(t, raw); },
+      [&](std::size_t, double t, const Scan& scan) { session.addScan(t, scan, kFrames[0]); }, {0});
+  session.flush();
+  const std::string nominal_origin = session.activeModel().second;
+  ASSERT_GT(session.paths().corrected.size(), 100u);
+  CalibrateOutcome fitted = session.calibrate({});
+  ASSERT_TRUE(fitted.success) << fitted.message;
+  // As if the joint fit had estimated another offset: the pairing restarts at it.
+  SessionFit fit = *fitted.fit;
+  fit.job.time_offset_s = 0.03;
+  const auto model = session.activeModel();
+  ASSERT_NE(nominal_origin, model.second);
+  const Pose2 pose = *session.sensorPose();
+  fit.job.report.T_base_sensor = Pose2(0.31, 0.01, 0.02);
+  fit.job.model = jointSensorModel(
+      config_,
+      [&] {
+        JointFitReport joint;
+        for (const ParameterEstimate& parameter : fit.job.report.parameters) {
+          if (parameter.name.rfind("sensor_", 0) != 0)
+            joint.intrinsics.push_back(parameter);
+        }
+        joint.sensors.resize(1);
+        joint.sensors[0].T_base_sensor = fit.job.report.T_base_sensor;
+        return joint;
+      }(),
+      0);
+  PreparedAdoption adoption = session.prepareAdoption(fit, "diff_drive", config_.models);
+  EXPECT_EQ(session.activeModel().first, model.first);  // prepared: nothing changed yet
+  EXPECT_DOUBLE_EQ(session.timeOffset(), 0.0);
+  session.commitAdoption(adoption);
+  EXPECT_EQ(session.activeModel().first, fit.job.model);
+  EXPECT_DOUBLE_EQ(session.timeOffset(), 0.03);
+  EXPECT_DOUBLE_EQ(session.sensorPose()->x(), 0.31);
+  session.rollBackAdoption(adoption);
+  EXPECT_EQ(session.activeModel().first, model.first);
+  EXPECT_EQ(session.activeModel().second, model.second);
+  EXPECT_DOUBLE_EQ(session.timeOffset(), 0.0);
+  EXPECT_DOUBLE_EQ(session.sensorPose()->x(), pose.x());
+  // The new offset restarted the odometry, and so does the old one put back; it runs on with
+  // the previous model and pairs are made again.
+  const std::size_t pairs = session.pairs().size();
+  feedSpan(
+      frontRearDrive(), 30.0, std::numeric_limits<double>::infinity(),
+      [&](double t, const Eigen::VectorXd& raw) { session.addJointPositions(t, raw); },
+      [&](std::size_t, double t, const Scan& scan) { session.addScan(t, scan, kFrames[0]); }, {0});
+  session.flush();
+  EXPECT_GT(session.pairs().size(), pairs + 10);
+  EXPECT_GT(session.paths().corrected.size(), 50u);
+  const auto [saved, message] = session.save();  // the previous fit's files
+  ASSERT_TRUE(saved) << message;
+  EXPECT_NEAR(readCalibrationResult(options_.output_directory + "/result.yaml").T_base_sensor.x(),
+              pose.x(), 1e-9);
+}
+
 TEST_F(JointSession, TheWheelOdometryIsTheSameFromEverySensorsView)
 {
   // ~odom is source 0's session's odometry; its base_link trajectory is the joint wheels'
