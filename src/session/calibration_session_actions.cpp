@@ -1,7 +1,9 @@
-// The session's actions: calibrate (a fit that becomes the active model), save, reset.
+// The session's actions: calibrate (a fit that becomes the active model; a fit made elsewhere
+// adopted in steps), save, reset.
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <stdexcept>
 
 #include "odometry_calibration/calibration/calibration_result.h"
 #include "odometry_calibration/calibration/candidate_collectors.h"
@@ -282,6 +284,8 @@ void CalibrationSession::adopt(const std::string& name, const CalibrationConfig&
 
 void CalibrationSession::commit(PreparedAdoption& adoption)
 {
+  if (!adoption.state_ || adoption.state_->committed)
+    throw std::logic_error("commitAdoption: no prepared fit (or committed already)");
   std::lock_guard<std::mutex> lock(mutex_);
   exchangeActive(adoption);  // throws before anything changed
   try {
@@ -316,6 +320,8 @@ void CalibrationSession::rollBack(PreparedAdoption& adoption)
 
 CalibrateOutcome CalibrationSession::finish(PreparedAdoption& adoption, std::size_t pairs_collected)
 {
+  if (!adoption.state_ || !adoption.state_->committed)
+    throw std::logic_error("finishAdoption: the fit is not committed");
   const PreparedAdoption::State& state = *adoption.state_;
   const SessionFit& fit = state.fit;
   CalibrateOutcome outcome;

@@ -558,6 +558,9 @@ TEST_F(JointSession, AnAdoptionRolledBackLeavesTheSessionAsItWas)
   EXPECT_DOUBLE_EQ(session.timeOffset(), 0.03);
   EXPECT_DOUBLE_EQ(session.sensorPose()->x(), 0.31);
   session.rollBackAdoption(adoption);
+  EXPECT_THROW(session.finishAdoption(adoption, 0), std::logic_error);  // not committed now
+  PreparedAdoption none;
+  EXPECT_THROW(session.commitAdoption(none), std::logic_error);
   EXPECT_EQ(session.activeModel().first, model.first);
   EXPECT_EQ(session.activeModel().second, model.second);
   EXPECT_DOUBLE_EQ(session.timeOffset(), 0.0);

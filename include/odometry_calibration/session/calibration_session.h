@@ -239,12 +239,14 @@ public:
   /// The prepared fit becomes the active model (model, sensor pose told to the listener, time
   /// offset for new pairs, odometry). When the listener throws (or the odometry cannot take
   /// the newest samples), the session is put back as it was and the exception passed on.
+  /// Throws std::logic_error for an adoption not prepared or committed already.
   void commitAdoption(PreparedAdoption& adoption);
   /// Puts back the state a committed adoption replaced (the listener told the previous pose;
   /// what it throws then is logged).
   void rollBackAdoption(PreparedAdoption& adoption);
   /// The rest of a committed adoption: last_fit.yaml, the guidance recentred, the health
   /// monitor watching, the time offset's log line; the outcome as calibrate() gives it.
+  /// Throws std::logic_error for an adoption not committed.
   CalibrateOutcome finishAdoption(PreparedAdoption& adoption, std::size_t pairs_collected);
   /// What save() writes now; throws std::runtime_error when there is nothing to save.
   SessionFiles filesToSave() const;
