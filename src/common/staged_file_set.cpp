@@ -20,6 +20,16 @@ struct Move
   std::string from, to;
 };
 
+/// `name` as one file name in the staging folder: '%' and '/' escaped ("a/b" -> "a%2Fb"), so
+/// that an entry in a subfolder is staged beside the others and no two names collide.
+std::string flatName(const std::string& name)
+{
+  std::string flat;
+  for (const char c : name)
+    flat += c == '%' ? std::string("%25") : c == '/' ? std::string("%2F") : std::string(1, c);
+  return flat;
+}
+
 }  // namespace
 
 StagedFileSet::StagedFileSet(const std::string& directory, Rename rename)
@@ -49,7 +59,7 @@ StagedFileSet::~StagedFileSet()
 
 std::string StagedFileSet::stagedPath(const std::string& name) const
 {
-  return staging_ + "/new." + name;
+  return staging_ + "/new." + flatName(name);
 }
 
 void StagedFileSet::commit(const std::vector<std::string>& names,
@@ -76,7 +86,7 @@ void StagedFileSet::commit(const std::vector<std::string>& names,
   for (const std::string& name : old_names) {
     const std::string target = directory_ + "/" + name;
     if (fs::symlink_status(target, error_code).type() != fs::file_type::not_found)
-      move(target, staging_ + "/old/" + name);
+      move(target, staging_ + "/old/" + flatName(name));
   }
   for (const std::string& name : names)
     move(stagedPath(name), directory_ + "/" + name);

@@ -124,17 +124,23 @@ void CalibrationSession::loadSavedCalibration()
 
 void CalibrationSession::makeCollectors()
 {
-  collector_ =
-      std::make_unique<PairCollector>(channels_, config_.collector, priorPredictor(config_));
+  buildCollectors(config_.collector, &collector_, &candidates_);
+}
+
+void CalibrationSession::buildCollectors(const CollectorOptions& options,
+                                         std::unique_ptr<PairCollector>* collector,
+                                         std::unique_ptr<CandidateCollectors>* candidates) const
+{
+  *collector = std::make_unique<PairCollector>(channels_, options, priorPredictor(config_));
   std::vector<double> other_intervals;
   for (const double interval : candidate_intervals_s_) {
-    if (std::abs(interval - config_.collector.keyframe_interval_s) > 1e-9)
+    if (std::abs(interval - options.keyframe_interval_s) > 1e-9)
       other_intervals.push_back(interval);
   }
-  candidates_.reset();
+  candidates->reset();
   if (!other_intervals.empty()) {
-    candidates_ = std::make_unique<CandidateCollectors>(channels_, config_.collector,
-                                                        priorPredictor(config_), other_intervals);
+    *candidates = std::make_unique<CandidateCollectors>(channels_, options, priorPredictor(config_),
+                                                        other_intervals);
   }
 }
 

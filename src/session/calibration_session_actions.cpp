@@ -1,7 +1,9 @@
-// The session's actions: calibrate (a fit that becomes the active model), save, reset.
+// The session's actions: calibrate (a fit that becomes the active model; a fit made elsewhere
+// adopted in steps), save, reset.
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <stdexcept>
 
 #include "odometry_calibration/calibration/calibration_result.h"
 #include "odometry_calibration/calibration/candidate_collectors.h"
@@ -66,10 +68,16 @@ SessionFitRequest CalibrationSession::snapshot(std::string* guidance) const
   return fit_request;
 }
 
-void CalibrationSession::configureModel(const std::string& name, const std::string& options,
+void CalibrationSession::configureModel(const std::string& name, const CalibrationRequest& request,
                                         CalibrationConfig* config) const
 {
   requireKnownModel(name, "model");
+  if (request.models) {
+    config->models = *request.models;
+    config->model = name;
+    return;
+  }
+  const std::string& options = request.options;
   // The model sections as this model needs them (its joints resolved and checked); the
   // configuration's own model has them already.
   if (name != config->model || !options.empty()) {
@@ -94,7 +102,7 @@ CalibrateOutcome CalibrationSession::calibrate(const CalibrationRequest& request
     return outcome;
   }
   try {
-    configureModel(name, request.options, &fit_request.config);
+    configureModel(name, request, &fit_request.config);
   } catch (const std::exception& error) {
     outcome.message =
         "cannot fit " + name + " with this configuration and options: " + error.what();
@@ -123,20 +131,134 @@ CalibrateOutcome CalibrationSession::calibrate(const CalibrationRequest& request
   return outcome;
 }
 
-CalibrateOutcome CalibrationSession::adoptFit(const SessionFit& fit, std::size_t pairs_collected)
+/// What a fit changes in a session when it becomes the active model, and what it needs for the
+/// rest of its adoption; after the commit, the session's previous state (exchangeActive).
+struct PreparedAdoption::State
+{
+  std::string name;
+  CalibrationConfig config;
+  SessionFit fit;
+  std::string guidance;
+  bool committed = false;
+  // Exchanged with the session's by exchangeActive.
+  std::shared_ptr<const MotionModel> active_model, fitted_model;
+  std::string origin, result_yaml, controller_yaml;
+  double model_interval_s = 0.0;
+  std::optional<CalibrationSession::FitCounts> counts;
+  std::optional<Pose2> T_base_sensor;
+  double time_offset_s = 0.0;
+  /// The collectors at the new time offset; none when it does not change.
+  std::unique_ptr<PairCollector> collector;
+  std::unique_ptr<CandidateCollectors> candidates;
+  OdometryReplay replay;
+};
+
+PreparedAdoption::PreparedAdoption() = default;
+PreparedAdoption::PreparedAdoption(PreparedAdoption&&) noexcept = default;
+PreparedAdoption& PreparedAdoption::operator=(PreparedAdoption&&) noexcept = default;
+PreparedAdoption::~PreparedAdoption() = default;
+
+PreparedAdoption CalibrationSession::prepareAdoption(const SessionFit& fit, const std::string& name,
+                                                     const ModelFactoryOptions& models)
 {
   std::lock_guard<std::mutex> fitting(fit_mutex_);
-  CalibrateOutcome outcome;
-  outcome.pairs_collected = pairs_collected;
-  outcome.fit = fit;
   std::string guidance;
-  const CalibrationConfig config = snapshot(&guidance).config;
-  adopt(config.model, config, guidance, &outcome, true);
-  return outcome;
+  CalibrationConfig config = snapshot(&guidance).config;
+  config.model = name;
+  config.models = models;
+  return prepare(fit, name, config, guidance);
+}
+
+void CalibrationSession::commitAdoption(PreparedAdoption& adoption)
+{
+  std::lock_guard<std::mutex> fitting(fit_mutex_);
+  commit(adoption);
+}
+
+void CalibrationSession::rollBackAdoption(PreparedAdoption& adoption)
+{
+  std::lock_guard<std::mutex> fitting(fit_mutex_);
+  std::lock_guard<std::mutex> lock(mutex_);
+  rollBack(adoption);
+}
+
+CalibrateOutcome CalibrationSession::finishAdoption(PreparedAdoption& adoption,
+                                                    std::size_t pairs_collected)
+{
+  std::lock_guard<std::mutex> fitting(fit_mutex_);
+  return finish(adoption, pairs_collected);
+}
+
+PreparedAdoption CalibrationSession::prepare(const SessionFit& fit, const std::string& name,
+                                             const CalibrationConfig& config,
+                                             const std::string& guidance) const
+{
+  const ModelReport& report = fit.job.report;
+  if (!report.converged)
+    throw std::invalid_argument(name + " fit did not converge (" + report.termination + ")");
+  PreparedAdoption adoption;
+  adoption.state_ = std::make_unique<PreparedAdoption::State>();
+  PreparedAdoption::State& state = *adoption.state_;
+  state.name = name;
+  state.config = config;
+  state.fit = fit;
+  state.guidance = guidance;
+  state.active_model = state.fitted_model = fit.job.model;
+  state.origin = "fit of " + std::to_string(report.pairs_used) + " pairs";
+  state.result_yaml =
+      calibrationResultYaml(report, *fit.job.model, options_.source, fit.job.time_offset_s,
+                            jointLayout(config).names, fit.fit_interval_s);
+  state.controller_yaml = controllerYaml(report, options_.source);
+  state.model_interval_s = fit.fit_interval_s;
+  state.counts = FitCounts{report.pairs_used, report.rejected, report.down_weighted};
+  state.time_offset_s = fit.job.time_offset_s;
+  CollectorOptions collector;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    state.T_base_sensor = fitSensorPose(fit);
+    collector = config_.collector;
+  }
+  try {
+    state.replay = replayOdometry(fit);
+  } catch (const std::exception& error) {
+    throw std::runtime_error(std::string("its odometry failed: ") + error.what());
+  }
+  if (std::abs(fit.job.time_offset_s - collector.time_offset_s) >= 1e-6) {
+    collector.time_offset_s = fit.job.time_offset_s;
+    try {  // the fit-interval candidates pair at the new offset too
+      buildCollectors(collector, &state.collector, &state.candidates);
+    } catch (const std::exception& error) {
+      throw std::runtime_error(std::string("its time offset cannot be paired at: ") + error.what());
+    }
+  }
+  return adoption;
+}
+
+void CalibrationSession::exchangeActive(PreparedAdoption& adoption)
+{
+  PreparedAdoption::State& state = *adoption.state_;
+  if (odometry_)
+    odometry_->swapCorrected(&state.replay);  // the one step that may throw: first
+  std::swap(active_model_, state.active_model);
+  std::swap(fitted_model_, state.fitted_model);
+  std::swap(active_model_origin_, state.origin);
+  std::swap(fitted_result_yaml_, state.result_yaml);
+  std::swap(fitted_controller_yaml_, state.controller_yaml);
+  std::swap(model_interval_s_, state.model_interval_s);
+  std::swap(last_fit_counts_, state.counts);
+  std::swap(T_base_sensor_, state.T_base_sensor);
+  if (state.collector) {  // a new time offset: new pairs and the odometry start at it
+    std::swap(config_.collector.time_offset_s, state.time_offset_s);
+    std::swap(collector_, state.collector);
+    std::swap(candidates_, state.candidates);
+    if (odometry_)
+      odometry_->restart();
+  }
+  state.committed = !state.committed;
 }
 
 void CalibrationSession::adopt(const std::string& name, const CalibrationConfig& config,
-                               const std::string& guidance, CalibrateOutcome* outcome, bool always)
+                               const std::string& guidance, CalibrateOutcome* outcome)
 {
   const SessionFit& fit = *outcome->fit;
   if (!fit.job.report.converged) {
@@ -144,14 +266,84 @@ void CalibrationSession::adopt(const std::string& name, const CalibrationConfig&
                        "); the active model is unchanged";
     return;
   }
-  if (!options_.adopt_fits && !always) {  // calibrate_bag: the fit is the result, nothing runs on
+  if (!options_.adopt_fits) {  // calibrate_bag: the fit is the result, nothing runs on
     outcome->success = true;
     outcome->message = successMessage(name, fit);
     return;
   }
-  const std::string result_yaml =
-      calibrationResultYaml(fit.job.report, *fit.job.model, options_.source, fit.job.time_offset_s,
-                            jointLayout(config).names, fit.fit_interval_s);
+  PreparedAdoption adoption;
+  try {
+    adoption = prepare(fit, name, config, guidance);
+    commit(adoption);
+  } catch (const std::exception& error) {
+    outcome->message = name + " fitted, but " + error.what() + "; the active model is unchanged";
+    return;
+  }
+  *outcome = finish(adoption, outcome->pairs_collected);
+}
+
+void CalibrationSession::commit(PreparedAdoption& adoption)
+{
+  if (!adoption.state_ || adoption.state_->committed)
+    throw std::logic_error("commitAdoption: no prepared fit (or committed already)");
+  std::lock_guard<std::mutex> lock(mutex_);
+  exchangeActive(adoption);  // throws before anything changed
+  try {
+    notifySensorPose();
+  } catch (...) {
+    rollBack(adoption);
+    throw;
+  }
+}
+
+void CalibrationSession::rollBack(PreparedAdoption& adoption)
+{
+  if (!adoption.state_ || !adoption.state_->committed)
+    return;
+  try {
+    exchangeActive(adoption);
+  } catch (const std::exception& error) {
+    // The previous odometry cannot take the samples since the commit: it starts again (a
+    // restart leaves it nothing to take).
+    say(SessionLogLevel::kWarn,
+        std::string("the odometry starts again with the previous model: ") + error.what());
+    odometry_->restart();
+    exchangeActive(adoption);
+  }
+  try {
+    notifySensorPose();
+  } catch (const std::exception& error) {
+    say(SessionLogLevel::kError,
+        std::string("cannot tell the previous sensor pose again: ") + error.what());
+  }
+}
+
+CalibrateOutcome CalibrationSession::finish(PreparedAdoption& adoption, std::size_t pairs_collected)
+{
+  if (!adoption.state_ || !adoption.state_->committed)
+    throw std::logic_error("finishAdoption: the fit is not committed");
+  const PreparedAdoption::State& state = *adoption.state_;
+  const SessionFit& fit = state.fit;
+  CalibrateOutcome outcome;
+  outcome.pairs_collected = pairs_collected;
+  outcome.fit = fit;
+  std::string result_yaml;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    result_yaml = fitted_result_yaml_;
+    if (state.collector) {  // exchanged: the state holds the previous offset
+      char text[200];
+      std::snprintf(text, sizeof(text),
+                    "time offset %.4f s -> %.4f s: new pairs and the odometry use it (both "
+                    "restarted)",
+                    state.time_offset_s, config_.collector.time_offset_s);
+      say(SessionLogLevel::kInfo, text);
+    }
+    if (assistant_) {
+      assistant_->watch(active_model_, active_model_origin_);
+      assistant_->recentre(state.name, fit.job.report, store_->pairs());
+    }
+  }
   if (!options_.output_directory.empty()) {
     try {
       // Every fit is kept (last_fit.yaml); save() makes it the calibration loaded on start.
@@ -160,21 +352,13 @@ void CalibrationSession::adopt(const std::string& name, const CalibrationConfig&
       say(SessionLogLevel::kError, std::string("cannot write last_fit.yaml: ") + error.what());
     }
   }
-  try {
-    OdometryReplay replay = replayOdometry(fit);
-    std::lock_guard<std::mutex> lock(mutex_);
-    activate(name, fit, fit.job.model, result_yaml, std::move(replay));
-  } catch (const std::exception& error) {
-    outcome->message = name + " fitted, but its odometry failed: " + error.what() +
-                       "; the active model is unchanged";
-    return;
-  }
-  outcome->success = true;
-  outcome->message = successMessage(name, fit) + timeOffsetSentence(config, fit) +
-                     repairingAdvice(config.collector.time_offset_s, fit);
+  outcome.success = true;
+  outcome.message = successMessage(state.name, fit) + timeOffsetSentence(state.config, fit) +
+                    repairingAdvice(state.config.collector.time_offset_s, fit);
   for (const std::string& warning : fit.job.report.warnings)
-    outcome->message += " WARNING: " + asSentence(warning);
-  outcome->message += guidance;
+    outcome.message += " WARNING: " + asSentence(warning);
+  outcome.message += state.guidance;
+  return outcome;
 }
 
 std::string CalibrationSession::successMessage(const std::string& name, const SessionFit& fit) const
@@ -218,76 +402,47 @@ std::optional<Pose2> CalibrationSession::fitSensorPose(const SessionFit& fit) co
   return report.has_extrinsic ? std::optional<Pose2>(report.T_base_sensor) : T_base_sensor_;
 }
 
-void CalibrationSession::activate(const std::string& name, const SessionFit& fit,
-                                  const std::shared_ptr<MotionModel>& model,
-                                  const std::string& result_yaml, OdometryReplay replay)
+SessionFiles CalibrationSession::filesToSave() const
 {
-  const ModelReport& report = fit.job.report;
-  const std::optional<Pose2> T_base_sensor = fitSensorPose(fit);
-  if (odometry_ && replay.integrator)
-    odometry_->replayFinish(std::move(replay));
-  T_base_sensor_ = T_base_sensor;
-  fitted_model_ = model;
-  fitted_result_yaml_ = result_yaml;
-  fitted_controller_yaml_ = controllerYaml(report, options_.source);
-  model_interval_s_ = fit.fit_interval_s;
-  active_model_ = model;
-  active_model_origin_ = "fit of " + std::to_string(report.pairs_used) + " pairs";
-  last_fit_counts_ = {report.pairs_used, report.rejected, report.down_weighted};
-  notifySensorPose();
-  applyTimeOffset(fit.job.time_offset_s);
-  if (assistant_) {
-    assistant_->watch(model, active_model_origin_);
-    assistant_->recentre(name, report, store_->pairs());
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!fitted_model_)
+    throw std::runtime_error("nothing to save: no successful ~calibrate since the node started");
+  SessionFiles files;
+  files.written.emplace_back("result.yaml", fitted_result_yaml_);
+  if (!fitted_controller_yaml_.empty())
+    files.written.emplace_back("controller.yaml", fitted_controller_yaml_);
+  else  // an earlier calibration's controller values must not pass for this one's
+    files.removed.push_back("controller.yaml");
+  if (T_base_sensor_) {
+    const std::string frame = sensor_frame_.empty() ? options_.default_sensor_frame : sensor_frame_;
+    files.written.emplace_back("laser_joint.urdf",
+                               laserJointUrdf(*T_base_sensor_, options_.base_frame, frame));
   }
-}
-
-void CalibrationSession::applyTimeOffset(double time_offset_s)
-{
-  const double previous_s = config_.collector.time_offset_s;
-  if (std::abs(time_offset_s - previous_s) < 1e-6)
-    return;
-  config_.collector.time_offset_s = time_offset_s;
-  makeCollectors();  // the fit-interval candidates pair at the new offset too
-  if (odometry_)
-    odometry_->restart();
-  char text[200];
-  std::snprintf(text, sizeof(text),
-                "time offset %.4f s -> %.4f s: new pairs and the odometry use it (both restarted)",
-                previous_s, time_offset_s);
-  say(SessionLogLevel::kInfo, text);
+  return files;
 }
 
 std::pair<bool, std::string> CalibrationSession::save()
 {
-  std::lock_guard<std::mutex> lock(mutex_);
-  if (!fitted_model_)
-    return {false, "nothing to save: no successful ~calibrate since the node started"};
-  if (options_.output_directory.empty())
-    return {false, "nothing to save: the session has no output directory"};
   const std::string& directory = options_.output_directory;
   try {
-    const std::string result_path = absolutePath(directory, "result.yaml");
-    writeFileAtomically(result_path, fitted_result_yaml_);
-    std::string message = "saved " + result_path;
-    const std::string controller_path = absolutePath(directory, "controller.yaml");
-    if (!fitted_controller_yaml_.empty()) {
-      writeFileAtomically(controller_path, fitted_controller_yaml_);
-      message += ", " + controller_path;
-    } else {  // an earlier calibration's controller values must not pass for this one's
-      std::error_code ignored;
-      fs::remove(controller_path, ignored);
+    const SessionFiles files = filesToSave();
+    if (directory.empty())
+      return {false, "nothing to save: the session has no output directory"};
+    std::string message = "saved ";
+    for (std::size_t f = 0; f < files.written.size(); ++f) {
+      const std::string path = absolutePath(directory, files.written[f].first);
+      writeFileAtomically(path, files.written[f].second);
+      const bool urdf = files.written[f].first == "laser_joint.urdf";
+      message += (f == 0 ? "" : urdf ? " and " : ", ") + path;
     }
-    if (T_base_sensor_) {
-      const std::string urdf_path = absolutePath(directory, "laser_joint.urdf");
-      const std::string frame =
-          sensor_frame_.empty() ? options_.default_sensor_frame : sensor_frame_;
-      writeFileAtomically(urdf_path, laserJointUrdf(*T_base_sensor_, options_.base_frame, frame));
-      message += " and " + urdf_path;
+    for (const std::string& name : files.removed) {
+      std::error_code ignored;
+      fs::remove(absolutePath(directory, name), ignored);
     }
     return {true, message};
   } catch (const std::exception& error) {
-    return {false, std::string("cannot save: ") + error.what()};
+    const std::string what = error.what();
+    return {false, what.rfind("nothing to save", 0) == 0 ? what : "cannot save: " + what};
   }
 }
 

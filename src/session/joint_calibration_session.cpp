@@ -5,8 +5,11 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include <yaml-cpp/yaml.h>
 #include "odometry_calibration/calibration/calibration_result.h"
+
 #include "odometry_calibration/common/atomic_file.h"
+#include "odometry_calibration/common/staged_file_set.h"
 #include "odometry_calibration/eval/joint_fit_text.h"
 #include "odometry_calibration/report/controller_yaml.h"
 #include "odometry_calibration/report/result_files.h"
@@ -46,13 +49,72 @@ std::string poseText(const Pose2& pose)
   return text;
 }
 
+/// Throws std::invalid_argument naming the first of a call's `options` that a joint fit of
+/// `model` does not take: another section than the model's own (the model is the request's),
+/// or its sensor_pose (each source starts from its own, ego_motion.sources[].sensor_pose).
+void refuseNonJointOptions(const std::string& model, const std::string& options)
+{
+  if (options.empty())
+    return;
+  YAML::Node root;
+  try {
+    root = YAML::Load(options);
+  } catch (const YAML::Exception& error) {
+    throw std::invalid_argument(std::string("the options are not YAML: ") + error.what());
+  }
+  if (root.IsNull())
+    return;
+  if (!root.IsMap())
+    throw std::invalid_argument("the options must be a YAML mapping, e.g. \"{" + model +
+                                ": {huber_threshold: 2}}\"");
+  for (const auto& entry : root) {
+    const std::string key = entry.first.as<std::string>();
+    if (key != model) {
+      throw std::invalid_argument("option '" + key + "' does not apply to the joint " + model +
+                                  " fit of several sources (it takes only " + model +
+                                  ".* options; the model is the request's model)");
+    }
+    if (entry.second.IsMap() && entry.second["sensor_pose"]) {
+      throw std::invalid_argument("option '" + model +
+                                  ".sensor_pose' does not apply to the joint fit: each source "
+                                  "starts from its own (ego_motion.sources[].sensor_pose)");
+    }
+  }
+}
+
+/// Writes `set` into `directory` as one set (common/staged_file_set.h): every file staged, then
+/// all moved in; a file that cannot be written is named and the previous set stays whole.
+/// Returns the reply's message.
+std::string writeFileSet(const std::string& directory, const SessionFiles& set)
+{
+  StagedFileSet staged(directory);
+  std::vector<std::string> names;
+  std::string list;
+  for (const auto& [name, content] : set.written) {
+    try {
+      writeFileAtomically(staged.stagedPath(name), content);
+    } catch (const std::exception& error) {
+      throw std::runtime_error("cannot write " + name + ": " + error.what());
+    }
+    names.push_back(name);
+    list += (list.empty() ? "" : ", ") + name;
+  }
+  staged.commit(names, set.removed);
+  return "saved the joint fit in " + fs::absolute(directory).lexically_normal().string() + ": " +
+         list;
+}
+
 }  // namespace
 
 JointCalibrationSession::JointCalibrationSession(
     const CalibrationConfig& config, const std::string& config_text,
     const std::string& config_source, const SessionOptions& options,
     const std::function<SessionListener(std::size_t)>& listener)
-    : config_(config), options_(options), sources_(egoMotionSources(config))
+    : config_(config),
+      config_text_(config_text),
+      config_source_(config_source),
+      options_(options),
+      sources_(egoMotionSources(config))
 {
   if (sources_.size() <= 1) {  // one source: its session exactly as before
     sessions_.push_back(std::make_unique<CalibrationSession>(
@@ -206,12 +268,30 @@ JointCalibrateOutcome JointCalibrationSession::calibrate(const CalibrationReques
   return calibrateJointly(request);
 }
 
+CalibrationConfig JointCalibrationSession::jointModelConfig(const std::string& name,
+                                                            const std::string& options) const
+{
+  if (const std::string problem = jointFitModelProblem(name); !problem.empty())
+    throw std::invalid_argument(problem);
+  refuseNonJointOptions(name, options);
+  CalibrationConfig config = config_;
+  if (name != config_.model || !options.empty())
+    config.models = configForModel(config_text_, name, options, config_source_).models;
+  config.model = name;
+  return config;
+}
+
 std::optional<std::vector<SessionFit>> JointCalibrationSession::fitSourcesAlone(
-    const CalibrationRequest& request, std::size_t* pairs_collected, std::string* failure)
+    const CalibrationRequest& request, const CalibrationConfig& joint_config,
+    std::size_t* pairs_collected, std::string* failure)
 {
   std::vector<SessionFit> fits;
   for (std::size_t k = 0; k < sessions_.size(); ++k) {
-    const CalibrateOutcome alone = sessions_[k]->calibrate(request);
+    CalibrationRequest own = request;  // the joint model, from this source's start pose
+    own.model = joint_config.model;
+    own.options.clear();
+    own.models = configForSource(joint_config, k).models;
+    const CalibrateOutcome alone = sessions_[k]->calibrate(own);
     *pairs_collected += alone.pairs_collected;
     // As calibrate_bag: a fit alone that did not converge still gives the joint fit its start
     // (its table says so); a source without one stops the call.
@@ -228,83 +308,118 @@ JointCalibrateOutcome JointCalibrationSession::calibrateJointly(const Calibratio
 {
   JointCalibrateOutcome result;
   CalibrateOutcome& outcome = result.outcome;
-  if ((!request.model.empty() && request.model != config_.model) || !request.options.empty()) {
-    outcome.message =
-        "with several ego-motion sources the fit is the joint fit of the "
-        "configuration's model '" +
-        config_.model + "' (no other model, no options)";
+  const std::string name = request.model.empty() ? config_.model : request.model;
+  CalibrationConfig joint_config;
+  try {
+    joint_config = jointModelConfig(name, request.options);
+  } catch (const std::exception& error) {
+    outcome.message = "cannot fit " + name + " jointly with these options: " + error.what();
     return result;
   }
   std::string failure;
   const std::optional<std::vector<SessionFit>> fits =
-      fitSourcesAlone(request, &outcome.pairs_collected, &failure);
+      fitSourcesAlone(request, joint_config, &outcome.pairs_collected, &failure);
   if (!fits) {
     outcome.message = "cannot fit the sources jointly: " + failure;
     return result;
   }
   std::vector<JointSourceInput> inputs;
-  std::vector<std::string> names;
-  for (std::size_t k = 0; k < sessions_.size(); ++k) {
-    const CalibrationJobResult& job = (*fits)[k].job;
-    inputs.push_back({sources_[k].topic, sessions_[k]->sensorFrame(), job.pairs,
-                      job.report.T_base_sensor, job.time_offset_s, (*fits)[k].fit_interval_s});
-    names.push_back(sources_[k].topic);
-  }
-  try {
-    result.joint = fitSourcesJointly(config_, inputs);
-    result.text = formatJointFitReport(*result.joint, names);
-  } catch (const std::exception& error) {
-    outcome.message = "joint " + config_.model + " fit failed: " + error.what();
+  if (!fitJointly(joint_config, *fits, &result, &inputs))
     return result;
-  }
-  SessionFit first = fits->front();
-  first.job.report = sensorModelReport(*result.joint, 0);
-  first.job.model = jointSensorModel(config_, *result.joint, 0);
-  outcome.fit = first;
   if (!result.joint->converged) {
-    outcome.message = "joint " + config_.model + " fit did not converge (" +
-                      result.joint->termination + "); the active models are unchanged";
+    outcome.message = "joint " + name + " fit did not converge (" + result.joint->termination +
+                      "); the active models are unchanged";
     return result;
   }
-  outcome.message = adoptJointFit(*result.joint, *fits, &outcome.success);
+  outcome.message = adoptJointFit(joint_config, *result.joint, *fits, &outcome.success);
   if (outcome.success) {
     joint_ = result.joint;
+    joint_config_ = joint_config;
     joint_inputs_ = inputs;
     joint_text_ = result.text;
   }
   return result;
 }
 
-std::string JointCalibrationSession::adoptJointFit(const JointFitReport& joint,
+bool JointCalibrationSession::fitJointly(const CalibrationConfig& joint_config,
+                                         const std::vector<SessionFit>& fits,
+                                         JointCalibrateOutcome* result,
+                                         std::vector<JointSourceInput>* inputs)
+{
+  std::vector<std::string> names;
+  for (std::size_t k = 0; k < sessions_.size(); ++k) {
+    const CalibrationJobResult& job = fits[k].job;
+    inputs->push_back({sources_[k].topic, sessions_[k]->sensorFrame(), job.pairs,
+                       job.report.T_base_sensor, job.time_offset_s, fits[k].fit_interval_s});
+    names.push_back(sources_[k].topic);
+  }
+  try {
+    result->joint = fitSourcesJointly(joint_config, *inputs);
+    result->text = formatJointFitReport(*result->joint, names);
+  } catch (const std::exception& error) {
+    result->joint.reset();
+    result->outcome.message = "joint " + joint_config.model + " fit failed: " + error.what();
+    return false;
+  }
+  SessionFit first = fits.front();
+  first.job.report = sensorModelReport(*result->joint, 0);
+  first.job.model = jointSensorModel(joint_config, *result->joint, 0);
+  result->outcome.fit = first;
+  return true;
+}
+
+std::string JointCalibrationSession::adoptJointFit(const CalibrationConfig& joint_config,
+                                                   const JointFitReport& joint,
                                                    const std::vector<SessionFit>& fits,
                                                    bool* success)
 {
-  std::string message =
-      "joint " + config_.model + " fit of " + std::to_string(fits.size()) + " sensors:";
+  const std::string model = joint_config.model;
+  const auto notAdopted = [&](std::size_t k, const std::string& why) {
+    return "joint " + model + " fit not adopted: source " + std::to_string(k) + " (" +
+           sources_[k].topic + "): " + why +
+           "; the previous calibration stays active in every source";
+  };
+  std::vector<SessionFit> views;
+  std::vector<PreparedAdoption> prepared;
+  for (std::size_t k = 0; k < sessions_.size(); ++k) {
+    views.push_back(fits[k]);
+    views[k].job.report = sensorModelReport(joint, k);
+    views[k].job.model = jointSensorModel(joint_config, joint, k);
+    try {  // everything that can fail, in every source, before any changes
+      prepared.push_back(
+          sessions_[k]->prepareAdoption(views[k], model, configForSource(joint_config, k).models));
+    } catch (const std::exception& error) {
+      return notAdopted(k, error.what());
+    }
+  }
+  std::size_t committed = 0;
+  try {
+    for (; committed < sessions_.size(); ++committed)
+      sessions_[committed]->commitAdoption(prepared[committed]);
+  } catch (const std::exception& error) {
+    for (std::size_t k = committed; k-- > 0;)
+      sessions_[k]->rollBackAdoption(prepared[k]);
+    return notAdopted(committed, error.what());
+  }
+  std::string message = "joint " + model + " fit of " + std::to_string(fits.size()) + " sensors:";
   for (const ParameterEstimate& parameter : joint.intrinsics) {
     char text[120];
     std::snprintf(text, sizeof(text), " %s %.6g", parameter.name.c_str(), parameter.value);
     message += text;
   }
   message += ".";
-  *success = true;
-  std::vector<std::shared_ptr<const MotionModel>> views;
+  std::vector<std::shared_ptr<const MotionModel>> models;
+  std::size_t pairs = 0;
   for (std::size_t k = 0; k < sessions_.size(); ++k) {
-    SessionFit view = fits[k];
-    view.job.report = sensorModelReport(joint, k);
-    view.job.model = jointSensorModel(config_, joint, k);
-    views.push_back(view.job.model);
-    const CalibrateOutcome adopted = sessions_[k]->adoptFit(view, view.job.pairs.size());
-    *success = *success && adopted.success;
+    const CalibrateOutcome adopted =
+        sessions_[k]->finishAdoption(prepared[k], views[k].job.pairs.size());
+    models.push_back(views[k].job.model);
+    pairs += joint.sensors[k].pairs;
     message += " [" + sources_[k].topic + "] pose " + poseText(joint.sensors[k].T_base_sensor) +
                " from " + std::to_string(joint.sensors[k].pairs) + " pairs: " + adopted.message;
   }
-  if (*success) {
-    std::size_t pairs = 0;
-    for (const JointSensorReport& sensor : joint.sensors)
-      pairs += sensor.pairs;
-    watchJointly(views, "joint fit of " + std::to_string(pairs) + " pairs");
-  }
+  *success = true;
+  watchJointly(models, "joint fit of " + std::to_string(pairs) + " pairs");
   return message;
 }
 
@@ -317,40 +432,42 @@ std::pair<bool, std::string> JointCalibrationSession::save()
     return {false, "nothing to save: no successful joint ~calibrate since the node started"};
   if (options_.output_directory.empty())
     return {false, "nothing to save: the session has no output directory"};
-  std::string message;
-  for (std::size_t k = 0; k < sessions_.size(); ++k) {
-    const auto [saved, text] = sessions_[k]->save();
-    if (!saved)
-      return {false, "source " + sources_[k].topic + ": " + text};
-    message += "; " + text;
-  }
   try {
-    return {true, saveJoint() + message};
+    return {true, saveJoint()};
   } catch (const std::exception& error) {
-    return {false, std::string("cannot save the joint fit: ") + error.what()};
+    return {false,
+            std::string("cannot save the joint fit, the previous files are kept: ") + error.what()};
   }
 }
 
 std::string JointCalibrationSession::saveJoint() const
 {
   const std::string directory = options_.output_directory;
-  fs::create_directories(directory);
-  writeFileAtomically(directory + "/" + kResultFileName,
-                      jointResultYaml(config_, *joint_, joint_inputs_, options_.source));
+  SessionFiles set;
+  for (std::size_t k = 0; k < sessions_.size(); ++k) {
+    const std::string folder = "source_" + std::to_string(k) + "/";
+    fs::create_directories(directory + "/" + folder);
+    const SessionFiles own = sessions_[k]->filesToSave();
+    for (const auto& [name, content] : own.written)
+      set.written.emplace_back(folder + name, content);
+    for (const std::string& name : own.removed)
+      set.removed.push_back(folder + name);
+  }
+  set.written.emplace_back(kResultFileName,
+                           jointResultYaml(joint_config_, *joint_, joint_inputs_, options_.source));
   std::string urdf;
   for (std::size_t k = 0; k < sessions_.size(); ++k) {
     urdf += laserJointUrdf(joint_->sensors[k].T_base_sensor, options_.base_frame,
                            joint_inputs_[k].frame);
   }
-  writeFileAtomically(directory + "/laser_joints.urdf", urdf);
-  // No controller form for every model (tricycle): then no controller.yaml.
+  set.written.emplace_back("laser_joints.urdf", urdf);
   const std::string controller = controllerYaml(sensorModelReport(*joint_, 0), options_.source);
   if (!controller.empty())
-    writeFileAtomically(directory + "/controller.yaml", controller);
-  writeFileAtomically(directory + "/joint_report.txt", joint_text_);
-  return "saved the joint fit in " + fs::absolute(directory).lexically_normal().string() +
-         " (result.yaml, laser_joints.urdf, " + (controller.empty() ? "" : "controller.yaml, ") +
-         "joint_report.txt)";
+    set.written.emplace_back("controller.yaml", controller);
+  else  // an earlier calibration's controller values must not pass for this one's
+    set.removed.push_back("controller.yaml");
+  set.written.emplace_back("joint_report.txt", joint_text_);
+  return writeFileSet(directory, set);
 }
 
 std::pair<bool, std::string> JointCalibrationSession::reset()

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace odometry_calibration {
 namespace {
@@ -153,21 +154,26 @@ OdometryReplay SessionOdometry::replay(const OdometryReplayInput& input,
   return replay;
 }
 
-void SessionOdometry::replayFinish(OdometryReplay replay)
+void SessionOdometry::swapCorrected(OdometryReplay* replay)
 {
-  if (replay.generation != generation_) {  // restarted while integrating: start afresh
-    replay.integrator->reset();
-    replay.path.clear();
+  if (replay->integrator) {
+    if (replay->generation != generation_) {  // restarted while integrating: start afresh
+      replay->integrator->reset();
+      replay->path.clear();
+    }
+    // What arrived while integrating (the integrator skips the samples it has), then the newest.
+    for (const EncoderSample& sample : path_samples_) {
+      if (replay->integrator->add(sample))
+        replay->path.push_back({sample.stamp_s, replay->integrator->pose()});
+    }
+    if (corrected_ && corrected_->lastSample())
+      replay->integrator->add(*corrected_->lastSample());
   }
-  // What arrived while integrating (the integrator skips the samples it has), then the newest.
-  for (const EncoderSample& sample : path_samples_) {
-    if (replay.integrator->add(sample))
-      replay.path.push_back({sample.stamp_s, replay.integrator->pose()});
-  }
-  if (corrected_ && corrected_->lastSample())
-    replay.integrator->add(*corrected_->lastSample());
-  corrected_ = std::move(replay.integrator);
-  corrected_path_.assign(replay.path.begin(), replay.path.end());
+  std::swap(corrected_, replay->integrator);
+  std::vector<StampedPose2> replaced(corrected_path_.begin(), corrected_path_.end());
+  corrected_path_.assign(replay->path.begin(), replay->path.end());
+  replay->path = std::move(replaced);
+  replay->generation = generation_;
 }
 
 OdometryPaths SessionOdometry::paths(const Pose2& T_base_sensor) const

@@ -97,6 +97,37 @@ TEST_F(FileSet, AFailedRenamePutsTheOldSetBack)
   EXPECT_EQ(entries(), 4u);  // the old set and keep.txt, nothing new
 }
 
+TEST_F(FileSet, EntriesInSubfoldersAreOneSet)
+{
+  // A set spread over the folder and a subfolder (a joint session's source_<k>/ files).
+  fs::create_directory(directory_ + "/source_0");
+  write(directory_ + "/source_0/a.txt", "old source a");
+  int renames = 0;
+  {
+    StagedFileSet set(directory_, [&](const std::string& from, const std::string& to) {
+      if (++renames == 4) {  // a.txt and source_0/a.txt aside, source_0/a.txt in, a.txt fails
+        errno = EIO;
+        return -1;
+      }
+      return std::rename(from.c_str(), to.c_str());
+    });
+    write(set.stagedPath("source_0/a.txt"), "new source a");
+    write(set.stagedPath("a.txt"), "new a");
+    EXPECT_THROW(set.commit({"source_0/a.txt", "a.txt"}), std::runtime_error);
+  }
+  EXPECT_EQ(read("source_0/a.txt"), "old source a");
+  EXPECT_EQ(read("a.txt"), "old a");
+  {
+    StagedFileSet set(directory_);
+    write(set.stagedPath("source_0/a.txt"), "new source a");
+    write(set.stagedPath("a.txt"), "new a");
+    set.commit({"source_0/a.txt", "a.txt"});
+  }
+  EXPECT_EQ(read("source_0/a.txt"), "new source a");
+  EXPECT_EQ(read("a.txt"), "new a");
+  EXPECT_EQ(entries(), 5u);  // a.txt, b.txt, keep.txt, plots, source_0: no staging folder
+}
+
 TEST_F(FileSet, AnAbandonedSetLeavesNothing)
 {
   {

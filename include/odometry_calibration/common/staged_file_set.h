@@ -25,7 +25,8 @@ public:
   StagedFileSet(const StagedFileSet&) = delete;
   StagedFileSet& operator=(const StagedFileSet&) = delete;
 
-  /// Where to write the set's entry `name` (a file or a folder) now.
+  /// Where to write the set's entry `name` (a file or a folder) now. `name` may lie in a
+  /// subfolder of `directory` ("source_0/result.yaml"), which must exist at commit().
   std::string stagedPath(const std::string& name) const;
 
   /// Moves the staged entries `names` into `directory`, replacing the old ones, and removes

@@ -94,6 +94,9 @@ struct CalibrationRequest
   double fixed_interval_s = 0.0;                  ///< with kFixed [s]
   double fit_until_stamp_s = INFINITY;            ///< fit only pairs ending by this stamp
   std::optional<TimeOffsetResult> offset_search;  ///< already run on exactly these pairs
+  /// The model sections for `model`, configured already (a joint session's, each source's
+  /// with its own start pose): `options` is then not read.
+  std::optional<ModelFactoryOptions> models;
 };
 
 struct CalibrateOutcome
@@ -124,9 +127,39 @@ struct SessionCounts
   std::string ignored_ego_publisher;      ///< the first other publisher ("" without one)
 };
 
+/// A fit made ready to become a session's active model (CalibrationSession::prepareAdoption);
+/// once committed, it holds the state it replaced, so that rollBackAdoption can put it back.
+class PreparedAdoption
+{
+public:
+  PreparedAdoption();
+  PreparedAdoption(PreparedAdoption&&) noexcept;
+  PreparedAdoption& operator=(PreparedAdoption&&) noexcept;
+  ~PreparedAdoption();
+
+private:
+  friend class CalibrationSession;
+  struct State;
+  std::unique_ptr<State> state_;
+};
+
+/// The files save() writes, by name in the output directory, with their content, and those it
+/// removes (an earlier calibration's controller.yaml when this one has none).
+struct SessionFiles
+{
+  std::vector<std::pair<std::string, std::string>> written;
+  std::vector<std::string> removed;
+};
+
 class CalibrationSession
 {
 public:
+  /// The last adopted fit's pair counts, as its reply and report give them (for /diagnostics).
+  struct FitCounts
+  {
+    std::size_t used = 0, rejected = 0, down_weighted = 0;
+  };
+
   /// `config` as parsed from `config_text` (read from `config_source`, for messages). Loads the
   /// saved calibration and resumes the pairs file as the options say. Throws
   /// std::invalid_argument / std::runtime_error for options or files it cannot use.
@@ -192,11 +225,31 @@ public:
   /// (odometry integrated again, health monitor, guidance recentred, new time offset for new
   /// pairs) and is written to last_fit.yaml.
   CalibrateOutcome calibrate(const CalibrationRequest& request);
-  /// Makes `fit` (of the configuration's model, fitted elsewhere: one sensor's view of a joint
-  /// fit of several sources, joint_calibration_session.h) the active model as calibrate() does
-  /// with a converged fit of its own, also with adopt_fits off; `pairs_collected` for the
-  /// outcome. A fit that did not converge is refused (the outcome says so).
-  CalibrateOutcome adoptFit(const SessionFit& fit, std::size_t pairs_collected);
+  // A fit made elsewhere (one sensor's view of a joint fit of several sources) made the active
+  // model as calibrate() does with a converged fit of its own, also with adopt_fits off; in
+  // steps, for a caller that adopts fits in several sessions all or none
+  // (joint_calibration_session.h): prepare each session's, commit each (rolling back the
+  // committed ones when one fails), then finish each.
+  /// `fit` of model `name` (configured as `models`: the call's model and options) made ready to
+  /// become the active model: its result file's text, its odometry integrated again, the
+  /// pairing at its time offset; the session is unchanged. Throws std::invalid_argument for a
+  /// fit that did not converge, std::runtime_error saying what else failed (its odometry).
+  PreparedAdoption prepareAdoption(const SessionFit& fit, const std::string& name,
+                                   const ModelFactoryOptions& models);
+  /// The prepared fit becomes the active model (model, sensor pose told to the listener, time
+  /// offset for new pairs, odometry). When the listener throws (or the odometry cannot take
+  /// the newest samples), the session is put back as it was and the exception passed on.
+  /// Throws std::logic_error for an adoption not prepared or committed already.
+  void commitAdoption(PreparedAdoption& adoption);
+  /// Puts back the state a committed adoption replaced (the listener told the previous pose;
+  /// what it throws then is logged).
+  void rollBackAdoption(PreparedAdoption& adoption);
+  /// The rest of a committed adoption: last_fit.yaml, the guidance recentred, the health
+  /// monitor watching, the time offset's log line; the outcome as calibrate() gives it.
+  /// Throws std::logic_error for an adoption not committed.
+  CalibrateOutcome finishAdoption(PreparedAdoption& adoption, std::size_t pairs_collected);
+  /// What save() writes now; throws std::runtime_error when there is nothing to save.
+  SessionFiles filesToSave() const;
   /// Writes the last successful fit: result.yaml, controller.yaml (diff_drive, skid_steer,
   /// mecanum), laser_joint.urdf (with a sensor pose). Returns {success, message}.
   std::pair<bool, std::string> save();
@@ -231,21 +284,29 @@ private:
   std::string collectionStatus(SessionStatusReport* status) const;
   /// What a fit needs, taken under the lock (and the guidance's summary for the reply).
   SessionFitRequest snapshot(std::string* guidance) const;
-  /// `config`'s model sections for model `name` with the call's `options`; throws naming why.
-  void configureModel(const std::string& name, const std::string& options,
+  /// `config`'s model sections for model `name` with the call's `options` (or its `models`);
+  /// throws naming why.
+  void configureModel(const std::string& name, const CalibrationRequest& request,
                       CalibrationConfig* config) const;
   /// A converged fit becomes the active model; the outcome's message says what happened.
-  /// `always`: also with adopt_fits off (adoptFit).
   void adopt(const std::string& name, const CalibrationConfig& config, const std::string& guidance,
-             CalibrateOutcome* outcome, bool always = false);
+             CalibrateOutcome* outcome);
+  // The steps of adopt() (the public ones take fit_mutex_ first).
+  PreparedAdoption prepare(const SessionFit& fit, const std::string& name,
+                           const CalibrationConfig& config, const std::string& guidance) const;
+  void commit(PreparedAdoption& adoption);
+  void rollBack(PreparedAdoption& adoption);  ///< with mutex_ held
+  CalibrateOutcome finish(PreparedAdoption& adoption, std::size_t pairs_collected);
+  /// Exchanges the active model's state with `adoption`'s; throws (nothing exchanged) what the
+  /// odometry's catch-up throws. Called with mutex_ held.
+  void exchangeActive(PreparedAdoption& adoption);
+  /// The pair collectors of `options` (and the fit-interval candidates' ones).
+  void buildCollectors(const CollectorOptions& options, std::unique_ptr<PairCollector>* collector,
+                       std::unique_ptr<CandidateCollectors>* candidates) const;
   /// The corrected odometry integrated again with the fit (empty without odometry).
   OdometryReplay replayOdometry(const SessionFit& fit) const;
   /// The sensor pose after `fit`: its own, or the one known before.
   std::optional<Pose2> fitSensorPose(const SessionFit& fit) const;
-  void activate(const std::string& name, const SessionFit& fit,
-                const std::shared_ptr<MotionModel>& model, const std::string& result_yaml,
-                OdometryReplay replay);
-  void applyTimeOffset(double time_offset_s);
   std::string successMessage(const std::string& name, const SessionFit& fit) const;
 
   mutable std::mutex mutex_;  ///< the state; inputs, queries and the fit's start and end
@@ -273,11 +334,6 @@ private:
   double model_interval_s_ = 0.5;  ///< window of the active model's predictions [s]
   std::shared_ptr<const MotionModel> fitted_model_;  ///< last successful fit (for save())
   std::string fitted_result_yaml_, fitted_controller_yaml_;
-  /// The last adopted fit's pair counts, as its reply and report give them (for /diagnostics).
-  struct FitCounts
-  {
-    std::size_t used = 0, rejected = 0, down_weighted = 0;
-  };
   std::optional<FitCounts> last_fit_counts_;
   std::optional<Pose2> T_base_sensor_;  ///< learned (or saved) sensor pose
   std::string sensor_frame_;            ///< from the inputs' headers

@@ -79,25 +79,39 @@ public:
 
   /// One source: its session's calibrate(). Several: each source fitted alone (a source whose
   /// fit cannot run, named by its topic, stops the call; as in calibrate_bag, one that did not
-  /// converge does not), then jointly (config.model only, no options); the joint fit
-  /// converged, each source's session adopts its view of it.
+  /// converge does not), then jointly; the joint fit converged, each source's session adopts
+  /// its view of it, all or none (every view prepared, then committed, the committed ones put
+  /// back when one fails: the reply names the source, the previous calibration stays active in
+  /// every source). request.model: a model with a joint fit (jointFitModelProblem; empty: the
+  /// configuration's); request.options: only that model's section, without sensor_pose (each
+  /// source starts from its own), else refused naming the option.
   JointCalibrateOutcome calibrate(const CalibrationRequest& request);
-  /// One source: its session's save(). Several: every source's save() (under source_<k>/),
-  /// then result.yaml (jointResultYaml), laser_joints.urdf (one joint per sensor),
-  /// controller.yaml (diff_drive, skid_steer, mecanum) and joint_report.txt in the output
-  /// directory.
+  /// One source: its session's save(). Several: every source's files (CalibrationSession::
+  /// filesToSave, under source_<k>/), result.yaml (jointResultYaml), laser_joints.urdf (one
+  /// joint per sensor), controller.yaml (diff_drive, skid_steer, mecanum) and joint_report.txt
+  /// in the output directory, as one set (common/staged_file_set.h): all replaced or, when one
+  /// cannot be written (named in the reply), none.
   std::pair<bool, std::string> save();
   /// Every source's reset(), in words.
   std::pair<bool, std::string> reset();
 
 private:
   JointCalibrateOutcome calibrateJointly(const CalibrationRequest& request);
-  /// Each source's fit alone; nullopt with `failure` set when one could not be fitted.
+  /// The joint fit's configuration: model `name` with the call's `options`; throws
+  /// std::invalid_argument naming a model without a joint fit or an option it does not take.
+  CalibrationConfig jointModelConfig(const std::string& name, const std::string& options) const;
+  /// Each source's fit alone of joint_config's model (its own start pose); nullopt with
+  /// `failure` set when one could not be fitted.
   std::optional<std::vector<SessionFit>> fitSourcesAlone(const CalibrationRequest& request,
+                                                         const CalibrationConfig& joint_config,
                                                          std::size_t* pairs_collected,
                                                          std::string* failure);
-  std::string adoptJointFit(const JointFitReport& joint, const std::vector<SessionFit>& fits,
-                            bool* success);
+  /// The joint fit of the fits alone into `result` (false: result's message says why).
+  bool fitJointly(const CalibrationConfig& joint_config, const std::vector<SessionFit>& fits,
+                  JointCalibrateOutcome* result, std::vector<JointSourceInput>* inputs);
+  /// Every source adopts its view of `joint`, all or none; the reply's message.
+  std::string adoptJointFit(const CalibrationConfig& joint_config, const JointFitReport& joint,
+                            const std::vector<SessionFit>& fits, bool* success);
   std::string saveJoint() const;
   /// Source `source`'s new pair into the joint monitor.
   void monitorPair(const MotionPair& pair, std::size_t source);
@@ -108,18 +122,22 @@ private:
   void watchSavedCalibrations();
 
   CalibrationConfig config_;
+  std::string config_text_, config_source_;
   SessionOptions options_;
   std::vector<EgoMotionSourceConfig> sources_;
-  std::vector<std::unique_ptr<CalibrationSession>> sessions_;
-  std::mutex fit_mutex_;  ///< calibrate(), save(), reset(): one at a time
-  /// The last converged joint fit, for save().
-  std::optional<JointFitReport> joint_;
-  std::vector<JointSourceInput> joint_inputs_;
-  std::string joint_text_;
   /// Several sources: the health monitor of the joint calibration (no guidance: the sources'
-  /// sessions give theirs); null when the configuration turns the monitor off.
+  /// sessions give theirs); null when the configuration turns the monitor off. Declared before
+  /// sessions_ so that it outlives them: their pair listeners call monitorPair (which uses it
+  /// and monitor_mutex_) until they are destroyed.
   std::unique_ptr<SessionAssistant> monitor_;
   mutable std::mutex monitor_mutex_;  ///< monitor_'s state; never held while calling a session
+  std::vector<std::unique_ptr<CalibrationSession>> sessions_;
+  std::mutex fit_mutex_;  ///< calibrate(), save(), reset(): one at a time
+  /// The last converged joint fit and its configuration (the call's model), for save().
+  std::optional<JointFitReport> joint_;
+  CalibrationConfig joint_config_;
+  std::vector<JointSourceInput> joint_inputs_;
+  std::string joint_text_;
 };
 
 }  // namespace odometry_calibration

@@ -98,9 +98,12 @@ public:
   /// model's prediction throws.
   static OdometryReplay replay(const OdometryReplayInput& input,
                                std::unique_ptr<OdometryIntegrator> integrator);
-  /// Adds what arrived since replayInput and makes the replay the corrected odometry (started
-  /// afresh when the odometry restarted meanwhile).
-  void replayFinish(OdometryReplay replay);
+  /// Adds what arrived since replayInput to `replay` (started afresh when the odometry
+  /// restarted meanwhile), then exchanges it with the corrected odometry and its path: the
+  /// replay becomes the corrected odometry, `replay` holds the one it replaced (swapped back,
+  /// that one takes what arrived meanwhile). Throws what the model's prediction throws, before
+  /// anything is exchanged.
+  void swapCorrected(OdometryReplay* replay);
 
   /// The paths; the scan-matched sensor poses drawn through `T_base_sensor` (inverted).
   OdometryPaths paths(const Pose2& T_base_sensor) const;
