@@ -7,7 +7,8 @@
 // (alternating which goes first); a pair's time is its fastest pass. Both sides convert the scans
 // themselves inside the timed call (ours: Scan -> prepared points and line fits; CSM: Scan ->
 // laser_data, then its own preprocessing). Options: each matcher's defaults, covariance on for both
-// (as a calibrator uses them; a second row per set with covariance off for both). Run
+// (as a calibrator uses them; a second row per set with covariance off for both; on the CARMEN
+// logs also ours with the line fits' surface breaks of before issue 33, gap_rule 0). Run
 // scripts/bench_plicp_vs_csm for the table.
 #include <benchmark/benchmark.h>
 
