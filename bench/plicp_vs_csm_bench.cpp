@@ -7,7 +7,8 @@
 // (alternating which goes first); a pair's time is its fastest pass. Both sides convert the scans
 // themselves inside the timed call (ours: Scan -> prepared points and line fits; CSM: Scan ->
 // laser_data, then its own preprocessing). Options: each matcher's defaults, covariance on for both
-// (as a calibrator uses them; a second row per set with covariance off for both). Run
+// (as a calibrator uses them; a second row per set with covariance off for both; on the CARMEN
+// logs also ours with the line fits' surface breaks of before issue 33, gap_rule 0). Run
 // scripts/bench_plicp_vs_csm for the table.
 #include <benchmark/benchmark.h>
 
@@ -59,12 +60,17 @@ Outcome matchWithCsm(const MatchCase& pair, bool covariance)
 }
 
 /// Ours with its defaults, covariance as asked; `check_ambiguity` false turns off the ambiguity
-/// check of weak matches (which needs the covariance) to show what it costs.
-Outcome matchWithOurs(const MatchCase& pair, bool covariance, bool check_ambiguity = true)
+/// check of weak matches (which needs the covariance) to show what it costs; `gap_rule` false
+/// sets line_fit.max_gap_range_m to 0, the surface breaks of before issue 33 (every gap beyond
+/// max_gap_m, whatever the ray spacing).
+Outcome matchWithOurs(const MatchCase& pair, bool covariance, bool check_ambiguity = true,
+                      bool gap_rule = true)
 {
   PlicpOptions options;
   options.compute_covariance = covariance;
   options.check_ambiguity = check_ambiguity;
+  if (!gap_rule)
+    options.line_fit.max_gap_range_m = 0.0;
   const PlicpResult result = matchScans(pair.reference, pair.current, pair.guess_ref_new, options);
   return {result.valid(), result.T_ref_new, result.covariance};
 }
@@ -127,7 +133,7 @@ void pairedComparison(benchmark::State& state, const std::vector<std::pair<doubl
 /// Times both matchers on every case (fastest of kPasses interleaved passes per case) and puts
 /// speed, validity and accuracy (against the truth, or between the two) into the counters.
 void runSideBySide(benchmark::State& state, const std::vector<MatchCase>& cases, bool covariance,
-                   bool check_ambiguity = true)
+                   bool check_ambiguity = true, bool gap_rule = true)
 {
   if (cases.empty()) {
     state.SkipWithError(
@@ -143,7 +149,7 @@ void runSideBySide(benchmark::State& state, const std::vector<MatchCase>& cases,
       for (std::size_t k = 0; k < n; ++k) {
         auto timeOurs = [&] {
           const auto start = std::chrono::steady_clock::now();
-          ours[k] = matchWithOurs(cases[k], covariance, check_ambiguity);
+          ours[k] = matchWithOurs(cases[k], covariance, check_ambiguity, gap_rule);
           const std::chrono::duration<double, std::milli> took =
               std::chrono::steady_clock::now() - start;
           ours_ms[k] = std::min(ours_ms[k], took.count());
@@ -331,8 +337,9 @@ void BM_SideBySideCarmen(benchmark::State& state)
   const auto log = static_cast<std::size_t>(state.range(0));
   if (cases[log].empty())
     cases[log] = carmenCases(kCarmenLogs[log]);
-  // covariance 2: covariance on, our ambiguity check off (CSM as with covariance 1)
-  runSideBySide(state, cases[log], state.range(1) != 0, state.range(1) != 2);
+  // covariance 2: covariance on, our ambiguity check off (CSM as with covariance 1); gap_rule 0:
+  // our line fits' surface breaks as before issue 33 (line_fit.max_gap_range_m 0)
+  runSideBySide(state, cases[log], state.range(1) != 0, state.range(1) != 2, state.range(2) != 0);
 }
 
 void BM_SideBySideRoom(benchmark::State& state)
@@ -385,10 +392,12 @@ BENCHMARK(BM_SideBySideMines)
     ->Unit(benchmark::kMillisecond);
 
 // log: 0 ACES (180 rays), 1 FHW museum (180), 2 Freiburg 079 (360); covariance 2: on for
-// both, our ambiguity check off.
+// both, our ambiguity check off; gap_rule 0: ours with the surface breaks of before issue 33
+// (the before/after of its line-fit change, in the same run).
 BENCHMARK(BM_SideBySideCarmen)
-    ->ArgNames({"log", "covariance"})
-    ->ArgsProduct({{0, 1, 2}, {1, 0, 2}})
+    ->ArgNames({"log", "covariance", "gap_rule"})
+    ->ArgsProduct({{0, 1, 2}, {1, 0, 2}, {1}})
+    ->ArgsProduct({{0, 1, 2}, {1}, {0}})
     ->Iterations(1)
     ->Unit(benchmark::kMillisecond);
 

@@ -52,6 +52,8 @@ void validate(const LineFitOptions& options, const std::string& prefix)
           prefix + "min_points must not exceed 2 * max_neighbors_per_side + 1");
   require(std::isfinite(options.max_gap_m) && options.max_gap_m > 0.0,
           prefix + "max_gap_m must be a positive number of metres");
+  require(std::isfinite(options.max_gap_range_m) && options.max_gap_range_m >= 0.0,
+          prefix + "max_gap_range_m must be a number of metres >= 0 (0: max_gap_m alone)");
   require(std::isfinite(options.max_rms_m) && options.max_rms_m > 0.0,
           prefix + "max_rms_m must be a positive number of metres");
   require(std::isfinite(options.max_bend_sigmas) && options.max_bend_sigmas > 0.0,
@@ -67,13 +69,33 @@ void validate(const LineFitOptions& options, const std::string& prefix)
 
 namespace {
 
-/// A scan's surfaces (maximal runs of points whose consecutive gaps stay below max_gap_m) and
+/// Whether points k and k + 1 lie on different surfaces (a depth discontinuity): farther apart
+/// than both max_gap_m and max_gap_range_m times the angle between neighbouring rays.
+bool surfaceBreak(const ScanPoints& points, int k, const LineFitOptions& options)
+{
+  const double gap_m = (points.points_m[k + 1] - points.points_m[k]).norm();
+  if (gap_m <= options.max_gap_m) {
+    return false;
+  }
+  if (options.max_gap_range_m <= 0.0 || points.angles_rad.size() != points.size() ||
+      points.ray_indices.size() != points.size()) {
+    return true;
+  }
+  // The angle between neighbouring rays (not between these two points: dropped readings in
+  // between do not widen the threshold).
+  const int rays_apart = std::max(1, std::abs(points.ray_indices[k + 1] - points.ray_indices[k]));
+  const double ray_spacing_rad =
+      std::abs(points.angles_rad[k + 1] - points.angles_rad[k]) / static_cast<double>(rays_apart);
+  return gap_m > options.max_gap_range_m * ray_spacing_rad;
+}
+
+/// A scan's surfaces (maximal runs of points without a depth discontinuity, surfaceBreak) and
 /// the prefix moments of their points: the total-least-squares fit of any window of one surface
 /// in constant time.
 class SurfaceFits
 {
 public:
-  SurfaceFits(const ScanPoints& points, double max_gap_m)
+  SurfaceFits(const ScanPoints& points, const LineFitOptions& options)
       : points_(points),
         surface_start_(points.size(), 0),
         surface_end_(points.size(), static_cast<int>(points.size()) - 1),
@@ -81,8 +103,7 @@ public:
   {
     const int n = static_cast<int>(points.size());
     for (int i = 1; i < n; ++i) {
-      const bool gap = (points.points_m[i] - points.points_m[i - 1]).norm() > max_gap_m;
-      surface_start_[i] = gap ? i : surface_start_[i - 1];
+      surface_start_[i] = surfaceBreak(points, i - 1, options) ? i : surface_start_[i - 1];
     }
     for (int i = n - 2; i >= 0; --i) {
       surface_end_[i] = surface_start_[i + 1] == surface_start_[i] ? surface_end_[i + 1] : i;
@@ -274,7 +295,7 @@ ScanLines fitScanLines(const ScanPoints& points, const LineFitOptions& options)
   if (n == 0) {
     return lines;
   }
-  const SurfaceFits surfaces(points, options.max_gap_m);
+  const SurfaceFits surfaces(points, options);
   const double radius2_m2 = options.radius_m * options.radius_m;
   const double max_bend_sigmas2 = options.max_bend_sigmas * options.max_bend_sigmas;
   const double max_rms2_m2 = options.max_rms_m * options.max_rms_m;

@@ -51,6 +51,7 @@ TEST(PlicpOptions, DefaultsAreValidAndBadValuesAreNamed)
       {"range_sigma_m", [](PlicpOptions& o) { o.range_sigma_m = 0.0; }},
       {"min_information_ratio", [](PlicpOptions& o) { o.min_information_ratio = 1.0; }},
       {"line_fit.max_gap_m", [](PlicpOptions& o) { o.line_fit.max_gap_m = 0.0; }},
+      {"line_fit.max_gap_range_m", [](PlicpOptions& o) { o.line_fit.max_gap_range_m = -1.0; }},
   };
   for (const auto& [name, breakIt] : cases) {
     PlicpOptions options;

@@ -277,6 +277,66 @@ TEST(ScanLines, SmallObjectsFallBackToTwoPointSegments)
   EXPECT_EQ(fitScanLines(points, no_fallback).valid_count, 0u);
 }
 
+/// A noise-free scan with `ray_count` rays over 180 deg (ray_count 181: 1 deg rays) from
+/// `pose`.
+ScanPoints cleanScan180(const synthetic::World& world, int ray_count, const Pose2& pose = Pose2())
+{
+  synthetic::LidarModel lidar;
+  lidar.range_sigma_m = 0.0;
+  lidar.ray_count = ray_count;
+  lidar.field_of_view_rad = 180.0 * synthetic::kDegToRad;
+  lidar.range_max_m = 40.0;
+  std::mt19937 rng(1);
+  return scanToPoints(synthetic::simulateScan(world, pose, lidar, rng));
+}
+
+TEST(ScanLines, FarWallsOfSparseScannersKeepTheirLinesButDepthStepsStillBreak)
+{
+  // 1 deg rays: on the wall x = 15 neighbouring points lie 0.26-0.37 m apart, beyond max_gap_m
+  // (0.2 m) but within the arc of one ray at max_gap_range_m (28 m: 0.49 m). Behind it (y > 0)
+  // the wall steps back to x = 16: a 1 m step, a new surface.
+  synthetic::World world;
+  world.addSegment(15.0, -6.0, 15.0, 0.0);
+  world.addSegment(16.0, 0.0, 16.0, 6.0);
+  const ScanPoints points = cleanScan180(world, 181);
+  ASSERT_GT(points.size(), 30u);
+  LineFitOptions before;
+  before.max_gap_range_m = 0.0;
+  EXPECT_EQ(fitScanLines(points, before).valid_count, 0u);  // every point its own surface
+  const ScanLines lines = fitScanLines(points, LineFitOptions());
+  EXPECT_EQ(lines.valid_count, points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const double wall_x_m = points.points_m[i].y() > 0.0 ? 16.0 : 15.0;
+    EXPECT_NEAR(lines.normals[i].x(), -1.0, 1e-9) << "point " << i;
+    EXPECT_NEAR(lines.centroids_m[i].x(), wall_x_m, 1e-9) << "point " << i;
+  }
+  // Twice the ray spacing: the gaps exceed the threshold again.
+  LineFitOptions shorter;
+  shorter.max_gap_range_m = 10.0;
+  EXPECT_EQ(fitScanLines(points, shorter).valid_count, 0u);
+}
+
+TEST(ScanLines, DenseScansBreakSurfacesAtMaxGapAlone)
+{
+  // 0.25 and 0.375 deg rays: max_gap_range_m (28 m) gives 0.12 and 0.18 m, below max_gap_m: the
+  // lines are those of max_gap_m alone (the office room: depth steps of every size).
+  for (const int rays : {721, 481}) {
+    const ScanPoints points = cleanScan180(synthetic::officeRoom(), rays, Pose2(3.0, 3.0, 0.4));
+    ASSERT_GT(points.size(), static_cast<std::size_t>(rays) * 9 / 10);
+    LineFitOptions alone;
+    alone.max_gap_range_m = 0.0;
+    const ScanLines expected = fitScanLines(points, alone);
+    const ScanLines lines = fitScanLines(points, LineFitOptions());
+    ASSERT_GT(expected.valid_count, points.size() / 2);
+    EXPECT_EQ(lines.valid_count, expected.valid_count) << rays << " rays";
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      EXPECT_EQ(lines.valid[i], expected.valid[i]) << rays << " rays, point " << i;
+      EXPECT_EQ(lines.normals[i], expected.normals[i]) << rays << " rays, point " << i;
+      EXPECT_EQ(lines.first[i], expected.first[i]) << rays << " rays, point " << i;
+    }
+  }
+}
+
 TEST(ScanLines, OptionsAreValidated)
 {
   LineFitOptions options;
