@@ -353,17 +353,17 @@ bool JointCalibrationSession::fitJointly(const CalibrationConfig& joint_config,
                        job.report.T_base_sensor, job.time_offset_s, fits[k].fit_interval_s});
     names.push_back(sources_[k].topic);
   }
-  try {
+  SessionFit first = fits.front();
+  try {  // (a view's model checks its values: a diverged solve is a failed fit, not a throw)
     result->joint = fitSourcesJointly(joint_config, *inputs);
     result->text = formatJointFitReport(*result->joint, names);
+    first.job.report = sensorModelReport(*result->joint, 0);
+    first.job.model = jointSensorModel(joint_config, *result->joint, 0);
   } catch (const std::exception& error) {
     result->joint.reset();
     result->outcome.message = "joint " + joint_config.model + " fit failed: " + error.what();
     return false;
   }
-  SessionFit first = fits.front();
-  first.job.report = sensorModelReport(*result->joint, 0);
-  first.job.model = jointSensorModel(joint_config, *result->joint, 0);
   result->outcome.fit = first;
   return true;
 }
@@ -383,9 +383,9 @@ std::string JointCalibrationSession::adoptJointFit(const CalibrationConfig& join
   std::vector<PreparedAdoption> prepared;
   for (std::size_t k = 0; k < sessions_.size(); ++k) {
     views.push_back(fits[k]);
-    views[k].job.report = sensorModelReport(joint, k);
-    views[k].job.model = jointSensorModel(joint_config, joint, k);
     try {  // everything that can fail, in every source, before any changes
+      views[k].job.report = sensorModelReport(joint, k);
+      views[k].job.model = jointSensorModel(joint_config, joint, k);
       prepared.push_back(
           sessions_[k]->prepareAdoption(views[k], model, configForSource(joint_config, k).models));
     } catch (const std::exception& error) {

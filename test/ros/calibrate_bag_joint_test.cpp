@@ -151,6 +151,27 @@ TEST(CalibrateBagJoint, SeveralSourcesWithAModelWithoutJointFitAreRefusedNamingI
     EXPECT_NE(std::string(error.what()).find("not 'linear'"), std::string::npos) << error.what();
   }
   EXPECT_FALSE(fs::exists(options.output_dir));
+  // The one-source options a joint run does not take are refused by name, not ignored.
+  options.config_path = kConfig + "/diff_drive_front_rear.yaml";
+  options.test_bags = {options.config_path};  // (an existing file: checked before the refusal)
+  try {
+    calibrateBags(options, out);
+    ADD_FAILURE() << "--test with several sources accepted";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_NE(std::string(error.what()).find("option --test is not supported with several"),
+              std::string::npos)
+        << error.what();
+  }
+  options.test_bags.clear();
+  options.interval = "0.5";
+  try {
+    calibrateBags(options, out);
+    ADD_FAILURE() << "--interval with several sources accepted";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_NE(std::string(error.what()).find("option --interval"), std::string::npos)
+        << error.what();
+  }
+  EXPECT_FALSE(fs::exists(options.output_dir));
   fs::remove_all(directory);
 }
 
@@ -173,6 +194,11 @@ TEST(CalibrateBagJoint, TricycleFrontAndRearLasersGiveOneSetOfKinematicsAndBothP
   options.bags = {bag};
   options.output_dir = directory + "/out";
   options.quiet = true;
+  // An earlier run's files in the output folder: a controller.yaml (of another robot) must not
+  // stay beside this tricycle's result, a source folder's old file must go with its folder.
+  fs::create_directories(options.output_dir + "/source_1");
+  std::ofstream(options.output_dir + "/controller.yaml") << "wheel_separation: 0.33\n";
+  std::ofstream(options.output_dir + "/source_1/stale.txt") << "an earlier run\n";
   std::ostringstream out;
   const int status = calibrateBags(options, out);
   const std::string text = out.str();
@@ -196,7 +222,13 @@ TEST(CalibrateBagJoint, TricycleFrontAndRearLasersGiveOneSetOfKinematicsAndBothP
   EXPECT_NEAR(model["steering_offset_rad"].as<double>(), -0.064, 0.002);
   EXPECT_TRUE(fs::is_regular_file(options.output_dir + "/laser_joints.urdf"));
   EXPECT_FALSE(fs::exists(options.output_dir + "/controller.yaml"));
-  EXPECT_NE(text.find("laser_joints.urdf, joint_report.txt"), std::string::npos) << text;
+  EXPECT_FALSE(fs::exists(options.output_dir + "/source_1/stale.txt"));
+  EXPECT_TRUE(fs::is_regular_file(options.output_dir + "/source_1/result.yaml"));
+  EXPECT_NE(text.find("laser_joints.urdf, joint_report.txt, source_0/, source_1/}"),
+            std::string::npos)
+      << text;
+  for (const auto& entry : fs::directory_iterator(options.output_dir))  // no staging left
+    EXPECT_EQ(entry.path().filename().string().rfind(".result_set", 0), std::string::npos);
   fs::remove_all(directory);
 }
 
