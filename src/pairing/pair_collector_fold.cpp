@@ -41,7 +41,8 @@ void PairCollector::foldFront() const
 {
   Unfolded front = std::move(unfolded_.front());
   unfolded_.pop_front();
-  if (const std::shared_ptr<MatchJob>& job = front.consecutive ? front.consecutive : front.keyframe) {
+  if (const std::shared_ptr<MatchJob>& job =
+          front.consecutive ? front.consecutive : front.keyframe) {
     const PlicpResult result = matches_ ? matches_->wait(job) : job->result;
     statistics_.preparation_time_s += job->preparation_time_s;
     statistics_.matching_time_s += job->matching_time_s;
