@@ -1,6 +1,8 @@
 #include "odometry_calibration/data/encoder_track.h"
 
 #include <algorithm>
+#include <cstddef>
+#include <iterator>
 #include <stdexcept>
 
 namespace odometry_calibration {
@@ -71,11 +73,16 @@ std::vector<EncoderSample> EncoderTrack::between(double start_s, double end_s,
 
 double EncoderTrack::largestGap(double start_s, double end_s) const
 {
+  // The gaps between samples k - 1 and k with stamp k >= start_s and stamp k - 1 <= end_s: the
+  // stamps are in order, so from the first sample at or after start_s (a binary search: the
+  // track holds tens of seconds, the pairing asks a few times per scan) up to end_s.
+  const auto first =
+      std::lower_bound(samples_.begin(), samples_.end(), start_s,
+                       [](const EncoderSample& sample, double t) { return sample.stamp_s < t; });
   double largest = 0.0;
-  for (std::size_t k = 1; k < samples_.size(); ++k) {
-    if (samples_[k].stamp_s < start_s || samples_[k - 1].stamp_s > end_s)
-      continue;
-    largest = std::max(largest, samples_[k].stamp_s - samples_[k - 1].stamp_s);
+  for (auto k = std::max(first, samples_.begin() + std::min<std::ptrdiff_t>(1, samples_.size()));
+       k != samples_.end() && std::prev(k)->stamp_s <= end_s; ++k) {
+    largest = std::max(largest, k->stamp_s - std::prev(k)->stamp_s);
   }
   return largest;
 }

@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -24,11 +25,14 @@ const char* kColumns =
     "start_stamp_s,end_stamp_s,x_m,y_m,theta_rad,cov_xx,cov_xy,cov_xtheta,cov_yy,cov_ytheta,"
     "cov_thetatheta,samples";
 
-std::string number(double value)
+/// Appends `value` as printf's "%.17g" writes it (round trip exact), through std::to_chars:
+/// a 60-minute bag's pairs file holds half a million numbers, and snprintf took 0.5 s of them.
+void appendNumber(std::string& text, double value)
 {
   char buffer[40];
-  std::snprintf(buffer, sizeof(buffer), "%.17g", value);
-  return buffer;
+  const std::to_chars_result written =
+      std::to_chars(buffer, buffer + sizeof(buffer), value, std::chars_format::general, 17);
+  text.append(buffer, written.ptr);
 }
 
 bool parseNumber(const std::string& text, double* value)
@@ -65,19 +69,23 @@ std::string pairsCsvHeader(const JointLayout& joints)
 
 std::string pairsCsvRow(const MotionPair& pair)
 {
-  std::string row = number(pair.start_stamp_s) + "," + number(pair.end_stamp_s) + "," +
-                    number(pair.sensor_motion.x()) + "," + number(pair.sensor_motion.y()) + "," +
-                    number(pair.sensor_motion.theta());
+  std::string row;
   const Eigen::Matrix3d& c = pair.covariance;
-  for (const double value : {c(0, 0), c(0, 1), c(0, 2), c(1, 1), c(1, 2), c(2, 2)}) {
-    row += "," + number(value);
+  for (const double value :
+       {pair.start_stamp_s, pair.end_stamp_s, pair.sensor_motion.x(), pair.sensor_motion.y(),
+        pair.sensor_motion.theta(), c(0, 0), c(0, 1), c(0, 2), c(1, 1), c(1, 2), c(2, 2)}) {
+    appendNumber(row, value);
+    row += ',';
   }
-  row += ",";
   for (std::size_t k = 0; k < pair.encoder_samples.size(); ++k) {
     const EncoderSample& sample = pair.encoder_samples[k];
-    row += (k > 0 ? ";" : "") + number(sample.stamp_s);
-    for (Eigen::Index j = 0; j < sample.values.size(); ++j)
-      row += " " + number(sample.values(j));
+    if (k > 0)
+      row += ';';
+    appendNumber(row, sample.stamp_s);
+    for (Eigen::Index j = 0; j < sample.values.size(); ++j) {
+      row += ' ';
+      appendNumber(row, sample.values(j));
+    }
   }
   return row + "\n";
 }

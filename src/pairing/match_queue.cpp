@@ -117,4 +117,17 @@ PlicpResult MatchQueue::wait(const std::shared_ptr<MatchJob>& job)
   return job->result;
 }
 
+bool MatchQueue::done(const std::shared_ptr<MatchJob>& job)
+{
+  std::lock_guard<std::mutex> lock(mutex_);
+  return job->done;
+}
+
+void MatchQueue::runWhileQueuedAbove(std::size_t jobs)
+{
+  std::unique_lock<std::mutex> lock(mutex_);
+  while (queue_.size() > jobs)
+    runFront(lock);
+}
+
 }  // namespace odometry_calibration

@@ -15,8 +15,6 @@ namespace odometry_calibration {
 namespace {
 
 constexpr double kOpen = std::numeric_limits<double>::infinity();  ///< a span not closed yet
-/// Chains shorter than this stay out of the scale check: their direction is noise [m].
-constexpr double kScaleCheckMinChain_m = 0.01;
 
 }  // namespace
 
@@ -76,45 +74,17 @@ PairCollector::PairCollector(std::vector<EncoderChannelOptions> channels, Collec
   // does not change either) would cost time for nothing.
   consecutive_options_ = options_.plicp;
   consecutive_options_.compute_covariance = false;
-  if (options_.check_consistency)
+  if (options_.check_consistency || options_.defer_keyframe_matches)
     matches_ = std::make_unique<MatchQueue>(options_.background_matching &&
                                             std::thread::hardware_concurrency() > 1);
 }
 
 PairCollector::~PairCollector() = default;
 
-const CollectorStatistics& PairCollector::statistics() const
-{
-  foldConsecutiveMatches();
-  return statistics_;
-}
-
-void PairCollector::foldConsecutiveMatches() const
-{
-  while (!consecutive_.empty()) {
-    const PlicpResult step = matches_->wait(consecutive_.front());
-    statistics_.preparation_time_s += consecutive_.front()->preparation_time_s;
-    statistics_.matching_time_s += consecutive_.front()->matching_time_s;
-    const bool rematched = consecutive_.front()->fine_rematched;
-    consecutive_.pop_front();
-    // A one-threaded run matches only while the chain is valid: later matches after a failure
-    // were submitted speculatively and are dropped uncounted.
-    if (!chain_valid_)
-      continue;
-    ++statistics_.consecutive_matches;
-    statistics_.consecutive_rematched_all_rays += rematched ? 1 : 0;
-    if (step.valid()) {
-      chain_ = chain_ * step.T_ref_new;
-    } else {
-      ++statistics_.consecutive_failures;
-      chain_valid_ = false;
-    }
-  }
-}
-
 void PairCollector::reset()
 {
-  foldConsecutiveMatches();
+  fold(Fold::kAll);
+  ready_.clear();
   pending_.clear();
   track_.clear();
   glitch_filter_.reset();
@@ -128,40 +98,18 @@ void PairCollector::reset()
   previous_keyframe_input_s_ = 0.0;
 }
 
-CollectorEvent PairCollector::restart(const std::string& what)
+void PairCollector::restart(const std::string& what)
 {
+  fold(Fold::kAll);  // the events before the restart are returned before it
+  std::vector<CollectorEvent> before = std::move(ready_);
   reset();
+  ready_ = std::move(before);
   ++statistics_.restarts;
   CollectorEvent event;
   event.type = CollectorEvent::Type::kRestarted;
   // What restarted and what is kept is the caller's to say (the session says it once).
   event.reason = what + " went backwards in time (a looping bag or a clock reset)";
-  return event;
-}
-
-CollectorEvent PairCollector::pairEvent(double end_stamp_s, std::vector<EncoderSample> window,
-                                        const Pose2& sensor_motion,
-                                        const Eigen::Matrix3d& covariance)
-{
-  CollectorEvent event;
-  event.type = CollectorEvent::Type::kPair;
-  event.pair.start_stamp_s = keyframe_->stamp_s;
-  event.pair.end_stamp_s = end_stamp_s;
-  event.pair.encoder_samples = std::move(window);
-  event.pair.sensor_motion = sensor_motion;
-  event.pair.covariance = covariance;
-  event.pair.covariance.diagonal() += options_.covariance_floor;
-  ++statistics_.pairs;
-  return event;
-}
-
-CollectorEvent PairCollector::reject(const std::string& reason)
-{
-  ++statistics_.rejected[reason];
-  CollectorEvent event;
-  event.type = CollectorEvent::Type::kRejected;
-  event.reason = reason;
-  return event;
+  ready_.push_back(event);
 }
 
 std::vector<CollectorEvent> PairCollector::addEncoders(double stamp_s, const Eigen::VectorXd& raw,
@@ -190,7 +138,8 @@ std::vector<CollectorEvent> PairCollector::addEncoders(double stamp_s, const Eig
            << filtered.increment << " units, beyond " << channel.max_rate_per_s
            << " units/s (the joint's max_turns_per_s); reading skipped";
     event.reason = reason.str();
-    return {event};
+    queueEvent(event, false);
+    return takeEvents();
   }
   last_input_stamp_s_ = std::max(last_input_stamp_s_, stamp_s);
   if (accepted)
@@ -199,23 +148,23 @@ std::vector<CollectorEvent> PairCollector::addEncoders(double stamp_s, const Eig
     glitch_spans_.back().second = stamp_s;
   if (track_.add(stamp_s, filtered.corrected) == EncoderTrack::AddResult::kRestarted) {
     // The encoder history is gone: so is the keyframe it would have been paired with.
-    const CollectorEvent event = restart("the encoder stream");
+    restart("the encoder stream");
     track_.add(stamp_s, filtered.corrected);
-    return {event};
+    return takeEvents();
   }
-  return processReadyScans(false);
+  processReadyScans(false);
+  return takeEvents();
 }
 
 std::vector<CollectorEvent> PairCollector::flush()
 {
-  std::vector<CollectorEvent> events = processReadyScans(true);
-  foldConsecutiveMatches();
-  return events;
+  processReadyScans(true);
+  fold(Fold::kAll);
+  return std::exchange(ready_, {});
 }
 
-std::vector<CollectorEvent> PairCollector::processReadyScans(bool all)
+void PairCollector::processReadyScans(bool all)
 {
-  std::vector<CollectorEvent> events;
   while (!pending_.empty()) {
     // A scan whose sweep is compensated waits for the encoders of its whole sweep.
     const auto& front_scan = pending_.front().scan;
@@ -232,13 +181,11 @@ std::vector<CollectorEvent> PairCollector::processReadyScans(bool all)
       break;
     const PendingInput input = pending_.front();
     pending_.pop_front();
-    CollectorEvent event = input.scan
-                               ? processScan(input.stamp_s, input.scan, input.chain_scan)
-                               : processPose(input.stamp_s, input.T_world_sensor, input.covariance);
-    if (event.type != CollectorEvent::Type::kNothing)
-      events.push_back(std::move(event));
+    if (input.scan)
+      processScan(input.stamp_s, input.scan, input.chain_scan);
+    else
+      processPose(input.stamp_s, input.T_world_sensor, input.covariance);
   }
-  return events;
 }
 
 std::optional<std::vector<EncoderSample>> PairCollector::encoderWindow(double start_s, double end_s,
@@ -284,8 +231,10 @@ bool PairCollector::tooLittleMotion(const std::vector<EncoderSample>& window) co
 std::vector<CollectorEvent> PairCollector::addScan(double stamp_s, const Scan& scan)
 {
   ++statistics_.scans;
-  if (stamp_s < last_scan_stamp_s_)
-    return {restart("the scan stream")};
+  if (stamp_s < last_scan_stamp_s_) {
+    restart("the scan stream");
+    return takeEvents();
+  }
   last_scan_stamp_s_ = stamp_s;
   last_input_stamp_s_ = std::max(last_input_stamp_s_, stamp_s);
   // Prepared later, by the first match that needs it (possibly on the matching thread): a scan
@@ -300,7 +249,8 @@ std::vector<CollectorEvent> PairCollector::addScan(double stamp_s, const Scan& s
           : prepared;
   pending_.push_back(
       {stamp_s, std::move(prepared), std::move(chain_scan), Pose2(), Eigen::Matrix3d::Zero()});
-  return processReadyScans(false);
+  processReadyScans(false);
+  return takeEvents();
 }
 
 std::optional<CollectorEvent> PairCollector::unpairedInput(
@@ -366,42 +316,31 @@ void PairCollector::submitConsecutiveMatch(double stamp_s,
   // submitted now, with the guess from the encoders as they are now, and folded in before the
   // next keyframe decision; while its predecessors are unfolded, whether the chain is still
   // valid is not known yet, so it is submitted and the fold applies the rule.
-  if (!(options_.check_consistency && previous_scan_ && (chain_valid_ || !consecutive_.empty())))
+  if (!(options_.check_consistency && previous_scan_ && (chain_valid_ || !unfolded_.empty())))
     return;
   std::string reason;
   const auto window = encoderWindow(previous_scan_stamp_s_, stamp_s, &reason);
   const Pose2 guess = window ? predict(*window) : Pose2();
-  consecutive_.push_back(matches_->submit(previous_scan_, chain_scan, guess, consecutive_options_,
-                                          options_.matcher,
-                                          // A failed coarse match is matched again with every ray.
-                                          chain_scan != prepared ? previous_full_scan_ : nullptr,
-                                          chain_scan != prepared ? prepared : nullptr));
+  Unfolded entry;
+  entry.consecutive =
+      matches_->submit(previous_scan_, chain_scan, guess, consecutive_options_, options_.matcher,
+                       // A failed coarse match is matched again with every ray.
+                       chain_scan != prepared ? previous_full_scan_ : nullptr,
+                       chain_scan != prepared ? prepared : nullptr);
+  unfolded_.push_back(std::move(entry));
 }
 
-bool PairCollector::consistentWithChain(const PlicpResult& match)
+void PairCollector::startKeyframe(double stamp_s, std::shared_ptr<const LazyPreparedScan> scan,
+                                  const Pose2& T_world_sensor, const CollectorEvent& event)
 {
-  const Pose2 difference = between(chain_, match.T_ref_new);
-  if (std::hypot(difference.x(), difference.y()) > options_.consistency_translation_m ||
-      std::abs(difference.theta()) > options_.consistency_rotation_rad) {
-    return false;
-  }
-  const Eigen::Vector2d chain_m(chain_.x(), chain_.y());
-  if (chain_m.norm() >= kScaleCheckMinChain_m) {
-    const double keyframe_m =
-        Eigen::Vector2d(match.T_ref_new.x(), match.T_ref_new.y()).dot(chain_m) / chain_m.norm();
-    ++statistics_.scale_check_pairs;
-    statistics_.chained_m += chain_m.norm();
-    statistics_.keyframe_along_chain_m += keyframe_m;
-    statistics_.chained_m2 += chain_m.squaredNorm();
-    statistics_.keyframe_along_chain_m2 += keyframe_m * keyframe_m;
-    statistics_.chained_times_keyframe_m2 += keyframe_m * chain_m.norm();
-  }
-  return true;
+  keyframe_ = Keyframe{stamp_s, std::move(scan), T_world_sensor};
+  ++statistics_.keyframes;
+  // The consecutive matches queued so far belong to the ending chain.
+  queueEvent(event, true);
 }
 
-CollectorEvent PairCollector::processScan(double stamp_s,
-                                          std::shared_ptr<LazyPreparedScan> prepared,
-                                          std::shared_ptr<LazyPreparedScan> chain_scan)
+void PairCollector::processScan(double stamp_s, std::shared_ptr<LazyPreparedScan> prepared,
+                                std::shared_ptr<LazyPreparedScan> chain_scan)
 {
   compensateSweep(stamp_s, *prepared);
   if (chain_scan != prepared)
@@ -411,62 +350,69 @@ CollectorEvent PairCollector::processScan(double stamp_s,
   previous_full_scan_ = prepared;
   previous_scan_stamp_s_ = stamp_s;
 
-  auto start_keyframe = [&](CollectorEvent event) {
-    foldConsecutiveMatches();  // the matches up to this scan belong to the ending chain
-    keyframe_ = Keyframe{stamp_s, prepared, Pose2()};
-    chain_ = Pose2();
-    chain_valid_ = true;
-    ++statistics_.keyframes;
-    return event;
+  auto start_keyframe = [&](const CollectorEvent& event) {
+    startKeyframe(stamp_s, prepared, Pose2(), event);
+    return CollectorEvent();
   };
   std::vector<EncoderSample> window;
-  if (const auto answer = unpairedInput(stamp_s, start_keyframe, &window))
-    return *answer;
-  // Runs here while the background thread works through the consecutive matches.
-  const PlicpResult match =
-      timedMatch(*keyframe_->scan, *prepared, predict(window), options_.plicp,
-                 &statistics_.preparation_time_s, &statistics_.matching_time_s, options_.matcher);
-  foldConsecutiveMatches();
-  if (!match.valid()) {
-    return start_keyframe(reject(std::string("scan match ") + toString(match.status)));
+  if (unpairedInput(stamp_s, start_keyframe, &window))
+    return;
+  // The keyframe match: on the match queue with defer_keyframe_matches, else here while the
+  // background thread works through the consecutive matches. Concluded when folded, with the
+  // chain up to this scan.
+  Unfolded entry;
+  const Pose2 guess = predict(window);
+  if (options_.defer_keyframe_matches) {
+    entry.keyframe =
+        matches_->submit(keyframe_->scan, prepared, guess, options_.plicp, options_.matcher);
+  } else {
+    entry.keyframe = std::make_shared<MatchJob>();
+    entry.keyframe->result = timedMatch(*keyframe_->scan, *prepared, guess, options_.plicp,
+                                        &entry.keyframe->preparation_time_s,
+                                        &entry.keyframe->matching_time_s, options_.matcher);
+    entry.keyframe->done = true;
   }
-  if (options_.pair_motion_from_chain && !chain_valid_)
-    return start_keyframe(reject("a consecutive match failed (pair motion from the chain)"));
-  if (options_.check_consistency && !chain_valid_) {
-    ++statistics_.unverified_pairs;  // a consecutive match failed: nothing to compare with
-  } else if (options_.check_consistency && !consistentWithChain(match)) {
-    return start_keyframe(reject("keyframe match disagrees with consecutive matches"));
-  }
-  if (options_.pair_motion_from_chain)
-    return start_keyframe(pairEvent(stamp_s, std::move(window), chain_, match.covariance));
-  return start_keyframe(pairEvent(stamp_s, std::move(window), match.T_ref_new, match.covariance));
+  entry.event.pair.start_stamp_s = keyframe_->stamp_s;
+  entry.event.pair.end_stamp_s = stamp_s;
+  entry.event.pair.encoder_samples = std::move(window);
+  entry.ends_chain = true;
+  keyframe_ = Keyframe{stamp_s, prepared, Pose2()};
+  ++statistics_.keyframes;
+  unfolded_.push_back(std::move(entry));
 }
 
 std::vector<CollectorEvent> PairCollector::addSensorPose(double stamp_s,
                                                          const Pose2& T_world_sensor,
                                                          const Eigen::Matrix3d& covariance)
 {
-  if (stamp_s < last_scan_stamp_s_)
-    return {restart("the sensor pose stream")};
+  if (stamp_s < last_scan_stamp_s_) {
+    restart("the sensor pose stream");
+    return takeEvents();
+  }
   last_scan_stamp_s_ = stamp_s;
   last_input_stamp_s_ = std::max(last_input_stamp_s_, stamp_s);
   pending_.push_back({stamp_s, nullptr, nullptr, T_world_sensor, covariance});
-  return processReadyScans(false);
+  processReadyScans(false);
+  return takeEvents();
 }
 
-CollectorEvent PairCollector::processPose(double stamp_s, const Pose2& T_world_sensor,
-                                          const Eigen::Matrix3d& covariance)
+void PairCollector::processPose(double stamp_s, const Pose2& T_world_sensor,
+                                const Eigen::Matrix3d& covariance)
 {
-  auto start_keyframe = [&](CollectorEvent event) {
-    keyframe_ = Keyframe{stamp_s, nullptr, T_world_sensor};
-    ++statistics_.keyframes;
-    return event;
+  auto start_keyframe = [&](const CollectorEvent& event) {
+    startKeyframe(stamp_s, nullptr, T_world_sensor, event);
+    return CollectorEvent();
   };
   std::vector<EncoderSample> window;
-  if (const auto answer = unpairedInput(stamp_s, start_keyframe, &window))
-    return *answer;
-  return start_keyframe(pairEvent(stamp_s, std::move(window),
-                                  between(keyframe_->T_world_sensor, T_world_sensor), covariance));
+  if (unpairedInput(stamp_s, start_keyframe, &window))
+    return;
+  MotionPair interval;
+  interval.start_stamp_s = keyframe_->stamp_s;
+  interval.end_stamp_s = stamp_s;
+  interval.encoder_samples = std::move(window);
+  const CollectorEvent pair = pairEvent(
+      std::move(interval), between(keyframe_->T_world_sensor, T_world_sensor), covariance);
+  startKeyframe(stamp_s, nullptr, T_world_sensor, pair);
 }
 
 }  // namespace odometry_calibration

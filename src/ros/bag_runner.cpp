@@ -231,7 +231,11 @@ BagRunResult runBagsUnchecked(const std::vector<std::string>& bag_paths,
   }
   BagRunResult result;
   result.bag_span_s = (end - begin).toSec();
-  result.session = bagSession(config, candidate_intervals_s);
+  // Offline: the keyframe matches' events may come a few messages late (pair_collector.h), so
+  // that both cores match while this thread feeds the session.
+  CalibrationConfig session_config = config;
+  session_config.collector.defer_keyframe_matches = true;
+  result.session = bagSession(session_config, candidate_intervals_s);
   // Reading and converting run ahead on their own thread; this one feeds the session.
   BagMessageReader reader(view, config, bagNames(bag_paths));
   std::size_t messages = 0;
@@ -245,7 +249,7 @@ BagRunResult runBagsUnchecked(const std::vector<std::string>& bag_paths,
         progress({input.fraction, messages, seconds(Clock::now() - run_start)});
     }
     // Two publishers of one input: refused as soon as the second one shows.
-    if (const std::string conflict = result.session->counts().publisher_conflict; !conflict.empty())
+    if (const std::string conflict = result.session->publisherConflict(); !conflict.empty())
       throw std::runtime_error(conflict);
   }
   result.session->flush();

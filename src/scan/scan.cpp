@@ -12,11 +12,24 @@ namespace odometry_calibration {
 namespace {
 
 /// The sensor's pose after moving for tau_s seconds at constant `velocity`: the SE(2)
-/// exponential exp(tau * xi).
-Pose2 poseAfter(const SensorVelocity& velocity, double tau_s)
+/// exponential exp(tau * xi) as se2Exp computes it, with the cosine and sine of its heading
+/// (*cos_theta, *sin_theta) from the same evaluation (once per point of every scan).
+Pose2 poseAfter(const SensorVelocity& velocity, double tau_s, double* cos_theta, double* sin_theta)
 {
-  return se2Exp(Eigen::Vector3d(velocity.vx_mps * tau_s, velocity.vy_mps * tau_s,
-                                velocity.omega_radps * tau_s));
+  const Eigen::Vector3d xi(velocity.vx_mps * tau_s, velocity.vy_mps * tau_s,
+                           velocity.omega_radps * tau_s);
+  const double theta = xi.z();
+  *cos_theta = std::cos(theta);
+  *sin_theta = std::sin(theta);
+  double a = 1.0;  // sin(theta) / theta
+  double b = 0.0;  // (1 - cos(theta)) / theta
+  if (std::abs(theta) > 1e-9) {
+    a = *sin_theta / theta;
+    b = (1.0 - *cos_theta) / theta;
+  } else {
+    b = 0.5 * theta;
+  }
+  return Pose2(a * xi.x() - b * xi.y(), b * xi.x() + a * xi.y(), theta);
 }
 
 /// Moves every point into the frame of the sensor at the stamp and reorders by bearing (the
@@ -28,10 +41,10 @@ void compensateSweep(const Scan& scan, const SensorVelocity& velocity, ScanPoint
     const std::size_t ray = static_cast<std::size_t>(points.ray_indices[k]);
     const double tau_s = scan.ray_times_s.empty() ? static_cast<double>(ray) * scan.time_increment_s
                                                   : scan.ray_times_s[ray];
-    const Pose2 T_stamp_ray = poseAfter(velocity, tau_s);
+    double c = 1.0;
+    double s = 0.0;
+    const Pose2 T_stamp_ray = poseAfter(velocity, tau_s, &c, &s);
     const Eigen::Vector2d& p = points.points_m[k];
-    const double c = std::cos(T_stamp_ray.theta());
-    const double s = std::sin(T_stamp_ray.theta());
     const Eigen::Vector2d q(c * p.x() - s * p.y() + T_stamp_ray.x(),
                             s * p.x() + c * p.y() + T_stamp_ray.y());
     points.points_m[k] = q;
@@ -185,16 +198,6 @@ double sweepDuration(const Scan& scan)
   if (scan.ranges_m.empty())
     return 0.0;
   return std::max(0.0, static_cast<double>(scan.ranges_m.size() - 1) * scan.time_increment_s);
-}
-
-bool isUsableReading(const Scan& scan, std::size_t i)
-{
-  const double range_m = scan.ranges_m[i];
-  // NaN fails every comparison, +inf fails the upper limit; zero is "no return" on many
-  // drivers even when range_min_m is 0.
-  const bool in_limits = range_m >= scan.range_min_m && range_m <= scan.range_max_m;
-  return in_limits && std::isfinite(range_m) && range_m != 0.0 &&
-         (scan.valid.empty() || scan.valid[i] != 0);
 }
 
 std::size_t countUsableReadings(const Scan& scan)

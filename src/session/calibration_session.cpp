@@ -196,6 +196,12 @@ std::vector<EncoderSample> CalibrationSession::encoderHistory() const
   return encoder_history_;
 }
 
+std::string CalibrationSession::publisherConflict() const
+{
+  std::lock_guard<std::mutex> lock(mutex_);
+  return publishers_->conflict();
+}
+
 SessionCounts CalibrationSession::counts() const
 {
   std::lock_guard<std::mutex> lock(mutex_);

@@ -1,4 +1,7 @@
+#include <algorithm>
 #include <cmath>
+#include <utility>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -77,6 +80,47 @@ TEST(EncoderTrack, GapsAndHistory)
   for (int k = 1; k <= 200; ++k)
     t.add(2.0 + 0.1 * k, Eigen::Vector2d(200 + k, 0));
   EXPECT_GE(t.firstStamp(), 22.0 - 10.0 - 0.1 - 1e-9);  // older than 10 s dropped
+}
+
+TEST(EncoderTrack, LargestGapIsTheLargestGapTouchingTheInterval)
+{
+  // Irregular stamps: gaps of 0.02 s, one of 0.3 s after 1.0 s and one of 0.7 s after 3.0 s.
+  EncoderTrack t = track();
+  std::vector<double> stamps;
+  for (double stamp = 0.0; stamp < 5.0;) {
+    stamps.push_back(stamp);
+    t.add(stamp, Eigen::Vector2d(stamps.size(), 0));
+    stamp += std::abs(stamp - 1.0) < 1e-9 ? 0.3 : std::abs(stamp - 3.0) < 1e-9 ? 0.7 : 0.02;
+    stamp = std::round(stamp * 100.0) / 100.0;
+  }
+  // Every gap with its later sample at or after the start and its earlier one at or before
+  // the end counts (a gap straddling either end too).
+  auto expected = [&](double start_s, double end_s) {
+    double largest = 0.0;
+    for (std::size_t k = 1; k < stamps.size(); ++k) {
+      if (stamps[k] >= start_s && stamps[k - 1] <= end_s)
+        largest = std::max(largest, stamps[k] - stamps[k - 1]);
+    }
+    return largest;
+  };
+  for (const auto& [start_s, end_s] : std::vector<std::pair<double, double>>{{0.0, 0.5},
+                                                                             {0.9, 1.1},
+                                                                             {1.1, 1.2},
+                                                                             {1.3, 1.3},
+                                                                             {1.31, 2.9},
+                                                                             {2.95, 3.0},
+                                                                             {3.0, 3.0},
+                                                                             {3.5, 3.6},
+                                                                             {3.71, 5.0},
+                                                                             {-1.0, 9.0},
+                                                                             {4.99, 9.0},
+                                                                             {6.0, 7.0}}) {
+    EXPECT_EQ(t.largestGap(start_s, end_s), expected(start_s, end_s)) << start_s << " " << end_s;
+  }
+  EXPECT_NEAR(t.largestGap(1.1, 1.2), 0.3, 1e-12);   // inside the 0.3 s gap
+  EXPECT_NEAR(t.largestGap(2.95, 3.0), 0.7, 1e-12);  // ends at the sample before the gap
+  EXPECT_NEAR(t.largestGap(3.71, 3.8), 0.02, 1e-12);
+  EXPECT_EQ(t.largestGap(6.0, 7.0), 0.0);  // after the last sample
 }
 
 TEST(EncoderTrack, BadReadingsLeaveTheTrackUnchanged)

@@ -1,4 +1,5 @@
-// The pair collector's matching: the same results whatever the background thread's timing, an
+// The pair collector's matching: the same results whatever the background thread's timing (and
+// with the keyframe matches deferred to the match queue, as calibrate_bag runs them), an
 // injected matcher, scans prepared with the matcher's line-fit options.
 #include <atomic>
 #include <chrono>
@@ -108,6 +109,100 @@ TEST(PairCollector, ResultsDoNotDependOnThreadTiming)
   EXPECT_FALSE(stats.rejected.empty());
   // A one-threaded run skips the matches after a failure until the next keyframe.
   EXPECT_LT(stats.consecutive_matches, stats.scans - 1);
+}
+
+/// Feeds one simulated run to a collector that defers its keyframe matches (matching in the
+/// background, its predictor sleeping at random) and to one that matches in the calling thread;
+/// every 11th scan is blanked so that matches fail. Gathers both event streams.
+struct DeferredTwinFeeder : sim::SimulationSink
+{
+  PairCollector* deferred;
+  PairCollector* inline_matching;
+  std::vector<CollectorEvent> deferred_events, inline_events;
+  std::size_t calls = 0, scans = 0;
+  std::size_t late_calls = 0;  ///< calls where the deferred collector returned fewer events
+  void take(std::vector<CollectorEvent> a, std::vector<CollectorEvent> b)
+  {
+    late_calls += a.size() < b.size() ? 1 : 0;
+    deferred_events.insert(deferred_events.end(), a.begin(), a.end());
+    inline_events.insert(inline_events.end(), b.begin(), b.end());
+    // Mid-run statistics count the same, deferred events or not.
+    if (++calls % 41 == 0) {
+      EXPECT_EQ(deferred->statistics().pairs, inline_matching->statistics().pairs);
+    }
+  }
+  void onJointState(const sim::JointStateSample& s) override
+  {
+    const Eigen::Vector2d raw(s.positions[0], s.positions[1]);
+    take(deferred->addEncoders(s.stamp_s, raw), inline_matching->addEncoders(s.stamp_s, raw));
+  }
+  void onScan(const sim::ScanSample& s) override
+  {
+    Scan scan = toScan(s);
+    if (++scans % 11 == 0)
+      scan.ranges_m.assign(scan.ranges_m.size(), 0.0);  // nothing usable: matches fail
+    take(deferred->addScan(s.stamp_s, scan), inline_matching->addScan(s.stamp_s, scan));
+  }
+  void onTruth(const sim::TruthSample&) override {}
+  void onTracker(const sim::TrackerSample&) override {}
+};
+
+TEST(PairCollector, DeferredKeyframeMatchesGiveTheSameEventsInTheSameOrder)
+{
+  const sim::Scenario s = scenario(40.0);
+  const sim::World world = sim::parseWorldYaml(kRoom, "room");
+  const auto robot = sim::makeRobot(s.robot);
+  const DiffDriveEncoderLayout layout;
+  auto nominal = [layout](const std::vector<EncoderSample>& samples) {
+    const double intrinsic[3] = {0.077, 0.077, 0.33};
+    return sensorMotionFromBodyMotion(Pose2(0.15, 0, 0),
+                                      integrateDiffDriveMotion(intrinsic, layout, samples));
+  };
+  std::mt19937 random(7);
+  MotionPredictor jittery = [&](const std::vector<EncoderSample>& samples) {
+    std::this_thread::sleep_for(std::chrono::microseconds(random() % 300));
+    return nominal(samples);
+  };
+  CollectorOptions options;
+  options.defer_keyframe_matches = true;
+  PairCollector deferred(wheels(), options, jittery);
+  options.defer_keyframe_matches = false;
+  options.background_matching = false;
+  PairCollector inline_matching(wheels(), options, nominal);
+  DeferredTwinFeeder feeder;
+  feeder.deferred = &deferred;
+  feeder.inline_matching = &inline_matching;
+  sim::simulate(s, world, *robot, feeder);
+  feeder.take(deferred.flush(), inline_matching.flush());
+  const std::vector<CollectorEvent>& a = feeder.deferred_events;
+  const std::vector<CollectorEvent>& b = feeder.inline_events;
+  ASSERT_EQ(a.size(), b.size());
+  std::size_t pairs = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i].type, b[i].type) << "event " << i;
+    EXPECT_EQ(a[i].reason, b[i].reason) << "event " << i;
+    EXPECT_EQ(a[i].pair.start_stamp_s, b[i].pair.start_stamp_s);
+    EXPECT_EQ(a[i].pair.end_stamp_s, b[i].pair.end_stamp_s);
+    EXPECT_EQ(a[i].pair.sensor_motion.vector(), b[i].pair.sensor_motion.vector());
+    EXPECT_EQ(a[i].pair.covariance, b[i].pair.covariance);
+    EXPECT_EQ(a[i].pair.encoder_samples.size(), b[i].pair.encoder_samples.size());
+    pairs += a[i].type == CollectorEvent::Type::kPair;
+  }
+  EXPECT_GT(pairs, 40u);
+  const CollectorStatistics& x = deferred.statistics();
+  const CollectorStatistics& y = inline_matching.statistics();
+  EXPECT_EQ(x.pairs, pairs);
+  EXPECT_EQ(x.consecutive_matches, y.consecutive_matches);
+  EXPECT_EQ(x.consecutive_failures, y.consecutive_failures);
+  EXPECT_GE(x.consecutive_failures, 20u);
+  EXPECT_EQ(x.unverified_pairs, y.unverified_pairs);
+  EXPECT_EQ(x.keyframes, y.keyframes);
+  EXPECT_EQ(x.rejected, y.rejected);
+  EXPECT_FALSE(x.rejected.empty());
+  EXPECT_EQ(x.scale_check_pairs, y.scale_check_pairs);
+  EXPECT_EQ(x.chained_m, y.chained_m);
+  // The deferral happened: some events came on a later call than the inline collector's.
+  EXPECT_GT(feeder.late_calls, 0u);
 }
 
 TEST(PairCollector, AnInjectedMatcherMakesEveryMatch)

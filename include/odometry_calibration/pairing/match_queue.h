@@ -78,6 +78,13 @@ public:
   /// Rethrows what matchScans threw.
   PlicpResult wait(const std::shared_ptr<MatchJob>& job);
 
+  /// Whether the job is done (wait() then returns at once).
+  bool done(const std::shared_ptr<MatchJob>& job);
+
+  /// Runs queued jobs on the calling thread while more than `jobs` wait to start: a caller
+  /// that submits faster than the background thread matches shares the matching.
+  void runWhileQueuedAbove(std::size_t jobs);
+
 private:
   /// Runs the front job with the lock released; returns with the lock held.
   void runFront(std::unique_lock<std::mutex>& lock);

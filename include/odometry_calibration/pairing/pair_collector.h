@@ -10,9 +10,11 @@
 //
 // Speed: the consecutive-scan matches run on a background thread (match_queue.h) while the
 // caller goes on with the next messages; they are folded into the chain, in order and with the
-// rules of a one-threaded run, before the next keyframe decision (and before statistics() or
+// rules of a one-threaded run, when a keyframe interval ends (and before statistics() or
 // reset() answer). Every match's inputs are fixed when it is submitted, so the events, pairs
 // and statistics are the same as if each match ran at once, whatever the threads' timing.
+// Offline (defer_keyframe_matches) the keyframe matches are queued too and their events come a
+// few calls later, in the same order: which keyframes are matched never depends on a match.
 #pragma once
 
 #include <deque>
@@ -82,6 +84,14 @@ struct CollectorOptions
   /// core). The events, pairs and statistics are the same either way; off, every match runs
   /// in the calling thread.
   bool background_matching = true;
+  /// Offline runs (calibrate_bag): the keyframe matches run on the match queue too, beside the
+  /// consecutive ones, and each keyframe interval's event (pair or rejection) is returned by a
+  /// later call once its match is done (flush() returns the rest), so that the calling thread
+  /// goes on with the next messages and both cores match. The events come in the same order,
+  /// with the same contents, and the statistics are the same; only the call that returns an
+  /// event differs. Off (the live node, the tests): every event is returned by the call that
+  /// made it.
+  bool defer_keyframe_matches = false;
   /// The scan matcher, with the line fits of every scan it prepares (plicp.line_fit).
   PlicpOptions plicp;
 };
@@ -180,7 +190,8 @@ public:
   std::vector<CollectorEvent> addSensorPose(double stamp_s, const Pose2& T_world_sensor,
                                             const Eigen::Matrix3d& covariance);
 
-  /// Forgets keyframes and encoder history (pairs already produced are the caller's).
+  /// Forgets keyframes and encoder history (pairs already produced are the caller's; with
+  /// defer_keyframe_matches, the events not returned yet are dropped).
   void reset();
 
   /// The counters, with every consecutive match submitted so far counted.
@@ -199,8 +210,15 @@ private:
   std::optional<CollectorEvent> unpairedInput(
       double stamp_s, const std::function<CollectorEvent(CollectorEvent)>& start_keyframe,
       std::vector<EncoderSample>* window);
-  CollectorEvent processScan(double stamp_s, std::shared_ptr<LazyPreparedScan> prepared,
-                             std::shared_ptr<LazyPreparedScan> chain_scan);
+  /// The event of a keyframe match once it is done, with the chain folded up to its scan: a
+  /// pair, or a rejection when the match failed or disagrees with the chain.
+  CollectorEvent concludeKeyframeMatch(const PlicpResult& match, const MotionPair& interval) const;
+  void processScan(double stamp_s, std::shared_ptr<LazyPreparedScan> prepared,
+                   std::shared_ptr<LazyPreparedScan> chain_scan);
+  /// Makes `stamp_s` (a scan, or a sensor pose with `T_world_sensor`) the keyframe and queues
+  /// `event` (kKeyframe, a rejection or a pair), which ends the chain.
+  void startKeyframe(double stamp_s, std::shared_ptr<const LazyPreparedScan> scan,
+                     const Pose2& T_world_sensor, const CollectorEvent& event);
   /// Sets the scan's sweep velocity from the prior model's prediction (compensate_sweep).
   void compensateSweep(double stamp_s, LazyPreparedScan& prepared_scan);
   /// Submits the match of the previous scan to this one (`chain_scan`: the scan as the chain
@@ -209,21 +227,39 @@ private:
                               const std::shared_ptr<LazyPreparedScan>& chain_scan);
   /// Whether the keyframe match agrees with the chain of consecutive matches (within
   /// consistency_translation_m and consistency_rotation_rad); counts the scale check's sums.
-  bool consistentWithChain(const PlicpResult& match);
-  CollectorEvent processPose(double stamp_s, const Pose2& T_world_sensor,
-                             const Eigen::Matrix3d& covariance);
-  std::vector<CollectorEvent> processReadyScans(bool all);
-  /// A pair from the current keyframe to `end_stamp_s` (covariance floor added, counted).
-  CollectorEvent pairEvent(double end_stamp_s, std::vector<EncoderSample> window,
-                           const Pose2& sensor_motion, const Eigen::Matrix3d& covariance);
-  CollectorEvent reject(const std::string& reason);
-  CollectorEvent restart(const std::string& what);
+  bool consistentWithChain(const PlicpResult& match) const;
+  void processPose(double stamp_s, const Pose2& T_world_sensor, const Eigen::Matrix3d& covariance);
+  void processReadyScans(bool all);
+  /// `interval` (stamps and encoder window) as a pair of `sensor_motion` (covariance floor
+  /// added, counted).
+  CollectorEvent pairEvent(MotionPair interval, const Pose2& sensor_motion,
+                           const Eigen::Matrix3d& covariance) const;
+  CollectorEvent reject(const std::string& reason) const;
+  /// Folds everything, forgets the state (reset) and queues the kRestarted event.
+  void restart(const std::string& what);
+  /// The events of a call: every one made so far without defer_keyframe_matches; with it, those
+  /// whose matches are done (the calling thread first runs queued matches while more than a
+  /// few wait).
+  std::vector<CollectorEvent> takeEvents();
+  /// Queues an event made now (in order after the matches still to fold); `ends_chain`: it
+  /// starts a new keyframe, so the chain restarts after it.
+  void queueEvent(const CollectorEvent& event, bool ends_chain);
   /// Encoder window of [start_s, end_s] (laser clock), or a reason why there is none.
   std::optional<std::vector<EncoderSample>> encoderWindow(double start_s, double end_s,
                                                           std::string* reason) const;
   Pose2 predict(const std::vector<EncoderSample>& window) const;
-  /// Waits for the submitted consecutive matches and folds them into the chain, in order.
-  void foldConsecutiveMatches() const;
+  /// Folds the queued results into the chain and the events, in order (pair_collector_fold.cpp):
+  /// everything (waiting for the matches), or up to the last event (waiting), or the front ones
+  /// whose matches are done (not waiting).
+  enum class Fold
+  {
+    kAll,
+    kThroughLastEvent,
+    kDone,
+  };
+  void fold(Fold how) const;
+  /// Folds the front entry (waits for its match).
+  void foldFront() const;
   /// Whether the predicted motion over `window` is below the minimum motion (always false when
   /// the minimum is off or there is no predictor).
   bool tooLittleMotion(const std::vector<EncoderSample>& window) const;
@@ -251,9 +287,23 @@ private:
   double previous_scan_stamp_s_ = 0.0;
   mutable Pose2 chain_;  ///< composed consecutive matches since the keyframe
   mutable bool chain_valid_ = false;
-  /// Consecutive matches submitted but not yet folded into the chain, oldest first.
-  mutable std::deque<std::shared_ptr<MatchJob>> consecutive_;
-  PlicpOptions consecutive_options_;     ///< options_.plicp without the unused covariance
+  /// What is folded in order (fold()): a consecutive match (into the chain), or an event that
+  /// ends a keyframe interval or not (a keyframe match's, made once it is done, or one made
+  /// without a match), oldest first.
+  struct Unfolded
+  {
+    std::shared_ptr<MatchJob> consecutive;  ///< a consecutive match, or null
+    std::shared_ptr<MatchJob> keyframe;     ///< a keyframe match, or null: `event` as it is
+    /// The event, or with `keyframe` the interval (stamps, encoder window) it would pair.
+    CollectorEvent event;
+    bool ends_chain = false;
+  };
+  mutable std::deque<Unfolded> unfolded_;
+  mutable std::vector<CollectorEvent> ready_;  ///< folded events not returned yet
+  PlicpOptions consecutive_options_;           ///< options_.plicp without the unused covariance
+  /// With defer_keyframe_matches, the calling thread runs queued matches itself while more than
+  /// this many wait (the background thread runs the rest) [matches].
+  static constexpr std::size_t kMaxQueuedMatches = 8;
   std::unique_ptr<MatchQueue> matches_;  ///< last member: its worker stops first
   double last_input_stamp_s_ = -1e300;   ///< newest stamp of any stream
   double last_scan_stamp_s_ = -1e300;    ///< newest scan / sensor pose stamp

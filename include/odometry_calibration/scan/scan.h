@@ -12,6 +12,8 @@
 // exp(tau * xi)), so that the scan is the picture of one pose.
 #pragma once
 
+#include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -94,8 +96,17 @@ bool hasRayTimes(const Scan& scan);
 double sweepDuration(const Scan& scan);
 
 /// Whether reading i is usable: finite, non-zero, within [range_min_m, range_max_m] and not
-/// masked out by `valid`. Expects a validated scan and i < ranges_m.size().
-bool isUsableReading(const Scan& scan, std::size_t i);
+/// masked out by `valid`. Expects a validated scan and i < ranges_m.size(). Inline: it runs for
+/// every ray of every scan, twice (countUsableReadings, scanToPoints).
+inline bool isUsableReading(const Scan& scan, std::size_t i)
+{
+  const double range_m = scan.ranges_m[i];
+  // NaN fails every comparison, +inf fails the upper limit; zero is "no return" on many
+  // drivers even when range_min_m is 0.
+  const bool in_limits = range_m >= scan.range_min_m && range_m <= scan.range_max_m;
+  return in_limits && std::isfinite(range_m) && range_m != 0.0 &&
+         (scan.valid.empty() || scan.valid[i] != 0);
+}
 
 /// How many readings are usable (what scanToPoints would keep), without converting them.
 std::size_t countUsableReadings(const Scan& scan);

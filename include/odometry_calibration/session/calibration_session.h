@@ -205,6 +205,8 @@ public:
   std::vector<IntervalPairs> candidatePairs() const;
   std::vector<EncoderSample> encoderHistory() const;
   SessionCounts counts() const;
+  /// SessionCounts::publisher_conflict alone (counts() waits for the collector's matches).
+  std::string publisherConflict() const;
   double timeOffset() const;
   std::optional<Pose2> sensorPose() const;
   std::string sensorFrame() const;
