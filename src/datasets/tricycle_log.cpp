@@ -22,6 +22,7 @@ TricycleEncoderLayout tricycleLayoutFromHeader(const TricycleDatasetHeader& head
   }
   layout.steering_ticks_per_turn = header.joint_max_values[layout.steering_index];
   layout.traction_ticks_per_turn = header.joint_max_values[layout.traction_index];
+  layout.steering_at_step_end = true;  // the seed robot's odometry convention
   if (!(layout.steering_ticks_per_turn > 0.0) || !(layout.traction_ticks_per_turn > 0.0)) {
     throw std::invalid_argument("header '#joints_max_enc_values' must be positive tick counts");
   }

@@ -20,6 +20,7 @@ TricycleLogSink::TricycleLogSink(const Scenario& scenario, const TricycleParamet
   }
   layout_.steering_ticks_per_turn = steering_ticks_per_rev;
   layout_.traction_ticks_per_turn = traction_ticks_per_rev;
+  layout_.steering_at_step_end = true;  // the seed robot's own odometry, as its logs hold
   char header[1024];
   const Pose2& laser = nominal.T_base_sensor;
   std::snprintf(header, sizeof(header),

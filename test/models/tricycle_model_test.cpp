@@ -1,8 +1,10 @@
 #include <cmath>
+#include <iostream>
 
 #include <gtest/gtest.h>
 
 #include "odometry_calibration/calibration/calibration_config.h"
+#include "odometry_calibration/calibration/time_offset.h"
 #include "odometry_calibration/factory/model_factory.h"
 #include "odometry_calibration/sim/pair_generator.h"
 
@@ -10,7 +12,7 @@ namespace odometry_calibration {
 namespace {
 
 /// The tricycle of the seed's real log (roughly), driving at random for 3 minutes.
-sim::GeneratedPairs tricyclePairs()
+sim::GeneratedPairs tricyclePairs(unsigned seed = 4, double encoder_rate_hz = 50.0)
 {
   sim::PairGeneratorOptions options;
   options.robot = {"tricycle",
@@ -23,7 +25,8 @@ sim::GeneratedPairs tricyclePairs()
   options.motion.max_turn_rate_radps = 0.5;
   options.duration_s = 180.0;
   options.interval_s = 0.5;
-  options.seed = 4;
+  options.seed = seed;
+  options.encoder_rate_hz = encoder_rate_hz;
   return sim::generatePairs(options);
 }
 
@@ -67,6 +70,52 @@ TEST(TricycleModel, FitThroughTheFactoryRecoversTheTruth)
     EXPECT_NEAR(a.mean.theta(), b.mean.theta(), 1e-12);
     EXPECT_NEAR(a.covariance(0, 0), b.covariance(0, 0), 1e-15);
     EXPECT_GT(a.covariance(0, 0), 0.0);
+  }
+}
+
+/// Every encoder sample of the run once: the pairs' samples in time order (consecutive pairs
+/// share their end samples).
+std::vector<EncoderSample> encoderHistory(const std::vector<MotionPair>& pairs)
+{
+  std::vector<EncoderSample> history;
+  for (const MotionPair& pair : pairs) {
+    for (const EncoderSample& sample : pair.encoder_samples) {
+      if (history.empty() || sample.stamp_s > history.back().stamp_s)
+        history.push_back(sample);
+    }
+  }
+  return history;
+}
+
+TEST(TricycleModel, TimeOffsetSearchIsUnbiasedWithSlowEncoders)
+{
+  // Issue 35: with 25 Hz encoders the steering reading of a step's end sample (instead of the
+  // step's mean steering) made the search find -5 ms where the simulation has none.
+  const CalibrationConfig config = parseCalibrationConfig(kConfig, "tricycle.yaml");
+  TimeOffsetOptions search;
+  search.min_s = -0.2;
+  search.max_s = 0.2;
+  for (unsigned seed : {4117u, 4118u}) {
+    const sim::GeneratedPairs data = tricyclePairs(seed, 25.0);
+    const std::vector<EncoderSample> history = encoderHistory(data.pairs);
+    ASSERT_GT(history.size(), 4000u);
+    auto make = [&]() { return makeModel("tricycle", config.models); };
+    const TimeOffsetResult at_zero = estimateTimeOffset(data.pairs, history, make, search);
+    std::cout << "seed " << seed << ": tau " << at_zero.offset_s << " +- " << at_zero.sigma_s
+              << " s\n";
+    EXPECT_NEAR(at_zero.offset_s, 0.0, 0.0015);
+    // The laser's clock 0.05 s behind the encoders': its pairs stamped 0.05 s early.
+    std::vector<MotionPair> late = data.pairs;
+    for (MotionPair& pair : late) {
+      pair.start_stamp_s -= 0.05;
+      pair.end_stamp_s -= 0.05;
+    }
+    late = rewindowPairs(late, history, 0.0, search.interpolation);
+    ASSERT_GT(late.size(), data.pairs.size() - 3);
+    const TimeOffsetResult shifted = estimateTimeOffset(late, history, make, search);
+    std::cout << "seed " << seed << ", 0.05 s: tau " << shifted.offset_s << " s\n";
+    EXPECT_NEAR(shifted.offset_s, 0.05, 0.002);
+    EXPECT_FALSE(shifted.at_boundary);
   }
 }
 
