@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <sstream>
 
 #include <gtest/gtest.h>
@@ -20,6 +21,42 @@ namespace {
 
 namespace fs = std::filesystem;
 const std::string kConfig = ODOMETRY_CALIBRATION_CONFIG_DIR;
+
+/// A joint calibrate_bag run: config/sim/scenarios/`name`.yaml simulated (90 s, `seed`) into a
+/// bag in a new temporary `directory`, then calibrate_bag with config/`name`.yaml into
+/// `directory`/out. `before_run` sees the options first (e.g. to leave an earlier run's files).
+struct JointBagRun
+{
+  std::string directory;
+  sim::Scenario scenario;
+  BagCalibrationOptions options;
+  int status = -1;
+  std::string text;
+};
+
+JointBagRun runJointBag(const std::string& name, unsigned seed,
+                        const std::function<void(const BagCalibrationOptions&)>& before_run = {})
+{
+  JointBagRun run;
+  char pattern[] = "/tmp/calibrate_bag_joint_test.XXXXXX";
+  run.directory = mkdtemp(pattern);
+  run.scenario =
+      sim::loadScenarioYaml(kConfig + "/sim/scenarios/" + name + ".yaml", kConfig + "/sim/worlds");
+  run.scenario.duration_s = 90.0;
+  run.scenario.seed = seed;
+  const std::string bag = run.directory + "/front_rear.bag";
+  simulateToBag(run.scenario, bag, "");
+  run.options.config_path = kConfig + "/" + name + ".yaml";
+  run.options.bags = {bag};
+  run.options.output_dir = run.directory + "/out";
+  run.options.quiet = true;
+  if (before_run)
+    before_run(run.options);
+  std::ostringstream out;
+  run.status = calibrateBags(run.options, out);
+  run.text = out.str();
+  return run;
+}
 
 TEST(CalibrateBagJoint, FrontAndRearLasersGiveOneSetOfWheelsAndBothPoses)
 {
@@ -85,22 +122,12 @@ TEST(CalibrateBagJoint, FrontAndRearLasersGiveOneSetOfWheelsAndBothPoses)
 // geometric values in result.yaml and controller.yaml.
 TEST(CalibrateBagJoint, SkidSteerFrontAndRearLasersGiveOneSetOfSidesAndBothPoses)
 {
-  char pattern[] = "/tmp/calibrate_bag_joint_test.XXXXXX";
-  const std::string directory = mkdtemp(pattern);
-  sim::Scenario scenario = sim::loadScenarioYaml(
-      kConfig + "/sim/scenarios/skid_steer_front_rear.yaml", kConfig + "/sim/worlds");
-  scenario.duration_s = 90.0;
-  scenario.seed = 380;
-  const std::string bag = directory + "/front_rear.bag";
-  simulateToBag(scenario, bag, "");
-  BagCalibrationOptions options;
-  options.config_path = kConfig + "/skid_steer_front_rear.yaml";
-  options.bags = {bag};
-  options.output_dir = directory + "/out";
-  options.quiet = true;
-  std::ostringstream out;
-  const int status = calibrateBags(options, out);
-  const std::string text = out.str();
+  const JointBagRun run = runJointBag("skid_steer_front_rear", 380);
+  const std::string& directory = run.directory;
+  const sim::Scenario& scenario = run.scenario;
+  const BagCalibrationOptions& options = run.options;
+  const int status = run.status;
+  const std::string& text = run.text;
   EXPECT_TRUE(status == 0 || status == 4) << status << "\n" << text;
   EXPECT_NE(text.find("Joint fit of 2 sensors ('skid_steer')"), std::string::npos) << text;
   const YAML::Node result = YAML::LoadFile(options.output_dir + "/result.yaml");
@@ -181,27 +208,19 @@ TEST(CalibrateBagJoint, SeveralSourcesWithAModelWithoutJointFitAreRefusedNamingI
 // controller form).
 TEST(CalibrateBagJoint, TricycleFrontAndRearLasersGiveOneSetOfKinematicsAndBothPoses)
 {
-  char pattern[] = "/tmp/calibrate_bag_joint_test.XXXXXX";
-  const std::string directory = mkdtemp(pattern);
-  sim::Scenario scenario = sim::loadScenarioYaml(
-      kConfig + "/sim/scenarios/tricycle_front_rear.yaml", kConfig + "/sim/worlds");
-  scenario.duration_s = 90.0;
-  scenario.seed = 381;
-  const std::string bag = directory + "/front_rear.bag";
-  simulateToBag(scenario, bag, "");
-  BagCalibrationOptions options;
-  options.config_path = kConfig + "/tricycle_front_rear.yaml";
-  options.bags = {bag};
-  options.output_dir = directory + "/out";
-  options.quiet = true;
   // An earlier run's files in the output folder: a controller.yaml (of another robot) must not
   // stay beside this tricycle's result, a source folder's old file must go with its folder.
-  fs::create_directories(options.output_dir + "/source_1");
-  std::ofstream(options.output_dir + "/controller.yaml") << "wheel_separation: 0.33\n";
-  std::ofstream(options.output_dir + "/source_1/stale.txt") << "an earlier run\n";
-  std::ostringstream out;
-  const int status = calibrateBags(options, out);
-  const std::string text = out.str();
+  const JointBagRun run =
+      runJointBag("tricycle_front_rear", 381, [](const BagCalibrationOptions& options) {
+        fs::create_directories(options.output_dir + "/source_1");
+        std::ofstream(options.output_dir + "/controller.yaml") << "wheel_separation: 0.33\n";
+        std::ofstream(options.output_dir + "/source_1/stale.txt") << "an earlier run\n";
+      });
+  const std::string& directory = run.directory;
+  const sim::Scenario& scenario = run.scenario;
+  const BagCalibrationOptions& options = run.options;
+  const int status = run.status;
+  const std::string& text = run.text;
   EXPECT_TRUE(status == 0 || status == 4) << status << "\n" << text;
   const YAML::Node result = YAML::LoadFile(options.output_dir + "/result.yaml");
   const YAML::Node sensors = result["sensors"];
