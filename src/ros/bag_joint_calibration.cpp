@@ -125,7 +125,7 @@ std::vector<std::string> writeJointFiles(const BagCalibrationOptions& options,
   for (std::size_t s = 0; s < joint.sensors.size(); ++s)
     urdf += laserJointUrdf(joint.sensors[s].T_base_sensor, "base_link", inputs[s].frame);
   add("laser_joints.urdf", urdf);
-  const std::string controller = controllerYaml(sensorModelReport(joint, 0), options.bags.front());
+  const std::string controller = jointControllerYaml(joint, options.bags.front());
   if (!controller.empty())
     add("controller.yaml", controller);
   else  // an earlier calibration's controller values must not pass for this one's

@@ -175,7 +175,8 @@ TEST(CalibrateBagJoint, SeveralSourcesWithAModelWithoutJointFitAreRefusedNamingI
     calibrateBags(options, out);
     ADD_FAILURE() << "several sources with model linear accepted";
   } catch (const std::runtime_error& error) {
-    EXPECT_NE(std::string(error.what()).find("not 'linear'"), std::string::npos) << error.what();
+    EXPECT_NE(std::string(error.what()).find("model 'linear' has no joint fit"), std::string::npos)
+        << error.what();
   }
   EXPECT_FALSE(fs::exists(options.output_dir));
   // The one-source options a joint run does not take are refused by name, not ignored.

@@ -145,17 +145,27 @@ TEST_F(JointSession, CalibrateTakesTheModelAndItsOptionsAJointFitTakes)
     EXPECT_FALSE(outcome.joint);
     return outcome.outcome.message;
   };
-  EXPECT_NE(refusal("gp", "").find(
-                "supports models diff_drive, skid_steer, mecanum and tricycle, not 'gp'"),
-            std::string::npos);
+  // A model without a joint fit is named as such (not as a problem of options, none given),
+  // with the models that have one.
+  EXPECT_EQ(refusal("gp", ""),
+            "cannot fit gp jointly: model 'gp' has no joint fit of several sources "
+            "(ego_motion.sources); the models that have one are diff_drive, skid_steer, mecanum "
+            "and tricycle (or calibrate each source alone with a one-source configuration)");
+  EXPECT_EQ(refusal("linear", "{linear: {}}").find("cannot fit linear jointly: model 'linear'"),
+            0u);
   EXPECT_NE(refusal("", "{gp: {kernel: linear}}").find("option 'gp' does not apply"),
             std::string::npos);
   EXPECT_NE(refusal("", "{diff_drive: {sensor_pose: [0, 0, 0]}}")
                 .find("option 'diff_drive.sensor_pose' does not apply"),
             std::string::npos);
-  EXPECT_NE(refusal("mecanum", "").find("cannot fit mecanum jointly"), std::string::npos);
-  EXPECT_NE(refusal("", "{diff_drive: {huber_threshold: -1}}").find("huber_threshold"),
-            std::string::npos);
+  // The configuration has no mecanum wheels: no options given, none blamed.
+  EXPECT_EQ(refusal("mecanum", "").find("cannot fit mecanum jointly with the configuration: "), 0u);
+  const std::string bad_threshold = refusal("", "{diff_drive: {huber_threshold: -1}}");
+  EXPECT_EQ(bad_threshold.find("cannot fit diff_drive jointly with the options {diff_drive: "
+                               "{huber_threshold: -1}}: "),
+            0u)
+      << bad_threshold;
+  EXPECT_NE(bad_threshold.find("huber_threshold"), std::string::npos);
   EXPECT_FALSE(session.source(0).sensorPose());  // nothing adopted
 
   const JointCalibrateOutcome plain = session.calibrate({});
