@@ -123,11 +123,8 @@ JointFiles jointFiles(const BagCalibrationOptions& options, const CalibrationCon
   for (std::size_t s = 0; s < joint.sensors.size(); ++s)
     urdf += laserJointUrdf(joint.sensors[s].T_base_sensor, "base_link", inputs[s].frame);
   files.written.emplace_back("laser_joints.urdf", urdf);
-  const std::string controller = jointControllerYaml(joint, options.bags.front());
-  if (!controller.empty())
-    files.written.emplace_back("controller.yaml", controller);
-  else  // an earlier calibration's controller values must not pass for this one's
-    files.removed.push_back("controller.yaml");
+  addControllerFile(jointControllerYaml(joint, options.bags.front()), &files.written,
+                    &files.removed);
   files.written.emplace_back("joint_report.txt", text);
   return files;
 }

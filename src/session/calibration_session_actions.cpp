@@ -409,10 +409,7 @@ SessionFiles CalibrationSession::filesToSave() const
     throw std::runtime_error("nothing to save: no successful ~calibrate since the node started");
   SessionFiles files;
   files.written.emplace_back("result.yaml", fitted_result_yaml_);
-  if (!fitted_controller_yaml_.empty())
-    files.written.emplace_back("controller.yaml", fitted_controller_yaml_);
-  else  // an earlier calibration's controller values must not pass for this one's
-    files.removed.push_back("controller.yaml");
+  addControllerFile(fitted_controller_yaml_, &files.written, &files.removed);
   if (T_base_sensor_) {
     const std::string frame = sensor_frame_.empty() ? options_.default_sensor_frame : sensor_frame_;
     files.written.emplace_back("laser_joint.urdf",

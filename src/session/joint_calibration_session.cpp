@@ -466,11 +466,7 @@ std::string JointCalibrationSession::saveJoint() const
                            joint_inputs_[k].frame);
   }
   set.written.emplace_back("laser_joints.urdf", urdf);
-  const std::string controller = jointControllerYaml(*joint_, options_.source);
-  if (!controller.empty())
-    set.written.emplace_back("controller.yaml", controller);
-  else  // an earlier calibration's controller values must not pass for this one's
-    set.removed.push_back("controller.yaml");
+  addControllerFile(jointControllerYaml(*joint_, options_.source), &set.written, &set.removed);
   set.written.emplace_back("joint_report.txt", joint_text_);
   return writeFileSet(directory, set);
 }

@@ -64,6 +64,22 @@ JointBagRun runJointBag(const std::string& name, unsigned seed,
   return run;
 }
 
+/// result.yaml's `sensors`: each laser's pose within 1 cm and 0.01 rad of `scenario`'s, with
+/// a σ.
+void expectPosesNearTruth(const YAML::Node& sensors, const sim::Scenario& scenario)
+{
+  const std::vector<sim::LaserOptions> lasers = sim::allLasers(scenario);
+  ASSERT_EQ(sensors.size(), lasers.size());
+  for (std::size_t s = 0; s < lasers.size(); ++s) {
+    const YAML::Node pose = sensors[s]["T_base_sensor"];
+    const Pose2& truth = lasers[s].T_base_laser;
+    EXPECT_NEAR(pose["x_m"].as<double>(), truth.x(), 0.01) << s;
+    EXPECT_NEAR(pose["y_m"].as<double>(), truth.y(), 0.01) << s;
+    EXPECT_NEAR(normalizeAngle(pose["theta_rad"].as<double>() - truth.theta()), 0.0, 0.01) << s;
+    EXPECT_GT(pose["x_m_sigma"].as<double>(), 0.0) << s;
+  }
+}
+
 TEST(CalibrateBagJoint, FrontAndRearLasersGiveOneSetOfWheelsAndBothPoses)
 {
   char pattern[] = "/tmp/calibrate_bag_joint_test.XXXXXX";
@@ -90,15 +106,7 @@ TEST(CalibrateBagJoint, FrontAndRearLasersGiveOneSetOfWheelsAndBothPoses)
   const YAML::Node result = YAML::LoadFile(options.output_dir + "/result.yaml");
   const YAML::Node sensors = result["sensors"];
   ASSERT_EQ(sensors.size(), 2u) << text;
-  const std::vector<sim::LaserOptions> lasers = sim::allLasers(scenario);
-  for (std::size_t s = 0; s < 2; ++s) {
-    const YAML::Node pose = sensors[s]["T_base_sensor"];
-    const Pose2& truth = lasers[s].T_base_laser;
-    EXPECT_NEAR(pose["x_m"].as<double>(), truth.x(), 0.01) << s;
-    EXPECT_NEAR(pose["y_m"].as<double>(), truth.y(), 0.01) << s;
-    EXPECT_NEAR(normalizeAngle(pose["theta_rad"].as<double>() - truth.theta()), 0.0, 0.01) << s;
-    EXPECT_GT(pose["x_m_sigma"].as<double>(), 0.0);
-  }
+  expectPosesNearTruth(sensors, scenario);
   EXPECT_EQ(sensors[1]["topic"].as<std::string>(), "/scan_rear");
   EXPECT_EQ(sensors[1]["frame"].as<std::string>(), "laser_rear");
   // Each laser's own time offset: the rear one's stamps run 0.05 s late, its encoders are taken
@@ -139,14 +147,7 @@ TEST(CalibrateBagJoint, SkidSteerFrontAndRearLasersGiveOneSetOfSidesAndBothPoses
   const YAML::Node result = YAML::LoadFile(options.output_dir + "/result.yaml");
   const YAML::Node sensors = result["sensors"];
   ASSERT_EQ(sensors.size(), 2u) << text;
-  const std::vector<sim::LaserOptions> lasers = sim::allLasers(scenario);
-  for (std::size_t s = 0; s < 2; ++s) {
-    const YAML::Node pose = sensors[s]["T_base_sensor"];
-    const Pose2& truth = lasers[s].T_base_laser;
-    EXPECT_NEAR(pose["x_m"].as<double>(), truth.x(), 0.01) << s;
-    EXPECT_NEAR(pose["y_m"].as<double>(), truth.y(), 0.01) << s;
-    EXPECT_NEAR(normalizeAngle(pose["theta_rad"].as<double>() - truth.theta()), 0.0, 0.01) << s;
-  }
+  expectPosesNearTruth(sensors, scenario);
   EXPECT_EQ(result["model"]["model"].as<std::string>(), "skid_steer");
   const YAML::Node sides = result["model"]["sides"];
   EXPECT_NEAR(sides["left_wheel_radius_m"].as<double>(), 0.1, 0.005 * 0.1);
@@ -232,14 +233,7 @@ TEST(CalibrateBagJoint, TricycleFrontAndRearLasersGiveOneSetOfKinematicsAndBothP
   const YAML::Node result = YAML::LoadFile(options.output_dir + "/result.yaml");
   const YAML::Node sensors = result["sensors"];
   ASSERT_EQ(sensors.size(), 2u) << text;
-  const std::vector<sim::LaserOptions> lasers = sim::allLasers(scenario);
-  for (std::size_t s = 0; s < 2; ++s) {
-    const YAML::Node pose = sensors[s]["T_base_sensor"];
-    const Pose2& truth = lasers[s].T_base_laser;
-    EXPECT_NEAR(pose["x_m"].as<double>(), truth.x(), 0.01) << s;
-    EXPECT_NEAR(pose["y_m"].as<double>(), truth.y(), 0.01) << s;
-    EXPECT_NEAR(normalizeAngle(pose["theta_rad"].as<double>() - truth.theta()), 0.0, 0.01) << s;
-  }
+  expectPosesNearTruth(sensors, scenario);
   const YAML::Node model = result["model"];
   EXPECT_EQ(model["model"].as<std::string>(), "tricycle");
   EXPECT_NEAR(model["steering_scale"].as<double>(), 0.56, 0.005 * 0.56);
