@@ -266,7 +266,12 @@ TEST_F(JointSession, AnAdoptionRolledBackLeavesTheSessionAsItWas)
 {
   // The steps of a joint adoption on one session: a fit of the front laser with another time
   // offset committed (model, pose, offset, odometry change), then put back.
-  CalibrationSession session(configForSource(config_, 0), config_text_, "front_rear", options_);
+  options_.odometry_options.path_spacing_s = 0.0;  // a fit integrates every sample again
+  std::vector<OdometryState> odom;                 // what ~odom publishes
+  SessionListener listener;
+  listener.odometry = [&odom](const OdometryState& state) { odom.push_back(state); };
+  CalibrationSession session(configForSource(config_, 0), config_text_, "front_rear", options_,
+                             listener);
   feedSpan(
       frontRearDrive(), 0.0, 30.0,
       [&](double t, const Eigen::VectorXd& raw) { session.addJointPositions(t, raw); },
@@ -293,6 +298,8 @@ TEST_F(JointSession, AnAdoptionRolledBackLeavesTheSessionAsItWas)
   };
   const std::string health = healthText();
   ASSERT_NE(health.find("watching: fit of"), std::string::npos) << health;
+  const std::size_t corrected_poses = session.paths().corrected.size();
+  const Pose2 odom_before = odom.back().pose;
   fit.job.report.pairs_used = 7;  // (a monitor watching this fit would say "fit of 7 pairs")
   fit.job.report.T_base_sensor = Pose2(0.31, 0.01, 0.02);
   fit.job.model = jointSensorModel(
@@ -325,16 +332,26 @@ TEST_F(JointSession, AnAdoptionRolledBackLeavesTheSessionAsItWas)
   EXPECT_DOUBLE_EQ(session.sensorPose()->x(), pose.x());
   // The health monitor watches the previous fit as before (its reference not moved).
   EXPECT_EQ(healthText(), health);
-  // The new offset restarted the odometry, and so does the old one put back; it runs on with
-  // the previous model and pairs are made again.
+  // The new offset restarted the odometry; put back, it runs on from where it was (its path
+  // kept), with the previous model, and pairs are made again.
+  EXPECT_EQ(session.paths().corrected.size(), corrected_poses);
   const std::size_t pairs = session.pairs().size();
+  const std::size_t published = odom.size();
   feedSpan(
       frontRearDrive(), 30.0, std::numeric_limits<double>::infinity(),
       [&](double t, const Eigen::VectorXd& raw) { session.addJointPositions(t, raw); },
       [&](std::size_t, double t, const Scan& scan) { session.addScan(t, scan, kFrames[0]); }, {0});
   session.flush();
   EXPECT_GT(session.pairs().size(), pairs + 10);
-  EXPECT_GT(session.paths().corrected.size(), 50u);
+  EXPECT_GT(session.paths().corrected.size(), corrected_poses + 400);
+  ASSERT_GT(odom.size(), published + 400);
+  // The first pose after the roll-back continues the one before (a step of 20 ms, not a jump
+  // back to the origin), and the last is the previous fit's odometry of the whole drive.
+  EXPECT_LT(poseDifference(odom[published].pose, odom_before), 0.05);
+  const Pose2 whole_drive =
+      integrateDrive(config_, model.first, pose, fitted.fit->fit_interval_s, odom.back().stamp_s);
+  EXPECT_LT(poseDifference(odom.back().pose, whole_drive), 1e-9);
+  EXPECT_GT(std::hypot(odom_before.x(), odom_before.y()), 0.5);  // (the origin is far)
   // ~save writes the previous fit's files.
   const auto [saved, message] = session.save();
   ASSERT_TRUE(saved) << message;
