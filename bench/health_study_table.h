@@ -6,6 +6,7 @@
 
 #include <cstdio>
 #include <iostream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -16,19 +17,27 @@ namespace odometry_calibration {
 namespace health_study {
 
 /// Reads `--seeds a,b,...` and `--within S` into `seed_texts` and `within_s` (their defaults as
-/// given). Returns -1 to go on, else the exit status: 0 after printing the usage, 2 after
-/// naming a bad option.
+/// given). Returns -1 to go on, else the exit status: 0 after printing the usage (with the
+/// defaults, whatever the other options said, e.g. `--seeds '' --help`), 2 after naming a bad
+/// option.
 inline int parseSeedSweep(int argc, char** argv, const std::string& tool,
                           std::vector<std::string>* seed_texts, double* within_s)
 {
+  std::string default_seeds;  // taken before parsing overwrites them
+  for (const std::string& seed : *seed_texts)
+    default_seeds += (default_seeds.empty() ? "" : ",") + seed;
+  const double default_within_s = *within_s;
   try {
     ArgumentParser parser;
     parser.listOption("--seeds", seed_texts).positiveNumber("--within", within_s);
     if (!parser.parse(argc, argv)) {
-      std::cout << "usage: " << tool << " [--seeds " << seed_texts->front() << ",...] [--within S]"
-                << " (default " << *within_s << " s)\n";
+      std::cout << "usage: " << tool << " [--seeds a,b,...] [--within S]\n(defaults: --seeds "
+                << default_seeds << " --within " << default_within_s << ")\n";
       return 0;
     }
+    if (seed_texts->empty())
+      throw std::invalid_argument("option --seeds: expected at least one seed, e.g. --seeds " +
+                                  default_seeds);
   } catch (const std::exception& error) {
     std::cerr << tool << ": " << error.what() << "\n";
     return 2;

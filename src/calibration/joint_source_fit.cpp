@@ -14,9 +14,10 @@ std::string jointFitModelProblem(const std::string& model)
 {
   if (model == "diff_drive" || model == "skid_steer" || model == "mecanum" || model == "tricycle")
     return "";
-  return "ego_motion.sources: the joint fit of several sources supports models diff_drive, "
-         "skid_steer, mecanum and tricycle, not '" +
-         model + "' (calibrate each source alone with a one-source configuration)";
+  return "model '" + model +
+         "' has no joint fit of several sources (ego_motion.sources); the models that have one "
+         "are diff_drive, skid_steer, mecanum and tricycle (or calibrate each source alone with "
+         "a one-source configuration)";
 }
 
 namespace {

@@ -91,6 +91,10 @@ std::string TricycleModel::toYaml() const
 {
   return writeModelYaml(name(), [this](YAML::Emitter& out) {
     visitTricycleYaml(options_.layout, parameters_, YamlKeyWriter(out));
+    // How a step's steering is read (tricycle_kinematics.h): a model fitted on the seed's logs
+    // integrates with the end reading, and must do so again when loaded.
+    out << YAML::Key << "steering_at_step_end" << YAML::Value
+        << options_.layout.steering_at_step_end;
     emitSensorPoseYaml(out, parameters_.T_base_sensor, residual_covariance_);
   });
 }
@@ -100,6 +104,10 @@ TricycleModel TricycleModel::fromYaml(const std::string& text)
   return readModelYaml(text, "tricycle", [](const YAML::Node& node) {
     TricycleModelOptions options;
     visitTricycleYaml(options.layout, options.initial, YamlKeyReader(node));
+    // Absent (a model saved before the key existed): the layout's default, the mean of the
+    // step's two readings.
+    if (const YAML::Node at_end = node["steering_at_step_end"])
+      options.layout.steering_at_step_end = at_end.as<bool>();
     const SensorPoseYaml sensor = readSensorPoseYaml(node);
     options.initial.T_base_sensor = sensor.T_base_sensor;
     TricycleModel model(options);

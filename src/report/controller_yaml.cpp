@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <vector>
 
+#include "odometry_calibration/report/result_files.h"
+
 namespace odometry_calibration {
 namespace {
 
@@ -28,20 +30,36 @@ std::string sigma(double value)
   return std::isfinite(value) ? "sigma " + number(value) : "sigma unavailable (not determined)";
 }
 
-std::string header(const ModelReport& report, const std::string& source, const char* what)
+/// The fit a controller.yaml comes from, as its header gives it: "model diff_drive, 240 pairs".
+struct FitOrigin
 {
-  return "# " + std::string(what) + "\n# From the odometry_calibration fit of " + source +
-         " (model " + report.model + ", " + std::to_string(report.pairs_used) + " pairs" +
-         (report.warnings.empty() ? "" : "; the fit has WARNINGS, see report.txt") + ").\n";
+  std::string fit;
+  bool warnings = false;
+  const char* report_file = "report.txt";  ///< where the warnings are
+};
+
+FitOrigin oneSensorOrigin(const ModelReport& report)
+{
+  return {"model " + report.model + ", " + std::to_string(report.pairs_used) + " pairs",
+          !report.warnings.empty()};
+}
+
+std::string header(const FitOrigin& origin, const std::string& source, const char* what)
+{
+  return "# " + std::string(what) + "\n# From the odometry_calibration fit of " + source + " (" +
+         origin.fit +
+         (origin.warnings ? std::string("; the fit has WARNINGS, see ") + origin.report_file
+                          : std::string()) +
+         ").\n";
 }
 
 /// diff_drive_controller: geometric values plus the multipliers that make them the fitted ones.
-std::string diffDriveController(const ModelReport& report, const std::string& source,
+std::string diffDriveController(const FitOrigin& origin, const std::string& source,
                                 const ParameterEstimate& left, const ParameterEstimate& right,
                                 const ParameterEstimate& separation)
 {
   const double radius = left.initial;
-  std::string text = header(report, source,
+  std::string text = header(origin, source,
                             "ros_control diff_drive_controller parameters: paste under the "
                             "controller's namespace.\n# wheel_separation and wheel_radius are "
                             "the configured nominal values; the multipliers carry the fit.");
@@ -62,11 +80,11 @@ std::string diffDriveController(const ModelReport& report, const std::string& so
 /// Mecanum: ros2_controllers' mecanum_drive_controller (ROS 2 Jazzy, ros2_controllers 4.x)
 /// reads one radius and lx + ly under its nested `kinematics` keys; the fitted per-wheel radii,
 /// which no controller reads, are comments.
-std::string mecanumController(const ModelReport& report, const std::string& source,
+std::string mecanumController(const FitOrigin& origin, const std::string& source,
                               const std::vector<const ParameterEstimate*>& radii,
                               const ParameterEstimate* lever)
 {
-  std::string text = header(report, source,
+  std::string text = header(origin, source,
                             "ros2_controllers mecanum_drive_controller parameters (ROS 2 Jazzy, "
                             "ros2_controllers 4.x): paste under\n# the controller's "
                             "ros__parameters.");
@@ -94,15 +112,15 @@ std::string mecanumController(const ModelReport& report, const std::string& sour
   return text;
 }
 
-}  // namespace
-
-std::string controllerYaml(const ModelReport& report, const std::string& source)
+/// controller.yaml's text for the values of `report`, `origin` its header's fit.
+std::string controllerYamlFrom(const ModelReport& report, const FitOrigin& origin,
+                               const std::string& source)
 {
   const ParameterEstimate* left = find(report, "left_wheel_radius");
   const ParameterEstimate* right = find(report, "right_wheel_radius");
   const ParameterEstimate* separation = find(report, "wheel_separation");
   if (left && right && separation && left->initial > 0.0 && separation->initial > 0.0)
-    return diffDriveController(report, source, *left, *right, *separation);
+    return diffDriveController(origin, source, *left, *right, *separation);
   std::vector<const ParameterEstimate*> radii;
   for (const ParameterEstimate& p : report.parameters) {
     if (p.name.rfind("wheel_radius_", 0) == 0)
@@ -110,8 +128,41 @@ std::string controllerYaml(const ModelReport& report, const std::string& source)
   }
   const ParameterEstimate* lever = find(report, "lx_plus_ly");
   if (lever || !radii.empty())
-    return mecanumController(report, source, radii, lever);
+    return mecanumController(origin, source, radii, lever);
   return "";
+}
+
+}  // namespace
+
+std::string controllerYaml(const ModelReport& report, const std::string& source)
+{
+  return controllerYamlFrom(report, oneSensorOrigin(report), source);
+}
+
+std::string jointControllerYaml(const JointFitReport& joint, const std::string& source)
+{
+  FitOrigin origin;
+  origin.fit =
+      "joint " + joint.model + " fit of " + std::to_string(joint.sensors.size()) + " sensors, ";
+  std::size_t total = 0;
+  for (std::size_t s = 0; s < joint.sensors.size(); ++s) {
+    origin.fit += (s == 0 ? "" : " + ") + std::to_string(joint.sensors[s].pairs);
+    total += joint.sensors[s].pairs;
+    origin.warnings = origin.warnings || !joint.sensors[s].warnings.empty();
+  }
+  origin.fit += (joint.sensors.size() > 1 ? " = " + std::to_string(total) : "") + " pairs";
+  origin.report_file = "joint_report.txt";
+  return controllerYamlFrom(sensorModelReport(joint, 0), origin, source);
+}
+
+void addControllerFile(const std::string& controller,
+                       std::vector<std::pair<std::string, std::string>>* written,
+                       std::vector<std::string>* removed)
+{
+  if (!controller.empty())
+    written->emplace_back(kControllerFileName, controller);
+  else
+    removed->push_back(kControllerFileName);
 }
 
 }  // namespace odometry_calibration

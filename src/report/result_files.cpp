@@ -70,14 +70,14 @@ ReportPlots writeResultFiles(const std::string& output_dir, ResultFiles files)
           "/`: the images, their data (`.dat`) and gnuplot scripts (`.gp`)"};
   std::vector<std::string> names = {kPairsFileName, kResultFileName, kTextReportFileName,
                                     kPlotFolderName, kReportFileName};
+  std::vector<std::pair<std::string, std::string>> controller;
   std::vector<std::string> removed;
-  if (!files.controller_yaml.empty()) {
-    markdown.files.push_back(std::string("`") + kControllerFileName +
+  addControllerFile(files.controller_yaml, &controller, &removed);
+  for (const auto& [name, content] : controller) {
+    markdown.files.push_back("`" + name +
                              "`: the fitted geometry as the robot's controller takes it, with σ");
-    writeFileAtomically(set.stagedPath(kControllerFileName), files.controller_yaml);
-    names.push_back(kControllerFileName);
-  } else {  // an earlier fit's controller values must not pass for this one's
-    removed.push_back(kControllerFileName);
+    writeFileAtomically(set.stagedPath(name), content);
+    names.push_back(name);
   }
   writePairsCsv(set.stagedPath(kPairsFileName), files.pairs);
   writeFileAtomically(set.stagedPath(kResultFileName), files.result_yaml);

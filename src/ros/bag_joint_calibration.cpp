@@ -100,50 +100,72 @@ void refuseSingleSourceOptions(const BagCalibrationOptions& options)
   }
 }
 
-/// The joint run's files written into `output_dir` as one set (common/staged_file_set.h): each
-/// source's under source_<k>/, the joint result.yaml, joint_report.txt, laser_joints.urdf and
-/// controller.yaml (removed when the model has none); all replaced, or none when one cannot be
-/// written. Returns their names.
-std::vector<std::string> writeJointFiles(const BagCalibrationOptions& options,
-                                         const CalibrationConfig& config,
-                                         const std::vector<SourceRun>& sources,
-                                         const std::vector<std::string>& source_texts,
-                                         const JointFitReport& joint,
-                                         const std::vector<JointSourceInput>& inputs,
-                                         const std::string& text, const std::string& output_dir)
+/// The joint run's own files in <output> (beside each source's source_<k>/): those to write
+/// (name, text) and an earlier run's to remove.
+struct JointFiles
 {
-  std::filesystem::create_directories(output_dir);
-  StagedFileSet set(output_dir);
-  std::vector<std::string> names, removed;
-  auto add = [&](const std::string& name, const std::string& content) {
-    writeFileAtomically(set.stagedPath(name), content);
-    names.push_back(name);
-  };
-  add(kResultFileName, jointResultYaml(config, joint, inputs, options.bags.front()));
-  // As the node's ~save: one fixed joint per sensor, the joint wheels for the controller.
+  std::vector<std::pair<std::string, std::string>> written;
+  std::vector<std::string> removed;
+};
+
+/// The joint fit's files: result.yaml, laser_joints.urdf (one fixed joint per sensor, as the
+/// node's ~save), controller.yaml (the joint wheels; removed when the model has none) and
+/// joint_report.txt (`text`). Made before any file is written: what fails here (a diverged
+/// solve's model) is a failure of the joint fit.
+JointFiles jointFiles(const BagCalibrationOptions& options, const CalibrationConfig& config,
+                      const JointFitReport& joint, const std::vector<JointSourceInput>& inputs,
+                      const std::string& text)
+{
+  JointFiles files;
+  files.written.emplace_back(kResultFileName,
+                             jointResultYaml(config, joint, inputs, options.bags.front()));
   std::string urdf;
   for (std::size_t s = 0; s < joint.sensors.size(); ++s)
     urdf += laserJointUrdf(joint.sensors[s].T_base_sensor, "base_link", inputs[s].frame);
-  add("laser_joints.urdf", urdf);
-  const std::string controller = controllerYaml(sensorModelReport(joint, 0), options.bags.front());
-  if (!controller.empty())
-    add("controller.yaml", controller);
-  else  // an earlier calibration's controller values must not pass for this one's
-    removed.push_back("controller.yaml");
-  add("joint_report.txt", text);
+  files.written.emplace_back("laser_joints.urdf", urdf);
+  addControllerFile(jointControllerYaml(joint, options.bags.front()), &files.written,
+                    &files.removed);
+  files.written.emplace_back("joint_report.txt", text);
+  return files;
+}
+
+/// The files of a run whose joint fit failed after every source was fitted alone:
+/// joint_report.txt (`text`: each source's fit alone and the failure); an earlier run's joint
+/// result.yaml, laser_joints.urdf and controller.yaml removed, so that none passes for this
+/// run's beside its source_<k>/.
+JointFiles failedJointFiles(const std::string& text)
+{
+  return {{{"joint_report.txt", text}}, {kResultFileName, "laser_joints.urdf", "controller.yaml"}};
+}
+
+/// The joint run's `files` and each source's under source_<k>/ written into `output_dir` as one
+/// set (common/staged_file_set.h): all replaced, or none when one cannot be written. Returns
+/// their names.
+std::vector<std::string> writeJointFiles(const BagCalibrationOptions& options,
+                                         const std::vector<SourceRun>& sources,
+                                         const std::vector<std::string>& source_texts,
+                                         const JointFiles& files, const std::string& output_dir)
+{
+  std::filesystem::create_directories(output_dir);
+  StagedFileSet set(output_dir);
+  std::vector<std::string> names;
+  for (const auto& [name, content] : files.written) {
+    writeFileAtomically(set.stagedPath(name), content);
+    names.push_back(name);
+  }
   for (std::size_t s = 0; s < sources.size(); ++s) {
     names.push_back("source_" + std::to_string(s));
     writeResultFiles(set.stagedPath(names.back()),
                      sourceFiles(options, sources[s], source_texts[s]));
   }
-  set.commit(names, removed);
+  set.commit(names, files.removed);
   return names;
 }
 
 }  // namespace
 
 int calibrateBagsJointly(const BagCalibrationOptions& options, CalibrationConfig config,
-                         std::ostream& out)
+                         std::ostream& out, const JointFitFunction& fit_jointly)
 {
   if (const std::string problem = jointFitModelProblem(config.model); !problem.empty())
     throw std::runtime_error(problem);
@@ -166,19 +188,33 @@ int calibrateBagsJointly(const BagCalibrationOptions& options, CalibrationConfig
     inputs.push_back(jointInput(sources.back()));
     names.push_back(sources.back().source.topic);
   }
-  const JointFitReport joint = fitSourcesJointly(config, inputs);
-  text += "\n=== joint fit ===\n" + formatJointFitReport(joint, names);
+  JointFiles files;
+  std::string failure;
+  int status = 0;
+  try {
+    const JointFitReport joint = fit_jointly(config, inputs);
+    text += "\n=== joint fit ===\n" + formatJointFitReport(joint, names);
+    files = jointFiles(options, config, joint, inputs, text);
+    for (std::size_t s = 0; s < joint.sensors.size(); ++s)
+      status = std::max(status, calibrationExitStatus(sensorModelReport(joint, s)));
+  } catch (const std::exception& error) {  // every source's fit alone is still written
+    failure = "the joint " + config.model +
+              " fit failed after every source was fitted alone: " + error.what();
+    text += "\n=== joint fit ===\n" + failure + "\n";
+    files = failedJointFiles(text);
+  }
   out << text;
   // Written only once everything is fitted, as one set.
   const std::vector<std::string> written =
-      writeJointFiles(options, config, sources, source_texts, joint, inputs, text, output_dir);
+      writeJointFiles(options, sources, source_texts, files, output_dir);
   out << "\nwritten: " << output_dir << "/{";
   for (std::size_t k = 0; k < written.size(); ++k)
     out << (k == 0 ? "" : ", ") << written[k] << (written[k].rfind("source_", 0) == 0 ? "/" : "");
   out << "}\n";
-  int status = 0;
-  for (std::size_t s = 0; s < joint.sensors.size(); ++s)
-    status = std::max(status, calibrationExitStatus(sensorModelReport(joint, s)));
+  if (!failure.empty()) {
+    throw std::runtime_error(failure + " (each source's fit alone is in " + output_dir +
+                             "/source_<k>/; no joint result.yaml)");
+  }
   return status;
 }
 

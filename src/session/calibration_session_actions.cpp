@@ -150,7 +150,12 @@ struct PreparedAdoption::State
   /// The collectors at the new time offset; none when it does not change.
   std::unique_ptr<PairCollector> collector;
   std::unique_ptr<CandidateCollectors> candidates;
+  bool new_offset = false;  ///< the fit's time offset is not the session's
   OdometryReplay replay;
+  /// With a new time offset, the odometry the exchange did not leave active: before the
+  /// commit, none; after it, the one the commit replaced (a copy taken before it restarted),
+  /// which a roll-back puts back as it was.
+  std::unique_ptr<SessionOdometry> other_odometry;
 };
 
 PreparedAdoption::PreparedAdoption() = default;
@@ -224,6 +229,7 @@ PreparedAdoption CalibrationSession::prepare(const SessionFit& fit, const std::s
     throw std::runtime_error(std::string("its odometry failed: ") + error.what());
   }
   if (std::abs(fit.job.time_offset_s - collector.time_offset_s) >= 1e-6) {
+    state.new_offset = true;
     collector.time_offset_s = fit.job.time_offset_s;
     try {  // the fit-interval candidates pair at the new offset too
       buildCollectors(collector, &state.collector, &state.candidates);
@@ -237,8 +243,20 @@ PreparedAdoption CalibrationSession::prepare(const SessionFit& fit, const std::s
 void CalibrationSession::exchangeActive(PreparedAdoption& adoption)
 {
   PreparedAdoption::State& state = *adoption.state_;
-  if (odometry_)
-    odometry_->swapCorrected(&state.replay);  // the one step that may throw: first
+  if (state.new_offset && state.other_odometry) {
+    // A new time offset exchanged back (or again): the odometry as it was, with its path and
+    // pose (only what arrived since the exchange is missing, taken as one step by the next).
+    std::swap(odometry_, state.other_odometry);
+  } else if (odometry_) {
+    // Copied before it changes: with a new offset the odometry restarts below.
+    std::unique_ptr<SessionOdometry> before =
+        state.new_offset ? std::make_unique<SessionOdometry>(*odometry_) : nullptr;
+    odometry_->swapCorrected(&state.replay);  // with the copy, the steps that may throw: first
+    if (state.new_offset) {
+      odometry_->restart();  // a new time offset: the odometry starts at it
+      state.other_odometry = std::move(before);
+    }
+  }
   std::swap(active_model_, state.active_model);
   std::swap(fitted_model_, state.fitted_model);
   std::swap(active_model_origin_, state.origin);
@@ -247,12 +265,10 @@ void CalibrationSession::exchangeActive(PreparedAdoption& adoption)
   std::swap(model_interval_s_, state.model_interval_s);
   std::swap(last_fit_counts_, state.counts);
   std::swap(T_base_sensor_, state.T_base_sensor);
-  if (state.collector) {  // a new time offset: new pairs and the odometry start at it
+  if (state.new_offset) {  // a new time offset: new pairs start at it
     std::swap(config_.collector.time_offset_s, state.time_offset_s);
     std::swap(collector_, state.collector);
     std::swap(candidates_, state.candidates);
-    if (odometry_)
-      odometry_->restart();
   }
   state.committed = !state.committed;
 }
@@ -331,7 +347,7 @@ CalibrateOutcome CalibrationSession::finish(PreparedAdoption& adoption, std::siz
   {
     std::lock_guard<std::mutex> lock(mutex_);
     result_yaml = fitted_result_yaml_;
-    if (state.collector) {  // exchanged: the state holds the previous offset
+    if (state.new_offset) {  // exchanged: the state holds the previous offset
       char text[200];
       std::snprintf(text, sizeof(text),
                     "time offset %.4f s -> %.4f s: new pairs and the odometry use it (both "
@@ -409,10 +425,7 @@ SessionFiles CalibrationSession::filesToSave() const
     throw std::runtime_error("nothing to save: no successful ~calibrate since the node started");
   SessionFiles files;
   files.written.emplace_back("result.yaml", fitted_result_yaml_);
-  if (!fitted_controller_yaml_.empty())
-    files.written.emplace_back("controller.yaml", fitted_controller_yaml_);
-  else  // an earlier calibration's controller values must not pass for this one's
-    files.removed.push_back("controller.yaml");
+  addControllerFile(fitted_controller_yaml_, &files.written, &files.removed);
   if (T_base_sensor_) {
     const std::string frame = sensor_frame_.empty() ? options_.default_sensor_frame : sensor_frame_;
     files.written.emplace_back("laser_joint.urdf",

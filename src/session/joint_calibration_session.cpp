@@ -271,8 +271,6 @@ JointCalibrateOutcome JointCalibrationSession::calibrate(const CalibrationReques
 CalibrationConfig JointCalibrationSession::jointModelConfig(const std::string& name,
                                                             const std::string& options) const
 {
-  if (const std::string problem = jointFitModelProblem(name); !problem.empty())
-    throw std::invalid_argument(problem);
   refuseNonJointOptions(name, options);
   CalibrationConfig config = config_;
   if (name != config_.model || !options.empty())
@@ -309,11 +307,18 @@ JointCalibrateOutcome JointCalibrationSession::calibrateJointly(const Calibratio
   JointCalibrateOutcome result;
   CalibrateOutcome& outcome = result.outcome;
   const std::string name = request.model.empty() ? config_.model : request.model;
+  if (const std::string problem = jointFitModelProblem(name); !problem.empty()) {
+    outcome.message = "cannot fit " + name + " jointly: " + problem;
+    return result;
+  }
   CalibrationConfig joint_config;
   try {
     joint_config = jointModelConfig(name, request.options);
   } catch (const std::exception& error) {
-    outcome.message = "cannot fit " + name + " jointly with these options: " + error.what();
+    outcome.message = "cannot fit " + name + " jointly " +
+                      (request.options.empty() ? std::string("with the configuration")
+                                               : "with the options " + request.options) +
+                      ": " + error.what();
     return result;
   }
   std::string failure;
@@ -461,11 +466,7 @@ std::string JointCalibrationSession::saveJoint() const
                            joint_inputs_[k].frame);
   }
   set.written.emplace_back("laser_joints.urdf", urdf);
-  const std::string controller = controllerYaml(sensorModelReport(*joint_, 0), options_.source);
-  if (!controller.empty())
-    set.written.emplace_back("controller.yaml", controller);
-  else  // an earlier calibration's controller values must not pass for this one's
-    set.removed.push_back("controller.yaml");
+  addControllerFile(jointControllerYaml(*joint_, options_.source), &set.written, &set.removed);
   set.written.emplace_back("joint_report.txt", joint_text_);
   return writeFileSet(directory, set);
 }

@@ -40,6 +40,25 @@ SessionOdometry::SessionOdometry(const std::vector<EncoderChannelOptions>& chann
 {
 }
 
+SessionOdometry::SessionOdometry(const SessionOdometry& other)
+    : options_(other.options_),
+      decoder_(other.decoder_),
+      last_encoder_stamp_s_(other.last_encoder_stamp_s_),
+      last_path_stamp_s_(other.last_path_stamp_s_),
+      nominal_(other.nominal_ ? std::make_unique<OdometryIntegrator>(*other.nominal_) : nullptr),
+      corrected_(other.corrected_ ? std::make_unique<OdometryIntegrator>(*other.corrected_)
+                                  : nullptr),
+      nominal_path_(other.nominal_path_),
+      corrected_path_(other.corrected_path_),
+      path_samples_(other.path_samples_),
+      path_samples_start_(other.path_samples_start_),
+      recent_sensor_poses_(other.recent_sensor_poses_),
+      scan_matched_sensor_poses_(other.scan_matched_sensor_poses_),
+      scan_matched_end_s_(other.scan_matched_end_s_),
+      generation_(other.generation_)
+{
+}
+
 void SessionOdometry::setNominal(std::unique_ptr<OdometryIntegrator> nominal)
 {
   nominal_ = std::move(nominal);

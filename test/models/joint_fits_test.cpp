@@ -3,6 +3,7 @@
 #include "odometry_calibration/models/joint_fits.h"
 
 #include <cmath>
+#include <functional>
 #include <iostream>
 
 #include <gtest/gtest.h>
@@ -302,23 +303,47 @@ TEST(JointFits, SkidSteerFrontAndRearSensorsShareTheSides)
   EXPECT_LT(aloneIntrinsicsSpread(report), 0.01);
 }
 
-TEST(JointFits, SkidSteerNamesTheSensorWhosePairsLackAWheel)
+TEST(JointFits, SkidSteerNamesTheSensorOfEveryRefusal)
 {
+  // Every refusal of fitJointSkidSteer, each naming the sensor whose pairs it is about (and not
+  // the other): a wheel missing, a pair with one encoder sample, too few pairs, on either
+  // sensor; then the refusals of no sensor in particular.
   const std::vector<Pose2> truths = {Pose2(0.30, 0.0, 0.0), Pose2(-0.30, 0.02, M_PI + 0.03)};
-  std::vector<std::vector<MotionPair>> pairs =
+  const std::vector<std::vector<MotionPair>> pairs =
       frontRearPairs({"skid_steer", {}}, truths, 365, 60.0);
   SkidSteerOptions options;
   options.left_indices = {0, 1};
   options.right_indices = {2, 3};
-  for (EncoderSample& sample : pairs[1][4].encoder_samples)
-    sample.values.conservativeResize(3);  // the rear right wheel missing
-  const std::string message = refusal([&] {
-    fitJointSkidSteer(options, pairs, {Pose2(), Pose2()});
-  });
-  EXPECT_NE(message.find("skid_steer joint fit, sensor 1"), std::string::npos) << message;
-  pairs[1].resize(4);  // too few pairs
-  const std::string few = refusal([&] { fitJointSkidSteer(options, pairs, {Pose2(), Pose2()}); });
-  EXPECT_NE(few.find("skid_steer joint fit, sensor 1"), std::string::npos) << few;
+  const std::vector<Pose2> starts = {Pose2(), Pose2()};
+  using Spoil = std::function<void(std::vector<MotionPair>&)>;
+  const std::vector<std::pair<std::string, Spoil>> spoils = {
+      {"a wheel missing",
+       [](std::vector<MotionPair>& own) {
+         for (EncoderSample& sample : own[4].encoder_samples)
+           sample.values.conservativeResize(3);  // its right rear wheel
+       }},
+      {"one encoder sample",
+       [](std::vector<MotionPair>& own) { own[2].encoder_samples.resize(1); }},
+      {"too few pairs", [](std::vector<MotionPair>& own) { own.resize(4); }}};
+  for (std::size_t s = 0; s < 2; ++s) {
+    for (const auto& [what, spoil] : spoils) {
+      std::vector<std::vector<MotionPair>> spoilt = pairs;
+      spoil(spoilt[s]);
+      const std::string message = refusal([&] { fitJointSkidSteer(options, spoilt, starts); });
+      EXPECT_EQ(message.find("skid_steer joint fit, sensor " + std::to_string(s)), 0u)
+          << what << ": " << message;
+      EXPECT_EQ(message.find("sensor " + std::to_string(1 - s)), std::string::npos)
+          << what << ": " << message;
+    }
+  }
+  EXPECT_EQ(refusal([&] { fitJointSkidSteer(options, pairs, {Pose2()}); }),
+            "skid_steer joint fit: 1 start poses for 2 sensors");
+  EXPECT_EQ(refusal([&] { fitJointSkidSteer(options, {}, {}); }),
+            "skid_steer joint fit: no sensor's pairs given");
+  SkidSteerOptions one_sided = options;
+  one_sided.right_indices.clear();
+  EXPECT_EQ(refusal([&] { fitJointSkidSteer(one_sided, pairs, starts); }),
+            "skid_steer needs at least one wheel joint on each side");
 }
 
 /// The seed's tricycle (true values near those calibrated on its real log).

@@ -6,6 +6,7 @@
 #include "odometry_calibration/calibration/calibration_config.h"
 #include "odometry_calibration/calibration/time_offset.h"
 #include "odometry_calibration/factory/model_factory.h"
+#include "odometry_calibration/models/tricycle_model.h"
 #include "odometry_calibration/sim/pair_generator.h"
 
 namespace odometry_calibration {
@@ -85,6 +86,41 @@ std::vector<EncoderSample> encoderHistory(const std::vector<MotionPair>& pairs)
     }
   }
   return history;
+}
+
+TEST(TricycleModel, TheSavedModelKeepsHowAStepsSteeringIsRead)
+{
+  // Three 25 Hz samples of a steering turning while the wheel drives: the end reading and the
+  // mean of the two readings give different steps, so the flag must survive a save.
+  std::vector<EncoderSample> samples;
+  for (int k = 0; k < 3; ++k)
+    samples.push_back({0.04 * k, Eigen::Vector2d(300.0 * k, 4000.0 * k)});
+  TricycleModelOptions options;
+  options.initial = TricycleParameters::fromVectors(Eigen::Vector4d(0.56, 0.0106, 1.54, -0.064),
+                                                    Eigen::Vector3d(1.8, -0.015, -0.008));
+  for (const bool at_end : {true, false}) {
+    options.layout.steering_at_step_end = at_end;
+    const TricycleModel model(options);
+    const std::string yaml = model.toYaml();
+    EXPECT_NE(yaml.find(std::string("steering_at_step_end: ") + (at_end ? "true" : "false")),
+              std::string::npos)
+        << yaml;
+    const TricycleModel loaded = TricycleModel::fromYaml(yaml);
+    EXPECT_EQ(loaded.predict(samples).mean.vector(), model.predict(samples).mean.vector()) << yaml;
+  }
+  // The two conventions differ here (by more than the 1e-12 a reload keeps).
+  options.layout.steering_at_step_end = true;
+  const Pose2 end = TricycleModel(options).predict(samples).mean;
+  options.layout.steering_at_step_end = false;
+  const Pose2 mean = TricycleModel(options).predict(samples).mean;
+  EXPECT_GT(std::abs(end.theta() - mean.theta()), 1e-4);
+  // A model saved before the key existed: the mean of the two readings (the layout's default).
+  options.layout.steering_at_step_end = true;
+  std::string old_yaml = TricycleModel(options).toYaml();
+  const std::size_t key = old_yaml.find("steering_at_step_end: true\n");
+  ASSERT_NE(key, std::string::npos);
+  old_yaml.erase(key, std::string("steering_at_step_end: true\n").size());
+  EXPECT_EQ(TricycleModel::fromYaml(old_yaml).predict(samples).mean.vector(), mean.vector());
 }
 
 TEST(TricycleModel, TimeOffsetSearchIsUnbiasedWithSlowEncoders)

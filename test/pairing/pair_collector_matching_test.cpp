@@ -4,7 +4,9 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <random>
+#include <string>
 #include <thread>
 
 #include <gtest/gtest.h>
@@ -24,86 +26,112 @@ using test::scenario;
 using test::toScan;
 using test::wheels;
 
-/// Feeds one simulated run to two collectors: one matching in the background (its predictor
-/// sleeps at random to shuffle the threads' timing), one matching in the calling thread; every
-/// 13th scan is blanked so that matches fail. Compares what every call returned.
+/// Feeds one simulated run to two collectors, `first` and `second` (the one under test and one
+/// matching in the calling thread), handing what each call of both returned to `take`; every
+/// `blank_every`-th scan is blanked so that matches fail.
 struct TwinFeeder : sim::SimulationSink
 {
-  PairCollector* background;
-  PairCollector* inline_matching;
-  std::size_t calls = 0, scans = 0, pairs = 0;
-  void compare(const std::vector<CollectorEvent>& a, const std::vector<CollectorEvent>& b)
-  {
-    ++calls;
-    ASSERT_EQ(a.size(), b.size()) << "call " << calls;
-    for (std::size_t i = 0; i < a.size(); ++i) {
-      EXPECT_EQ(a[i].type, b[i].type) << "call " << calls;
-      EXPECT_EQ(a[i].reason, b[i].reason) << "call " << calls;
-      EXPECT_EQ(a[i].pair.start_stamp_s, b[i].pair.start_stamp_s);
-      EXPECT_EQ(a[i].pair.sensor_motion.vector(), b[i].pair.sensor_motion.vector());
-      EXPECT_EQ(a[i].pair.covariance, b[i].pair.covariance);
-      EXPECT_EQ(a[i].pair.encoder_samples.size(), b[i].pair.encoder_samples.size());
-      pairs += a[i].type == CollectorEvent::Type::kPair;
-    }
-    if (calls % 37 == 0)  // mid-run statistics count the matches submitted so far
-      compareStatistics();
-  }
-  void compareStatistics()
-  {
-    const CollectorStatistics& a = background->statistics();
-    const CollectorStatistics& b = inline_matching->statistics();
-    EXPECT_EQ(a.consecutive_matches, b.consecutive_matches) << "call " << calls;
-    EXPECT_EQ(a.consecutive_failures, b.consecutive_failures) << "call " << calls;
-    EXPECT_EQ(a.unverified_pairs, b.unverified_pairs);
-    EXPECT_EQ(a.keyframes, b.keyframes);
-    EXPECT_EQ(a.pairs, b.pairs);
-    EXPECT_EQ(a.rejected, b.rejected);
-  }
+  using Take =
+      std::function<void(const std::vector<CollectorEvent>&, const std::vector<CollectorEvent>&)>;
+  PairCollector* first;
+  PairCollector* second;
+  std::size_t blank_every;
+  Take take;
+  std::size_t scans = 0;
   void onJointState(const sim::JointStateSample& s) override
   {
     const Eigen::Vector2d raw(s.positions[0], s.positions[1]);
-    compare(background->addEncoders(s.stamp_s, raw), inline_matching->addEncoders(s.stamp_s, raw));
+    take(first->addEncoders(s.stamp_s, raw), second->addEncoders(s.stamp_s, raw));
   }
   void onScan(const sim::ScanSample& s) override
   {
     Scan scan = toScan(s);
-    if (++scans % 13 == 0)
+    if (++scans % blank_every == 0)
       scan.ranges_m.assign(scan.ranges_m.size(), 0.0);  // nothing usable: matches fail
-    compare(background->addScan(s.stamp_s, scan), inline_matching->addScan(s.stamp_s, scan));
+    take(first->addScan(s.stamp_s, scan), second->addScan(s.stamp_s, scan));
   }
   void onTruth(const sim::TruthSample&) override {}
   void onTracker(const sim::TrackerSample&) override {}
 };
 
-TEST(PairCollector, ResultsDoNotDependOnThreadTiming)
+/// The 40 s room run fed to `first` and `second` (TwinFeeder), then both flushed into `take`.
+void feedTwins(PairCollector& first, PairCollector& second, std::size_t blank_every,
+               const TwinFeeder::Take& take)
 {
   const sim::Scenario s = scenario(40.0);
   const sim::World world = sim::parseWorldYaml(kRoom, "room");
   const auto robot = sim::makeRobot(s.robot);
-  const DiffDriveEncoderLayout layout;
-  auto nominal = [layout](const std::vector<EncoderSample>& samples) {
-    const double intrinsic[3] = {0.077, 0.077, 0.33};
-    return sensorMotionFromBodyMotion(Pose2(0.15, 0, 0),
-                                      integrateDiffDriveMotion(intrinsic, layout, samples));
-  };
-  std::mt19937 random(5);
-  MotionPredictor jittery = [&](const std::vector<EncoderSample>& samples) {
-    std::this_thread::sleep_for(std::chrono::microseconds(random() % 700));
+  TwinFeeder feeder;
+  feeder.first = &first;
+  feeder.second = &second;
+  feeder.blank_every = blank_every;
+  feeder.take = take;
+  sim::simulate(s, world, *robot, feeder);
+  take(first.flush(), second.flush());
+}
+
+/// The nominal guess (nominalPredictor) after a random sleep of up to `max_sleep_us`, so that
+/// a background thread's timing is shuffled.
+MotionPredictor jitteryNominal(std::mt19937* random, unsigned max_sleep_us)
+{
+  return [random, max_sleep_us,
+          nominal = nominalPredictor()](const std::vector<EncoderSample>& samples) {
+    std::this_thread::sleep_for(std::chrono::microseconds((*random)() % max_sleep_us));
     return nominal(samples);
   };
+}
+
+/// The two collectors' mid-run statistics agree (counting the matches submitted so far).
+void expectSameStatistics(const PairCollector& a_collector, const PairCollector& b_collector,
+                          std::size_t call)
+{
+  const CollectorStatistics& a = a_collector.statistics();
+  const CollectorStatistics& b = b_collector.statistics();
+  EXPECT_EQ(a.consecutive_matches, b.consecutive_matches) << "call " << call;
+  EXPECT_EQ(a.consecutive_failures, b.consecutive_failures) << "call " << call;
+  EXPECT_EQ(a.unverified_pairs, b.unverified_pairs);
+  EXPECT_EQ(a.keyframes, b.keyframes);
+  EXPECT_EQ(a.pairs, b.pairs);
+  EXPECT_EQ(a.rejected, b.rejected);
+}
+
+/// Two events are the same: type, reason and pair.
+void expectSameEvent(const CollectorEvent& a, const CollectorEvent& b, const std::string& where)
+{
+  EXPECT_EQ(a.type, b.type) << where;
+  EXPECT_EQ(a.reason, b.reason) << where;
+  EXPECT_EQ(a.pair.start_stamp_s, b.pair.start_stamp_s) << where;
+  EXPECT_EQ(a.pair.end_stamp_s, b.pair.end_stamp_s) << where;
+  EXPECT_EQ(a.pair.sensor_motion.vector(), b.pair.sensor_motion.vector()) << where;
+  EXPECT_EQ(a.pair.covariance, b.pair.covariance) << where;
+  EXPECT_EQ(a.pair.encoder_samples.size(), b.pair.encoder_samples.size()) << where;
+}
+
+TEST(PairCollector, ResultsDoNotDependOnThreadTiming)
+{
+  // One collector matching in the background (its predictor sleeping at random), one in the
+  // calling thread; every 13th scan blanked. What every call returned is compared.
+  std::mt19937 random(5);
   CollectorOptions options;
-  PairCollector background(wheels(), options, jittery);
+  PairCollector background(wheels(), options, jitteryNominal(&random, 700));
   options.background_matching = false;
-  PairCollector inline_matching(wheels(), options, nominal);
-  TwinFeeder feeder;
-  feeder.background = &background;
-  feeder.inline_matching = &inline_matching;
-  sim::simulate(s, world, *robot, feeder);
-  feeder.compare(background.flush(), inline_matching.flush());
-  feeder.compareStatistics();
+  PairCollector inline_matching(wheels(), options, nominalPredictor());
+  std::size_t calls = 0, pairs = 0;
+  feedTwins(background, inline_matching, 13,
+            [&](const std::vector<CollectorEvent>& a, const std::vector<CollectorEvent>& b) {
+              ++calls;
+              ASSERT_EQ(a.size(), b.size()) << "call " << calls;
+              for (std::size_t i = 0; i < a.size(); ++i) {
+                expectSameEvent(a[i], b[i], "call " + std::to_string(calls));
+                pairs += a[i].type == CollectorEvent::Type::kPair;
+              }
+              if (calls % 37 == 0)
+                expectSameStatistics(background, inline_matching, calls);
+            });
+  expectSameStatistics(background, inline_matching, calls);
   // The blanked scans exercised the failure paths.
   const CollectorStatistics& stats = background.statistics();
-  EXPECT_GT(feeder.pairs, 40u);
+  EXPECT_GT(pairs, 40u);
   EXPECT_GE(stats.consecutive_failures, 20u);
   EXPECT_GT(stats.unverified_pairs, 0u);
   EXPECT_FALSE(stats.rejected.empty());
@@ -111,81 +139,36 @@ TEST(PairCollector, ResultsDoNotDependOnThreadTiming)
   EXPECT_LT(stats.consecutive_matches, stats.scans - 1);
 }
 
-/// Feeds one simulated run to a collector that defers its keyframe matches (matching in the
-/// background, its predictor sleeping at random) and to one that matches in the calling thread;
-/// every 11th scan is blanked so that matches fail. Gathers both event streams.
-struct DeferredTwinFeeder : sim::SimulationSink
-{
-  PairCollector* deferred;
-  PairCollector* inline_matching;
-  std::vector<CollectorEvent> deferred_events, inline_events;
-  std::size_t calls = 0, scans = 0;
-  std::size_t late_calls = 0;  ///< calls where the deferred collector returned fewer events
-  void take(std::vector<CollectorEvent> a, std::vector<CollectorEvent> b)
-  {
-    late_calls += a.size() < b.size() ? 1 : 0;
-    deferred_events.insert(deferred_events.end(), a.begin(), a.end());
-    inline_events.insert(inline_events.end(), b.begin(), b.end());
-    // Mid-run statistics count the same, deferred events or not.
-    if (++calls % 41 == 0) {
-      EXPECT_EQ(deferred->statistics().pairs, inline_matching->statistics().pairs);
-    }
-  }
-  void onJointState(const sim::JointStateSample& s) override
-  {
-    const Eigen::Vector2d raw(s.positions[0], s.positions[1]);
-    take(deferred->addEncoders(s.stamp_s, raw), inline_matching->addEncoders(s.stamp_s, raw));
-  }
-  void onScan(const sim::ScanSample& s) override
-  {
-    Scan scan = toScan(s);
-    if (++scans % 11 == 0)
-      scan.ranges_m.assign(scan.ranges_m.size(), 0.0);  // nothing usable: matches fail
-    take(deferred->addScan(s.stamp_s, scan), inline_matching->addScan(s.stamp_s, scan));
-  }
-  void onTruth(const sim::TruthSample&) override {}
-  void onTracker(const sim::TrackerSample&) override {}
-};
-
 TEST(PairCollector, DeferredKeyframeMatchesGiveTheSameEventsInTheSameOrder)
 {
-  const sim::Scenario s = scenario(40.0);
-  const sim::World world = sim::parseWorldYaml(kRoom, "room");
-  const auto robot = sim::makeRobot(s.robot);
-  const DiffDriveEncoderLayout layout;
-  auto nominal = [layout](const std::vector<EncoderSample>& samples) {
-    const double intrinsic[3] = {0.077, 0.077, 0.33};
-    return sensorMotionFromBodyMotion(Pose2(0.15, 0, 0),
-                                      integrateDiffDriveMotion(intrinsic, layout, samples));
-  };
+  // A collector deferring its keyframe matches (matching in the background, its predictor
+  // sleeping at random) against one matching in the calling thread; every 11th scan blanked.
+  // Both event streams are gathered and compared whole.
   std::mt19937 random(7);
-  MotionPredictor jittery = [&](const std::vector<EncoderSample>& samples) {
-    std::this_thread::sleep_for(std::chrono::microseconds(random() % 300));
-    return nominal(samples);
-  };
   CollectorOptions options;
   options.defer_keyframe_matches = true;
-  PairCollector deferred(wheels(), options, jittery);
+  PairCollector deferred(wheels(), options, jitteryNominal(&random, 300));
   options.defer_keyframe_matches = false;
   options.background_matching = false;
-  PairCollector inline_matching(wheels(), options, nominal);
-  DeferredTwinFeeder feeder;
-  feeder.deferred = &deferred;
-  feeder.inline_matching = &inline_matching;
-  sim::simulate(s, world, *robot, feeder);
-  feeder.take(deferred.flush(), inline_matching.flush());
-  const std::vector<CollectorEvent>& a = feeder.deferred_events;
-  const std::vector<CollectorEvent>& b = feeder.inline_events;
+  PairCollector inline_matching(wheels(), options, nominalPredictor());
+  std::vector<CollectorEvent> a, b;
+  std::size_t calls = 0;
+  std::size_t late_calls = 0;  // calls where the deferred collector returned fewer events
+  feedTwins(
+      deferred, inline_matching, 11,
+      [&](const std::vector<CollectorEvent>& first, const std::vector<CollectorEvent>& second) {
+        late_calls += first.size() < second.size() ? 1 : 0;
+        a.insert(a.end(), first.begin(), first.end());
+        b.insert(b.end(), second.begin(), second.end());
+        // Mid-run statistics count the same, deferred events or not.
+        if (++calls % 41 == 0) {
+          EXPECT_EQ(deferred.statistics().pairs, inline_matching.statistics().pairs);
+        }
+      });
   ASSERT_EQ(a.size(), b.size());
   std::size_t pairs = 0;
   for (std::size_t i = 0; i < a.size(); ++i) {
-    EXPECT_EQ(a[i].type, b[i].type) << "event " << i;
-    EXPECT_EQ(a[i].reason, b[i].reason) << "event " << i;
-    EXPECT_EQ(a[i].pair.start_stamp_s, b[i].pair.start_stamp_s);
-    EXPECT_EQ(a[i].pair.end_stamp_s, b[i].pair.end_stamp_s);
-    EXPECT_EQ(a[i].pair.sensor_motion.vector(), b[i].pair.sensor_motion.vector());
-    EXPECT_EQ(a[i].pair.covariance, b[i].pair.covariance);
-    EXPECT_EQ(a[i].pair.encoder_samples.size(), b[i].pair.encoder_samples.size());
+    expectSameEvent(a[i], b[i], "event " + std::to_string(i));
     pairs += a[i].type == CollectorEvent::Type::kPair;
   }
   EXPECT_GT(pairs, 40u);
@@ -202,7 +185,7 @@ TEST(PairCollector, DeferredKeyframeMatchesGiveTheSameEventsInTheSameOrder)
   EXPECT_EQ(x.scale_check_pairs, y.scale_check_pairs);
   EXPECT_EQ(x.chained_m, y.chained_m);
   // The deferral happened: some events came on a later call than the inline collector's.
-  EXPECT_GT(feeder.late_calls, 0u);
+  EXPECT_GT(late_calls, 0u);
 }
 
 TEST(PairCollector, AnInjectedMatcherMakesEveryMatch)

@@ -99,6 +99,29 @@ TEST(ControllerYaml, MecanumRadiiAndLeverFromTheParameterNames)
   expectSigmaOnEveryFittedLine(text);
 }
 
+TEST(ControllerYaml, AJointFitsHeaderCountsEverySensorsPairs)
+{
+  // A joint fit of two lasers (119 front, 121 rear pairs): the header gives the joint fit's
+  // pairs, not the first sensor's alone; the values are the joint wheels.
+  JointFitReport joint;
+  joint.model = "diff_drive";
+  const ModelReport wheels = diffDriveReport("diff_drive");
+  joint.intrinsics.assign(wheels.parameters.begin(), wheels.parameters.begin() + 3);
+  joint.sensors.resize(2);
+  joint.sensors[0].pairs = 119;
+  joint.sensors[1].pairs = 121;
+  const std::string text = jointControllerYaml(joint, "front_rear.bag");
+  EXPECT_NE(text.find("(joint diff_drive fit of 2 sensors, 119 + 121 = 240 pairs)."),
+            std::string::npos)
+      << text;
+  EXPECT_EQ(text.find("WARNINGS"), std::string::npos);
+  EXPECT_NEAR(YAML::Load(text)["wheel_separation_multiplier"].as<double>(), 1.46, 1e-6);
+  joint.sensors[1].warnings.push_back("sensor_theta not determined");  // the rear's warning
+  EXPECT_NE(jointControllerYaml(joint, "front_rear.bag")
+                .find("240 pairs; the fit has WARNINGS, see joint_report.txt)."),
+            std::string::npos);
+}
+
 TEST(ControllerYaml, NoControllerFormForModelFreeOrTricycleFits)
 {
   ModelReport gp;

@@ -10,7 +10,9 @@
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
+#include "odometry_calibration/calibration/calibration_config.h"
 #include "odometry_calibration/ros/bag_calibration.h"
+#include "odometry_calibration/ros/bag_joint_calibration.h"
 #include "odometry_calibration/ros/sim_bag_writer.h"
 #include "odometry_calibration/sim/scenario.h"
 
@@ -22,9 +24,10 @@ namespace {
 namespace fs = std::filesystem;
 const std::string kConfig = ODOMETRY_CALIBRATION_CONFIG_DIR;
 
-/// A joint calibrate_bag run: config/sim/scenarios/`name`.yaml simulated (90 s, `seed`) into a
-/// bag in a new temporary `directory`, then calibrate_bag with config/`name`.yaml into
-/// `directory`/out. `before_run` sees the options first (e.g. to leave an earlier run's files).
+/// A joint calibrate_bag run: config/sim/scenarios/`name`.yaml simulated (`duration_s`, `seed`)
+/// into a bag in a new temporary `directory`, then `calibrate` (calibrate_bag's job) with
+/// config/`name`.yaml into `directory`/out. `before_run` sees the options first (e.g. to leave
+/// an earlier run's files).
 struct JointBagRun
 {
   std::string directory;
@@ -34,15 +37,18 @@ struct JointBagRun
   std::string text;
 };
 
+using BagJob = std::function<int(const BagCalibrationOptions&, std::ostream&)>;
+
 JointBagRun runJointBag(const std::string& name, unsigned seed,
-                        const std::function<void(const BagCalibrationOptions&)>& before_run = {})
+                        const std::function<void(const BagCalibrationOptions&)>& before_run = {},
+                        double duration_s = 90.0, const BagJob& calibrate = calibrateBags)
 {
   JointBagRun run;
   char pattern[] = "/tmp/calibrate_bag_joint_test.XXXXXX";
   run.directory = mkdtemp(pattern);
   run.scenario =
       sim::loadScenarioYaml(kConfig + "/sim/scenarios/" + name + ".yaml", kConfig + "/sim/worlds");
-  run.scenario.duration_s = 90.0;
+  run.scenario.duration_s = duration_s;
   run.scenario.seed = seed;
   const std::string bag = run.directory + "/front_rear.bag";
   simulateToBag(run.scenario, bag, "");
@@ -53,9 +59,25 @@ JointBagRun runJointBag(const std::string& name, unsigned seed,
   if (before_run)
     before_run(run.options);
   std::ostringstream out;
-  run.status = calibrateBags(run.options, out);
+  run.status = calibrate(run.options, out);
   run.text = out.str();
   return run;
+}
+
+/// result.yaml's `sensors`: each laser's pose within 1 cm and 0.01 rad of `scenario`'s, with
+/// a σ.
+void expectPosesNearTruth(const YAML::Node& sensors, const sim::Scenario& scenario)
+{
+  const std::vector<sim::LaserOptions> lasers = sim::allLasers(scenario);
+  ASSERT_EQ(sensors.size(), lasers.size());
+  for (std::size_t s = 0; s < lasers.size(); ++s) {
+    const YAML::Node pose = sensors[s]["T_base_sensor"];
+    const Pose2& truth = lasers[s].T_base_laser;
+    EXPECT_NEAR(pose["x_m"].as<double>(), truth.x(), 0.01) << s;
+    EXPECT_NEAR(pose["y_m"].as<double>(), truth.y(), 0.01) << s;
+    EXPECT_NEAR(normalizeAngle(pose["theta_rad"].as<double>() - truth.theta()), 0.0, 0.01) << s;
+    EXPECT_GT(pose["x_m_sigma"].as<double>(), 0.0) << s;
+  }
 }
 
 TEST(CalibrateBagJoint, FrontAndRearLasersGiveOneSetOfWheelsAndBothPoses)
@@ -84,15 +106,7 @@ TEST(CalibrateBagJoint, FrontAndRearLasersGiveOneSetOfWheelsAndBothPoses)
   const YAML::Node result = YAML::LoadFile(options.output_dir + "/result.yaml");
   const YAML::Node sensors = result["sensors"];
   ASSERT_EQ(sensors.size(), 2u) << text;
-  const std::vector<sim::LaserOptions> lasers = sim::allLasers(scenario);
-  for (std::size_t s = 0; s < 2; ++s) {
-    const YAML::Node pose = sensors[s]["T_base_sensor"];
-    const Pose2& truth = lasers[s].T_base_laser;
-    EXPECT_NEAR(pose["x_m"].as<double>(), truth.x(), 0.01) << s;
-    EXPECT_NEAR(pose["y_m"].as<double>(), truth.y(), 0.01) << s;
-    EXPECT_NEAR(normalizeAngle(pose["theta_rad"].as<double>() - truth.theta()), 0.0, 0.01) << s;
-    EXPECT_GT(pose["x_m_sigma"].as<double>(), 0.0);
-  }
+  expectPosesNearTruth(sensors, scenario);
   EXPECT_EQ(sensors[1]["topic"].as<std::string>(), "/scan_rear");
   EXPECT_EQ(sensors[1]["frame"].as<std::string>(), "laser_rear");
   // Each laser's own time offset: the rear one's stamps run 0.05 s late, its encoders are taken
@@ -133,14 +147,7 @@ TEST(CalibrateBagJoint, SkidSteerFrontAndRearLasersGiveOneSetOfSidesAndBothPoses
   const YAML::Node result = YAML::LoadFile(options.output_dir + "/result.yaml");
   const YAML::Node sensors = result["sensors"];
   ASSERT_EQ(sensors.size(), 2u) << text;
-  const std::vector<sim::LaserOptions> lasers = sim::allLasers(scenario);
-  for (std::size_t s = 0; s < 2; ++s) {
-    const YAML::Node pose = sensors[s]["T_base_sensor"];
-    const Pose2& truth = lasers[s].T_base_laser;
-    EXPECT_NEAR(pose["x_m"].as<double>(), truth.x(), 0.01) << s;
-    EXPECT_NEAR(pose["y_m"].as<double>(), truth.y(), 0.01) << s;
-    EXPECT_NEAR(normalizeAngle(pose["theta_rad"].as<double>() - truth.theta()), 0.0, 0.01) << s;
-  }
+  expectPosesNearTruth(sensors, scenario);
   EXPECT_EQ(result["model"]["model"].as<std::string>(), "skid_steer");
   const YAML::Node sides = result["model"]["sides"];
   EXPECT_NEAR(sides["left_wheel_radius_m"].as<double>(), 0.1, 0.005 * 0.1);
@@ -175,7 +182,8 @@ TEST(CalibrateBagJoint, SeveralSourcesWithAModelWithoutJointFitAreRefusedNamingI
     calibrateBags(options, out);
     ADD_FAILURE() << "several sources with model linear accepted";
   } catch (const std::runtime_error& error) {
-    EXPECT_NE(std::string(error.what()).find("not 'linear'"), std::string::npos) << error.what();
+    EXPECT_NE(std::string(error.what()).find("model 'linear' has no joint fit"), std::string::npos)
+        << error.what();
   }
   EXPECT_FALSE(fs::exists(options.output_dir));
   // The one-source options a joint run does not take are refused by name, not ignored.
@@ -225,14 +233,7 @@ TEST(CalibrateBagJoint, TricycleFrontAndRearLasersGiveOneSetOfKinematicsAndBothP
   const YAML::Node result = YAML::LoadFile(options.output_dir + "/result.yaml");
   const YAML::Node sensors = result["sensors"];
   ASSERT_EQ(sensors.size(), 2u) << text;
-  const std::vector<sim::LaserOptions> lasers = sim::allLasers(scenario);
-  for (std::size_t s = 0; s < 2; ++s) {
-    const YAML::Node pose = sensors[s]["T_base_sensor"];
-    const Pose2& truth = lasers[s].T_base_laser;
-    EXPECT_NEAR(pose["x_m"].as<double>(), truth.x(), 0.01) << s;
-    EXPECT_NEAR(pose["y_m"].as<double>(), truth.y(), 0.01) << s;
-    EXPECT_NEAR(normalizeAngle(pose["theta_rad"].as<double>() - truth.theta()), 0.0, 0.01) << s;
-  }
+  expectPosesNearTruth(sensors, scenario);
   const YAML::Node model = result["model"];
   EXPECT_EQ(model["model"].as<std::string>(), "tricycle");
   EXPECT_NEAR(model["steering_scale"].as<double>(), 0.56, 0.005 * 0.56);
@@ -249,6 +250,66 @@ TEST(CalibrateBagJoint, TricycleFrontAndRearLasersGiveOneSetOfKinematicsAndBothP
   for (const auto& entry : fs::directory_iterator(options.output_dir))  // no staging left
     EXPECT_EQ(entry.path().filename().string().rfind(".result_set", 0), std::string::npos);
   fs::remove_all(directory);
+}
+
+// The joint fit failing after both lasers were fitted alone (forced here: it cannot fail on
+// pairs each sensor's fit alone took): each source's text is printed and its files written as
+// one set, an earlier run's joint files removed, and the failure reported by an exception
+// (calibrate_bag: "error: ..." and exit 1). Before, nothing was printed or written.
+TEST(CalibrateBagJoint, AFailedJointFitStillWritesEverySourcesFitAlone)
+{
+  std::string thrown;
+  std::size_t rear_pairs = 0;
+  const JointFitFunction failing =
+      [&](const CalibrationConfig&, const std::vector<JointSourceInput>& inputs) -> JointFitReport {
+    rear_pairs = inputs.at(1).pairs.size();
+    throw std::invalid_argument("diff_drive joint fit, sensor 1: forced by the test");
+  };
+  const JointBagRun run = runJointBag(
+      "diff_drive_front_rear", 382,
+      [](const BagCalibrationOptions& options) {  // an earlier joint run's files
+        fs::create_directories(options.output_dir + "/source_1");
+        for (const char* name : {"result.yaml", "controller.yaml", "laser_joints.urdf"})
+          std::ofstream(options.output_dir + "/" + name) << "an earlier run\n";
+        std::ofstream(options.output_dir + "/source_1/stale.txt") << "an earlier run\n";
+      },
+      40.0,
+      [&](const BagCalibrationOptions& options, std::ostream& out) {
+        try {
+          return calibrateBagsJointly(options, loadCalibrationConfig(options.config_path), out,
+                                      failing);
+        } catch (const std::runtime_error& error) {
+          thrown = error.what();
+          return 1;
+        }
+      });
+  const std::string& out = run.options.output_dir;
+  EXPECT_EQ(run.status, 1) << run.text;
+  EXPECT_EQ(thrown.find("the joint diff_drive fit failed after every source was fitted alone: "
+                        "diff_drive joint fit, sensor 1: forced by the test (each source's fit "
+                        "alone is in " +
+                        out + "/source_<k>/; no joint result.yaml)"),
+            0u)
+      << thrown;
+  EXPECT_GT(rear_pairs, 10u);  // the rear laser was paired and fitted alone
+  for (const char* part : {"=== source 0: /scan_front ===", "=== source 1: /scan_rear ===",
+                           "=== joint fit ===\nthe joint diff_drive fit failed",
+                           "written: ", "joint_report.txt, source_0/, source_1/}"})
+    EXPECT_NE(run.text.find(part), std::string::npos) << part << "\n" << run.text;
+  for (const std::string source : {"/source_0/", "/source_1/"}) {
+    for (const char* name : {"result.yaml", "report.txt", "pairs.csv", "controller.yaml"})
+      EXPECT_TRUE(fs::is_regular_file(out + source + name)) << source << name;
+  }
+  EXPECT_FALSE(fs::exists(out + "/source_1/stale.txt"));
+  for (const char* name : {"result.yaml", "controller.yaml", "laser_joints.urdf"})
+    EXPECT_FALSE(fs::exists(out + "/" + name)) << name;  // none passes for this run's
+  EXPECT_NE(test_support::readFile(out + "/joint_report.txt").find("forced by the test"),
+            std::string::npos);
+  EXPECT_NE(test_support::readFile(out + "/source_1/report.txt").find("/scan_rear"),
+            std::string::npos);
+  for (const auto& entry : fs::directory_iterator(out))  // no staging left
+    EXPECT_EQ(entry.path().filename().string().rfind(".result_set", 0), std::string::npos);
+  fs::remove_all(run.directory);
 }
 
 }  // namespace

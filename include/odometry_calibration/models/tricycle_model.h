@@ -32,8 +32,12 @@ public:
   /// h = T_bs^-1 * Delta_r * T_bs over the samples (seed, "prediction function"), with the
   /// fit's per-pair residual covariance (zero before a fit).
   MotionPrediction predict(const std::vector<EncoderSample>& samples) const override;
+  /// The joints, the kinematic parameters, `steering_at_step_end` (the layout's flag: how a
+  /// step's steering is read, tricycle_kinematics.h), the sensor pose and the covariance.
   std::string toYaml() const override;
   /// Loads a model written by toYaml(); throws std::runtime_error naming what is missing.
+  /// Without `steering_at_step_end` (written before it was saved) a step's steering is the mean
+  /// of its two readings, the layout's default.
   static TricycleModel fromYaml(const std::string& text);
 
   const TricycleParameters& parameters() const { return parameters_; }

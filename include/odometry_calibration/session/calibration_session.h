@@ -244,7 +244,9 @@ public:
   /// Throws std::logic_error for an adoption not prepared or committed already.
   void commitAdoption(PreparedAdoption& adoption);
   /// Puts back the state a committed adoption replaced (the listener told the previous pose;
-  /// what it throws then is logged).
+  /// what it throws then is logged). The odometry runs on from where it was, also when the
+  /// fit's time offset had restarted it (the samples between commit and roll-back are taken
+  /// as one step).
   void rollBackAdoption(PreparedAdoption& adoption);
   /// The rest of a committed adoption: last_fit.yaml, the guidance recentred, the health
   /// monitor watching, the time offset's log line; the outcome as calibrate() gives it.

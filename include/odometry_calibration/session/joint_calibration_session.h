@@ -97,8 +97,9 @@ public:
 
 private:
   JointCalibrateOutcome calibrateJointly(const CalibrationRequest& request);
-  /// The joint fit's configuration: model `name` with the call's `options`; throws
-  /// std::invalid_argument naming a model without a joint fit or an option it does not take.
+  /// The joint fit's configuration: model `name` (one with a joint fit) with the call's
+  /// `options`; throws std::invalid_argument naming an option it does not take or what the
+  /// configuration lacks for that model.
   CalibrationConfig jointModelConfig(const std::string& name, const std::string& options) const;
   /// Each source's fit alone of joint_config's model (its own start pose); nullopt with
   /// `failure` set when one could not be fitted.

@@ -75,6 +75,10 @@ class SessionOdometry
 public:
   SessionOdometry(const std::vector<EncoderChannelOptions>& channels,
                   const SessionOdometryOptions& options);
+  /// A copy of `other` with integrators of its own: kept aside, it can take over again as it
+  /// was (a refused adoption's odometry, calibration_session.h).
+  SessionOdometry(const SessionOdometry& other);
+  SessionOdometry& operator=(const SessionOdometry&) = delete;
 
   /// The nominal robot's integrator (none without a prior model).
   void setNominal(std::unique_ptr<OdometryIntegrator> nominal);
