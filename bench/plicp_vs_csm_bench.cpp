@@ -59,16 +59,21 @@ Outcome matchWithCsm(const MatchCase& pair, bool covariance)
   return {outcome.valid, outcome.T_ref_new, outcome.covariance};
 }
 
+/// The default of PlicpOptions::ambiguity_return_sigma (rematches stop once back at the solution).
+const double kReturnSigma = PlicpOptions().ambiguity_return_sigma;
+
 /// Ours with its defaults, covariance as asked; `check_ambiguity` false turns off the ambiguity
 /// check of weak matches (which needs the covariance) to show what it costs; `gap_rule` false
 /// sets line_fit.max_gap_range_m to 0, the surface breaks of before issue 33 (every gap beyond
-/// max_gap_m, whatever the ray spacing).
+/// max_gap_m, whatever the ray spacing); `return_sigma` 0 lets every rematch of the check run to
+/// convergence, as before issue 33's early stop.
 Outcome matchWithOurs(const MatchCase& pair, bool covariance, bool check_ambiguity = true,
-                      bool gap_rule = true)
+                      bool gap_rule = true, double return_sigma = kReturnSigma)
 {
   PlicpOptions options;
   options.compute_covariance = covariance;
   options.check_ambiguity = check_ambiguity;
+  options.ambiguity_return_sigma = return_sigma;
   if (!gap_rule)
     options.line_fit.max_gap_range_m = 0.0;
   const PlicpResult result = matchScans(pair.reference, pair.current, pair.guess_ref_new, options);
@@ -133,7 +138,8 @@ void pairedComparison(benchmark::State& state, const std::vector<std::pair<doubl
 /// Times both matchers on every case (fastest of kPasses interleaved passes per case) and puts
 /// speed, validity and accuracy (against the truth, or between the two) into the counters.
 void runSideBySide(benchmark::State& state, const std::vector<MatchCase>& cases, bool covariance,
-                   bool check_ambiguity = true, bool gap_rule = true)
+                   bool check_ambiguity = true, bool gap_rule = true,
+                   double return_sigma = kReturnSigma)
 {
   if (cases.empty()) {
     state.SkipWithError(
@@ -149,7 +155,7 @@ void runSideBySide(benchmark::State& state, const std::vector<MatchCase>& cases,
       for (std::size_t k = 0; k < n; ++k) {
         auto timeOurs = [&] {
           const auto start = std::chrono::steady_clock::now();
-          ours[k] = matchWithOurs(cases[k], covariance, check_ambiguity, gap_rule);
+          ours[k] = matchWithOurs(cases[k], covariance, check_ambiguity, gap_rule, return_sigma);
           const std::chrono::duration<double, std::milli> took =
               std::chrono::steady_clock::now() - start;
           ours_ms[k] = std::min(ours_ms[k], took.count());
@@ -331,15 +337,102 @@ std::vector<MatchCase> carmenCases(const std::string& name)
   return cases;
 }
 
+bool sameOutcome(const Outcome& a, const Outcome& b)
+{
+  return a.valid == b.valid && a.T_ref_new.vector() == b.T_ref_new.vector() &&
+         a.covariance == b.covariance;
+}
+
+/// What the ambiguity check does to our matches (untimed, defaults with covariance on): how many
+/// valid matches it widens (covariance other than without the check), with the early stop of its
+/// rematches (now) and with every rematch run to convergence (before), and how many matches of
+/// the two differ at all (validity, pose or covariance).
+void countWidened(benchmark::State& state, const std::vector<MatchCase>& cases)
+{
+  int widened_now = 0, widened_before = 0, differ = 0;
+  for (const MatchCase& pair : cases) {
+    const Outcome unchecked = matchWithOurs(pair, true, false);
+    const Outcome now = matchWithOurs(pair, true);
+    const Outcome before = matchWithOurs(pair, true, true, true, 0.0);
+    widened_now += now.valid && unchecked.valid && now.covariance != unchecked.covariance ? 1 : 0;
+    widened_before +=
+        before.valid && unchecked.valid && before.covariance != unchecked.covariance ? 1 : 0;
+    differ += sameOutcome(now, before) ? 0 : 1;
+  }
+  state.counters["ours_widened"] = widened_now;
+  state.counters["ours_widened_before"] = widened_before;
+  state.counters["ours_differ_from_before"] = differ;
+}
+
 void BM_SideBySideCarmen(benchmark::State& state)
 {
   static std::vector<MatchCase> cases[3];
   const auto log = static_cast<std::size_t>(state.range(0));
   if (cases[log].empty())
     cases[log] = carmenCases(kCarmenLogs[log]);
-  // covariance 2: covariance on, our ambiguity check off (CSM as with covariance 1); gap_rule 0:
-  // our line fits' surface breaks as before issue 33 (line_fit.max_gap_range_m 0)
-  runSideBySide(state, cases[log], state.range(1) != 0, state.range(1) != 2, state.range(2) != 0);
+  // covariance 2: covariance on, our ambiguity check off (CSM as with covariance 1); covariance 3:
+  // on, every rematch of our check run to convergence (ambiguity_return_sigma 0, before issue
+  // 33's early stop); gap_rule 0: our line fits' surface breaks as before issue 33
+  // (line_fit.max_gap_range_m 0)
+  const int covariance = static_cast<int>(state.range(1));
+  runSideBySide(state, cases[log], covariance != 0, covariance != 2, state.range(2) != 0,
+                covariance == 3 ? 0.0 : kReturnSigma);
+  if (covariance == 1 && state.range(2) != 0)
+    countWidened(state, cases[log]);
+}
+
+/// What the covariance costs us (issue 33), ours alone, four variants timed pair by pair in one
+/// process, their order rotating from pair to pair and pass to pass (fastest of kCostPasses per
+/// pair and variant): covariance off, on (defaults), on with every rematch of the ambiguity check
+/// run to convergence (ambiguity_return_sigma 0, before its early stop), and on without the
+/// check. Counters: the medians [ms] and the on/off ratios of the medians.
+void BM_CovarianceCostCarmen(benchmark::State& state)
+{
+  constexpr int kCostPasses = 5;
+  const std::vector<MatchCase> cases = carmenCases(kCarmenLogs[state.range(0)]);
+  if (cases.empty()) {
+    state.SkipWithError(
+        "no data (the CARMEN logs are read from ODOMETRY_CALIBRATION_SHARED_DATA_DIR)");
+    return;
+  }
+  const auto variant = [](const MatchCase& pair, int which) {
+    switch (which) {
+      case 0:
+        return matchWithOurs(pair, false);
+      case 1:
+        return matchWithOurs(pair, true);
+      case 2:
+        return matchWithOurs(pair, true, true, true, 0.0);
+      default:
+        return matchWithOurs(pair, true, false);
+    }
+  };
+  constexpr int kVariants = 4;
+  std::vector<std::vector<double>> ms(
+      kVariants, std::vector<double>(cases.size(), std::numeric_limits<double>::infinity()));
+  for (auto _ : state) {
+    for (int pass = 0; pass < kCostPasses; ++pass) {
+      for (std::size_t k = 0; k < cases.size(); ++k) {
+        for (int v = 0; v < kVariants; ++v) {
+          const int which = static_cast<int>((k + pass + v) % kVariants);
+          const auto start = std::chrono::steady_clock::now();
+          benchmark::DoNotOptimize(variant(cases[k], which));
+          const std::chrono::duration<double, std::milli> took =
+              std::chrono::steady_clock::now() - start;
+          ms[which][k] = std::min(ms[which][k], took.count());
+        }
+      }
+    }
+  }
+  const double off = median(ms[0]);
+  state.counters["pairs"] = static_cast<double>(cases.size());
+  state.counters["off_median_ms"] = off;
+  state.counters["on_median_ms"] = median(ms[1]);
+  state.counters["on_before_median_ms"] = median(ms[2]);
+  state.counters["on_no_check_median_ms"] = median(ms[3]);
+  state.counters["ratio_on_off"] = median(ms[1]) / off;
+  state.counters["ratio_on_before_off"] = median(ms[2]) / off;
+  state.counters["ratio_on_no_check_off"] = median(ms[3]) / off;
 }
 
 void BM_SideBySideRoom(benchmark::State& state)
@@ -392,12 +485,20 @@ BENCHMARK(BM_SideBySideMines)
     ->Unit(benchmark::kMillisecond);
 
 // log: 0 ACES (180 rays), 1 FHW museum (180), 2 Freiburg 079 (360); covariance 2: on for
-// both, our ambiguity check off; gap_rule 0: ours with the surface breaks of before issue 33
-// (the before/after of its line-fit change, in the same run).
+// both, our ambiguity check off; covariance 3: on for both, our check's rematches run to
+// convergence (before its early stop); gap_rule 0: ours with the surface breaks of before
+// issue 33 (the before/after of its line-fit change, in the same run).
 BENCHMARK(BM_SideBySideCarmen)
     ->ArgNames({"log", "covariance", "gap_rule"})
-    ->ArgsProduct({{0, 1, 2}, {1, 0, 2}, {1}})
+    ->ArgsProduct({{0, 1, 2}, {1, 0, 2, 3}, {1}})
     ->ArgsProduct({{0, 1, 2}, {1}, {0}})
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
+
+// log: 0 ACES (180 rays), 1 FHW museum (180), 2 Freiburg 079 (360)
+BENCHMARK(BM_CovarianceCostCarmen)
+    ->ArgNames({"log"})
+    ->DenseRange(0, 2)
     ->Iterations(1)
     ->Unit(benchmark::kMillisecond);
 
