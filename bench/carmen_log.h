@@ -3,8 +3,8 @@
 // spacing 180/(n-1) deg; readings <= 0 or >= 80 m are no return. Both pose triples of a line hold
 // the corrected pose of the robot (laser at its origin). For the side-by-side PLICP benchmark.
 //
-// Header-only benchmark helper; not part of the library. The gzip files are read through
-// `gzip -dc` (no copy of the data is made).
+// Header-only benchmark helper; not part of the library. The files are read through
+// `gzip -dcf` (gzip'ed or plain text; no copy of the data is made).
 #pragma once
 
 #include <cmath>
@@ -48,11 +48,14 @@ inline Scan flaserScan(const std::vector<double>& readings_m)
   return scan;
 }
 
-/// Every FLASER line of a gzip'ed CARMEN log; empty when the file cannot be read.
+/// Every FLASER line of a CARMEN log (gzip'ed or plain); empty when the file cannot be read
+/// (or its path holds a quote, which the shell command below cannot take).
 inline std::vector<Record> loadLog(const std::string& path)
 {
   std::vector<Record> records;
-  const std::string command = "gzip -dc '" + path + "' 2>/dev/null";
+  if (path.find('\'') != std::string::npos)
+    return records;
+  const std::string command = "gzip -dcf '" + path + "' 2>/dev/null";
   std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(command.c_str(), "r"), pclose);
   if (!pipe)
     return records;

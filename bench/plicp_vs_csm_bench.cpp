@@ -8,15 +8,21 @@
 // themselves inside the timed call (ours: Scan -> prepared points and line fits; CSM: Scan ->
 // laser_data, then its own preprocessing). Options: each matcher's defaults, covariance on for both
 // (as a calibrator uses them; a second row per set with covariance off for both; on the CARMEN
-// logs also ours with the line fits' surface breaks of before issue 33, gap_rule 0). Run
+// logs also ours with the line fits' surface breaks of before issue 33, gap_rule 0, and ours with
+// the ambiguity check's rematches run to convergence, covariance 3). BM_CovarianceCostCarmen times
+// ours alone with the covariance off and on, interleaved, for the on/off ratio. Logs kept aside
+// from tuning run with the same protocol through CARMEN_LOGS (registerHeldOutLogs). Run
 // scripts/bench_plicp_vs_csm for the table.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
+#include <memory>
 #include <random>
+#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -315,13 +321,13 @@ std::vector<MatchCase> minesCases(std::size_t step)
 /// The real CARMEN logs (../shared/data/carmen), in the order of kCarmenLogs.
 const char* const kCarmenLogs[] = {"aces", "fhw", "freiburg-079"};
 
-/// Up to 600 consecutive FLASER pairs of a CARMEN log, scored against the relative corrected
-/// pose; the first guess is that reference moved by 5 cm in a random direction and turned by
-/// 3 deg either way (random sign), as in issue 33's protocol. The same guesses for both sides.
-std::vector<MatchCase> carmenCases(const std::string& name)
+/// Up to 600 consecutive FLASER pairs of the CARMEN log at `path`, scored against the relative
+/// corrected pose; the first guess is that reference moved by 5 cm in a random direction and
+/// turned by 3 deg either way (random sign), as in issue 33's protocol. The same guesses for both
+/// sides. Empty when the log cannot be read.
+std::vector<MatchCase> carmenCasesAt(const std::string& path)
 {
-  const std::vector<carmen::Record> records =
-      carmen::loadLog(carmen::logPath(ODOMETRY_CALIBRATION_SHARED_DATA_DIR, name));
+  const std::vector<carmen::Record> records = carmen::loadLog(path);
   std::mt19937 rng(33);
   std::uniform_real_distribution<double> direction(-M_PI, M_PI);
   std::bernoulli_distribution sign(0.5);
@@ -368,8 +374,10 @@ void BM_SideBySideCarmen(benchmark::State& state)
 {
   static std::vector<MatchCase> cases[3];
   const auto log = static_cast<std::size_t>(state.range(0));
-  if (cases[log].empty())
-    cases[log] = carmenCases(kCarmenLogs[log]);
+  if (cases[log].empty()) {
+    cases[log] =
+        carmenCasesAt(carmen::logPath(ODOMETRY_CALIBRATION_SHARED_DATA_DIR, kCarmenLogs[log]));
+  }
   // covariance 2: covariance on, our ambiguity check off (CSM as with covariance 1); covariance 3:
   // on, every rematch of our check run to convergence (ambiguity_return_sigma 0, before issue
   // 33's early stop); gap_rule 0: our line fits' surface breaks as before issue 33
@@ -389,7 +397,8 @@ void BM_SideBySideCarmen(benchmark::State& state)
 void BM_CovarianceCostCarmen(benchmark::State& state)
 {
   constexpr int kCostPasses = 5;
-  const std::vector<MatchCase> cases = carmenCases(kCarmenLogs[state.range(0)]);
+  const std::vector<MatchCase> cases = carmenCasesAt(
+      carmen::logPath(ODOMETRY_CALIBRATION_SHARED_DATA_DIR, kCarmenLogs[state.range(0)]));
   if (cases.empty()) {
     state.SkipWithError(
         "no data (the CARMEN logs are read from ODOMETRY_CALIBRATION_SHARED_DATA_DIR)");
@@ -502,4 +511,45 @@ BENCHMARK(BM_CovarianceCostCarmen)
     ->Iterations(1)
     ->Unit(benchmark::kMillisecond);
 
-BENCHMARK_MAIN();
+/// Held-out logs: CARMEN_LOGS=path[:path...] (corrected CARMEN logs, gzip'ed or plain) adds a
+/// row per log with covariance on and one with it off, so that logs kept aside from tuning get
+/// the same protocol and table (scripts/bench_plicp_vs_csm prints the acceptance per row).
+void registerHeldOutLogs()
+{
+  const char* list = std::getenv("CARMEN_LOGS");
+  if (list == nullptr)
+    return;
+  std::stringstream paths(list);
+  std::string path;
+  while (std::getline(paths, path, ':')) {
+    if (path.empty())
+      continue;
+    auto cases = std::make_shared<std::vector<MatchCase>>(carmenCasesAt(path));
+    std::string stem = path.substr(path.find_last_of('/') + 1);
+    stem = stem.substr(0, stem.find('.'));
+    for (const int covariance : {1, 0}) {
+      benchmark::RegisterBenchmark(
+          ("BM_SideBySideCarmenFile/" + stem + "/covariance:" + std::to_string(covariance)).c_str(),
+          [cases, covariance, path](benchmark::State& state) {
+            if (cases->empty()) {
+              state.SkipWithError(("cannot read FLASER pairs from " + path).c_str());
+              return;
+            }
+            runSideBySide(state, *cases, covariance != 0);
+          })
+          ->Iterations(1)
+          ->Unit(benchmark::kMillisecond);
+    }
+  }
+}
+
+int main(int argc, char** argv)
+{
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv))
+    return 1;
+  registerHeldOutLogs();
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
