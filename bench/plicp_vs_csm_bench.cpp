@@ -28,6 +28,8 @@
 #include <vector>
 
 #include "odometry_calibration/scan/plicp.h"
+#include "odometry_calibration/scan/plicp_ambiguity.h"
+#include "odometry_calibration/scan/plicp_match.h"
 #include "support/mines_log.h"
 #include "support/synthetic_scans.h"
 
@@ -389,11 +391,76 @@ void BM_SideBySideCarmen(benchmark::State& state)
     countWidened(state, cases[log]);
 }
 
+/// The ambiguity check's work in correspondence passes (iterations, plus the pass at the solution
+/// of a rematch that concludes), summed over the log's checked matches.
+struct CheckPasses
+{
+  int checked = 0;
+  int match = 0;                     // the matches themselves
+  int rematches_now = 0;             // their rematches, with the early stop
+  int rematches_before = 0;          // ... run to convergence
+  int rematches_beyond_3_sigma = 0;  // ... of the rematches that end beyond 3 sigma, as good a fit
+  int stopped = 0;                   // rematches the early stop ended
+};
+
+/// The passes of one checked match's rematches (checkAmbiguity with counting rematches) with
+/// `options`; those of rematches that end converged beyond 3 sigma of `best` with as good a fit
+/// (the ones that widen) into `beyond_3_sigma`.
+int rematchPasses(const PreparedScan& reference, const PreparedScan& current,
+                  const PlicpResult& best, const PlicpOptions& options, int& beyond_3_sigma,
+                  int& stopped)
+{
+  std::unique_ptr<NearestPointSearch> search;
+  int passes = 0;
+  checkAmbiguity(
+      best, options, [&](const Pose2& start, bool with_covariance, const IterationStop& stop) {
+        PlicpOptions rematch_options = options;
+        rematch_options.compute_covariance = with_covariance;
+        PlicpResult other = matchOnce(reference, current, start, rematch_options, search, stop);
+        const bool was_stopped = other.message.rfind("stopped", 0) == 0;
+        stopped += was_stopped ? 1 : 0;
+        const int own = other.iterations + (was_stopped ? 0 : 1);
+        passes += own;
+        Eigen::Vector3d d = other.T_ref_new.vector() - best.T_ref_new.vector();
+        d(2) = normalizeAngle(d(2));
+        if (other.converged() && other.inlier_fraction >= best.inlier_fraction - 0.02 &&
+            d.dot(best.covariance.ldlt().solve(d)) > 9.0)
+          beyond_3_sigma += own;
+        return other;
+      });
+  return passes;
+}
+
+/// Counts the check's passes on every pair of `cases` (ours, defaults, covariance on).
+CheckPasses countCheckPasses(const std::vector<MatchCase>& cases)
+{
+  CheckPasses counts;
+  const PlicpOptions now;
+  PlicpOptions before;
+  before.ambiguity_return_sigma = 0.0;
+  for (const MatchCase& pair : cases) {
+    const PreparedScan reference = prepareScan(pair.reference, now.line_fit);
+    const PreparedScan current = prepareScan(pair.current, now.line_fit);
+    std::unique_ptr<NearestPointSearch> search;
+    const PlicpResult best = matchOnce(reference, current, pair.guess_ref_new, now, search);
+    if (!needsAmbiguityCheck(best, now))
+      continue;
+    ++counts.checked;
+    counts.match += best.iterations + 1;
+    int unused = 0;
+    counts.rematches_now += rematchPasses(reference, current, best, now, unused, counts.stopped);
+    counts.rematches_before +=
+        rematchPasses(reference, current, best, before, counts.rematches_beyond_3_sigma, unused);
+  }
+  return counts;
+}
+
 /// What the covariance costs us (issue 33), ours alone, four variants timed pair by pair in one
 /// process, their order rotating from pair to pair and pass to pass (fastest of kCostPasses per
 /// pair and variant): covariance off, on (defaults), on with every rematch of the ambiguity check
 /// run to convergence (ambiguity_return_sigma 0, before its early stop), and on without the
-/// check. Counters: the medians [ms] and the on/off ratios of the medians.
+/// check. Counters: the medians [ms] and the on/off ratios of the medians; untimed, the check's
+/// work per checked match in correspondence passes (countCheckPasses).
 void BM_CovarianceCostCarmen(benchmark::State& state)
 {
   constexpr int kCostPasses = 5;
@@ -442,6 +509,14 @@ void BM_CovarianceCostCarmen(benchmark::State& state)
   state.counters["ratio_on_off"] = median(ms[1]) / off;
   state.counters["ratio_on_before_off"] = median(ms[2]) / off;
   state.counters["ratio_on_no_check_off"] = median(ms[3]) / off;
+  const CheckPasses passes = countCheckPasses(cases);
+  const double checked = std::max(passes.checked, 1);
+  state.counters["checked"] = passes.checked;
+  state.counters["match_passes"] = passes.match / checked;
+  state.counters["rematch_passes"] = passes.rematches_now / checked;
+  state.counters["rematch_passes_before"] = passes.rematches_before / checked;
+  state.counters["rematch_passes_beyond_3_sigma"] = passes.rematches_beyond_3_sigma / checked;
+  state.counters["rematches_stopped_pct"] = 100.0 * passes.stopped / (4.0 * checked);
 }
 
 void BM_SideBySideRoom(benchmark::State& state)
