@@ -8,8 +8,10 @@
 // themselves inside the timed call (ours: Scan -> prepared points and line fits; CSM: Scan ->
 // laser_data, then its own preprocessing). Options: each matcher's defaults, covariance on for both
 // (as a calibrator uses them; a second row per set with covariance off for both; on the CARMEN
-// logs also ours with the line fits' surface breaks of before issue 33, gap_rule 0). Logs kept
-// aside from tuning run with the same protocol through CARMEN_LOGS (registerHeldOutLogs). Run
+// logs also ours with the line fits' surface breaks of before issue 33, gap_rule 0, and ours with
+// the ambiguity check's rematches run to convergence, covariance 3). BM_CovarianceCostCarmen times
+// ours alone with the covariance off and on, interleaved, for the on/off ratio. Logs kept aside
+// from tuning run with the same protocol through CARMEN_LOGS (registerHeldOutLogs). Run
 // scripts/bench_plicp_vs_csm for the table.
 #include <benchmark/benchmark.h>
 
@@ -26,6 +28,8 @@
 #include <vector>
 
 #include "odometry_calibration/scan/plicp.h"
+#include "odometry_calibration/scan/plicp_ambiguity.h"
+#include "odometry_calibration/scan/plicp_match.h"
 #include "support/mines_log.h"
 #include "support/synthetic_scans.h"
 
@@ -63,16 +67,21 @@ Outcome matchWithCsm(const MatchCase& pair, bool covariance)
   return {outcome.valid, outcome.T_ref_new, outcome.covariance};
 }
 
+/// The default of PlicpOptions::ambiguity_return_sigma (rematches stop once back at the solution).
+const double kReturnSigma = PlicpOptions().ambiguity_return_sigma;
+
 /// Ours with its defaults, covariance as asked; `check_ambiguity` false turns off the ambiguity
 /// check of weak matches (which needs the covariance) to show what it costs; `gap_rule` false
 /// sets line_fit.max_gap_range_m to 0, the surface breaks of before issue 33 (every gap beyond
-/// max_gap_m, whatever the ray spacing).
+/// max_gap_m, whatever the ray spacing); `return_sigma` 0 lets every rematch of the check run to
+/// convergence, as before issue 33's early stop.
 Outcome matchWithOurs(const MatchCase& pair, bool covariance, bool check_ambiguity = true,
-                      bool gap_rule = true)
+                      bool gap_rule = true, double return_sigma = kReturnSigma)
 {
   PlicpOptions options;
   options.compute_covariance = covariance;
   options.check_ambiguity = check_ambiguity;
+  options.ambiguity_return_sigma = return_sigma;
   if (!gap_rule)
     options.line_fit.max_gap_range_m = 0.0;
   const PlicpResult result = matchScans(pair.reference, pair.current, pair.guess_ref_new, options);
@@ -137,7 +146,8 @@ void pairedComparison(benchmark::State& state, const std::vector<std::pair<doubl
 /// Times both matchers on every case (fastest of kPasses interleaved passes per case) and puts
 /// speed, validity and accuracy (against the truth, or between the two) into the counters.
 void runSideBySide(benchmark::State& state, const std::vector<MatchCase>& cases, bool covariance,
-                   bool check_ambiguity = true, bool gap_rule = true)
+                   bool check_ambiguity = true, bool gap_rule = true,
+                   double return_sigma = kReturnSigma)
 {
   if (cases.empty()) {
     state.SkipWithError(
@@ -153,7 +163,7 @@ void runSideBySide(benchmark::State& state, const std::vector<MatchCase>& cases,
       for (std::size_t k = 0; k < n; ++k) {
         auto timeOurs = [&] {
           const auto start = std::chrono::steady_clock::now();
-          ours[k] = matchWithOurs(cases[k], covariance, check_ambiguity, gap_rule);
+          ours[k] = matchWithOurs(cases[k], covariance, check_ambiguity, gap_rule, return_sigma);
           const std::chrono::duration<double, std::milli> took =
               std::chrono::steady_clock::now() - start;
           ours_ms[k] = std::min(ours_ms[k], took.count());
@@ -335,6 +345,33 @@ std::vector<MatchCase> carmenCasesAt(const std::string& path)
   return cases;
 }
 
+bool sameOutcome(const Outcome& a, const Outcome& b)
+{
+  return a.valid == b.valid && a.T_ref_new.vector() == b.T_ref_new.vector() &&
+         a.covariance == b.covariance;
+}
+
+/// What the ambiguity check does to our matches (untimed, defaults with covariance on): how many
+/// valid matches it widens (covariance other than without the check), with the early stop of its
+/// rematches (now) and with every rematch run to convergence (before), and how many matches of
+/// the two differ at all (validity, pose or covariance).
+void countWidened(benchmark::State& state, const std::vector<MatchCase>& cases)
+{
+  int widened_now = 0, widened_before = 0, differ = 0;
+  for (const MatchCase& pair : cases) {
+    const Outcome unchecked = matchWithOurs(pair, true, false);
+    const Outcome now = matchWithOurs(pair, true);
+    const Outcome before = matchWithOurs(pair, true, true, true, 0.0);
+    widened_now += now.valid && unchecked.valid && now.covariance != unchecked.covariance ? 1 : 0;
+    widened_before +=
+        before.valid && unchecked.valid && before.covariance != unchecked.covariance ? 1 : 0;
+    differ += sameOutcome(now, before) ? 0 : 1;
+  }
+  state.counters["ours_widened"] = widened_now;
+  state.counters["ours_widened_before"] = widened_before;
+  state.counters["ours_differ_from_before"] = differ;
+}
+
 void BM_SideBySideCarmen(benchmark::State& state)
 {
   static std::vector<MatchCase> cases[3];
@@ -343,9 +380,143 @@ void BM_SideBySideCarmen(benchmark::State& state)
     cases[log] =
         carmenCasesAt(carmen::logPath(ODOMETRY_CALIBRATION_SHARED_DATA_DIR, kCarmenLogs[log]));
   }
-  // covariance 2: covariance on, our ambiguity check off (CSM as with covariance 1); gap_rule 0:
-  // our line fits' surface breaks as before issue 33 (line_fit.max_gap_range_m 0)
-  runSideBySide(state, cases[log], state.range(1) != 0, state.range(1) != 2, state.range(2) != 0);
+  // covariance 2: covariance on, our ambiguity check off (CSM as with covariance 1); covariance 3:
+  // on, every rematch of our check run to convergence (ambiguity_return_sigma 0, before issue
+  // 33's early stop); gap_rule 0: our line fits' surface breaks as before issue 33
+  // (line_fit.max_gap_range_m 0)
+  const int covariance = static_cast<int>(state.range(1));
+  runSideBySide(state, cases[log], covariance != 0, covariance != 2, state.range(2) != 0,
+                covariance == 3 ? 0.0 : kReturnSigma);
+  if (covariance == 1 && state.range(2) != 0)
+    countWidened(state, cases[log]);
+}
+
+/// The ambiguity check's work in correspondence passes (iterations, plus the pass at the solution
+/// of a rematch that concludes), summed over the log's checked matches.
+struct CheckPasses
+{
+  int checked = 0;
+  int match = 0;                     // the matches themselves
+  int rematches_now = 0;             // their rematches, with the early stop
+  int rematches_before = 0;          // ... run to convergence
+  int rematches_beyond_3_sigma = 0;  // ... of the rematches that end beyond 3 sigma, as good a fit
+  int stopped = 0;                   // rematches the early stop ended
+};
+
+/// The passes of one checked match's rematches (checkAmbiguity with counting rematches) with
+/// `options`; those of rematches that end converged beyond 3 sigma of `best` with as good a fit
+/// (the ones that widen) into `beyond_3_sigma`.
+int rematchPasses(const PreparedScan& reference, const PreparedScan& current,
+                  const PlicpResult& best, const PlicpOptions& options, int& beyond_3_sigma,
+                  int& stopped)
+{
+  std::unique_ptr<NearestPointSearch> search;
+  int passes = 0;
+  checkAmbiguity(
+      best, options, [&](const Pose2& start, bool with_covariance, const IterationStop& stop) {
+        PlicpOptions rematch_options = options;
+        rematch_options.compute_covariance = with_covariance;
+        PlicpResult other = matchOnce(reference, current, start, rematch_options, search, stop);
+        const bool was_stopped = other.message.rfind("stopped", 0) == 0;
+        stopped += was_stopped ? 1 : 0;
+        const int own = other.iterations + (was_stopped ? 0 : 1);
+        passes += own;
+        Eigen::Vector3d d = other.T_ref_new.vector() - best.T_ref_new.vector();
+        d(2) = normalizeAngle(d(2));
+        if (other.converged() && other.inlier_fraction >= best.inlier_fraction - 0.02 &&
+            d.dot(best.covariance.ldlt().solve(d)) > 9.0)
+          beyond_3_sigma += own;
+        return other;
+      });
+  return passes;
+}
+
+/// Counts the check's passes on every pair of `cases` (ours, defaults, covariance on).
+CheckPasses countCheckPasses(const std::vector<MatchCase>& cases)
+{
+  CheckPasses counts;
+  const PlicpOptions now;
+  PlicpOptions before;
+  before.ambiguity_return_sigma = 0.0;
+  for (const MatchCase& pair : cases) {
+    const PreparedScan reference = prepareScan(pair.reference, now.line_fit);
+    const PreparedScan current = prepareScan(pair.current, now.line_fit);
+    std::unique_ptr<NearestPointSearch> search;
+    const PlicpResult best = matchOnce(reference, current, pair.guess_ref_new, now, search);
+    if (!needsAmbiguityCheck(best, now))
+      continue;
+    ++counts.checked;
+    counts.match += best.iterations + 1;
+    int unused = 0;
+    counts.rematches_now += rematchPasses(reference, current, best, now, unused, counts.stopped);
+    counts.rematches_before +=
+        rematchPasses(reference, current, best, before, counts.rematches_beyond_3_sigma, unused);
+  }
+  return counts;
+}
+
+/// What the covariance costs us (issue 33), ours alone, four variants timed pair by pair in one
+/// process, their order rotating from pair to pair and pass to pass (fastest of kCostPasses per
+/// pair and variant): covariance off, on (defaults), on with every rematch of the ambiguity check
+/// run to convergence (ambiguity_return_sigma 0, before its early stop), and on without the
+/// check. Counters: the medians [ms] and the on/off ratios of the medians; untimed, the check's
+/// work per checked match in correspondence passes (countCheckPasses).
+void BM_CovarianceCostCarmen(benchmark::State& state)
+{
+  constexpr int kCostPasses = 5;
+  const std::vector<MatchCase> cases = carmenCasesAt(
+      carmen::logPath(ODOMETRY_CALIBRATION_SHARED_DATA_DIR, kCarmenLogs[state.range(0)]));
+  if (cases.empty()) {
+    state.SkipWithError(
+        "no data (the CARMEN logs are read from ODOMETRY_CALIBRATION_SHARED_DATA_DIR)");
+    return;
+  }
+  const auto variant = [](const MatchCase& pair, int which) {
+    switch (which) {
+      case 0:
+        return matchWithOurs(pair, false);
+      case 1:
+        return matchWithOurs(pair, true);
+      case 2:
+        return matchWithOurs(pair, true, true, true, 0.0);
+      default:
+        return matchWithOurs(pair, true, false);
+    }
+  };
+  constexpr int kVariants = 4;
+  std::vector<std::vector<double>> ms(
+      kVariants, std::vector<double>(cases.size(), std::numeric_limits<double>::infinity()));
+  for (auto _ : state) {
+    for (int pass = 0; pass < kCostPasses; ++pass) {
+      for (std::size_t k = 0; k < cases.size(); ++k) {
+        for (int v = 0; v < kVariants; ++v) {
+          const int which = static_cast<int>((k + pass + v) % kVariants);
+          const auto start = std::chrono::steady_clock::now();
+          benchmark::DoNotOptimize(variant(cases[k], which));
+          const std::chrono::duration<double, std::milli> took =
+              std::chrono::steady_clock::now() - start;
+          ms[which][k] = std::min(ms[which][k], took.count());
+        }
+      }
+    }
+  }
+  const double off = median(ms[0]);
+  state.counters["pairs"] = static_cast<double>(cases.size());
+  state.counters["off_median_ms"] = off;
+  state.counters["on_median_ms"] = median(ms[1]);
+  state.counters["on_before_median_ms"] = median(ms[2]);
+  state.counters["on_no_check_median_ms"] = median(ms[3]);
+  state.counters["ratio_on_off"] = median(ms[1]) / off;
+  state.counters["ratio_on_before_off"] = median(ms[2]) / off;
+  state.counters["ratio_on_no_check_off"] = median(ms[3]) / off;
+  const CheckPasses passes = countCheckPasses(cases);
+  const double checked = std::max(passes.checked, 1);
+  state.counters["checked"] = passes.checked;
+  state.counters["match_passes"] = passes.match / checked;
+  state.counters["rematch_passes"] = passes.rematches_now / checked;
+  state.counters["rematch_passes_before"] = passes.rematches_before / checked;
+  state.counters["rematch_passes_beyond_3_sigma"] = passes.rematches_beyond_3_sigma / checked;
+  state.counters["rematches_stopped_pct"] = 100.0 * passes.stopped / (4.0 * checked);
 }
 
 void BM_SideBySideRoom(benchmark::State& state)
@@ -398,12 +569,20 @@ BENCHMARK(BM_SideBySideMines)
     ->Unit(benchmark::kMillisecond);
 
 // log: 0 ACES (180 rays), 1 FHW museum (180), 2 Freiburg 079 (360); covariance 2: on for
-// both, our ambiguity check off; gap_rule 0: ours with the surface breaks of before issue 33
-// (the before/after of its line-fit change, in the same run).
+// both, our ambiguity check off; covariance 3: on for both, our check's rematches run to
+// convergence (before its early stop); gap_rule 0: ours with the surface breaks of before
+// issue 33 (the before/after of its line-fit change, in the same run).
 BENCHMARK(BM_SideBySideCarmen)
     ->ArgNames({"log", "covariance", "gap_rule"})
-    ->ArgsProduct({{0, 1, 2}, {1, 0, 2}, {1}})
+    ->ArgsProduct({{0, 1, 2}, {1, 0, 2, 3}, {1}})
     ->ArgsProduct({{0, 1, 2}, {1}, {0}})
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
+
+// log: 0 ACES (180 rays), 1 FHW museum (180), 2 Freiburg 079 (360)
+BENCHMARK(BM_CovarianceCostCarmen)
+    ->ArgNames({"log"})
+    ->DenseRange(0, 2)
     ->Iterations(1)
     ->Unit(benchmark::kMillisecond);
 

@@ -55,11 +55,12 @@ PlicpResult matchScans(const PreparedScan& reference, const PreparedScan& curren
   PlicpResult result = matchOnce(reference, current, T_ref_new_guess, options, search);
   if (needsAmbiguityCheck(result, options)) {
     result =
-        checkAmbiguity(std::move(result), options, [&](const Pose2& start, bool with_covariance) {
-          PlicpOptions rematch_options = options;
-          rematch_options.compute_covariance = with_covariance;
-          return matchOnce(reference, current, start, rematch_options, search);
-        });
+        checkAmbiguity(std::move(result), options,
+                       [&](const Pose2& start, bool with_covariance, const IterationStop& stop) {
+                         PlicpOptions rematch_options = options;
+                         rematch_options.compute_covariance = with_covariance;
+                         return matchOnce(reference, current, start, rematch_options, search, stop);
+                       });
   }
   return result;
 }

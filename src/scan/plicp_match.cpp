@@ -294,7 +294,7 @@ PlicpResult concludeMatch(PlicpMatcher& matcher, const PreparedScan& reference,
 
 PlicpResult matchOnce(const PreparedScan& reference, const PreparedScan& current,
                       const Pose2& T_ref_new_guess, const PlicpOptions& options,
-                      std::unique_ptr<NearestPointSearch>& search)
+                      std::unique_ptr<NearestPointSearch>& search, const IterationStop& stop)
 {
   PlicpResult result;
   result.T_ref_new = T_ref_new_guess;
@@ -320,6 +320,10 @@ PlicpResult matchOnce(const PreparedScan& reference, const PreparedScan& current
     if (std::optional<PlicpResult> failed =
             iterate(matcher, iteration, T_ref_new_guess, options, state, result)) {
       return *failed;
+    }
+    if (stop && stop(state.T_ref_new, state.pose_uncertainty_m)) {
+      return failure(result, PlicpStatus::kNoConvergence,
+                     "stopped by the caller after iteration " + std::to_string(iteration));
     }
   }
   return concludeMatch(matcher, reference, current, options, state, result);

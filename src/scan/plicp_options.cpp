@@ -65,6 +65,10 @@ void validate(const PlicpOptions& options)
               positive(options.ambiguity_offset_m) && positive(options.ambiguity_offset_rad),
           "ambiguity_sigma_m, ambiguity_sigma_rad, ambiguity_offset_m and ambiguity_offset_rad "
           "must be > 0");
+  require(std::isfinite(options.ambiguity_return_sigma) && options.ambiguity_return_sigma >= 0.0 &&
+              options.ambiguity_return_sigma < 3.0,
+          "ambiguity_return_sigma must be in [0, 3) sigma (0: rematches run to convergence; 3 "
+          "sigma and beyond widen the covariance)");
   validate(options.line_fit, "line_fit.");
 }
 

@@ -50,6 +50,8 @@ TEST(PlicpOptions, DefaultsAreValidAndBadValuesAreNamed)
       {"inlier_distance_m", [](PlicpOptions& o) { o.inlier_distance_m = 0.0; }},
       {"range_sigma_m", [](PlicpOptions& o) { o.range_sigma_m = 0.0; }},
       {"min_information_ratio", [](PlicpOptions& o) { o.min_information_ratio = 1.0; }},
+      {"ambiguity_return_sigma", [](PlicpOptions& o) { o.ambiguity_return_sigma = 3.0; }},
+      {"ambiguity_return_sigma", [](PlicpOptions& o) { o.ambiguity_return_sigma = -0.1; }},
       {"line_fit.max_gap_m", [](PlicpOptions& o) { o.line_fit.max_gap_m = 0.0; }},
       {"line_fit.max_gap_range_m", [](PlicpOptions& o) { o.line_fit.max_gap_range_m = -1.0; }},
   };
