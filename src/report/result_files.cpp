@@ -1,6 +1,7 @@
 #include "odometry_calibration/report/result_files.h"
 
 #include <filesystem>
+#include <future>
 #include <stdexcept>
 
 #include "odometry_calibration/calibration/calibration_result.h"
@@ -57,7 +58,10 @@ ReportPlots writeResultFiles(const std::string& output_dir, ResultFiles files)
   StagedFileSet set(output_dir);
   const std::string plot_folder = set.stagedPath(kPlotFolderName);
   std::filesystem::create_directory(plot_folder);
+  // pairs.csv, the largest file, is written while gnuplot draws (it waits for the plots).
+  std::future<void> pairs_csv = std::async(std::launch::async, [&] {});
   const ReportPlots plots = writeReportPlots(files.plots, plot_folder, files.gnuplot);
+  pairs_csv.get();
 
   MarkdownReportInput& markdown = files.markdown;
   markdown.plots = plots;
