@@ -59,7 +59,8 @@ ReportPlots writeResultFiles(const std::string& output_dir, ResultFiles files)
   const std::string plot_folder = set.stagedPath(kPlotFolderName);
   std::filesystem::create_directory(plot_folder);
   // pairs.csv, the largest file, is written while gnuplot draws (it waits for the plots).
-  std::future<void> pairs_csv = std::async(std::launch::async, [&] {});
+  std::future<void> pairs_csv = std::async(
+      std::launch::async, [&] { writePairsCsv(set.stagedPath(kPairsFileName), files.pairs); });
   const ReportPlots plots = writeReportPlots(files.plots, plot_folder, files.gnuplot);
   pairs_csv.get();
 
@@ -83,7 +84,6 @@ ReportPlots writeResultFiles(const std::string& output_dir, ResultFiles files)
   } else {  // an earlier fit's controller values must not pass for this one's
     removed.push_back(kControllerFileName);
   }
-  writePairsCsv(set.stagedPath(kPairsFileName), files.pairs);
   writeFileAtomically(set.stagedPath(kResultFileName), files.result_yaml);
   writeFileAtomically(set.stagedPath(kTextReportFileName), files.text_report);
   writeFileAtomically(set.stagedPath(kReportFileName), markdownReport(markdown));
