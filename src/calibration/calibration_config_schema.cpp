@@ -294,6 +294,11 @@ std::vector<Entry> keyframeEntries()
           "the consecutive matches use at most this many rays, every "
           "k-th (0: all; else at least scan_matching.min_points; the keyframe matches use all)",
           AT(collector.consecutive_max_rays)),
+      number<CalibrationConfig>(
+          "keyframes.consecutive_min_spacing_s", 0.0, "s", rangeClosed(0.0, 60.0),
+          "the consecutive matches skip scans less than this after the previous chained one "
+          "(the keyframe scans always join; 0: every scan)",
+          AT(collector.consecutive_min_spacing_s)),
       flag<CalibrationConfig>("keyframes.estimate_time_offset", false,
                               "search the encoder-sensor time offset in time_offset_search_s",
                               AT(estimate_time_offset)),

@@ -59,6 +59,8 @@ void validate(const CollectorOptions& o)
   require(o.consecutive_max_rays == 0 || o.consecutive_max_rays >= o.plicp.min_points,
           "consecutive_max_rays must be 0 (every ray) or at least scan_matching.min_points (a "
           "match needs that many points)");
+  require(std::isfinite(o.consecutive_min_spacing_s) && o.consecutive_min_spacing_s >= 0.0,
+          "consecutive_min_spacing_s must be >= 0 s (0: every scan joins the chain)");
   validate(o.plicp);
 }
 
@@ -263,12 +265,9 @@ std::optional<CollectorEvent> PairCollector::unpairedInput(
     event.type = CollectorEvent::Type::kKeyframe;
     return start_keyframe(event);
   }
-  // The input nearest to keyframe + T: the first one past T minus half the input period (the
-  // last gap between inputs as the period). Without the half period, T = 0.3 s on a 10 Hz laser
-  // waited for the 0.4 s scan whenever the stamps' sum came out a rounding error short of 0.3 s.
-  const double half_period_s = 0.5 * std::max(0.0, stamp_s - previous_keyframe_input_s_);
+  const bool keyframe_time = reachesKeyframeTime(stamp_s);
   previous_keyframe_input_s_ = stamp_s;
-  if (stamp_s - keyframe_->stamp_s < options_.keyframe_interval_s - half_period_s)
+  if (!keyframe_time)
     return CollectorEvent();
   std::string reason;
   auto found = encoderWindow(keyframe_->stamp_s, stamp_s, &reason);
@@ -282,6 +281,26 @@ std::optional<CollectorEvent> PairCollector::unpairedInput(
   }
   *window = std::move(*found);
   return std::nullopt;
+}
+
+bool PairCollector::reachesKeyframeTime(double stamp_s) const
+{
+  if (!keyframe_)
+    return true;
+  // The input nearest to keyframe + T: the first one past T minus half the input period (the
+  // last gap between inputs as the period). Without the half period, T = 0.3 s on a 10 Hz laser
+  // waited for the 0.4 s scan whenever the stamps' sum came out a rounding error short of 0.3 s.
+  const double half_period_s = 0.5 * std::max(0.0, stamp_s - previous_keyframe_input_s_);
+  return stamp_s - keyframe_->stamp_s >= options_.keyframe_interval_s - half_period_s;
+}
+
+bool PairCollector::joinsChain(double stamp_s) const
+{
+  // Every scan the keyframe rule considers joins, so that the chain always ends at the scan a
+  // keyframe match ends at (or that starts the next keyframe).
+  return options_.consecutive_min_spacing_s <= 0.0 || !previous_scan_ ||
+         reachesKeyframeTime(stamp_s) ||
+         stamp_s - previous_chain_stamp_s_ >= options_.consecutive_min_spacing_s;
 }
 
 void PairCollector::compensateSweep(double stamp_s, LazyPreparedScan& prepared_scan)
@@ -319,7 +338,7 @@ void PairCollector::submitConsecutiveMatch(double stamp_s,
   if (!(options_.check_consistency && previous_scan_ && (chain_valid_ || !unfolded_.empty())))
     return;
   std::string reason;
-  const auto window = encoderWindow(previous_scan_stamp_s_, stamp_s, &reason);
+  const auto window = encoderWindow(previous_chain_stamp_s_, stamp_s, &reason);
   const Pose2 guess = window ? predict(*window) : Pose2();
   Unfolded entry;
   entry.consecutive =
@@ -343,11 +362,14 @@ void PairCollector::processScan(double stamp_s, std::shared_ptr<LazyPreparedScan
                                 std::shared_ptr<LazyPreparedScan> chain_scan)
 {
   compensateSweep(stamp_s, *prepared);
-  if (chain_scan != prepared)
-    chain_scan->setSweepVelocity(prepared->sweepVelocity());
-  submitConsecutiveMatch(stamp_s, prepared, chain_scan);
-  previous_scan_ = chain_scan;
-  previous_full_scan_ = prepared;
+  if (joinsChain(stamp_s)) {
+    if (chain_scan != prepared)
+      chain_scan->setSweepVelocity(prepared->sweepVelocity());
+    submitConsecutiveMatch(stamp_s, prepared, chain_scan);
+    previous_scan_ = chain_scan;
+    previous_full_scan_ = prepared;
+    previous_chain_stamp_s_ = stamp_s;
+  }
   previous_scan_stamp_s_ = stamp_s;
 
   auto start_keyframe = [&](const CollectorEvent& event) {

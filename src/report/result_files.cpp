@@ -1,6 +1,7 @@
 #include "odometry_calibration/report/result_files.h"
 
 #include <filesystem>
+#include <future>
 #include <stdexcept>
 
 #include "odometry_calibration/calibration/calibration_result.h"
@@ -57,7 +58,11 @@ ReportPlots writeResultFiles(const std::string& output_dir, ResultFiles files)
   StagedFileSet set(output_dir);
   const std::string plot_folder = set.stagedPath(kPlotFolderName);
   std::filesystem::create_directory(plot_folder);
+  // pairs.csv, the largest file, is written while gnuplot draws (it waits for the plots).
+  std::future<void> pairs_csv = std::async(
+      std::launch::async, [&] { writePairsCsv(set.stagedPath(kPairsFileName), files.pairs); });
   const ReportPlots plots = writeReportPlots(files.plots, plot_folder, files.gnuplot);
+  pairs_csv.get();
 
   MarkdownReportInput& markdown = files.markdown;
   markdown.plots = plots;
@@ -79,7 +84,6 @@ ReportPlots writeResultFiles(const std::string& output_dir, ResultFiles files)
     writeFileAtomically(set.stagedPath(name), content);
     names.push_back(name);
   }
-  writePairsCsv(set.stagedPath(kPairsFileName), files.pairs);
   writeFileAtomically(set.stagedPath(kResultFileName), files.result_yaml);
   writeFileAtomically(set.stagedPath(kTextReportFileName), files.text_report);
   writeFileAtomically(set.stagedPath(kReportFileName), markdownReport(markdown));

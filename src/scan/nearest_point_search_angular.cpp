@@ -155,32 +155,42 @@ private:
   void buildJumpTables()
   {
     const int n = static_cast<int>(points_.size());
-    up_bigger_.assign(n, n);
-    up_smaller_.assign(n, n);
-    down_bigger_.assign(n, -1);
-    down_smaller_.assign(n, -1);
-    std::vector<int> stack;
-    stack.reserve(n);
-    // Monotonic stack: scanning from the far end towards k, the stack holds the positions that
-    // can still be "the next one with a larger (smaller) range" of a later k.
-    auto fill = [&](std::vector<int>& table, int begin, int end, int step, auto popped) {
-      stack.clear();
-      for (int k = begin; k != end; k += step) {
-        while (!stack.empty() && popped(stack.back(), k)) {
-          stack.pop_back();
-        }
-        if (!stack.empty()) {
-          table[k] = stack.back();
-        }
-        stack.push_back(k);
+    up_bigger_.resize(n);
+    up_smaller_.resize(n);
+    down_bigger_.resize(n);
+    down_smaller_.resize(n);
+    // The ranges side by side (points_ holds 8 numbers per point).
+    std::vector<double> range_m(n);
+    for (int k = 0; k < n; ++k) {
+      range_m[k] = points_[k].range_m;
+    }
+    // Nearest position above (below) k with a larger (smaller) range, or n (-1) when none: from
+    // the neighbour, jump along the neighbours' own answers while they are no larger (smaller),
+    // as every position skipped that way is no larger (smaller) either (amortised O(n)).
+    for (int k = n - 1; k >= 0; --k) {
+      int bigger = k + 1;
+      while (bigger < n && range_m[bigger] <= range_m[k]) {
+        bigger = up_bigger_[bigger];
       }
-    };
-    auto not_bigger = [&](int top, int k) { return points_[top].range_m <= points_[k].range_m; };
-    auto not_smaller = [&](int top, int k) { return points_[top].range_m >= points_[k].range_m; };
-    fill(up_bigger_, n - 1, -1, -1, not_bigger);
-    fill(up_smaller_, n - 1, -1, -1, not_smaller);
-    fill(down_bigger_, 0, n, +1, not_bigger);
-    fill(down_smaller_, 0, n, +1, not_smaller);
+      up_bigger_[k] = bigger;
+      int smaller = k + 1;
+      while (smaller < n && range_m[smaller] >= range_m[k]) {
+        smaller = up_smaller_[smaller];
+      }
+      up_smaller_[k] = smaller;
+    }
+    for (int k = 0; k < n; ++k) {
+      int bigger = k - 1;
+      while (bigger >= 0 && range_m[bigger] <= range_m[k]) {
+        bigger = down_bigger_[bigger];
+      }
+      down_bigger_[k] = bigger;
+      int smaller = k - 1;
+      while (smaller >= 0 && range_m[smaller] >= range_m[k]) {
+        smaller = down_smaller_[smaller];
+      }
+      down_smaller_[k] = smaller;
+    }
   }
 
   struct Search

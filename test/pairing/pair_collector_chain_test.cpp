@@ -1,5 +1,6 @@
 // The pair collector's consecutive chain (issue 33): the scale check against it, the decimated
-// scans it matches (decimated_scan.h), its failures redone with every ray, pair motions from it.
+// scans it matches (decimated_scan.h), its failures redone with every ray, pair motions from it,
+// its scans spaced in time (consecutive_min_spacing_s).
 #include <atomic>
 #include <cmath>
 
@@ -135,6 +136,89 @@ TEST(PairCollector, ACoarseChainKeepsTheKeyframeMatchesAndRedoesItsFailuresWithE
             fallback_statistics.consecutive_matches);
   EXPECT_EQ(fallback_statistics.chained_m, plain_statistics.chained_m);
   EXPECT_EQ(fallback_statistics.scale_check_pairs, plain_statistics.scale_check_pairs);
+}
+
+/// The pairs of a 20 s run in the room with the laser at rate_hz, with `options`.
+std::vector<MotionPair> roomPairsAt(double rate_hz, const CollectorOptions& options,
+                                    CollectorStatistics* statistics)
+{
+  sim::Scenario s = scenario(20.0);
+  s.laser.rate_hz = rate_hz;
+  const sim::World world = sim::parseWorldYaml(kRoom, "room");
+  const auto robot = sim::makeRobot(s.robot);
+  PairCollector collector(wheels(), options, test::nominalPredictor());
+  Feeder feeder;
+  feeder.collector = &collector;
+  sim::simulate(s, world, *robot, feeder);
+  feeder.take(collector.flush());
+  *statistics = collector.statistics();
+  return feeder.pairs;
+}
+
+TEST(PairCollector, ASpacedChainMatchesFewerScansWhateverTheLaserRate)
+{
+  CollectorOptions options;
+  options.consecutive_max_rays = 180;
+  CollectorStatistics every_scan, spaced, spaced_40hz;
+  const std::vector<MotionPair> plain = roomPairs(options, &every_scan);
+  // T = 0.5 s at 10 Hz: the chain takes the keyframe, the scan 0.3 s later and the next
+  // keyframe, 2 matches per interval instead of 5; the pairs (keyframe matches) are the same.
+  options.consecutive_min_spacing_s = 0.25;
+  const std::vector<MotionPair> fewer = roomPairs(options, &spaced);
+  ASSERT_GT(plain.size(), 20u);
+  ASSERT_EQ(fewer.size(), plain.size());
+  for (std::size_t k = 0; k < plain.size(); ++k) {
+    EXPECT_EQ(fewer[k].start_stamp_s, plain[k].start_stamp_s);
+    EXPECT_EQ(fewer[k].sensor_motion.vector(), plain[k].sensor_motion.vector());
+  }
+  EXPECT_EQ(spaced.consecutive_failures, 0u);
+  EXPECT_EQ(spaced.scale_check_pairs, every_scan.scale_check_pairs);
+  EXPECT_NEAR(static_cast<double>(spaced.consecutive_matches),
+              0.4 * static_cast<double>(every_scan.consecutive_matches),
+              0.02 * static_cast<double>(every_scan.consecutive_matches));
+  // A 40 Hz laser: as many chain matches as at 10 Hz (without the spacing, 4 times as many).
+  const std::vector<MotionPair> fast = roomPairsAt(40.0, options, &spaced_40hz);
+  ASSERT_GT(fast.size(), 20u);
+  EXPECT_NEAR(static_cast<double>(spaced_40hz.scans), 4.0 * static_cast<double>(spaced.scans), 4.0);
+  EXPECT_NEAR(static_cast<double>(spaced_40hz.consecutive_matches),
+              static_cast<double>(spaced.consecutive_matches),
+              0.05 * static_cast<double>(spaced.consecutive_matches));
+  std::printf("[ pairing ] chain matches: every scan %zu, spaced 0.25 s %zu (10 Hz), %zu (40 Hz)\n",
+              every_scan.consecutive_matches, spaced.consecutive_matches,
+              spaced_40hz.consecutive_matches);
+  options.consecutive_min_spacing_s = -0.1;
+  EXPECT_THROW(PairCollector(wheels(), options), std::invalid_argument);
+}
+
+TEST(PairCollector, ASpacedChainStillRejectsKeyframeMatchesThatFailSilently)
+{
+  // Every 4th keyframe match (the ones asked for a covariance) comes out converged but 10 cm
+  // off: each is rejected by the check, with the chain spaced 0.25 s as without spacing.
+  for (const double spacing_s : {0.0, 0.25}) {
+    CollectorOptions options;
+    options.consecutive_max_rays = 180;
+    options.consecutive_min_spacing_s = spacing_s;
+    options.background_matching = false;  // the keyframe matches counted in order
+    std::size_t keyframe_matches = 0, corrupted = 0;
+    options.matcher = [&](const PreparedScan& reference, const PreparedScan& current,
+                          const Pose2& guess, const PlicpOptions& plicp) {
+      PlicpResult result = matchScans(reference, current, guess, plicp);
+      if (plicp.compute_covariance && ++keyframe_matches % 4 == 0 && result.valid()) {
+        ++corrupted;
+        result.T_ref_new = result.T_ref_new * Pose2(0.10, 0.0, 0.0);
+      }
+      return result;
+    };
+    CollectorStatistics statistics, clean_statistics;
+    const std::vector<MotionPair> pairs = roomPairs(options, &statistics);
+    options.matcher = nullptr;
+    const std::vector<MotionPair> clean = roomPairs(options, &clean_statistics);
+    ASSERT_GE(corrupted, 8u);
+    EXPECT_EQ(pairs.size() + corrupted, clean.size()) << "spacing " << spacing_s << " s";
+    EXPECT_EQ(statistics.consecutive_failures, 0u);
+    EXPECT_EQ(statistics.rejected["keyframe match disagrees with consecutive matches"], corrupted)
+        << "spacing " << spacing_s << " s";
+  }
 }
 
 TEST(PairCollector, PairMotionFromTheChainOfConsecutiveMatches)

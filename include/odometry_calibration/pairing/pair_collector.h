@@ -68,6 +68,13 @@ struct CollectorOptions
   /// chain then fails only where the full scans fail too). The scale check below then
   /// compares the keyframe matches with the coarse chain.
   int consecutive_max_rays = 0;
+  /// The consecutive-scan chain takes a scan only when it is at least this long after the
+  /// chain's previous scan, or when the keyframe rule considers it (a scan about T after the
+  /// keyframe, unpairedInput: the keyframe scans are always in the chain), so that the chain's
+  /// cost does not grow with the laser's rate. A skipped scan is neither matched nor prepared.
+  /// 0: every scan. E.g. 0.25 s at T = 0.5 s chains keyframe, keyframe + 0.3 s and the next
+  /// keyframe on a 10 Hz laser (2 matches per interval instead of 5). [s]
+  double consecutive_min_spacing_s = 0.0;
   /// The pair's measured motion: the keyframe match (false), or the composition of the
   /// consecutive matches over the same interval (true; needs check_consistency, the pair keeps
   /// the keyframe match's covariance and is dropped when a consecutive match failed).
@@ -221,6 +228,12 @@ private:
                      const Pose2& T_world_sensor, const CollectorEvent& event);
   /// Sets the scan's sweep velocity from the prior model's prediction (compensate_sweep).
   void compensateSweep(double stamp_s, LazyPreparedScan& prepared_scan);
+  /// Whether the keyframe rule considers an input at stamp_s (none yet, or one about T after
+  /// the keyframe: it is paired, rejected or extended), before unpairedInput updates the input
+  /// period.
+  bool reachesKeyframeTime(double stamp_s) const;
+  /// Whether the scan at stamp_s joins the consecutive-scan chain (consecutive_min_spacing_s).
+  bool joinsChain(double stamp_s) const;
   /// Submits the match of the previous scan to this one (`chain_scan`: the scan as the chain
   /// matches it, consecutive_max_rays), for the consecutive-scan chain.
   void submitConsecutiveMatch(double stamp_s, const std::shared_ptr<LazyPreparedScan>& prepared,
@@ -284,8 +297,9 @@ private:
   std::optional<Keyframe> keyframe_;
   std::shared_ptr<const LazyPreparedScan> previous_scan_;       ///< as the chain matches it
   std::shared_ptr<const LazyPreparedScan> previous_full_scan_;  ///< with every ray
-  double previous_scan_stamp_s_ = 0.0;
-  mutable Pose2 chain_;  ///< composed consecutive matches since the keyframe
+  double previous_scan_stamp_s_ = 0.0;   ///< the previous scan, chained or not
+  double previous_chain_stamp_s_ = 0.0;  ///< previous_scan_'s stamp
+  mutable Pose2 chain_;                  ///< composed consecutive matches since the keyframe
   mutable bool chain_valid_ = false;
   /// What is folded in order (fold()): a consecutive match (into the chain), or an event that
   /// ends a keyframe interval or not (a keyframe match's, made once it is done, or one made
