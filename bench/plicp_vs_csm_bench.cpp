@@ -33,12 +33,19 @@
 #include "support/mines_log.h"
 #include "support/synthetic_scans.h"
 
+#include "ambiguity_check_passes.h"
 #include "carmen_log.h"
 #include "csm_matcher.h"
+#include "side_by_side_statistics.h"
 
 namespace {
 
 using namespace odometry_calibration;
+using ambiguity_passes::CheckPasses;
+using ambiguity_passes::rematchPasses;
+using bench_statistics::mean;
+using bench_statistics::median;
+using bench_statistics::pairedComparison;
 
 constexpr int kPasses = 3;
 
@@ -86,61 +93,6 @@ Outcome matchWithOurs(const MatchCase& pair, bool covariance, bool check_ambigui
     options.line_fit.max_gap_range_m = 0.0;
   const PlicpResult result = matchScans(pair.reference, pair.current, pair.guess_ref_new, options);
   return {result.valid(), result.T_ref_new, result.covariance};
-}
-
-double median(std::vector<double> values)
-{
-  if (values.empty())
-    return std::numeric_limits<double>::quiet_NaN();
-  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
-  return values[values.size() / 2];
-}
-
-double mean(const std::vector<double>& values)
-{
-  double sum = 0.0;
-  for (const double v : values)
-    sum += v;
-  return values.empty() ? std::numeric_limits<double>::quiet_NaN() : sum / values.size();
-}
-
-/// Whether the two medians of an error (translation [mm] or heading [deg], `unit`) differ by more
-/// than chance: over the pairs both call valid, the difference of the medians (ours - CSM) with
-/// a 95 % interval from 2000 paired bootstrap resamples (the same pairs drawn for both), and the
-/// share of pairs where ours is nearer the truth [%]. An interval that holds 0 means the trials
-/// cannot tell the two apart.
-void pairedComparison(benchmark::State& state, const std::vector<std::pair<double, double>>& errors,
-                      const std::string& unit)
-{
-  const std::size_t n = errors.size();
-  auto medianDifference = [&](const std::vector<std::size_t>& picks) {
-    std::vector<double> ours, csm;
-    for (const std::size_t k : picks) {
-      ours.push_back(errors[k].first);
-      csm.push_back(errors[k].second);
-    }
-    return median(ours) - median(csm);
-  };
-  std::vector<std::size_t> all(n);
-  for (std::size_t k = 0; k < n; ++k)
-    all[k] = k;
-  std::mt19937 rng(17);
-  std::uniform_int_distribution<std::size_t> pick(0, n - 1);
-  std::vector<double> resampled;
-  std::vector<std::size_t> picks(n);
-  for (int b = 0; b < 2000; ++b) {
-    for (std::size_t& k : picks)
-      k = pick(rng);
-    resampled.push_back(medianDifference(picks));
-  }
-  std::sort(resampled.begin(), resampled.end());
-  std::size_t ours_nearer = 0;
-  for (const auto& [ours, csm] : errors)
-    ours_nearer += ours < csm ? 1 : 0;
-  state.counters["median_diff_" + unit] = medianDifference(all);
-  state.counters["median_diff_lo_" + unit] = resampled[50];
-  state.counters["median_diff_hi_" + unit] = resampled[1949];
-  state.counters["ours_nearer_pct_" + unit] = 100.0 * static_cast<double>(ours_nearer) / n;
 }
 
 /// Times both matchers on every case (fastest of kPasses interleaved passes per case) and puts
@@ -389,46 +341,6 @@ void BM_SideBySideCarmen(benchmark::State& state)
                 covariance == 3 ? 0.0 : kReturnSigma);
   if (covariance == 1 && state.range(2) != 0)
     countWidened(state, cases[log]);
-}
-
-/// The ambiguity check's work in correspondence passes (iterations, plus the pass at the solution
-/// of a rematch that concludes), summed over the log's checked matches.
-struct CheckPasses
-{
-  int checked = 0;
-  int match = 0;                     // the matches themselves
-  int rematches_now = 0;             // their rematches, with the early stop
-  int rematches_before = 0;          // ... run to convergence
-  int rematches_beyond_3_sigma = 0;  // ... of the rematches that end beyond 3 sigma, as good a fit
-  int stopped = 0;                   // rematches the early stop ended
-};
-
-/// The passes of one checked match's rematches (checkAmbiguity with counting rematches) with
-/// `options`; those of rematches that end converged beyond 3 sigma of `best` with as good a fit
-/// (the ones that widen) into `beyond_3_sigma`.
-int rematchPasses(const PreparedScan& reference, const PreparedScan& current,
-                  const PlicpResult& best, const PlicpOptions& options, int& beyond_3_sigma,
-                  int& stopped)
-{
-  std::unique_ptr<NearestPointSearch> search;
-  int passes = 0;
-  checkAmbiguity(
-      best, options, [&](const Pose2& start, bool with_covariance, const IterationStop& stop) {
-        PlicpOptions rematch_options = options;
-        rematch_options.compute_covariance = with_covariance;
-        PlicpResult other = matchOnce(reference, current, start, rematch_options, search, stop);
-        const bool was_stopped = other.message.rfind("stopped", 0) == 0;
-        stopped += was_stopped ? 1 : 0;
-        const int own = other.iterations + (was_stopped ? 0 : 1);
-        passes += own;
-        Eigen::Vector3d d = other.T_ref_new.vector() - best.T_ref_new.vector();
-        d(2) = normalizeAngle(d(2));
-        if (other.converged() && other.inlier_fraction >= best.inlier_fraction - 0.02 &&
-            d.dot(best.covariance.ldlt().solve(d)) > 9.0)
-          beyond_3_sigma += own;
-        return other;
-      });
-  return passes;
 }
 
 /// Counts the check's passes on every pair of `cases` (ours, defaults, covariance on).

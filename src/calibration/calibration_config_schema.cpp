@@ -297,7 +297,8 @@ std::vector<Entry> keyframeEntries()
       number<CalibrationConfig>(
           "keyframes.consecutive_min_spacing_s", 0.0, "s", rangeClosed(0.0, 60.0),
           "the consecutive matches skip scans less than this after the previous chained one "
-          "(the keyframe scans always join; 0: every scan)",
+          "(the keyframe scans always join; at most half of the keyframe interval is used; 0: "
+          "every scan)",
           AT(collector.consecutive_min_spacing_s)),
       flag<CalibrationConfig>("keyframes.estimate_time_offset", false,
                               "search the encoder-sensor time offset in time_offset_search_s",

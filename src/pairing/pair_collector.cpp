@@ -296,11 +296,16 @@ bool PairCollector::reachesKeyframeTime(double stamp_s) const
 
 bool PairCollector::joinsChain(double stamp_s) const
 {
+  // At most half of T: a spacing of T or more would chain only the keyframe scans, one coarse
+  // copy of the keyframe match, which repeats its failures instead of checking them.
+  const double spacing_s =
+      std::min(options_.consecutive_min_spacing_s, 0.5 * options_.keyframe_interval_s);
+  // Stamps a rounding error short of the spacing join (0.15 s is 6 periods of a 40 Hz laser).
+  constexpr double kStampToleranceS = 1e-4;
   // Every scan the keyframe rule considers joins, so that the chain always ends at the scan a
   // keyframe match ends at (or that starts the next keyframe).
-  return options_.consecutive_min_spacing_s <= 0.0 || !previous_scan_ ||
-         reachesKeyframeTime(stamp_s) ||
-         stamp_s - previous_chain_stamp_s_ >= options_.consecutive_min_spacing_s;
+  return spacing_s <= 0.0 || !previous_scan_ || reachesKeyframeTime(stamp_s) ||
+         stamp_s - previous_chain_stamp_s_ >= spacing_s - kStampToleranceS;
 }
 
 void PairCollector::compensateSweep(double stamp_s, LazyPreparedScan& prepared_scan)

@@ -58,9 +58,11 @@ ReportPlots writeResultFiles(const std::string& output_dir, ResultFiles files)
   StagedFileSet set(output_dir);
   const std::string plot_folder = set.stagedPath(kPlotFolderName);
   std::filesystem::create_directory(plot_folder);
-  // pairs.csv, the largest file, is written while gnuplot draws (it waits for the plots).
-  std::future<void> pairs_csv = std::async(
-      std::launch::async, [&] { writePairsCsv(set.stagedPath(kPairsFileName), files.pairs); });
+  // pairs.csv, the largest file, is written while gnuplot draws (it waits for the plots; on
+  // this thread at get() when no thread can be made).
+  std::future<void> pairs_csv = std::async(std::launch::async | std::launch::deferred, [&] {
+    writePairsCsv(set.stagedPath(kPairsFileName), files.pairs);
+  });
   const ReportPlots plots = writeReportPlots(files.plots, plot_folder, files.gnuplot);
   pairs_csv.get();
 

@@ -193,8 +193,11 @@ int calibrateBagsJointly(const BagCalibrationOptions& options, CalibrationConfig
   int status = 0;
   try {
     const JointFitReport joint = fit_jointly(config, inputs);
-    text += "\n=== joint fit ===\n" + formatJointFitReport(joint, names);
-    files = jointFiles(options, config, joint, inputs, text);
+    // The joint table joins the text only once its files are made (a diverged solve's model
+    // can still fail there, and a failed fit's report shows no table of it).
+    std::string joint_text = text + "\n=== joint fit ===\n" + formatJointFitReport(joint, names);
+    files = jointFiles(options, config, joint, inputs, joint_text);
+    text = std::move(joint_text);
     for (std::size_t s = 0; s < joint.sensors.size(); ++s)
       status = std::max(status, calibrationExitStatus(sensorModelReport(joint, s)));
   } catch (const std::exception& error) {  // every source's fit alone is still written

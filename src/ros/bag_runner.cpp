@@ -41,9 +41,10 @@ std::vector<std::unique_ptr<rosbag::Bag>> openBags(const std::vector<std::string
   std::vector<std::unique_ptr<rosbag::Bag>> bags;
   // A process's first rosbag::Bag looks up rosbag's encryptor plugins (pluginlib crawls the
   // package paths for package.xml files, 0.1 s on the benchmark machine; later ones reuse it):
-  // constructed on another thread while the first bag's records are checked.
-  std::future<std::unique_ptr<rosbag::Bag>> first_bag =
-      std::async(std::launch::async, [] { return std::make_unique<rosbag::Bag>(); });
+  // constructed on another thread while the first bag's records are checked (at get() on this
+  // one when no thread can be made).
+  std::future<std::unique_ptr<rosbag::Bag>> first_bag = std::async(
+      std::launch::async | std::launch::deferred, [] { return std::make_unique<rosbag::Bag>(); });
   for (const std::string& path : bag_paths) {
     std::error_code error_code;
     if (!std::filesystem::is_regular_file(path, error_code)) {

@@ -190,6 +190,36 @@ TEST(PairCollector, ASpacedChainMatchesFewerScansWhateverTheLaserRate)
   EXPECT_THROW(PairCollector(wheels(), options), std::invalid_argument);
 }
 
+TEST(PairCollector, AChainSpacingBeyondHalfTheIntervalIsTakenAsHalfOfIt)
+{
+  // 1 s at T = 0.5 s would chain only the keyframes (one coarse copy of each keyframe match,
+  // which cannot catch its failures): T / 2 = 0.25 s is used, the same chain as 0.25 s.
+  CollectorOptions options;
+  options.consecutive_max_rays = 180;
+  options.consecutive_min_spacing_s = 0.25;
+  CollectorStatistics quarter, beyond;
+  const std::vector<MotionPair> pairs = roomPairs(options, &quarter);
+  options.consecutive_min_spacing_s = 1.0;
+  ASSERT_EQ(roomPairs(options, &beyond).size(), pairs.size());
+  EXPECT_EQ(beyond.consecutive_matches, quarter.consecutive_matches);
+  EXPECT_GE(beyond.consecutive_matches, 2 * pairs.size());
+}
+
+TEST(PairCollector, AChainSpacingOfWholeLaserPeriodsKeepsItsScans)
+{
+  // 0.15 s is 6 periods of a 40 Hz laser: stamps a rounding error short of it still join, so
+  // a 0.5 s interval chains 0, 0.15, 0.3, 0.45 and 0.5 s (4 matches), never 0.175 s steps.
+  CollectorOptions options;
+  options.consecutive_max_rays = 180;
+  options.consecutive_min_spacing_s = 0.15;
+  CollectorStatistics statistics;
+  const std::vector<MotionPair> pairs = roomPairsAt(40.0, options, &statistics);
+  ASSERT_GT(pairs.size(), 20u);
+  const double per_interval = static_cast<double>(statistics.consecutive_matches) /
+                              static_cast<double>(statistics.keyframes - 1);
+  EXPECT_NEAR(per_interval, 4.0, 0.05);
+}
+
 TEST(PairCollector, ASpacedChainStillRejectsKeyframeMatchesThatFailSilently)
 {
   // Every 4th keyframe match (the ones asked for a covariance) comes out converged but 10 cm
@@ -218,6 +248,8 @@ TEST(PairCollector, ASpacedChainStillRejectsKeyframeMatchesThatFailSilently)
     EXPECT_EQ(statistics.consecutive_failures, 0u);
     EXPECT_EQ(statistics.rejected["keyframe match disagrees with consecutive matches"], corrupted)
         << "spacing " << spacing_s << " s";
+    // A chain of its own scans, not the keyframe match's two again.
+    EXPECT_GE(statistics.consecutive_matches, 2 * (statistics.keyframes - 1));
   }
 }
 

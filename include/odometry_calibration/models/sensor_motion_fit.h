@@ -225,9 +225,11 @@ SensorMotionFit<Kinematics::kIntrinsics> fitSensorMotion(
     }
   };
   // The starts are independent solves, each the same on any thread: the second half runs on
-  // another one (half the screening's wall time on two cores, the same fit).
+  // another one (half the screening's wall time on two cores, the same fit; at get() on this
+  // one when no thread can be made).
   const int half = options.yaw_starts / 2;
-  std::future<void> second_half = std::async(std::launch::async, screen, half, options.yaw_starts);
+  std::future<void> second_half =
+      std::async(std::launch::async | std::launch::deferred, screen, half, options.yaw_starts);
   screen(0, half);
   second_half.get();
   std::size_t best = 0;

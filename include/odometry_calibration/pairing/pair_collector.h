@@ -73,7 +73,9 @@ struct CollectorOptions
   /// keyframe, unpairedInput: the keyframe scans are always in the chain), so that the chain's
   /// cost does not grow with the laser's rate. A skipped scan is neither matched nor prepared.
   /// 0: every scan. E.g. 0.25 s at T = 0.5 s chains keyframe, keyframe + 0.3 s and the next
-  /// keyframe on a 10 Hz laser (2 matches per interval instead of 5). [s]
+  /// keyframe on a 10 Hz laser (2 matches per interval instead of 5). At most T / 2 is used
+  /// (more would leave one chain match per interval, the keyframe match's own scans); stamps
+  /// within 0.1 ms short of the spacing count as reaching it. [s]
   double consecutive_min_spacing_s = 0.0;
   /// The pair's measured motion: the keyframe match (false), or the composition of the
   /// consecutive matches over the same interval (true; needs check_consistency, the pair keeps

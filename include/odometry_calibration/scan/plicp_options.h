@@ -90,8 +90,10 @@ struct PlicpOptions
   double ambiguity_offset_rad = 0.1;
   /// A rematch stops once an iterate is within this many sigma of the solution (Mahalanobis
   /// distance under its covariance) after a step below the trimming floor
-  /// (adaptive_trim_floor_m): it is going back to the solution and cannot widen the covariance
-  /// (plicp_ambiguity.h, backAtSolution). 0: every rematch runs to convergence [-], in [0, 3).
+  /// (adaptive_trim_floor_m): it is taken to be going back to the solution, where it would
+  /// neither widen the covariance nor replace the match (a heuristic, not a proof: measured to
+  /// change no match on the ACES, FHW and Freiburg 079 logs; plicp_ambiguity.h,
+  /// backAtSolution). 0: every rematch runs to convergence [-], in [0, 3).
   double ambiguity_return_sigma = 0.5;
   /// Correspondence search.
   CorrespondenceSearch correspondence_search = CorrespondenceSearch::kAngularOrder;

@@ -116,6 +116,9 @@ private:
   void addToPaths(const EncoderSample& sample, const Pose2& pose);
   void keepRecentSensorPose(double stamp_s, const Pose2& T_odom_sensor);
 
+  // A member added below must be copied by the copy constructor too (session_odometry.cpp):
+  // a rolled-back adoption puts the copy back as the session's odometry.
+
   SessionOdometryOptions options_;
   EncoderDecoder decoder_;
   double last_encoder_stamp_s_ = -1e300;
