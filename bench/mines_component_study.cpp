@@ -184,27 +184,33 @@ struct Outcome
   double left_m = NAN, right_m = NAN, separation_m = NAN, offset_s = NAN;
 };
 
-/// calibrate_bag's pairing (paired again at the estimated time offset when it differs from the
-/// configured one), or with `one_pass` the bags paired once at the configured offset (as before
-/// issue 16's fix), then the fit.
-Outcome runPipeline(const std::string& bag, CalibrationConfig config, bool one_pass)
+/// calibrate_bag's pairing and fit (the session's: paired again at the estimated time offset
+/// when it differs from the configured one), or with `one_pass` the fit of the pairs made at
+/// the configured offset.
+Outcome runPipeline(const std::string& bag, const CalibrationConfig& config, bool one_pass)
 {
   Outcome outcome;
   try {
-    const BagRunResult run =
-        one_pass ? runBags({bag}, config) : runBagsAtEstimatedOffset({bag}, &config);
-    CalibrationJobOptions options;
-    options.compare_trajectories = false;
-    const CalibrationJobResult job =
-        runCalibrationJob(config, run.pairs, run.encoder_history, options);
+    const BagRunResult run = runBags({bag}, config);
+    CalibrationJobResult job;
+    if (one_pass) {
+      CalibrationJobOptions options;
+      options.compare_trajectories = false;
+      job = runCalibrationJob(config, run.pairs, run.encoder_history, options);
+    } else {
+      const CalibrateOutcome fitted = run.session->calibrate({}).outcome;
+      if (!fitted.fit)
+        throw std::runtime_error(fitted.message);
+      job = fitted.fit->job;
+    }
     const auto* model = dynamic_cast<const DiffDriveModel*>(job.model.get());
     if (!model)
       throw std::runtime_error("the configuration does not fit diff_drive");
     outcome.ok = true;
     outcome.pairs = job.pairs.size();
     const auto rejected =
-        run.statistics.rejected.find("keyframe match disagrees with consecutive matches");
-    if (rejected != run.statistics.rejected.end())
+        run.counts.statistics.rejected.find("keyframe match disagrees with consecutive matches");
+    if (rejected != run.counts.statistics.rejected.end())
       outcome.rejected_inconsistent = rejected->second;
     outcome.left_m = model->intrinsics()(0);
     outcome.right_m = model->intrinsics()(1);

@@ -4,7 +4,6 @@
 #include <cstdio>
 #include <vector>
 
-#include "odometry_calibration/report/result_files.h"
 
 namespace odometry_calibration {
 namespace {
@@ -153,16 +152,6 @@ std::string jointControllerYaml(const JointFitReport& joint, const std::string& 
   origin.fit += (joint.sensors.size() > 1 ? " = " + std::to_string(total) : "") + " pairs";
   origin.report_file = "joint_report.txt";
   return controllerYamlFrom(sensorModelReport(joint, 0), origin, source);
-}
-
-void addControllerFile(const std::string& controller,
-                       std::vector<std::pair<std::string, std::string>>* written,
-                       std::vector<std::string>* removed)
-{
-  if (!controller.empty())
-    written->emplace_back(kControllerFileName, controller);
-  else
-    removed->push_back(kControllerFileName);
 }
 
 }  // namespace odometry_calibration

@@ -8,10 +8,10 @@
 #include "odometry_calibration/calibration/calibration_config_schema.h"
 #include "odometry_calibration/common/text_file.h"
 #include "odometry_calibration/data/holdout.h"
+#include "odometry_calibration/eval/joint_fit_text.h"
 #include "odometry_calibration/eval/model_report.h"
 #include "odometry_calibration/factory/model_factory.h"
 #include "odometry_calibration/report/result_files.h"
-#include "odometry_calibration/ros/bag_joint_calibration.h"
 #include "odometry_calibration/ros/bag_runner.h"
 
 namespace odometry_calibration {
@@ -66,18 +66,15 @@ CalibrationConfig loadConfig(const BagCalibrationOptions& options)
   return config;
 }
 
-/// The session's fit of the run's pairs; throws when none could run.
-SessionFit fitRun(const BagRunResult& run, const IntervalPlan& plan, const OffsetPairing& pairing,
-                  const PairHoldout* holdout)
+/// The session's fit of the run's pairs (one source); throws when none could run.
+SessionFit fitRun(const BagRunResult& run, const IntervalPlan& plan, const PairHoldout* holdout)
 {
   CalibrationRequest request;
   request.interval_mode = plan.mode;
   request.fixed_interval_s = plan.fixed_s;
   if (holdout)
     request.fit_until_stamp_s = holdout->border_stamp_s;
-  else
-    request.offset_search = pairing.search;  // the very pairs the offset was searched on
-  CalibrateOutcome outcome = run.session->calibrate(request);
+  CalibrateOutcome outcome = run.session->calibrate(request).outcome;
   if (!outcome.fit)
     throw std::runtime_error(outcome.message);
   return std::move(*outcome.fit);
@@ -126,14 +123,15 @@ std::string timingLine(const BagRunResult& run, const SessionFit& fit)
                 "time: reading %.3f s, scan conversion %.3f s, pairing %.3f s (thread time: "
                 "scan preparation %.3f s, matching %.3f s), fitting %.3f s\n",
                 run.read_time_s, run.conversion_time_s, run.pairing_time_s,
-                run.statistics.preparation_time_s, run.statistics.matching_time_s,
+                run.counts.statistics.preparation_time_s, run.counts.statistics.matching_time_s,
                 fit.job.fit_time_s);
   return timing;
 }
 
-/// The report's data of the run and of the fit-interval choice.
+/// The report's data of source `source`'s run and of its fit-interval choice.
 void describeRun(const BagCalibrationOptions& options, const CalibrationConfig& config,
-                 const BagRunResult& run, const SessionFit& fit, ResultFiles* files)
+                 const BagRunResult& run, std::size_t source, const SessionFit& fit,
+                 ResultFiles* files)
 {
   if (fit.choice) {
     for (const FitIntervalScore& score : fit.choice->curve)
@@ -146,21 +144,168 @@ void describeRun(const BagCalibrationOptions& options, const CalibrationConfig& 
   files->markdown.bags = options.bags;
   files->markdown.data_span_s = run.bag_span_s;
   files->markdown.run_time_s = run.wall_time_s;
-  files->markdown.statistics = run.statistics;
-  files->markdown.collection_notes = bagRunNotes(run);
+  files->markdown.statistics = run.session->source(source).counts().statistics;
+  files->markdown.collection_notes = run.session->source(source).collectionNotes();
+}
+
+/// The files of source `source`'s fit `fit` (its report's data too), `text` its terminal text.
+ResultFiles runFiles(const BagCalibrationOptions& options, const CalibrationConfig& config,
+                     const BagRunResult& run, std::size_t source, const SessionFit& fit,
+                     const std::string& text)
+{
+  const CalibrationConfig source_config = configForSource(config, source);
+  ResultFiles files = resultFilesForJob(jointLayout(source_config), fit.job, fit.fit_interval_s,
+                                        options.bags.front(),
+                                        run.session->source(source).sensorFrame());
+  describeRun(options, source_config, run, source, fit, &files);
+  files.text_report = text;
+  return files;
+}
+
+/// "written: <output_dir>/{a, b/}" and where the report is.
+void sayWritten(const std::string& output_dir, const std::vector<std::string>& names,
+                std::ostream& out)
+{
+  out << "\nwritten: " << output_dir << "/{";
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    const bool folder = names[k] == kPlotFolderName || names[k].rfind("source_", 0) == 0;
+    out << (k == 0 ? "" : ", ") << names[k] << (folder ? "/" : "");
+  }
+  out << "}\n";
 }
 
 void writeFiles(const std::string& output_dir, ResultFiles files, std::ostream& out)
 {
-  const bool controller = !files.controller_yaml.empty();
+  std::vector<std::string> names = {kPairsFileName};
+  for (const auto& [name, content] : files.calibration.written)
+    names.push_back(name);
+  names.insert(names.end(), {kTextReportFileName, kReportFileName, kPlotFolderName});
   const ReportPlots plots = writeResultFiles(output_dir, std::move(files));
-  out << "\nwritten: " << output_dir << "/{" << kPairsFileName << ", " << kResultFileName
-      << (controller ? std::string(", ") + kControllerFileName : "") << ", " << kTextReportFileName
-      << ", " << kReportFileName << ", " << kPlotFolderName << "/}\nreport: " << output_dir << "/"
-      << kReportFileName << "\n";
+  sayWritten(output_dir, names, out);
+  out << "report: " << output_dir << "/" << kReportFileName << "\n";
   if (!plots.problem.empty())
     std::fprintf(stderr, "warning: the report has no plots or only some: %s\n",
                  plots.problem.c_str());
+}
+
+/// The options a run of several sources does not take (it fits every source's pairs at its own
+/// fit interval and tests nothing): named, so that none is silently ignored; the model must
+/// have a joint fit.
+void refuseSingleSourceOptions(const BagCalibrationOptions& options, const CalibrationConfig& config)
+{
+  if (const std::string problem = jointFitModelProblem(config.model); !problem.empty())
+    throw std::runtime_error(problem);
+  const char* option = !options.test_bags.empty()  ? "--test"
+                       : options.holdout > 0.0     ? "--holdout"
+                       : !options.interval.empty() ? "--interval"
+                                                   : nullptr;
+  if (option) {
+    throw std::invalid_argument(
+        std::string("option ") + option +
+        " is not supported with several ego-motion sources (ego_motion.sources): calibrate one "
+        "source at a time with a one-source configuration to use it");
+  }
+}
+
+/// Source `k`'s run and fit alone in words.
+std::string describeSource(const CalibrationConfig& config, const BagRunResult& run,
+                           std::size_t k, const SessionFit& fit)
+{
+  const CalibrationJobResult& job = fit.job;
+  return "\n=== source " + std::to_string(k) + ": " + egoMotionSources(config)[k].topic +
+         " ===\n" +
+         formatBagRunSummary(run, run.session->source(k).counts(),
+                             run.session->source(k).collectionNotes()) +
+         (job.time_offset ? formatTimeOffset(*job.time_offset) : "") + "\n" +
+         formatModelReport(job.report);
+}
+
+/// calibrateBags with one ego-motion source.
+int calibrateOneSource(const BagCalibrationOptions& options, const CalibrationConfig& config,
+                       std::ostream& out)
+{
+  const std::string output_dir =
+      options.output_dir.empty() ? config.output_directory : options.output_dir;
+  const IntervalPlan plan = planIntervals(options.interval, config);
+  const BagRunResult run = runBags(
+      options.bags, config, options.start_s, options.end_s,
+      options.quiet ? nullptr : std::function<void(const BagProgress&)>(showProgress),
+      plan.candidates_s);
+  const std::string summary =
+      formatBagRunSummary(run, run.counts, run.session->source(0).collectionNotes());
+  out << summary;
+  const PairHoldout split =
+      options.holdout > 0.0 ? holdOutLastPairs(run.pairs, options.holdout) : PairHoldout();
+  const SessionFit fit = fitRun(run, plan, options.holdout > 0.0 ? &split : nullptr);
+  const CalibrationJobResult& job = fit.job;
+  std::string text = summary + (fit.interval_text.empty() ? "" : fit.interval_text + "\n") +
+                     (job.time_offset ? formatTimeOffset(*job.time_offset) : "") + "\n" +
+                     formatModelReport(job.report) + formatNominalComparison(job);
+  ResultFiles files = runFiles(options, config, run, 0, fit, "");
+  if (!options.test_bags.empty())
+    text += scoreTestBags(options, config, job, &files);
+  if (options.holdout > 0.0)
+    text += scoreHoldout(options, config, run, split, fit, &files);
+  text += timingLine(run, fit);
+  out << text.substr(summary.size());
+  // Everything succeeded: write the files together.
+  files.text_report = text;
+  writeFiles(output_dir, std::move(files), out);
+  return calibrationExitStatus(job.report);
+}
+
+/// calibrateBags with several ego-motion sources.
+int calibrateSeveralSources(const BagCalibrationOptions& options, const CalibrationConfig& config,
+                            std::ostream& out, const JointFitFunction& fit_jointly)
+{
+  refuseSingleSourceOptions(options, config);
+  if (!config.compare_models.empty()) {
+    out << "note: compare_models is not fitted with several ego-motion sources (the joint fit is "
+           "of "
+        << config.model << " only)\n";
+  }
+  const std::string output_dir =
+      options.output_dir.empty() ? config.output_directory : options.output_dir;
+  const BagRunResult run = runBags(options.bags, config, options.start_s, options.end_s, nullptr,
+                                   config.fit_intervals_s, fit_jointly);
+  const JointCalibrateOutcome outcome = run.session->calibrate({});
+  if (outcome.alone.size() != run.session->sourceCount())  // a source could not be fitted alone
+    throw std::runtime_error(outcome.outcome.message);
+  std::vector<ResultFiles> sources;
+  std::string text;
+  for (std::size_t k = 0; k < outcome.alone.size(); ++k) {
+    const std::string source_text = describeSource(config, run, k, outcome.alone[k]);
+    text += source_text;
+    sources.push_back(runFiles(options, config, run, k, outcome.alone[k], source_text));
+  }
+  FileSet joint_files;
+  std::string failure = outcome.joint ? "" : outcome.joint_failure;
+  int status = 0;
+  if (outcome.joint) {
+    try {  // the joint table joins the text only once its files are made
+      const std::string joint_text = text + "\n=== joint fit ===\n" + outcome.text;
+      joint_files = jointCalibrationFiles(config, *outcome.joint, outcome.inputs,
+                                          options.bags.front(), "base_link", joint_text);
+      text = joint_text;
+      for (std::size_t k = 0; k < outcome.joint->sensors.size(); ++k)
+        status = std::max(status, calibrationExitStatus(sensorModelReport(*outcome.joint, k)));
+    } catch (const std::exception& error) {
+      failure = error.what();
+    }
+  }
+  if (!failure.empty()) {  // every source's fit alone is still written
+    failure = "the joint " + config.model +
+              " fit failed after every source was fitted alone: " + failure;
+    text += "\n=== joint fit ===\n" + failure + "\n";
+    joint_files = failedJointCalibrationFiles(text);
+  }
+  out << text;
+  sayWritten(output_dir, writeJointResultFiles(output_dir, joint_files, std::move(sources)), out);
+  if (!failure.empty()) {
+    throw std::runtime_error(failure + " (each source's fit alone is in " + output_dir +
+                             "/source_<k>/; no joint result.yaml)");
+  }
+  return status;
 }
 
 }  // namespace
@@ -190,45 +335,17 @@ void checkBagCalibrationOptions(const BagCalibrationOptions& options)
   }
 }
 
-int calibrateBags(const BagCalibrationOptions& options, std::ostream& out)
+int calibrateBags(const BagCalibrationOptions& options, std::ostream& out,
+                  const JointFitFunction& fit_jointly)
 {
-  CalibrationConfig config = loadConfig(options);
+  const CalibrationConfig config = loadConfig(options);
   if (options.print_config) {
     out << formatEffectiveConfig(config);
     return 0;
   }
-  if (config.ego_motion_sources.size() > 1)  // issue 35: several sensors, one joint fit
-    return calibrateBagsJointly(options, config, out);
-  const std::string output_dir =
-      options.output_dir.empty() ? config.output_directory : options.output_dir;
-  const IntervalPlan plan = planIntervals(options.interval, config);
-  // Paired at the estimated time offset (a second pass when the configured one is off).
-  OffsetPairing pairing;
-  const BagRunResult run = runBagsAtEstimatedOffset(
-      options.bags, &config, options.start_s, options.end_s,
-      options.quiet ? nullptr : std::function<void(const BagProgress&)>(showProgress), &pairing,
-      0.01, plan.candidates_s);
-  const std::string summary = formatBagRunSummary(run) + pairing.text;
-  out << summary;
-  const PairHoldout split =
-      options.holdout > 0.0 ? holdOutLastPairs(run.pairs, options.holdout) : PairHoldout();
-  const SessionFit fit = fitRun(run, plan, pairing, options.holdout > 0.0 ? &split : nullptr);
-  const CalibrationJobResult& job = fit.job;
-  std::string text = summary + (fit.interval_text.empty() ? "" : fit.interval_text + "\n") +
-                     (job.time_offset ? formatTimeOffset(*job.time_offset) : "") + "\n" +
-                     formatModelReport(job.report) + formatNominalComparison(job);
-  ResultFiles files = resultFilesForJob(jointLayout(config), job, options.bags.front());
-  describeRun(options, config, run, fit, &files);
-  if (!options.test_bags.empty())
-    text += scoreTestBags(options, config, job, &files);
-  if (options.holdout > 0.0)
-    text += scoreHoldout(options, config, run, split, fit, &files);
-  text += timingLine(run, fit);
-  out << text.substr(summary.size());
-  // Everything succeeded: write the files together.
-  files.text_report = text;
-  writeFiles(output_dir, std::move(files), out);
-  return calibrationExitStatus(job.report);
+  if (config.ego_motion_sources.size() > 1)
+    return calibrateSeveralSources(options, config, out, fit_jointly);
+  return calibrateOneSource(options, config, out);
 }
 
 }  // namespace odometry_calibration

@@ -303,6 +303,8 @@ std::vector<BagInput> BagMessageReader::next()
 void BagMessageReader::read(rosbag::View& view, const CalibrationConfig& config)
 {
   const std::vector<EncoderChannelOptions> channels = encoderChannels(config);
+  const std::vector<EgoMotionSourceConfig> sources = egoMotionSources(config);
+  cloud_frames_.assign(sources.size(), "");
   const double begin_s = view.getBeginTime().toSec();
   const double span_s = std::max(1e-9, (view.getEndTime() - view.getBeginTime()).toSec());
   ReadTimers timers;
@@ -316,13 +318,17 @@ void BagMessageReader::read(rosbag::View& view, const CalibrationConfig& config)
     BagInput input;
     input.fraction = (message.getTime().toSec() - begin_s) / span_s;
     input.publisher = message.getCallerId();
+    const std::string& topic = message.getTopic();
+    while (input.source + 1 < sources.size() && sources[input.source].topic != topic)
+      ++input.source;
+    const EgoMotionSource type = sources[input.source].type;
     const bool read_one =
-        message.getTopic() == config.joint_state_topic
+        topic == config.joint_state_topic
             ? readJointState(message, config, channels, message_bytes_, timers, input)
-        : config.ego_motion == EgoMotionSource::kScan
+        : type == EgoMotionSource::kScan
             ? readLaserScan(message, config.max_scan_rays, message_bytes_, timers, input)
-        : config.ego_motion == EgoMotionSource::kCloud
-            ? readCloud(message, config, message_bytes_, cloud_frame_, timers, input)
+        : type == EgoMotionSource::kCloud
+            ? readCloud(message, config, message_bytes_, cloud_frames_[input.source], timers, input)
             : readPose(message, message_bytes_, input);
     if (!read_one)
       continue;  // another message type on the topic

@@ -75,9 +75,22 @@ std::vector<std::unique_ptr<rosbag::Bag>> openBags(const std::vector<std::string
   return bags;
 }
 
-std::string egoTopic(const CalibrationConfig& config)
+/// Every topic the bags are read for: the joint states' and each ego-motion source's.
+std::vector<std::string> inputTopics(const CalibrationConfig& config)
 {
-  return config.ego_motion == EgoMotionSource::kScan ? config.scan_topic : config.ego_motion_topic;
+  std::vector<std::string> topics{config.joint_state_topic};
+  for (const EgoMotionSourceConfig& source : egoMotionSources(config))
+    topics.push_back(source.topic);
+  return topics;
+}
+
+/// The topics in words: "'/joint_states', '/scan'".
+std::string topicList(const std::vector<std::string>& topics)
+{
+  std::string list;
+  for (const std::string& topic : topics)
+    list += (list.empty() ? "'" : ", '") + topic + "'";
+  return list;
 }
 
 /// The time window [begin, end] of the bags' messages on the configured topics.
@@ -86,14 +99,10 @@ std::pair<ros::Time, ros::Time> timeWindow(const std::vector<std::unique_ptr<ros
                                            double end_offset_s)
 {
   rosbag::View all;
-  for (const auto& bag : bags) {
-    all.addQuery(*bag, rosbag::TopicQuery(
-                           std::vector<std::string>{config.joint_state_topic, egoTopic(config)}));
-  }
-  if (all.size() == 0) {
-    throw std::runtime_error("the bags hold no message on '" + config.joint_state_topic + "' or '" +
-                             egoTopic(config) + "'");
-  }
+  for (const auto& bag : bags)
+    all.addQuery(*bag, rosbag::TopicQuery(inputTopics(config)));
+  if (all.size() == 0)
+    throw std::runtime_error("the bags hold no message on " + topicList(inputTopics(config)));
   const double span_s = (all.getEndTime() - all.getBeginTime()).toSec();
   if (start_offset_s >= span_s || (end_offset_s > 0.0 && end_offset_s <= start_offset_s)) {
     throw std::runtime_error("the time window [" + std::to_string(start_offset_s) + ", " +
@@ -109,8 +118,10 @@ std::pair<ros::Time, ros::Time> timeWindow(const std::vector<std::unique_ptr<ros
 
 /// A session as calibrate_bag uses it: no files, no odometry, no assistant (the report says
 /// what they would), every encoder sample kept for the time offset and the nominal's re-cut.
-std::shared_ptr<CalibrationSession> bagSession(const CalibrationConfig& config,
-                                               const std::vector<double>& candidate_intervals_s)
+std::shared_ptr<JointCalibrationSession> bagSession(const CalibrationConfig& config,
+                                                    const std::vector<double>& candidate_intervals_s,
+                                                    const std::string& source,
+                                                    const JointFitFunction& fit_jointly)
 {
   SessionOptions options;
   options.load_saved_calibration = false;
@@ -123,8 +134,8 @@ std::shared_ptr<CalibrationSession> bagSession(const CalibrationConfig& config,
   options.compare_trajectories = true;
   options.adopt_fits = false;
   options.min_pairs_name.clear();
-  options.source = "calibrate_bag";
-  return std::make_shared<CalibrationSession>(config, "", "", options);
+  options.source = source;
+  return std::make_shared<JointCalibrationSession>(config, "", "", options, nullptr, fit_jointly);
 }
 
 /// The ego-motion messages' type, for messages.
@@ -136,20 +147,21 @@ std::string egoMessageType(EgoMotionSource source)
 }
 
 /// One converted message into the session.
-void feed(CalibrationSession& session, BagInput& input, EgoMotionSource source)
+void feed(JointCalibrationSession& sessions, BagInput& input,
+          const std::vector<EgoMotionSourceConfig>& sources)
 {
+  if (input.kind == BagInput::Kind::kBadJoints)
+    return sessions.skipJointState(input.problem, input.publisher);
+  if (input.kind == BagInput::Kind::kJoints)
+    return sessions.addJointPositions(input.stamp_s, input.raw, input.publisher);
+  CalibrationSession& session = sessions.source(input.source);
+  const EgoMotionSource type = sources[input.source].type;
   switch (input.kind) {
-    case BagInput::Kind::kBadJoints:
-      session.skipJointState(input.problem, input.publisher);
-      break;
-    case BagInput::Kind::kJoints:
-      session.addJointPositions(input.stamp_s, input.raw, input.publisher);
-      break;
     case BagInput::Kind::kBadScan:
-      session.skipEgoMessage(egoMessageType(source), input.problem, input.publisher);
+      session.skipEgoMessage(egoMessageType(type), input.problem, input.publisher);
       break;
     case BagInput::Kind::kScan:
-      if (source == EgoMotionSource::kCloud)
+      if (type == EgoMotionSource::kCloud)
         session.addCloudScan(input.stamp_s, input.scan, input.frame, input.problem,
                              input.publisher);
       else
@@ -157,6 +169,8 @@ void feed(CalibrationSession& session, BagInput& input, EgoMotionSource source)
       break;
     case BagInput::Kind::kPose:
       session.addSensorPose(input.stamp_s, input.pose, input.frame, input.publisher);
+      break;
+    default:
       break;
   }
 }
@@ -173,76 +187,55 @@ void requireChosenPublisher(const std::string& key, const std::string& chosen,
                            std::to_string(ignored) + " came from " + publisherName(other) + ")");
 }
 
-/// The session's counts as the run's, and the checks that the bags held usable data.
-void takeCounts(const CalibrationSession& session, const std::string& ego_topic,
-                const CalibrationConfig& config, BagRunResult* result)
+/// Source `config`'s counts checked: the bags held usable data of it, from the chosen
+/// publishers.
+void requireUsableData(const SessionCounts& counts, const CalibrationConfig& config)
 {
-  const SessionCounts counts = session.counts();
-  result->pairs = session.pairs();
-  result->encoder_history = session.encoderHistory();
-  result->statistics = counts.statistics;
-  result->joint_state_messages = counts.encoder_messages;
-  result->ego_motion_messages = counts.ego_messages;
-  result->bad_joint_states = counts.bad_encoder_messages;
-  result->first_bad_joint_state = counts.first_bad_encoder_message;
-  result->bad_clouds = counts.bad_ego_messages;
-  result->ego_message_type = egoMessageType(config.ego_motion);
-  result->first_bad_cloud = counts.first_bad_ego_message;
-  result->clouds_without_times = counts.clouds_without_times;
-  result->first_cloud_time_problem = counts.first_cloud_time_problem;
-  result->restarts = counts.restarts;
-  result->ignored_joint_states = counts.ignored_encoder_messages;
-  result->joint_state_publisher = counts.encoder_publisher;
-  result->ignored_joint_state_publisher = counts.ignored_encoder_publisher;
-  result->ignored_ego_messages = counts.ignored_ego_messages;
-  result->ego_publisher = counts.ego_publisher;
-  result->ignored_ego_publisher = counts.ignored_ego_publisher;
-  result->ego_publisher_key = config.ego_motion_publisher_key;
+  const std::string ego_topic = egoMotionSources(config).front().topic;
+  const std::string ego_type = egoMessageType(config.ego_motion);
   requireChosenPublisher("joint_state_publisher", config.joint_state_publisher,
                          "JointState on '" + config.joint_state_topic + "'",
                          counts.encoder_publisher, counts.ignored_encoder_messages,
                          counts.ignored_encoder_publisher);
   requireChosenPublisher(config.ego_motion_publisher_key, config.ego_motion_publisher,
-                         egoMessageType(config.ego_motion) + " on '" + ego_topic + "'",
-                         counts.ego_publisher, counts.ignored_ego_messages,
-                         counts.ignored_ego_publisher);
-  if (result->joint_state_messages == 0) {
+                         ego_type + " on '" + ego_topic + "'", counts.ego_publisher,
+                         counts.ignored_ego_messages, counts.ignored_ego_publisher);
+  if (counts.encoder_messages == 0) {
     throw std::runtime_error("no sensor_msgs/JointState on '" + config.joint_state_topic +
                              "' in the bags");
   }
-  if (result->ego_motion_messages == 0)
+  if (counts.ego_messages == 0)
     throw std::runtime_error("no ego-motion message (" + ego_topic + ") in the bags");
-  if (result->bad_clouds > 0 && result->bad_clouds == result->ego_motion_messages) {
-    throw std::runtime_error("no usable " + egoMessageType(config.ego_motion) + " on '" +
-                             ego_topic + "': all were skipped, first: " + result->first_bad_cloud);
+  if (counts.bad_ego_messages > 0 && counts.bad_ego_messages == counts.ego_messages) {
+    throw std::runtime_error("no usable " + ego_type + " on '" + ego_topic +
+                             "': all were skipped, first: " + counts.first_bad_ego_message);
   }
-  if (result->bad_joint_states == result->joint_state_messages)
-    throw std::runtime_error("no usable JointState: " + result->first_bad_joint_state);
+  if (counts.bad_encoder_messages == counts.encoder_messages)
+    throw std::runtime_error("no usable JointState: " + counts.first_bad_encoder_message);
 }
 
 BagRunResult runBagsUnchecked(const std::vector<std::string>& bag_paths,
                               const CalibrationConfig& config, double start_offset_s,
                               double end_offset_s,
                               const std::function<void(const BagProgress&)>& progress,
-                              const std::vector<double>& candidate_intervals_s)
+                              const std::vector<double>& candidate_intervals_s,
+                              const JointFitFunction& fit_jointly)
 {
   const auto run_start = Clock::now();
   const std::vector<std::unique_ptr<rosbag::Bag>> bags = openBags(bag_paths);
   const auto [begin, end] = timeWindow(bags, config, start_offset_s, end_offset_s);
   rosbag::View view;
-  for (const auto& bag : bags) {
-    view.addQuery(
-        *bag,
-        rosbag::TopicQuery(std::vector<std::string>{config.joint_state_topic, egoTopic(config)}),
-        begin, end);
-  }
+  for (const auto& bag : bags)
+    view.addQuery(*bag, rosbag::TopicQuery(inputTopics(config)), begin, end);
   BagRunResult result;
   result.bag_span_s = (end - begin).toSec();
   // Offline: the keyframe matches' events may come a few messages late (pair_collector.h), so
   // that both cores match while this thread feeds the session.
   CalibrationConfig session_config = config;
   session_config.collector.defer_keyframe_matches = true;
-  result.session = bagSession(session_config, candidate_intervals_s);
+  result.session =
+      bagSession(session_config, candidate_intervals_s, bag_paths.front(), fit_jointly);
+  const std::vector<EgoMotionSourceConfig> sources = egoMotionSources(config);
   // Reading and converting run ahead on their own thread; this one feeds the session.
   BagMessageReader reader(view, config, bagNames(bag_paths));
   std::size_t messages = 0;
@@ -250,19 +243,26 @@ BagRunResult runBagsUnchecked(const std::vector<std::string>& bag_paths,
   for (std::vector<BagInput> batch = reader.next(); !batch.empty(); batch = reader.next()) {
     for (BagInput& input : batch) {
       const auto start = Clock::now();
-      feed(*result.session, input, config.ego_motion);
+      feed(*result.session, input, sources);
       pairing += Clock::now() - start;
       if (progress && ++messages % 500 == 0)
         progress({input.fraction, messages, seconds(Clock::now() - run_start)});
     }
     // Two publishers of one input: refused as soon as the second one shows.
-    if (const std::string conflict = result.session->publisherConflict(); !conflict.empty())
-      throw std::runtime_error(conflict);
+    for (std::size_t k = 0; k < result.session->sourceCount(); ++k) {
+      if (const std::string conflict = result.session->source(k).publisherConflict();
+          !conflict.empty())
+        throw std::runtime_error(conflict);
+    }
   }
   result.session->flush();
   if (progress)
     progress({1.0, messages, seconds(Clock::now() - run_start)});
-  takeCounts(*result.session, egoTopic(config), config, &result);
+  for (std::size_t k = 0; k < result.session->sourceCount(); ++k)
+    requireUsableData(result.session->source(k).counts(), configForSource(config, k));
+  result.counts = result.session->source(0).counts();
+  result.pairs = result.session->source(0).pairs();
+  result.encoder_history = result.session->source(0).encoderHistory();
   result.wall_time_s = seconds(Clock::now() - run_start);
   result.pairing_time_s = seconds(pairing);
   result.conversion_time_s = reader.conversionTime();
@@ -276,7 +276,8 @@ BagRunResult runBagsUnchecked(const std::vector<std::string>& bag_paths,
 BagRunResult runBags(const std::vector<std::string>& bag_paths, const CalibrationConfig& config,
                      double start_offset_s, double end_offset_s,
                      const std::function<void(const BagProgress&)>& progress,
-                     const std::vector<double>& candidate_intervals_s)
+                     const std::vector<double>& candidate_intervals_s,
+                     const JointFitFunction& fit_jointly)
 {
   // rosbag and the message deserialisation throw these for a corrupted or cut-off bag (a
   // chunk or record that does not parse, a length beyond the data, a compressed chunk that
@@ -289,7 +290,7 @@ BagRunResult runBags(const std::vector<std::string>& bag_paths, const Calibratio
   const BagReadScope reading(bagNames(bag_paths));
   try {
     return runBagsUnchecked(bag_paths, config, start_offset_s, end_offset_s, progress,
-                            candidate_intervals_s);
+                            candidate_intervals_s, fit_jointly);
   } catch (const ros::Exception& error) {
     throw corrupted(error.what());
   } catch (const std::logic_error& error) {
@@ -299,44 +300,8 @@ BagRunResult runBags(const std::vector<std::string>& bag_paths, const Calibratio
   }
 }
 
-std::vector<std::string> bagRunNotes(const BagRunResult& run)
-{
-  std::vector<std::string> notes;
-  if (run.ignored_joint_states > 0) {
-    notes.push_back("ignored " + std::to_string(run.ignored_joint_states) +
-                    " JointState messages from " +
-                    publisherName(run.ignored_joint_state_publisher) +
-                    " (joint_state_publisher: " + publisherName(run.joint_state_publisher) + ")");
-  }
-  if (run.ignored_ego_messages > 0) {
-    notes.push_back("ignored " + std::to_string(run.ignored_ego_messages) + " " +
-                    run.ego_message_type + " messages from " +
-                    publisherName(run.ignored_ego_publisher) + " (" + run.ego_publisher_key + ": " +
-                    publisherName(run.ego_publisher) + ")");
-  }
-  if (run.bad_joint_states > 0) {
-    notes.push_back("skipped " + std::to_string(run.bad_joint_states) +
-                    " JointState messages, first: " + run.first_bad_joint_state);
-  }
-  if (run.clouds_without_times > 0) {
-    notes.push_back(std::to_string(run.clouds_without_times) +
-                    " PointCloud2 messages used without their per-point times, first: " +
-                    run.first_cloud_time_problem);
-  }
-  if (run.bad_clouds > 0) {
-    notes.push_back("skipped " + std::to_string(run.bad_clouds) + " " + run.ego_message_type +
-                    " messages, first: " + run.first_bad_cloud);
-  }
-  for (const auto& [joint, count] : run.statistics.glitches) {
-    notes.push_back("skipped " + std::to_string(count) + " encoder glitches on joint '" + joint +
-                    "' (increments beyond its max_turns_per_s)");
-  }
-  for (const std::string& restart : run.restarts)
-    notes.push_back("restart " + restart);
-  return notes;
-}
-
-std::string formatBagRunSummary(const BagRunResult& run)
+std::string formatBagRunSummary(const BagRunResult& run, const SessionCounts& counts,
+                                const std::vector<std::string>& notes)
 {
   // "+0.44 % (± 0.31)": the scale check and its standard error (none with one pair).
   auto formatScaleCheck = [](const CollectorStatistics& s) {
@@ -356,7 +321,7 @@ std::string formatBagRunSummary(const BagRunResult& run)
   if (run.filtering_time_s > 0.0)
     text << "cloud filtering " << run.filtering_time_s << " s, ";
   text << "pairing " << run.pairing_time_s << " s)\n";
-  const CollectorStatistics& s = run.statistics;
+  const CollectorStatistics& s = counts.statistics;
   text << "keyframe pairs: " << s.pairs << " from " << s.scans << " scans, " << s.keyframes
        << " keyframes";
   if (s.consecutive_matches > 0) {
@@ -372,7 +337,7 @@ std::string formatBagRunSummary(const BagRunResult& run)
   for (const auto& [reason, count] : s.rejected) {
     text << "  rejected " << count << ": " << reason << "\n";
   }
-  for (const std::string& note : bagRunNotes(run))
+  for (const std::string& note : notes)
     text << note << "\n";
   return text.str();
 }

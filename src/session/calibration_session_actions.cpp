@@ -5,12 +5,10 @@
 #include <filesystem>
 #include <stdexcept>
 
-#include "odometry_calibration/calibration/calibration_result.h"
 #include "odometry_calibration/calibration/candidate_collectors.h"
 #include "odometry_calibration/common/atomic_file.h"
 #include "odometry_calibration/eval/model_report.h"
 #include "odometry_calibration/factory/model_factory.h"
-#include "odometry_calibration/report/controller_yaml.h"
 #include "odometry_calibration/session/calibration_session.h"
 
 namespace odometry_calibration {
@@ -142,7 +140,8 @@ struct PreparedAdoption::State
   bool committed = false;
   // Exchanged with the session's by exchangeActive.
   std::shared_ptr<const MotionModel> active_model, fitted_model;
-  std::string origin, result_yaml, controller_yaml;
+  std::string origin;
+  FileSet files;  ///< calibrationFiles of the fit
   double model_interval_s = 0.0;
   std::optional<CalibrationSession::FitCounts> counts;
   std::optional<Pose2> T_base_sensor;
@@ -210,10 +209,6 @@ PreparedAdoption CalibrationSession::prepare(const SessionFit& fit, const std::s
   state.guidance = guidance;
   state.active_model = state.fitted_model = fit.job.model;
   state.origin = "fit of " + std::to_string(report.pairs_used) + " pairs";
-  state.result_yaml =
-      calibrationResultYaml(report, *fit.job.model, options_.source, fit.job.time_offset_s,
-                            jointLayout(config).names, fit.fit_interval_s);
-  state.controller_yaml = controllerYaml(report, options_.source);
   state.model_interval_s = fit.fit_interval_s;
   state.counts = FitCounts{report.pairs_used, report.rejected, report.down_weighted};
   state.time_offset_s = fit.job.time_offset_s;
@@ -222,6 +217,11 @@ PreparedAdoption CalibrationSession::prepare(const SessionFit& fit, const std::s
     std::lock_guard<std::mutex> lock(mutex_);
     state.T_base_sensor = fitSensorPose(fit);
     collector = config_.collector;
+    state.files = calibrationFiles({&report, fit.job.model.get(), options_.source,
+                                    fit.job.time_offset_s, jointLayout(config).names,
+                                    fit.fit_interval_s, state.T_base_sensor, options_.base_frame,
+                                    sensor_frame_.empty() ? options_.default_sensor_frame
+                                                          : sensor_frame_});
   }
   try {
     state.replay = replayOdometry(fit);
@@ -260,8 +260,7 @@ void CalibrationSession::exchangeActive(PreparedAdoption& adoption)
   std::swap(active_model_, state.active_model);
   std::swap(fitted_model_, state.fitted_model);
   std::swap(active_model_origin_, state.origin);
-  std::swap(fitted_result_yaml_, state.result_yaml);
-  std::swap(fitted_controller_yaml_, state.controller_yaml);
+  std::swap(fitted_files_, state.files);
   std::swap(model_interval_s_, state.model_interval_s);
   std::swap(last_fit_counts_, state.counts);
   std::swap(T_base_sensor_, state.T_base_sensor);
@@ -346,7 +345,7 @@ CalibrateOutcome CalibrationSession::finish(PreparedAdoption& adoption, std::siz
   std::string result_yaml;
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    result_yaml = fitted_result_yaml_;
+    result_yaml = fitted_files_.content(kResultFileName);
     if (state.new_offset) {  // exchanged: the state holds the previous offset
       char text[200];
       std::snprintf(text, sizeof(text),
@@ -418,34 +417,26 @@ std::optional<Pose2> CalibrationSession::fitSensorPose(const SessionFit& fit) co
   return report.has_extrinsic ? std::optional<Pose2>(report.T_base_sensor) : T_base_sensor_;
 }
 
-SessionFiles CalibrationSession::filesToSave() const
+FileSet CalibrationSession::filesToSave() const
 {
   std::lock_guard<std::mutex> lock(mutex_);
   if (!fitted_model_)
     throw std::runtime_error("nothing to save: no successful ~calibrate since the node started");
-  SessionFiles files;
-  files.written.emplace_back("result.yaml", fitted_result_yaml_);
-  addControllerFile(fitted_controller_yaml_, &files.written, &files.removed);
-  if (T_base_sensor_) {
-    const std::string frame = sensor_frame_.empty() ? options_.default_sensor_frame : sensor_frame_;
-    files.written.emplace_back("laser_joint.urdf",
-                               laserJointUrdf(*T_base_sensor_, options_.base_frame, frame));
-  }
-  return files;
+  return fitted_files_;
 }
 
 std::pair<bool, std::string> CalibrationSession::save()
 {
   const std::string& directory = options_.output_directory;
   try {
-    const SessionFiles files = filesToSave();
+    const FileSet files = filesToSave();
     if (directory.empty())
       return {false, "nothing to save: the session has no output directory"};
     std::string message = "saved ";
     for (std::size_t f = 0; f < files.written.size(); ++f) {
       const std::string path = absolutePath(directory, files.written[f].first);
       writeFileAtomically(path, files.written[f].second);
-      const bool urdf = files.written[f].first == "laser_joint.urdf";
+      const bool urdf = files.written[f].first == kLaserJointFileName;
       message += (f == 0 ? "" : urdf ? " and " : ", ") + path;
     }
     for (const std::string& name : files.removed) {

@@ -14,7 +14,52 @@ double matchingSuccess(const CollectorStatistics& s)
              : std::nan("");
 }
 
+/// The ego-motion messages' type, for notes.
+std::string egoMessageType(EgoMotionSource source)
+{
+  return source == EgoMotionSource::kScan    ? "LaserScan"
+         : source == EgoMotionSource::kCloud ? "PointCloud2"
+                                             : "pose";
+}
+
 }  // namespace
+
+std::vector<std::string> CalibrationSession::collectionNotes() const
+{
+  const SessionCounts c = counts();
+  const std::string ego_type = egoMessageType(config_.ego_motion);
+  std::vector<std::string> notes;
+  if (c.ignored_encoder_messages > 0) {
+    notes.push_back("ignored " + std::to_string(c.ignored_encoder_messages) +
+                    " JointState messages from " + publisherName(c.ignored_encoder_publisher) +
+                    " (joint_state_publisher: " + publisherName(c.encoder_publisher) + ")");
+  }
+  if (c.ignored_ego_messages > 0) {
+    notes.push_back("ignored " + std::to_string(c.ignored_ego_messages) + " " + ego_type +
+                    " messages from " + publisherName(c.ignored_ego_publisher) + " (" +
+                    config_.ego_motion_publisher_key + ": " + publisherName(c.ego_publisher) + ")");
+  }
+  if (c.bad_encoder_messages > 0) {
+    notes.push_back("skipped " + std::to_string(c.bad_encoder_messages) +
+                    " JointState messages, first: " + c.first_bad_encoder_message);
+  }
+  if (c.clouds_without_times > 0) {
+    notes.push_back(std::to_string(c.clouds_without_times) +
+                    " PointCloud2 messages used without their per-point times, first: " +
+                    c.first_cloud_time_problem);
+  }
+  if (c.bad_ego_messages > 0) {
+    notes.push_back("skipped " + std::to_string(c.bad_ego_messages) + " " + ego_type +
+                    " messages, first: " + c.first_bad_ego_message);
+  }
+  for (const auto& [joint, count] : c.statistics.glitches) {
+    notes.push_back("skipped " + std::to_string(count) + " encoder glitches on joint '" + joint +
+                    "' (increments beyond its max_turns_per_s)");
+  }
+  for (const std::string& restart : c.restarts)
+    notes.push_back("restart " + restart);
+  return notes;
+}
 
 std::string CalibrationSession::collectionStatus(SessionStatusReport* status) const
 {

@@ -6,13 +6,9 @@
 #include <stdexcept>
 
 #include <yaml-cpp/yaml.h>
-#include "odometry_calibration/calibration/calibration_result.h"
 
-#include "odometry_calibration/common/atomic_file.h"
-#include "odometry_calibration/common/staged_file_set.h"
 #include "odometry_calibration/eval/joint_fit_text.h"
-#include "odometry_calibration/report/controller_yaml.h"
-#include "odometry_calibration/report/result_files.h"
+#include "odometry_calibration/report/calibration_files.h"
 
 namespace odometry_calibration {
 namespace {
@@ -82,39 +78,18 @@ void refuseNonJointOptions(const std::string& model, const std::string& options)
   }
 }
 
-/// Writes `set` into `directory` as one set (common/staged_file_set.h): every file staged, then
-/// all moved in; a file that cannot be written is named and the previous set stays whole.
-/// Returns the reply's message.
-std::string writeFileSet(const std::string& directory, const SessionFiles& set)
-{
-  StagedFileSet staged(directory);
-  std::vector<std::string> names;
-  std::string list;
-  for (const auto& [name, content] : set.written) {
-    try {
-      writeFileAtomically(staged.stagedPath(name), content);
-    } catch (const std::exception& error) {
-      throw std::runtime_error("cannot write " + name + ": " + error.what());
-    }
-    names.push_back(name);
-    list += (list.empty() ? "" : ", ") + name;
-  }
-  staged.commit(names, set.removed);
-  return "saved the joint fit in " + fs::absolute(directory).lexically_normal().string() + ": " +
-         list;
-}
-
 }  // namespace
 
 JointCalibrationSession::JointCalibrationSession(
     const CalibrationConfig& config, const std::string& config_text,
     const std::string& config_source, const SessionOptions& options,
-    const std::function<SessionListener(std::size_t)>& listener)
+    const std::function<SessionListener(std::size_t)>& listener, JointFitFunction fit_jointly)
     : config_(config),
       config_text_(config_text),
       config_source_(config_source),
       options_(options),
-      sources_(egoMotionSources(config))
+      sources_(egoMotionSources(config)),
+      fit_jointly_(std::move(fit_jointly))
 {
   if (sources_.size() <= 1) {  // one source: its session exactly as before
     sessions_.push_back(std::make_unique<CalibrationSession>(
@@ -322,50 +297,50 @@ JointCalibrateOutcome JointCalibrationSession::calibrateJointly(const Calibratio
     return result;
   }
   std::string failure;
-  const std::optional<std::vector<SessionFit>> fits =
+  std::optional<std::vector<SessionFit>> fits =
       fitSourcesAlone(request, joint_config, &outcome.pairs_collected, &failure);
   if (!fits) {
     outcome.message = "cannot fit the sources jointly: " + failure;
     return result;
   }
-  std::vector<JointSourceInput> inputs;
-  if (!fitJointly(joint_config, *fits, &result, &inputs))
+  result.alone = std::move(*fits);
+  if (!fitJointly(joint_config, &result))
     return result;
   if (!result.joint->converged) {
     outcome.message = "joint " + name + " fit did not converge (" + result.joint->termination +
                       "); the active models are unchanged";
     return result;
   }
-  outcome.message = adoptJointFit(joint_config, *result.joint, *fits, &outcome.success);
+  outcome.message = adoptJointFit(joint_config, *result.joint, result.alone, &outcome.success);
   if (outcome.success) {
     joint_ = result.joint;
     joint_config_ = joint_config;
-    joint_inputs_ = inputs;
+    joint_inputs_ = result.inputs;
     joint_text_ = result.text;
   }
   return result;
 }
 
 bool JointCalibrationSession::fitJointly(const CalibrationConfig& joint_config,
-                                         const std::vector<SessionFit>& fits,
-                                         JointCalibrateOutcome* result,
-                                         std::vector<JointSourceInput>* inputs)
+                                         JointCalibrateOutcome* result)
 {
   std::vector<std::string> names;
   for (std::size_t k = 0; k < sessions_.size(); ++k) {
-    const CalibrationJobResult& job = fits[k].job;
-    inputs->push_back({sources_[k].topic, sessions_[k]->sensorFrame(), job.pairs,
-                       job.report.T_base_sensor, job.time_offset_s, fits[k].fit_interval_s});
+    const SessionFit& fit = result->alone[k];
+    result->inputs.push_back({sources_[k].topic, sessions_[k]->sensorFrame(), fit.job.pairs,
+                              fit.job.report.T_base_sensor, fit.job.time_offset_s,
+                              fit.fit_interval_s});
     names.push_back(sources_[k].topic);
   }
-  SessionFit first = fits.front();
+  SessionFit first = result->alone.front();
   try {  // (a view's model checks its values: a diverged solve is a failed fit, not a throw)
-    result->joint = fitSourcesJointly(joint_config, *inputs);
+    result->joint = fit_jointly_(joint_config, result->inputs);
     result->text = formatJointFitReport(*result->joint, names);
     first.job.report = sensorModelReport(*result->joint, 0);
     first.job.model = jointSensorModel(joint_config, *result->joint, 0);
   } catch (const std::exception& error) {
     result->joint.reset();
+    result->joint_failure = error.what();
     result->outcome.message = "joint " + joint_config.model + " fit failed: " + error.what();
     return false;
   }
@@ -447,28 +422,19 @@ std::pair<bool, std::string> JointCalibrationSession::save()
 
 std::string JointCalibrationSession::saveJoint() const
 {
-  const std::string directory = options_.output_directory;
-  SessionFiles set;
-  for (std::size_t k = 0; k < sessions_.size(); ++k) {
-    const std::string folder = "source_" + std::to_string(k) + "/";
-    fs::create_directories(directory + "/" + folder);
-    const SessionFiles own = sessions_[k]->filesToSave();
-    for (const auto& [name, content] : own.written)
-      set.written.emplace_back(folder + name, content);
-    for (const std::string& name : own.removed)
-      set.removed.push_back(folder + name);
-  }
-  set.written.emplace_back(kResultFileName,
-                           jointResultYaml(joint_config_, *joint_, joint_inputs_, options_.source));
-  std::string urdf;
-  for (std::size_t k = 0; k < sessions_.size(); ++k) {
-    urdf += laserJointUrdf(joint_->sensors[k].T_base_sensor, options_.base_frame,
-                           joint_inputs_[k].frame);
-  }
-  set.written.emplace_back("laser_joints.urdf", urdf);
-  addControllerFile(jointControllerYaml(*joint_, options_.source), &set.written, &set.removed);
-  set.written.emplace_back("joint_report.txt", joint_text_);
-  return writeFileSet(directory, set);
+  FileSet set;
+  for (std::size_t k = 0; k < sessions_.size(); ++k)
+    set.addUnder("source_" + std::to_string(k), sessions_[k]->filesToSave());
+  const FileSet joint = jointCalibrationFiles(joint_config_, *joint_, joint_inputs_,
+                                              options_.source, options_.base_frame, joint_text_);
+  set.written.insert(set.written.end(), joint.written.begin(), joint.written.end());
+  set.removed.insert(set.removed.end(), joint.removed.begin(), joint.removed.end());
+  writeFileSet(options_.output_directory, set);
+  std::string list;
+  for (const auto& [name, content] : set.written)
+    list += (list.empty() ? "" : ", ") + name;
+  return "saved the joint fit in " +
+         fs::absolute(options_.output_directory).lexically_normal().string() + ": " + list;
 }
 
 std::pair<bool, std::string> JointCalibrationSession::reset()

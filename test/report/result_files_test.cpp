@@ -30,8 +30,8 @@ ResultFiles resultSet(const std::string& run, std::size_t pairs)
                             {pair.end_stamp_s, Eigen::Vector2d(1.0, 1.0)}};
     files.pairs.pairs.push_back(pair);
   }
-  files.result_yaml = "source: " + run + "\n";
-  files.controller_yaml = "wheel_radius: 0.0765 # " + run + "\n";
+  files.calibration.written = {{"result.yaml", "source: " + run + "\n"},
+                                {"controller.yaml", "wheel_radius: 0.0765 # " + run + "\n"}};
   files.text_report = "report of " + run + "\n";
   files.markdown.bags = {run + ".bag"};
   files.markdown.trajectories.matched = {Pose2(), Pose2(1.0, 0.0, 0.0)};

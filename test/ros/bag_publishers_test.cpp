@@ -110,10 +110,10 @@ TEST_F(BagPublishers, TheChosenPublisherCalibratesWithinATenthOfAPercentOfTheCle
   const BagRunResult clean = runBags({clean_}, config_);
   config_.joint_state_publisher = "/driver";
   const BagRunResult chosen = runBags({two_}, config_);
-  EXPECT_EQ(chosen.ignored_joint_states, clean.joint_state_messages);
-  EXPECT_EQ(chosen.ignored_joint_state_publisher, "/joint_state_publisher");
+  EXPECT_EQ(chosen.counts.ignored_encoder_messages, clean.counts.encoder_messages);
+  EXPECT_EQ(chosen.counts.ignored_encoder_publisher, "/joint_state_publisher");
   EXPECT_EQ(chosen.pairs.size(), clean.pairs.size());
-  const auto notes = bagRunNotes(chosen);
+  const auto notes = chosen.session->source(0).collectionNotes();
   ASSERT_FALSE(notes.empty());
   EXPECT_NE(notes.front().find("ignored 2001 JointState messages from '/joint_state_publisher'"),
             std::string::npos)
@@ -158,14 +158,14 @@ TEST_F(BagPublishers, TheChosenScanPublisherCalibratesWithinATenthOfAPercentOfTh
   const BagRunResult clean = runBags({clean_}, config_);
   config_.ego_motion_publisher = "/laser_driver";
   const BagRunResult chosen = runBags({two_lasers_}, config_);
-  EXPECT_EQ(chosen.ignored_ego_messages, clean.ego_motion_messages);
-  EXPECT_EQ(chosen.ignored_ego_publisher, "/laser_replay");
-  EXPECT_EQ(chosen.ego_publisher, "/laser_driver");
-  EXPECT_EQ(chosen.ignored_joint_states, 0u);
+  EXPECT_EQ(chosen.counts.ignored_ego_messages, clean.counts.ego_messages);
+  EXPECT_EQ(chosen.counts.ignored_ego_publisher, "/laser_replay");
+  EXPECT_EQ(chosen.counts.ego_publisher, "/laser_driver");
+  EXPECT_EQ(chosen.counts.ignored_encoder_messages, 0u);
   EXPECT_EQ(chosen.pairs.size(), clean.pairs.size());
-  const auto notes = bagRunNotes(chosen);
+  const auto notes = chosen.session->source(0).collectionNotes();
   ASSERT_FALSE(notes.empty());
-  EXPECT_NE(notes.front().find("ignored " + std::to_string(clean.ego_motion_messages) +
+  EXPECT_NE(notes.front().find("ignored " + std::to_string(clean.counts.ego_messages) +
                                " LaserScan messages from '/laser_replay' (ego_motion.publisher: "
                                "'/laser_driver')"),
             std::string::npos)

@@ -42,10 +42,10 @@ protected:
 TEST_F(BagRunner, CalibratesASimulatedBagToItsTruth)
 {
   const BagRunResult run = runBags({bag_}, config_);
-  EXPECT_EQ(run.joint_state_messages, 2001u);
-  EXPECT_EQ(run.ego_motion_messages, 401u);
+  EXPECT_EQ(run.counts.encoder_messages, 2001u);
+  EXPECT_EQ(run.counts.ego_messages, 401u);
   EXPECT_GT(run.pairs.size(), 70u);
-  EXPECT_EQ(run.bad_joint_states, 0u);
+  EXPECT_EQ(run.counts.bad_encoder_messages, 0u);
   auto model = makeModel("diff_drive", config_.models);
   const ModelReport report = model->fit(run.pairs);
   ASSERT_TRUE(report.converged);
@@ -152,7 +152,7 @@ TEST_F(BagRunner, MismatchedJointStatesAreSkippedAndCounted)
     }
   }
   const BagRunResult run = runBags({bag_path}, config_);
-  EXPECT_EQ(run.bad_joint_states, 200u);
+  EXPECT_EQ(run.counts.bad_encoder_messages, 200u);
   EXPECT_NE(run.first_bad_joint_state.find("2 names but 1 positions"), std::string::npos)
       << run.first_bad_joint_state;
   EXPECT_GT(run.pairs.size(), 60u);
@@ -177,10 +177,9 @@ TEST_F(BagRunner, ScansWithAnImpossibleGeometryAreSkippedAndCountedAsTheNodeDoes
   }
   const BagRunResult clean = runBags({bag_}, config_);
   const BagRunResult run = runBags({bag_path}, config_);
-  EXPECT_EQ(run.bad_clouds, 8u);  // 401 scans, every 50th
-  EXPECT_EQ(run.ego_message_type, "LaserScan");
-  EXPECT_NE(run.first_bad_cloud.find("angle_increment"), std::string::npos) << run.first_bad_cloud;
-  const std::vector<std::string> notes = bagRunNotes(run);
+  EXPECT_EQ(run.counts.bad_ego_messages, 8u);  // 401 scans, every 50th
+  EXPECT_NE(run.counts.first_bad_ego_message.find("angle_increment"), std::string::npos) << run.counts.first_bad_ego_message;
+  const std::vector<std::string> notes = run.session->source(0).collectionNotes();
   ASSERT_FALSE(notes.empty());
   EXPECT_EQ(notes.front().rfind("skipped 8 LaserScan messages, first: ", 0), 0u) << notes.front();
   // The keyframes move to the neighbouring scans: the run goes on with about as many pairs.
@@ -190,20 +189,20 @@ TEST_F(BagRunner, ScansWithAnImpossibleGeometryAreSkippedAndCountedAsTheNodeDoes
 TEST(BagRunSummary, ScaleCheckLineAndTheLinesAfterIt)
 {
   BagRunResult run;
-  run.statistics.pairs = 7;
-  run.statistics.rejected["keyframe match disagrees with consecutive matches"] = 3;
-  const std::string without = formatBagRunSummary(run);
+  run.counts.statistics.pairs = 7;
+  run.counts.statistics.rejected["keyframe match disagrees with consecutive matches"] = 3;
+  const std::string without = formatBagRunSummary(run, run.counts, {});
   EXPECT_EQ(without.find("scale check"), std::string::npos) << without;
   // Two pairs: chains 4 and 6 m, keyframe matches 4.04 and 6.01 m (R = 1.005; residuals
   // +0.02, -0.02; standard error 100 sqrt(2 * 0.0008) / 10 = 0.40 %).
-  run.statistics.chained_m = 10.0;
-  run.statistics.keyframe_along_chain_m = 10.05;
-  run.statistics.scale_check_pairs = 2;
-  run.statistics.chained_m2 = 4.0 * 4.0 + 6.0 * 6.0;
-  run.statistics.keyframe_along_chain_m2 = 4.04 * 4.04 + 6.01 * 6.01;
-  run.statistics.chained_times_keyframe_m2 = 4.0 * 4.04 + 6.0 * 6.01;
-  EXPECT_NEAR(run.statistics.keyframeVersusChainStandardErrorPercent(), 0.40, 1e-9);
-  const std::string summary = formatBagRunSummary(run);
+  run.counts.statistics.chained_m = 10.0;
+  run.counts.statistics.keyframe_along_chain_m = 10.05;
+  run.counts.statistics.scale_check_pairs = 2;
+  run.counts.statistics.chained_m2 = 4.0 * 4.0 + 6.0 * 6.0;
+  run.counts.statistics.keyframe_along_chain_m2 = 4.04 * 4.04 + 6.01 * 6.01;
+  run.counts.statistics.chained_times_keyframe_m2 = 4.0 * 4.04 + 6.0 * 6.01;
+  EXPECT_NEAR(run.counts.statistics.keyframeVersusChainStandardErrorPercent(), 0.40, 1e-9);
+  const std::string summary = formatBagRunSummary(run, run.counts, {});
   EXPECT_NE(summary.find("scale check: keyframe matches +0.50 % (± 0.40) against the chained "
                          "consecutive matches over 2 pairs"),
             std::string::npos)
@@ -241,12 +240,12 @@ TEST_F(BagRunner, EncoderGlitchesAreSkippedCountedAndChangeNoParameter)
   EXPECT_GT(glitched.pairs.size(), clean.pairs.size() - 25);
   std::cout << "pairs: clean " << clean.pairs.size() << ", glitched " << glitched.pairs.size()
             << "\n";
-  ASSERT_EQ(glitched.statistics.glitches.size(), 2u);
-  EXPECT_EQ(glitched.statistics.glitches.at("left_wheel"), 10u);
-  EXPECT_EQ(glitched.statistics.glitches.at("right_wheel"), 10u);
-  EXPECT_EQ(clean.statistics.glitches.size(), 0u);
+  ASSERT_EQ(glitched.counts.statistics.glitches.size(), 2u);
+  EXPECT_EQ(glitched.counts.statistics.glitches.at("left_wheel"), 10u);
+  EXPECT_EQ(glitched.counts.statistics.glitches.at("right_wheel"), 10u);
+  EXPECT_EQ(clean.counts.statistics.glitches.size(), 0u);
   EXPECT_EQ(glitched.bad_joint_states, 0u);
-  EXPECT_GT(glitched.statistics.rejected.at("encoder glitch in the interval"), 0u);
+  EXPECT_GT(glitched.counts.statistics.rejected.at("encoder glitch in the interval"), 0u);
   EXPECT_NE(formatBagRunSummary(glitched).find("skipped 10 encoder glitches on joint 'left_wheel'"),
             std::string::npos)
       << formatBagRunSummary(glitched);

@@ -12,7 +12,6 @@
 
 #include "odometry_calibration/calibration/calibration_config.h"
 #include "odometry_calibration/ros/bag_calibration.h"
-#include "odometry_calibration/ros/bag_joint_calibration.h"
 #include "odometry_calibration/ros/sim_bag_writer.h"
 #include "odometry_calibration/sim/scenario.h"
 
@@ -276,8 +275,7 @@ TEST(CalibrateBagJoint, AFailedJointFitStillWritesEverySourcesFitAlone)
       40.0,
       [&](const BagCalibrationOptions& options, std::ostream& out) {
         try {
-          return calibrateBagsJointly(options, loadCalibrationConfig(options.config_path), out,
-                                      failing);
+          return calibrateBags(options, out, failing);
         } catch (const std::runtime_error& error) {
           thrown = error.what();
           return 1;

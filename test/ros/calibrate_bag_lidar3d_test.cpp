@@ -153,21 +153,21 @@ TEST_F(CalibrateBagLidar3d, CloudsWithImpossibleAbsoluteStampsAreUsedWithoutTime
   }
   const CalibrationConfig config = loadCalibrationConfig(kConfig + "/diff_drive_lidar3d.yaml");
   const BagRunResult run = runBags({bag, odd_bag}, config);
-  EXPECT_EQ(run.bad_clouds, 0u);
-  EXPECT_EQ(run.clouds_without_times, 1u);
-  EXPECT_NE(run.first_cloud_time_problem.find("per-point times of field 'timestamp' ignored"),
+  EXPECT_EQ(run.counts.bad_ego_messages, 0u);
+  EXPECT_EQ(run.counts.clouds_without_times, 1u);
+  EXPECT_NE(run.counts.first_cloud_time_problem.find("per-point times of field 'timestamp' ignored"),
             std::string::npos)
-      << run.first_cloud_time_problem;
-  EXPECT_NE(run.first_cloud_time_problem.find("s from the stamp, beyond the 0.5 s"),
+      << run.counts.first_cloud_time_problem;
+  EXPECT_NE(run.counts.first_cloud_time_problem.find("s from the stamp, beyond the 0.5 s"),
             std::string::npos)
-      << run.first_cloud_time_problem;
+      << run.counts.first_cloud_time_problem;
   const std::string notes = formatBagRunSummary(run);
   EXPECT_NE(notes.find("1 PointCloud2 messages used without their per-point times"),
             std::string::npos)
       << notes;
   // The run's own clouds alone: every time used.
   const BagRunResult clean = runBags({bag}, config);
-  EXPECT_EQ(clean.clouds_without_times, 0u);
+  EXPECT_EQ(clean.counts.clouds_without_times, 0u);
   EXPECT_GT(clean.pairs.size(), 10u);
 }
 
@@ -227,10 +227,10 @@ TEST_F(CalibrateBagLidar3d, UnusableCloudsAreSkippedCountedAndNamed)
   }
   const CalibrationConfig config = loadCalibrationConfig(kConfig + "/diff_drive_lidar3d.yaml");
   const BagRunResult run = runBags({bag, bad_bag}, config);
-  EXPECT_EQ(run.bad_clouds, 6u);
-  EXPECT_EQ(run.ego_motion_messages, 80u + 6u);  // 80 sweeps end within 8 s
+  EXPECT_EQ(run.counts.bad_ego_messages, 6u);
+  EXPECT_EQ(run.counts.ego_messages, 80u + 6u);  // 80 sweeps end within 8 s
   EXPECT_GT(run.pairs.size(), 10u);              // the good clouds still pair
-  EXPECT_EQ(run.first_bad_cloud, "PointCloud2 skipped: the cloud is empty");
+  EXPECT_EQ(run.counts.first_bad_ego_message, "PointCloud2 skipped: the cloud is empty");
   const std::string notes = formatBagRunSummary(run);
   EXPECT_NE(notes.find("skipped 6 PointCloud2 messages"), std::string::npos) << notes;
 
@@ -248,11 +248,11 @@ TEST_F(CalibrateBagLidar3d, UnusableCloudsAreSkippedCountedAndNamed)
     out.write(scenario_.laser.topic, later, cloudMessage(wall, "other", later));
   }
   const BagRunResult sparse = runBags({bag, sparse_bag}, sparse_config);
-  EXPECT_EQ(sparse.bad_clouds, 2u);
-  EXPECT_NE(sparse.first_bad_cloud.find("too few points in the height band [-0.3, 0.3] m about "
+  EXPECT_EQ(sparse.counts.bad_ego_messages, 2u);
+  EXPECT_NE(sparse.counts.first_bad_ego_message.find("too few points in the height band [-0.3, 0.3] m about "
                                         "the sensor's plane: 5 bearings left (20 needed)"),
             std::string::npos)
-      << sparse.first_bad_cloud;
+      << sparse.counts.first_bad_ego_message;
 }
 
 }  // namespace

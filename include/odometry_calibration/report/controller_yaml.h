@@ -3,8 +3,6 @@
 #pragma once
 
 #include <string>
-#include <utility>
-#include <vector>
 
 #include "odometry_calibration/models/joint_fit_report.h"
 #include "odometry_calibration/models/model.h"
@@ -28,13 +26,5 @@ std::string controllerYaml(const ModelReport& report, const std::string& source)
 /// diff_drive fit of 2 sensors, 119 + 121 = 240 pairs") and pointing at joint_report.txt when
 /// a sensor's fit warns.
 std::string jointControllerYaml(const JointFitReport& joint, const std::string& source);
-
-/// controller.yaml (report/result_files.h's kControllerFileName) in a set of files to save as
-/// one: with `controller` (controllerYaml's text) appended to `written` as (name, text); when it
-/// is empty (the model has no controller form) its name appended to `removed` instead, so that
-/// an earlier calibration's controller values do not pass for this one's.
-void addControllerFile(const std::string& controller,
-                       std::vector<std::pair<std::string, std::string>>* written,
-                       std::vector<std::string>* removed);
 
 }  // namespace odometry_calibration

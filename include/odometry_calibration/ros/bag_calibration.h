@@ -1,7 +1,7 @@
-// calibrate_bag's job (README, "calibrate_bag"): the bags fed to a calibration session
-// (bag_runner.h; paired again at the estimated time offset when it is off), the session's fit
-// (the same code as the live node's ~calibrate), scores on test bags or a held-out part, and the
-// files of the run written together (report/result_files.h).
+// calibrate_bag's job (README, "calibrate_bag"): the bags read once into the live node's own
+// JointCalibrationSession (bag_runner.h), its fit (the node's ~calibrate: one source alone, or
+// several sources each alone and then jointly), scores on test bags or a held-out part (one
+// source), and the files of the run written together (report/result_files.h).
 #pragma once
 
 #include <ostream>
@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "odometry_calibration/common/gnuplot.h"
+#include "odometry_calibration/session/joint_calibration_session.h"
 
 namespace odometry_calibration {
 
@@ -32,8 +33,18 @@ struct BagCalibrationOptions
 void checkBagCalibrationOptions(const BagCalibrationOptions& options);
 
 /// Runs the calibration, prints what it did to `out` and writes the files. Returns the exit
-/// status (calibrationExitStatus: 0, 3 not converged, 4 warnings); throws std::exception for bad
-/// input (unreadable bags or configuration, too few pairs).
-int calibrateBags(const BagCalibrationOptions& options, std::ostream& out);
+/// status (calibrationExitStatus: 0, 3 not converged, 4 warnings; several sources: of the joint
+/// fit, every sensor's warnings counted); throws std::exception for bad input (unreadable bags
+/// or configuration, too few pairs). Several ego-motion sources (`ego_motion.sources`, e.g. a
+/// front and a rear laser; models diff_drive, skid_steer, mecanum, tricycle): each source's run
+/// and fit alone is printed, then the joint fit (a table per sensor and the agreement of the fits
+/// alone); each source's files go to <output>/source_<k>/ and the joint result.yaml,
+/// laser_joints.urdf, controller.yaml (not for tricycle) and joint_report.txt to <output>, all
+/// as one set. When the joint fit (`fit_jointly`; a test forces a failure through it) fails
+/// after every source was fitted alone, the sources' text is printed and their files written
+/// (with joint_report.txt; an earlier run's joint result.yaml, laser_joints.urdf and
+/// controller.yaml removed), then std::runtime_error says that the joint fit failed and why.
+int calibrateBags(const BagCalibrationOptions& options, std::ostream& out,
+                  const JointFitFunction& fit_jointly = fitSourcesJointly);
 
 }  // namespace odometry_calibration

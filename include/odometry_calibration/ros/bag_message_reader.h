@@ -43,6 +43,7 @@ struct BagInput
   std::string frame;  ///< the scan's or cloud's frame, the odometry's child frame (or empty)
   std::string problem;
   std::string publisher;  ///< the connection's callerid: the node that published it (or empty)
+  std::size_t source = 0;  ///< the ego-motion source (egoMotionSources order) of an ego input
 };
 
 /// rosbag trusts a bag's index: a corrupted index entry makes it read outside its buffers
@@ -67,7 +68,9 @@ public:
 class BagMessageReader
 {
 public:
-  /// Starts reading `view` (which must outlive the reader) for the topics of `config`.
+  /// Starts reading `view` (which must outlive the reader) for the topics of `config`: the
+  /// joint states and every ego-motion source's (egoMotionSources), each ego input tagged with
+  /// its source.
   BagMessageReader(rosbag::View& view, const CalibrationConfig& config,
                    const std::string& bags = "a bag");
   ~BagMessageReader();
@@ -97,7 +100,7 @@ private:
   double read_time_s_ = 0.0;
   double conversion_time_s_ = 0.0;
   double filtering_time_s_ = 0.0;
-  std::string cloud_frame_;                  ///< the first cloud's frame: the sensor's
+  std::vector<std::string> cloud_frames_;    ///< each source's first cloud's frame
   std::vector<std::uint8_t> message_bytes_;  ///< the message being deserialised
   std::thread thread_;
 };

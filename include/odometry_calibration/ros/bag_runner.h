@@ -5,14 +5,12 @@
 
 #include <functional>
 #include <memory>
-#include <optional>
 #include <string>
 #include <vector>
 
 #include "odometry_calibration/calibration/calibration_config.h"
-#include "odometry_calibration/calibration/time_offset.h"
 #include "odometry_calibration/pairing/pair_collector.h"
-#include "odometry_calibration/session/calibration_session.h"
+#include "odometry_calibration/session/joint_calibration_session.h"
 
 namespace odometry_calibration {
 
@@ -27,90 +25,44 @@ struct BagProgress
 /// What a run produced, and where the time went.
 struct BagRunResult
 {
+  /// The session the bags were fed to (one CalibrationSession per ego-motion source, fed the
+  /// same encoders): each source's pairs (also at the candidate intervals), counts and encoder
+  /// history, and calibrate() on them.
+  std::shared_ptr<JointCalibrationSession> session;
+  /// Source 0's pairs, encoder history (every decoded sample in time order; empty after a
+  /// restart: not continuous then) and counts at the end of the run.
   std::vector<MotionPair> pairs;
-  /// Every decoded encoder sample, in time order (empty after a restart: the history is not
-  /// continuous then), for re-cutting the pairs' windows at another time offset.
   std::vector<EncoderSample> encoder_history;
-  CollectorStatistics statistics;
-  std::size_t joint_state_messages = 0;
-  std::size_t ego_motion_messages = 0;
-  std::size_t bad_joint_states = 0;   ///< skipped: missing joints, mismatched arrays, NaN
-  std::string first_bad_joint_state;  ///< the first such problem, in words
-  /// JointStates from another node than joint_state_publisher (ignored), that node and the
-  /// one used (connection callerids).
-  std::size_t ignored_joint_states = 0;
-  std::string ignored_joint_state_publisher, joint_state_publisher;
-  /// Ego-motion messages from another node than ego_motion.publisher (ignored), that node and
-  /// the one used (connection callerids).
-  std::size_t ignored_ego_messages = 0;
-  std::string ignored_ego_publisher, ego_publisher;
-  std::string ego_publisher_key = "ego_motion.publisher";  ///< the key choosing it (notes)
-  std::string ego_message_type;  ///< "LaserScan", "PointCloud2" or "pose", for messages
-  std::size_t bad_clouds = 0;    ///< skipped ego-motion messages (clouds: layout, band, frame)
-  std::string first_bad_cloud;   ///< the first such problem, in words
-  /// PointCloud2 used without their per-point times (a bad time, a missing configured field)
-  std::size_t clouds_without_times = 0;
-  std::string first_cloud_time_problem;  ///< why the first of them, in words
-  std::vector<std::string> restarts;     ///< time going backwards, in words
-  double bag_span_s = 0.0;               ///< time covered by the bags [s]
-  double wall_time_s = 0.0;              ///< total wall time [s]
+  SessionCounts counts;
+  double bag_span_s = 0.0;         ///< time covered by the bags [s]
+  double wall_time_s = 0.0;        ///< total wall time [s]
   double read_time_s = 0.0;        ///< reading and deserialising messages (reading thread) [s]
   double conversion_time_s = 0.0;  ///< messages to the core's types (reading thread) [s]
   double filtering_time_s = 0.0;   ///< clouds to scans: band, voxels, binning (reading thread) [s]
   double pairing_time_s = 0.0;     ///< scan preparation, matching, pairing [s]
-  /// The session the bags were fed to: its pairs (also at the candidate intervals) and encoder
-  /// history, and calibrate() on them.
-  std::shared_ptr<CalibrationSession> session;
 };
 
-/// Runs the bags through a collector. Only messages within [start_offset_s, end_offset_s]
-/// after the first message are used (end <= 0: to the end). Throws std::runtime_error for a
-/// bag that cannot be read (missing, truncated, unindexed: the message says which and what to
-/// do), a topic that carries no message, or two nodes publishing one input (the connections'
-/// callerids; the message names both and how to choose: session/input_publishers.h).
-/// With `candidate_intervals_s`, the session also pairs at those keyframe intervals (for the
-/// choice of the fit interval).
+/// Runs the bags once through a JointCalibrationSession (calibrate_bag's: no files, odometry or
+/// assistant; every encoder sample kept; result.yaml's `source` the first bag): the joint
+/// states and every ego-motion source's messages. Only messages within [start_offset_s,
+/// end_offset_s] after the first message are used (end <= 0: to the end). Throws
+/// std::runtime_error for a bag that cannot be read (missing, truncated, unindexed: the message
+/// says which and what to do), a topic that carries no (usable) message, or two nodes
+/// publishing one input (the connections' callerids; the message names both and how to choose:
+/// session/input_publishers.h). With `candidate_intervals_s`, each source's session also pairs
+/// at those keyframe intervals (for the choice of the fit interval). `fit_jointly`: the
+/// session's joint fit of several sources.
 BagRunResult runBags(const std::vector<std::string>& bag_paths, const CalibrationConfig& config,
                      double start_offset_s = 0.0, double end_offset_s = 0.0,
                      const std::function<void(const BagProgress&)>& progress = nullptr,
-                     const std::vector<double>& candidate_intervals_s = {});
+                     const std::vector<double>& candidate_intervals_s = {},
+                     const JointFitFunction& fit_jointly = fitSourcesJointly);
 
-/// How runBagsAtEstimatedOffset paired the bags.
-struct OffsetPairing
-{
-  double configured_s = 0.0;  ///< keyframes.time_offset_s: the first pass's offset [s]
-  double estimate_s = 0.0;    ///< the offset estimated on the first pass's pairs [s]
-  bool paired_again = false;  ///< the bags were paired a second time, at estimate_s
-  std::string text;           ///< what was done, in words (empty when nothing was estimated)
-  /// The search on the returned pairs when they were not paired again (for
-  /// CalibrationJobOptions::time_offset_search: the same search need not run twice).
-  std::optional<TimeOffsetResult> search;
-};
-
-/// runBags at the time offset the data supports. The pairing uses the encoders at scan time +
-/// keyframes.time_offset_s for more than the pairs' windows (which the fit re-cuts at the
-/// estimated offset): for each scan's sweep compensation and for the matchers' first guesses.
-/// Paired at a wrong offset, a scan is compensated with the motion of another instant, which
-/// reads the path short (on simulated Mines-like runs configured 0.15 s off: the radii 0.8 %
-/// low, against +0.3 % when paired at the estimate; docs/scan_matching.md). So, when
-/// `config->estimate_time_offset` is set, the offset is estimated on the first pass's pairs
-/// (runCalibrationJob's search) and, when it differs from the configured one by more than
-/// `tolerance_s`, the bags are paired again at the estimate and config->collector.time_offset_s
-/// is set to it (the offset the returned pairs were made at; the fit estimates it again from
-/// there). Without the estimation, runBags. Throws as runBags and runCalibrationJob.
-BagRunResult runBagsAtEstimatedOffset(
-    const std::vector<std::string>& bag_paths, CalibrationConfig* config,
-    double start_offset_s = 0.0, double end_offset_s = 0.0,
-    const std::function<void(const BagProgress&)>& progress = nullptr,
-    OffsetPairing* pairing = nullptr, double tolerance_s = 0.01,
-    const std::vector<double>& candidate_intervals_s = {});
-
-/// What went wrong while reading, in words: skipped JointState and PointCloud2 messages (how
-/// many, the first reason) and restarts after time went backwards; empty for a clean run.
-std::vector<std::string> bagRunNotes(const BagRunResult& run);
-
-/// The run in a few lines: data span and speed (reading, conversion, pairing times), pairs,
-/// scans and keyframes, consecutive-match failures, rejections by reason, then bagRunNotes.
-std::string formatBagRunSummary(const BagRunResult& run);
+/// A source's part of the run in a few lines: the run's data span and speed (reading,
+/// conversion, pairing times), then from the source's `counts`: pairs, scans and keyframes,
+/// consecutive-match failures, rejections by reason; then `notes`, what went wrong
+/// (CalibrationSession::collectionNotes).
+std::string formatBagRunSummary(const BagRunResult& run, const SessionCounts& counts,
+                                const std::vector<std::string>& notes);
 
 }  // namespace odometry_calibration

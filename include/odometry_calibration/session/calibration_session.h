@@ -23,6 +23,7 @@
 #include "odometry_calibration/calibration/calibration_config.h"
 #include "odometry_calibration/calibration/fit_interval.h"
 #include "odometry_calibration/pairing/pair_collector.h"
+#include "odometry_calibration/report/calibration_files.h"
 #include "odometry_calibration/session/encoder_watch.h"
 #include "odometry_calibration/session/input_monitor.h"
 #include "odometry_calibration/session/input_publishers.h"
@@ -143,14 +144,6 @@ private:
   std::unique_ptr<State> state_;
 };
 
-/// The files save() writes, by name in the output directory, with their content, and those it
-/// removes (an earlier calibration's controller.yaml when this one has none).
-struct SessionFiles
-{
-  std::vector<std::pair<std::string, std::string>> written;
-  std::vector<std::string> removed;
-};
-
 class CalibrationSession
 {
 public:
@@ -213,6 +206,11 @@ public:
   bool hasNominalOdometry() const;
   /// The paths (the scan-matched one drawn through the known or configured sensor pose).
   OdometryPaths paths() const;
+  /// What went wrong with the inputs so far, in words, one line each: messages ignored from
+  /// another publisher, skipped JointStates and ego-motion messages (how many, the first
+  /// reason), clouds used without their per-point times, encoder glitches per joint, restarts
+  /// after time went backwards; empty for a clean collection.
+  std::vector<std::string> collectionNotes() const;
   /// "calibration", "excitation guidance", "calibration health" (those that exist);
   /// input rates over `period_s`.
   std::vector<SessionStatusReport> statusReports(double period_s);
@@ -252,8 +250,10 @@ public:
   /// monitor watching, the time offset's log line; the outcome as calibrate() gives it.
   /// Throws std::logic_error for an adoption not committed.
   CalibrateOutcome finishAdoption(PreparedAdoption& adoption, std::size_t pairs_collected);
-  /// What save() writes now; throws std::runtime_error when there is nothing to save.
-  SessionFiles filesToSave() const;
+  /// What save() writes now (report/calibration_files.h: result.yaml, controller.yaml or its
+  /// removal, laser_joint.urdf with a sensor pose); throws std::runtime_error when there is
+  /// nothing to save.
+  FileSet filesToSave() const;
   /// Writes the last successful fit: result.yaml, controller.yaml (diff_drive, skid_steer,
   /// mecanum), laser_joint.urdf (with a sensor pose). Returns {success, message}.
   std::pair<bool, std::string> save();
@@ -337,7 +337,7 @@ private:
   std::string active_model_origin_;
   double model_interval_s_ = 0.5;  ///< window of the active model's predictions [s]
   std::shared_ptr<const MotionModel> fitted_model_;  ///< last successful fit (for save())
-  std::string fitted_result_yaml_, fitted_controller_yaml_;
+  FileSet fitted_files_;  ///< the last successful fit's files (calibrationFiles)
   std::optional<FitCounts> last_fit_counts_;
   std::optional<Pose2> T_base_sensor_;  ///< learned (or saved) sensor pose
   std::string sensor_frame_;            ///< from the inputs' headers

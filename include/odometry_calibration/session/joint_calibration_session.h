@@ -31,7 +31,17 @@ struct JointCalibrateOutcome
   CalibrateOutcome outcome;
   std::optional<JointFitReport> joint;  ///< the joint fit, when one ran
   std::string text;                     ///< its tables in words (formatJointFitReport)
+  /// Several sources: each source's fit alone (all of them, or none when one could not run),
+  /// and what the joint fit took from them (also when it then failed).
+  std::vector<SessionFit> alone;
+  std::vector<JointSourceInput> inputs;
+  std::string joint_failure;  ///< why the joint fit itself failed ("" when it ran)
 };
+
+/// The joint fit of the sources' fits alone (fitSourcesJointly's signature; a test forces a
+/// failure through it).
+using JointFitFunction =
+    std::function<JointFitReport(const CalibrationConfig&, const std::vector<JointSourceInput>&)>;
 
 class JointCalibrationSession
 {
@@ -43,11 +53,13 @@ public:
   /// its frame (or "<default_sensor_frame>_<k>") until its messages name theirs, adopt_fits
   /// off (the joint fit is adopted), the odometry only in source 0's session, and its log lines
   /// starting with "[<topic>] ".
-  /// `listener(k)`: source k's listener. Throws as CalibrationSession's constructor, and
-  /// std::invalid_argument for several sources of a model without a joint fit.
+  /// `listener(k)`: source k's listener; `fit_jointly`: the joint fit. Throws as
+  /// CalibrationSession's constructor, and std::invalid_argument for several sources of a model
+  /// without a joint fit.
   JointCalibrationSession(const CalibrationConfig& config, const std::string& config_text,
                           const std::string& config_source, const SessionOptions& options,
-                          const std::function<SessionListener(std::size_t)>& listener);
+                          const std::function<SessionListener(std::size_t)>& listener = {},
+                          JointFitFunction fit_jointly = fitSourcesJointly);
   ~JointCalibrationSession();
   JointCalibrationSession(const JointCalibrationSession&) = delete;
   JointCalibrationSession& operator=(const JointCalibrationSession&) = delete;
@@ -107,9 +119,8 @@ private:
                                                          const CalibrationConfig& joint_config,
                                                          std::size_t* pairs_collected,
                                                          std::string* failure);
-  /// The joint fit of the fits alone into `result` (false: result's message says why).
-  bool fitJointly(const CalibrationConfig& joint_config, const std::vector<SessionFit>& fits,
-                  JointCalibrateOutcome* result, std::vector<JointSourceInput>* inputs);
+  /// The joint fit of result->alone into `result` (false: result's message says why).
+  bool fitJointly(const CalibrationConfig& joint_config, JointCalibrateOutcome* result);
   /// Every source adopts its view of `joint`, all or none; the reply's message.
   std::string adoptJointFit(const CalibrationConfig& joint_config, const JointFitReport& joint,
                             const std::vector<SessionFit>& fits, bool* success);
@@ -133,6 +144,7 @@ private:
   std::unique_ptr<SessionAssistant> monitor_;
   mutable std::mutex monitor_mutex_;  ///< monitor_'s state; never held while calling a session
   std::vector<std::unique_ptr<CalibrationSession>> sessions_;
+  JointFitFunction fit_jointly_;
   std::mutex fit_mutex_;  ///< calibrate(), save(), reset(): one at a time
   /// The last converged joint fit and its configuration (the call's model), for save().
   std::optional<JointFitReport> joint_;
