@@ -66,18 +66,20 @@ CalibrationConfig loadConfig(const BagCalibrationOptions& options)
   return config;
 }
 
-/// The session's fit of the run's pairs; throws when none could run.
-SessionFit fitRun(const BagRunResult& run, const IntervalPlan& plan, const OffsetPairing& pairing,
-                  const PairHoldout* holdout)
+/// The session's fit of the run's pairs (paired again at the estimated time offset when the
+/// configured one is off: the run then takes those pairs, `pairing` says so); throws when none
+/// could run.
+SessionFit fitRun(BagRunResult* run, const IntervalPlan& plan, double holdout,
+                  OffsetPairing* pairing)
 {
   CalibrationRequest request;
   request.interval_mode = plan.mode;
   request.fixed_interval_s = plan.fixed_s;
-  if (holdout)
-    request.fit_until_stamp_s = holdout->border_stamp_s;
-  else
-    request.offset_search = pairing.search;  // the very pairs the offset was searched on
-  CalibrateOutcome outcome = run.session->calibrate(request);
+  if (holdout > 0.0)
+    request.holdout_fraction = holdout;
+  CalibrateOutcome outcome = run->session->calibrate(request);
+  takeSessionPairs(run);
+  *pairing = outcome.offset_pairing;
   if (!outcome.fit)
     throw std::runtime_error(outcome.message);
   return std::move(*outcome.fit);
@@ -202,17 +204,19 @@ int calibrateBags(const BagCalibrationOptions& options, std::ostream& out)
   const std::string output_dir =
       options.output_dir.empty() ? config.output_directory : options.output_dir;
   const IntervalPlan plan = planIntervals(options.interval, config);
-  // Paired at the estimated time offset (a second pass when the configured one is off).
+  BagRunResult run = runBags(
+      options.bags, config, options.start_s, options.end_s,
+      options.quiet ? nullptr : std::function<void(const BagProgress&)>(showProgress),
+      plan.candidates_s);
+  // Fitted at the estimated time offset (paired again when the configured one is off).
   OffsetPairing pairing;
-  const BagRunResult run = runBagsAtEstimatedOffset(
-      options.bags, &config, options.start_s, options.end_s,
-      options.quiet ? nullptr : std::function<void(const BagProgress&)>(showProgress), &pairing,
-      0.01, plan.candidates_s);
+  const SessionFit fit = fitRun(&run, plan, options.holdout, &pairing);
+  if (pairing.paired_again)
+    config.collector.time_offset_s = pairing.estimate_s;
   const std::string summary = formatBagRunSummary(run) + pairing.text;
   out << summary;
   const PairHoldout split =
       options.holdout > 0.0 ? holdOutLastPairs(run.pairs, options.holdout) : PairHoldout();
-  const SessionFit fit = fitRun(run, plan, pairing, options.holdout > 0.0 ? &split : nullptr);
   const CalibrationJobResult& job = fit.job;
   std::string text = summary + (fit.interval_text.empty() ? "" : fit.interval_text + "\n") +
                      (job.time_offset ? formatTimeOffset(*job.time_offset) : "") + "\n" +

@@ -37,12 +37,14 @@ SourceRun pairAndFitSource(const BagCalibrationOptions& options, const Calibrati
   source.config = configForSource(config, index);
   // Paired also at keyframes.fit_intervals_s, the interval chosen among them, as the live
   // node's session of this source does (joint_calibration_session.h).
-  source.run =
-      runBagsAtEstimatedOffset(options.bags, &source.config, options.start_s, options.end_s,
-                               nullptr, &source.pairing, 0.01, source.config.fit_intervals_s);
-  CalibrationRequest request;
-  request.offset_search = source.pairing.search;
-  CalibrateOutcome outcome = source.run.session->calibrate(request);
+  // Paired again at the estimated time offset by calibrate() when the configured one is off.
+  source.run = runBags(options.bags, source.config, options.start_s, options.end_s, nullptr,
+                       source.config.fit_intervals_s);
+  CalibrateOutcome outcome = source.run.session->calibrate({});
+  takeSessionPairs(&source.run);
+  source.pairing = outcome.offset_pairing;
+  if (source.pairing.paired_again)
+    source.config.collector.time_offset_s = source.pairing.estimate_s;
   if (!outcome.fit)
     throw std::runtime_error("source '" + source.source.topic + "': " + outcome.message);
   source.fit = std::move(outcome.fit);

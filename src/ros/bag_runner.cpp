@@ -173,6 +173,13 @@ void requireChosenPublisher(const std::string& key, const std::string& chosen,
                            std::to_string(ignored) + " came from " + publisherName(other) + ")");
 }
 
+void takeSessionPairs(BagRunResult* run)
+{
+  run->pairs = run->session->pairs();
+  run->encoder_history = run->session->encoderHistory();
+  run->statistics = run->session->counts().statistics;
+}
+
 /// The session's counts as the run's, and the checks that the bags held usable data.
 void takeCounts(const CalibrationSession& session, const std::string& ego_topic,
                 const CalibrationConfig& config, BagRunResult* result)

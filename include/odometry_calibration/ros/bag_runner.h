@@ -10,7 +10,6 @@
 #include <vector>
 
 #include "odometry_calibration/calibration/calibration_config.h"
-#include "odometry_calibration/calibration/time_offset.h"
 #include "odometry_calibration/pairing/pair_collector.h"
 #include "odometry_calibration/session/calibration_session.h"
 
@@ -75,35 +74,10 @@ BagRunResult runBags(const std::vector<std::string>& bag_paths, const Calibratio
                      const std::function<void(const BagProgress&)>& progress = nullptr,
                      const std::vector<double>& candidate_intervals_s = {});
 
-/// How runBagsAtEstimatedOffset paired the bags.
-struct OffsetPairing
-{
-  double configured_s = 0.0;  ///< keyframes.time_offset_s: the first pass's offset [s]
-  double estimate_s = 0.0;    ///< the offset estimated on the first pass's pairs [s]
-  bool paired_again = false;  ///< the bags were paired a second time, at estimate_s
-  std::string text;           ///< what was done, in words (empty when nothing was estimated)
-  /// The search on the returned pairs when they were not paired again (for
-  /// CalibrationJobOptions::time_offset_search: the same search need not run twice).
-  std::optional<TimeOffsetResult> search;
-};
-
-/// runBags at the time offset the data supports. The pairing uses the encoders at scan time +
-/// keyframes.time_offset_s for more than the pairs' windows (which the fit re-cuts at the
-/// estimated offset): for each scan's sweep compensation and for the matchers' first guesses.
-/// Paired at a wrong offset, a scan is compensated with the motion of another instant, which
-/// reads the path short (on simulated Mines-like runs configured 0.15 s off: the radii 0.8 %
-/// low, against +0.3 % when paired at the estimate; docs/scan_matching.md). So, when
-/// `config->estimate_time_offset` is set, the offset is estimated on the first pass's pairs
-/// (runCalibrationJob's search) and, when it differs from the configured one by more than
-/// `tolerance_s`, the bags are paired again at the estimate and config->collector.time_offset_s
-/// is set to it (the offset the returned pairs were made at; the fit estimates it again from
-/// there). Without the estimation, runBags. Throws as runBags and runCalibrationJob.
-BagRunResult runBagsAtEstimatedOffset(
-    const std::vector<std::string>& bag_paths, CalibrationConfig* config,
-    double start_offset_s = 0.0, double end_offset_s = 0.0,
-    const std::function<void(const BagProgress&)>& progress = nullptr,
-    OffsetPairing* pairing = nullptr, double tolerance_s = 0.01,
-    const std::vector<double>& candidate_intervals_s = {});
+/// The run's pairs, encoder history and collector statistics as its session holds them now:
+/// after its calibrate() paired the inputs again at the estimated time offset (CalibrateOutcome::
+/// offset_pairing), the pairs made at the estimate.
+void takeSessionPairs(BagRunResult* run);
 
 /// What went wrong while reading, in words: skipped JointState and PointCloud2 messages (how
 /// many, the first reason) and restarts after time went backwards; empty for a clean run.
