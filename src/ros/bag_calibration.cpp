@@ -204,10 +204,10 @@ int calibrateBags(const BagCalibrationOptions& options, std::ostream& out)
   const std::string output_dir =
       options.output_dir.empty() ? config.output_directory : options.output_dir;
   const IntervalPlan plan = planIntervals(options.interval, config);
-  BagRunResult run = runBags(
-      options.bags, config, options.start_s, options.end_s,
-      options.quiet ? nullptr : std::function<void(const BagProgress&)>(showProgress),
-      plan.candidates_s);
+  BagRunResult run =
+      runBags(options.bags, config, options.start_s, options.end_s,
+              options.quiet ? nullptr : std::function<void(const BagProgress&)>(showProgress),
+              plan.candidates_s);
   // Fitted at the estimated time offset (paired again when the configured one is off).
   OffsetPairing pairing;
   const SessionFit fit = fitRun(&run, plan, options.holdout, &pairing);

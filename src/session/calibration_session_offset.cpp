@@ -146,10 +146,10 @@ void CalibrationSession::pairAtEstimatedOffset(const std::optional<InputRecordVi
   feed(*record, &repairing);  // without the lock: the inputs go on meanwhile
   request->config.collector.time_offset_s = pairing->estimate_s;
   request->pairs = repairing.pairs;
-  request->candidates = repairing.candidates ? repairing.candidates->pairs()
-                                             : std::vector<IntervalPairs>();
-  request->encoder_history = repairing.history_broken ? std::vector<EncoderSample>()
-                                                      : repairing.history;
+  request->candidates =
+      repairing.candidates ? repairing.candidates->pairs() : std::vector<IntervalPairs>();
+  request->encoder_history =
+      repairing.history_broken ? std::vector<EncoderSample>() : repairing.history;
   request->offset_search.reset();
   install(record->end(), std::move(repairing), pairing->estimate_s);
   pairing->paired_again = true;

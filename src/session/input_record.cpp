@@ -49,8 +49,8 @@ void encodeScan(const Scan& scan, std::vector<char>* out)
   const double header[kScanHeaderValues] = {scan.angle_min_rad, scan.angle_increment_rad,
                                             scan.range_min_m, scan.range_max_m,
                                             scan.time_increment_s};
-  const std::uint64_t sizes[4] = {scan.ranges_m.size(), scan.valid.size(),
-                                  scan.ray_times_s.size(), scan.ray_angles_rad.size()};
+  const std::uint64_t sizes[4] = {scan.ranges_m.size(), scan.valid.size(), scan.ray_times_s.size(),
+                                  scan.ray_angles_rad.size()};
   const std::uint8_t as_float = rangesFitFloat(scan.ranges_m) ? 1 : 0;
   appendBytes(header, kScanHeaderValues, out);
   appendBytes(sizes, 4, out);
@@ -102,8 +102,8 @@ class ScanSpillFile
 public:
   explicit ScanSpillFile(const std::string& directory)
   {
-    const std::string base = directory.empty() ? std::filesystem::temp_directory_path().string()
-                                               : directory;
+    const std::string base =
+        directory.empty() ? std::filesystem::temp_directory_path().string() : directory;
     std::string path = base + "/.odometry_calibration_inputs-XXXXXX";
     fd_ = ::mkstemp(path.data());
     if (fd_ < 0) {
@@ -179,7 +179,8 @@ void InputRecord::addEncoders(double stamp_s, const Eigen::VectorXd& raw)
   if (static_cast<std::size_t>(raw.size()) != channels_)
     throw std::invalid_argument("an encoder reading of another number of joints");
   const std::size_t readings = channels_ == 0 ? 0 : encoder_values_.size() / channels_;
-  inputs_.push_back({stamp_s, static_cast<std::uint32_t>(readings), RecordedInput::Kind::kEncoders});
+  inputs_.push_back(
+      {stamp_s, static_cast<std::uint32_t>(readings), RecordedInput::Kind::kEncoders});
   encoder_values_.insert(encoder_values_.end(), raw.data(), raw.data() + raw.size());
 }
 
@@ -188,8 +189,8 @@ void InputRecord::addScan(double stamp_s, const Scan& scan)
   std::vector<char> bytes;
   encodeScan(scan, &bytes);
   spill_->append(bytes);
-  inputs_.push_back({stamp_s, static_cast<std::uint32_t>(scan_offsets_.size() - 1),
-                     RecordedInput::Kind::kScan});
+  inputs_.push_back(
+      {stamp_s, static_cast<std::uint32_t>(scan_offsets_.size() - 1), RecordedInput::Kind::kScan});
   scan_offsets_.push_back(scan_offsets_.back() + bytes.size());
 }
 
@@ -220,8 +221,7 @@ void InputRecord::clear()
 
 std::size_t InputRecord::memoryBytes() const
 {
-  return inputs_.capacity() * sizeof(RecordedInput) +
-         encoder_values_.capacity() * sizeof(double) +
+  return inputs_.capacity() * sizeof(RecordedInput) + encoder_values_.capacity() * sizeof(double) +
          scan_offsets_.capacity() * sizeof(std::uint64_t) + poses_.capacity() * sizeof(Pose2) +
          covariances_.capacity() * sizeof(Eigen::Matrix3d) + spill_->bufferBytes();
 }
@@ -241,13 +241,14 @@ InputRecordView InputRecord::view(std::size_t first)
   view.channels_ = channels_;
   view.spill_ = spill_;
   // Each kind's first index in the view, so that only its part of the data is copied.
-  view.first_encoder_ = channels_ == 0 ? 0 : static_cast<std::uint32_t>(encoder_values_.size() / channels_);
+  view.first_encoder_ =
+      channels_ == 0 ? 0 : static_cast<std::uint32_t>(encoder_values_.size() / channels_);
   view.first_pose_ = static_cast<std::uint32_t>(poses_.size());
   view.first_scan_ = static_cast<std::uint32_t>(scan_offsets_.size() - 1);
   for (const RecordedInput& input : view.inputs_) {
     std::uint32_t& kind_first = input.kind == RecordedInput::Kind::kEncoders ? view.first_encoder_
                                 : input.kind == RecordedInput::Kind::kSensorPose ? view.first_pose_
-                                                                                  : view.first_scan_;
+                                                                                 : view.first_scan_;
     if (input.kind != RecordedInput::Kind::kFlush)
       kind_first = std::min(kind_first, input.index);
   }

@@ -139,8 +139,10 @@ void PairsStore::replace(const std::vector<MotionPair>& pairs)
     writePairsCsv(path(), {joints_, pairs_});
     appender_ = std::make_unique<PairsCsvAppender>(path(), joints_);
   } catch (const std::exception& error) {
-    say(SessionLogLevel::kError, std::string("cannot rewrite ") + path() + " with the pairs made "
-                                 "again: " + error.what() + " (it keeps the earlier pairs)");
+    say(SessionLogLevel::kError, std::string("cannot rewrite ") + path() +
+                                     " with the pairs made "
+                                     "again: " +
+                                     error.what() + " (it keeps the earlier pairs)");
     problem_ = error.what();
   }
 }

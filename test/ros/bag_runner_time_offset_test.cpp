@@ -1,7 +1,8 @@
-// The session's pairing at the estimated time offset, on a bag (issue 16): a bag paired at a wrong configured time offset is paired
-// again at the estimated one, so that each scan's sweep compensation uses the motion of its own
-// instant. On a simulated Mines-like run (every sensor effect on, true offset 0) with
-// config/mines.yaml's -0.15 s, the one-pass pipeline fitted the mean wheel radius 0.8 % short.
+// The session's pairing at the estimated time offset, on a bag (issue 16): a bag paired at a wrong
+// configured time offset is paired again at the estimated one, so that each scan's sweep
+// compensation uses the motion of its own instant. On a simulated Mines-like run (every sensor
+// effect on, true offset 0) with config/mines.yaml's -0.15 s, the one-pass pipeline fitted the mean
+// wheel radius 0.8 % short.
 #include <cmath>
 #include <filesystem>
 
@@ -96,8 +97,7 @@ TEST_F(BagRunnerTimeOffset, ResultDoesNotDependOnTheConfiguredOffset)
   CalibrationConfig at_truth = loadCalibrationConfig(kConfig + "/mines.yaml");
   at_truth.collector.time_offset_s = 0.0;
   OffsetPairing once;
-  const BagRunResult run_at_truth =
-      runAtEstimatedOffset({bag_}, &at_truth, 0.0, &once);
+  const BagRunResult run_at_truth = runAtEstimatedOffset({bag_}, &at_truth, 0.0, &once);
   EXPECT_FALSE(once.paired_again) << once.text;
   EXPECT_NE(once.text.find("paired at the configured time offset"), std::string::npos);
   CalibrationConfig off = loadCalibrationConfig(kConfig + "/mines.yaml");

@@ -24,9 +24,9 @@
 #include "odometry_calibration/calibration/fit_interval.h"
 #include "odometry_calibration/pairing/pair_collector.h"
 #include "odometry_calibration/session/encoder_watch.h"
-#include "odometry_calibration/session/input_record.h"
 #include "odometry_calibration/session/input_monitor.h"
 #include "odometry_calibration/session/input_publishers.h"
+#include "odometry_calibration/session/input_record.h"
 #include "odometry_calibration/session/pairs_store.h"
 #include "odometry_calibration/session/session_assistant.h"
 #include "odometry_calibration/session/session_fit.h"
@@ -47,7 +47,7 @@ struct OffsetPairing
   double configured_s = 0.0;  ///< the offset the pairs were made at [s]
   double estimate_s = 0.0;    ///< the offset estimated on them [s]
   bool paired_again = false;  ///< the recorded inputs were paired again, at estimate_s
-  std::string text;  ///< what was done, one line ending in '\n' (empty: nothing estimated)
+  std::string text;           ///< what was done, one line ending in '\n' (empty: nothing estimated)
 };
 
 /// Why a scan of `rays` rays is refused (more than `max_rays`, ego_motion.max_scan_rays: its
@@ -105,8 +105,8 @@ struct CalibrationRequest
   std::string options;  ///< YAML overriding the configuration's model sections ("" none)
   /// Default: kChoose when there are candidate intervals, else kConfigured.
   std::optional<FitIntervalMode> interval_mode;
-  double fixed_interval_s = 0.0;                  ///< with kFixed [s]
-  double fit_until_stamp_s = INFINITY;            ///< fit only pairs ending by this stamp
+  double fixed_interval_s = 0.0;        ///< with kFixed [s]
+  double fit_until_stamp_s = INFINITY;  ///< fit only pairs ending by this stamp
   /// Hold out the last pairs (data/holdout.h: holdOutLastPairs of the pairs fitted, after any
   /// pairing at the estimated offset): fit only those before its border (calibrate_bag
   /// --holdout). In (0, 1); none: fit_until_stamp_s.
@@ -321,7 +321,8 @@ private:
   std::string collectionStatus(SessionStatusReport* status) const;
   /// What a fit needs, taken under the lock (and the guidance's summary for the reply; the
   /// input record as it is now and the number of resumed pairs, when asked for).
-  SessionFitRequest snapshot(std::string* guidance, std::optional<InputRecordView>* record = nullptr,
+  SessionFitRequest snapshot(std::string* guidance,
+                             std::optional<InputRecordView>* record = nullptr,
                              std::size_t* resumed = nullptr) const;
   // --- Pairing at the estimated time offset (calibration_session_offset.cpp) ---
   /// Fresh collectors and what they made of recorded inputs.
