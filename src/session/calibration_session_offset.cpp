@@ -12,12 +12,12 @@ namespace odometry_calibration {
 
 struct CalibrationSession::Repairing
 {
+  std::vector<MotionPair> pairs;  ///< made so far, in order
   std::unique_ptr<PairCollector> collector;
+  std::vector<EncoderSample> history;  ///< the encoder history as the session keeps it
+  bool history_broken = false;         ///< time went backwards (no history until a reset)
   std::unique_ptr<CandidateCollectors> candidates;
-  std::vector<MotionPair> pairs;
-  std::unique_ptr<EncoderDecoder> decoder;
-  std::vector<EncoderSample> history;
-  bool history_broken = false;
+  std::unique_ptr<EncoderDecoder> decoder;  ///< the history's (made at the first reading)
 };
 
 void CalibrationSession::record(const std::function<void(InputRecord&)>& add)
