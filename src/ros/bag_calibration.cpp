@@ -66,15 +66,21 @@ CalibrationConfig loadConfig(const BagCalibrationOptions& options)
   return config;
 }
 
-/// The session's fit of the run's pairs (one source); throws when none could run.
-SessionFit fitRun(const BagRunResult& run, const IntervalPlan& plan, const PairHoldout* holdout)
+/// The session's fit of the run's pairs (one source; paired again at the estimated time offset
+/// when the configured one is off: the run then takes those pairs, counts and history); throws
+/// when none could run.
+SessionFit fitRun(BagRunResult* run, const IntervalPlan& plan, double holdout)
 {
   CalibrationRequest request;
   request.interval_mode = plan.mode;
   request.fixed_interval_s = plan.fixed_s;
-  if (holdout)
-    request.fit_until_stamp_s = holdout->border_stamp_s;
-  CalibrateOutcome outcome = run.session->calibrate(request).outcome;
+  if (holdout > 0.0)
+    request.holdout_fraction = holdout;
+  CalibrateOutcome outcome = run->session->calibrate(request).outcome;
+  const CalibrationSession& session = run->session->source(0);
+  run->pairs = session.pairs();
+  run->encoder_history = session.encoderHistory();
+  run->counts = session.counts();
   if (!outcome.fit)
     throw std::runtime_error(outcome.message);
   return std::move(*outcome.fit);
@@ -216,27 +222,31 @@ std::string describeSource(const CalibrationConfig& config, const BagRunResult& 
          " ===\n" +
          formatBagRunSummary(run, run.session->source(k).counts(),
                              run.session->source(k).collectionNotes()) +
-         (job.time_offset ? formatTimeOffset(*job.time_offset) : "") + "\n" +
+         fit.offset_pairing.text + (job.time_offset ? formatTimeOffset(*job.time_offset) : "") + "\n" +
          formatModelReport(job.report);
 }
 
 /// calibrateBags with one ego-motion source.
-int calibrateOneSource(const BagCalibrationOptions& options, const CalibrationConfig& config,
+int calibrateOneSource(const BagCalibrationOptions& options, CalibrationConfig config,
                        std::ostream& out)
 {
   const std::string output_dir =
       options.output_dir.empty() ? config.output_directory : options.output_dir;
   const IntervalPlan plan = planIntervals(options.interval, config);
-  const BagRunResult run = runBags(
+  BagRunResult run = runBags(
       options.bags, config, options.start_s, options.end_s,
       options.quiet ? nullptr : std::function<void(const BagProgress&)>(showProgress),
       plan.candidates_s);
+  // Fitted at the estimated time offset (paired again when the configured one is off).
+  const SessionFit fit = fitRun(&run, plan, options.holdout);
+  if (fit.offset_pairing.paired_again)
+    config.collector.time_offset_s = fit.offset_pairing.estimate_s;
   const std::string summary =
-      formatBagRunSummary(run, run.counts, run.session->source(0).collectionNotes());
+      formatBagRunSummary(run, run.counts, run.session->source(0).collectionNotes()) +
+      fit.offset_pairing.text;
   out << summary;
   const PairHoldout split =
       options.holdout > 0.0 ? holdOutLastPairs(run.pairs, options.holdout) : PairHoldout();
-  const SessionFit fit = fitRun(run, plan, options.holdout > 0.0 ? &split : nullptr);
   const CalibrationJobResult& job = fit.job;
   std::string text = summary + (fit.interval_text.empty() ? "" : fit.interval_text + "\n") +
                      (job.time_offset ? formatTimeOffset(*job.time_offset) : "") + "\n" +

@@ -7,6 +7,7 @@
 
 #include "odometry_calibration/calibration/candidate_collectors.h"
 #include "odometry_calibration/common/atomic_file.h"
+#include "odometry_calibration/data/holdout.h"
 #include "odometry_calibration/eval/model_report.h"
 #include "odometry_calibration/factory/model_factory.h"
 #include "odometry_calibration/session/calibration_session.h"
@@ -15,10 +16,6 @@ namespace odometry_calibration {
 namespace {
 
 namespace fs = std::filesystem;
-
-/// Beyond this difference [s] between the estimated time offset and the pairs', the reply says
-/// how to get pairs made at the estimate (calibrate_bag pairs again beyond it too).
-constexpr double kRepairingToleranceS = 0.01;
 
 /// `text` ended as a sentence: a full stop added unless it ends with one (or ! or ?).
 std::string asSentence(std::string text)
@@ -38,7 +35,7 @@ std::string absolutePath(const std::string& directory, const std::string& name)
 std::string repairingAdvice(double paired_at_s, const SessionFit& fit)
 {
   if (!fit.offset_estimated || !fit.job.time_offset || fit.job.time_offset->flat ||
-      !(std::abs(fit.job.time_offset_s - paired_at_s) > kRepairingToleranceS))
+      !(std::abs(fit.job.time_offset_s - paired_at_s) > kOffsetPairingToleranceS))
     return "";
   char text[400];
   std::snprintf(text, sizeof(text),
@@ -51,9 +48,15 @@ std::string repairingAdvice(double paired_at_s, const SessionFit& fit)
 
 }  // namespace
 
-SessionFitRequest CalibrationSession::snapshot(std::string* guidance) const
+SessionFitRequest CalibrationSession::snapshot(std::string* guidance,
+                                               std::optional<InputRecordView>* record,
+                                               std::size_t* resumed) const
 {
   std::lock_guard<std::mutex> lock(mutex_);
+  if (record && record_)
+    *record = record_->view();
+  if (resumed)
+    *resumed = store_->resumed();
   SessionFitRequest fit_request;
   fit_request.config = config_;
   fit_request.pairs = store_->pairs();
@@ -90,9 +93,15 @@ CalibrateOutcome CalibrationSession::calibrate(const CalibrationRequest& request
 {
   // One fit (or reset) at a time; the inputs go on meanwhile (they take mutex_ only).
   std::lock_guard<std::mutex> fitting(fit_mutex_);
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    completeWhenInputEnded();
+  }
   CalibrateOutcome outcome;
   std::string guidance;
-  SessionFitRequest fit_request = snapshot(&guidance);
+  std::optional<InputRecordView> record;
+  std::size_t resumed = 0;
+  SessionFitRequest fit_request = snapshot(&guidance, &record, &resumed);
   outcome.pairs_collected = fit_request.pairs.size();
   const std::string name = request.model.empty() ? fit_request.config.model : request.model;
   if (const std::string conflict = counts().publisher_conflict; !conflict.empty()) {
@@ -114,18 +123,31 @@ CalibrateOutcome CalibrationSession::calibrate(const CalibrationRequest& request
         ": drive more, straight and turning both ways." + guidance;
     return outcome;
   }
-  fit_request.interval_mode = request.interval_mode.value_or(
-      fit_request.candidates.empty() ? FitIntervalMode::kConfigured : FitIntervalMode::kChoose);
   fit_request.fixed_interval_s = request.fixed_interval_s;
   fit_request.fit_until_stamp_s = request.fit_until_stamp_s;
   fit_request.offset_search = request.offset_search;
   try {
+    OffsetPairing pairing;
+    pairAtEstimatedOffset(record, resumed, &fit_request, &pairing);
+    record.reset();
+    outcome.pairs_collected = fit_request.pairs.size();
+    if (request.holdout_fraction) {
+      fit_request.fit_until_stamp_s =
+          holdOutLastPairs(fit_request.pairs, *request.holdout_fraction).border_stamp_s;
+      fit_request.offset_search.reset();
+    }
+    fit_request.interval_mode = request.interval_mode.value_or(
+        fit_request.candidates.empty() ? FitIntervalMode::kConfigured : FitIntervalMode::kChoose);
     outcome.fit = fitSessionPairs(fit_request);
+    outcome.fit->offset_pairing = std::move(pairing);
   } catch (const std::exception& error) {
     outcome.message = name + " fit failed: " + error.what();
     return outcome;
   }
-  adopt(name, fit_request.config, guidance, &outcome);
+  const std::string pairing = outcome.fit->offset_pairing.text;
+  adopt(name, fit_request.config, guidance, &outcome);  // may make a new outcome
+  if (!pairing.empty())
+    outcome.message += " Pairs " + pairing.substr(0, pairing.size() - 1) + ".";
   return outcome;
 }
 
@@ -472,6 +494,19 @@ std::pair<bool, std::string> CalibrationSession::reset()
   history_broken_ = false;
   if (history_decoder_)
     history_decoder_->reset();
+  input_since_flush_ = false;
+  if (config_.estimate_time_offset) {
+    try {
+      if (record_)
+        record_->clear();
+      else
+        record_ = std::make_unique<InputRecord>(options_.output_directory);
+    } catch (const std::exception& error) {
+      record_.reset();
+      say(SessionLogLevel::kError, std::string("no input record (") + error.what() +
+                                       "): the pairs cannot be made again at another time offset");
+    }
+  }
   return {true, "collection restarted: " + set_aside + "; the active model is kept"};
 }
 

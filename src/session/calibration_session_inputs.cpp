@@ -67,6 +67,7 @@ void CalibrationSession::addJointPositions(double stamp_s, const Eigen::VectorXd
   encoder_watch_->add(raw);
   Eigen::VectorXd accepted;
   std::vector<CollectorEvent> events;
+  record([&](InputRecord& inputs) { inputs.addEncoders(stamp_s, raw); });
   try {
     events = collector_->addEncoders(stamp_s, raw, &accepted);
     if (candidates_)
@@ -130,6 +131,7 @@ std::vector<CollectorEvent> CalibrationSession::takeScan(double stamp_s, const S
         "needs scan_matching.min_points = " +
         std::to_string(config_.collector.plicp.min_points));
   }
+  record([&](InputRecord& inputs) { inputs.addScan(stamp_s, scan); });
   std::vector<CollectorEvent> events = collector_->addScan(stamp_s, scan);
   if (candidates_)
     candidates_->addScan(stamp_s, scan);
@@ -228,6 +230,7 @@ void CalibrationSession::addSensorPose(double stamp_s, const Pose2& T_world_sens
   const Eigen::Matrix3d covariance =
       Eigen::Vector3d(sigma_m * sigma_m, sigma_m * sigma_m, sigma_rad * sigma_rad).asDiagonal();
   std::vector<CollectorEvent> events;
+  record([&](InputRecord& inputs) { inputs.addSensorPose(stamp_s, T_world_sensor, covariance); });
   try {
     events = collector_->addSensorPose(stamp_s, T_world_sensor, covariance);
     if (candidates_)
@@ -242,9 +245,28 @@ void CalibrationSession::addSensorPose(double stamp_s, const Pose2& T_world_sens
 void CalibrationSession::flush()
 {
   std::lock_guard<std::mutex> lock(mutex_);
+  flushLocked();
+}
+
+void CalibrationSession::flushLocked()
+{
+  record([](InputRecord& inputs) { inputs.addFlush(); });
+  input_since_flush_ = false;
   handleEvents(collector_->flush(), 0.0);
   if (candidates_)
     candidates_->flush();
+}
+
+void CalibrationSession::completeWhenInputEnded()
+{
+  // Every input silent this long: a scan still waiting for its encoders would wait for input
+  // more than max_encoder_gap_s later, which rejects it anyway, so none is lost. Mid-stream
+  // nothing is flushed: a waiting scan is paired once its encoders come.
+  if (!input_since_flush_ || !inputs_->inputEnded(now()))
+    return;
+  flushLocked();
+  say(SessionLogLevel::kInfo, "the input has ended: its waiting pairs were completed (" +
+                                  std::to_string(store_->pairs().size()) + " pairs)");
 }
 
 void CalibrationSession::tick()
@@ -252,6 +274,7 @@ void CalibrationSession::tick()
   std::lock_guard<std::mutex> lock(mutex_);
   for (const std::string& warning : inputs_->silentWarnings(now()))
     say(SessionLogLevel::kWarn, warning);
+  completeWhenInputEnded();
   store_->writePending();
 }
 

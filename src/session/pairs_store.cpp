@@ -127,6 +127,26 @@ std::string PairsStore::reset()
          (archived.empty() ? std::string() : " in " + archived);
 }
 
+void PairsStore::replace(const std::vector<MotionPair>& pairs)
+{
+  pairs_ = pairs;
+  resumed_ = 0;
+  unwritten_ = 0;
+  if (directory_.empty())
+    return;
+  try {
+    appender_.reset();
+    writePairsCsv(path(), {joints_, pairs_});
+    appender_ = std::make_unique<PairsCsvAppender>(path(), joints_);
+  } catch (const std::exception& error) {
+    say(SessionLogLevel::kError, std::string("cannot rewrite ") + path() +
+                                     " with the pairs made "
+                                     "again: " +
+                                     error.what() + " (it keeps the earlier pairs)");
+    problem_ = error.what();
+  }
+}
+
 std::string PairsStore::archive(const std::string& why)
 {
   std::string archived = directory_ + "/pairs-" + wallClockTag() + ".csv";

@@ -1,7 +1,8 @@
-// runBagsAtEstimatedOffset (issue 16): a bag paired at a wrong configured time offset is paired
-// again at the estimated one, so that each scan's sweep compensation uses the motion of its own
-// instant. On a simulated Mines-like run (every sensor effect on, true offset 0) with
-// config/mines.yaml's -0.15 s, the one-pass pipeline fitted the mean wheel radius 0.8 % short.
+// The session's pairing at the estimated time offset, on a bag (issue 16): a bag paired at a wrong
+// configured time offset is paired again at the estimated one, so that each scan's sweep
+// compensation uses the motion of its own instant. On a simulated Mines-like run (every sensor
+// effect on, true offset 0) with config/mines.yaml's -0.15 s, the one-pass pipeline fitted the mean
+// wheel radius 0.8 % short.
 #include <cmath>
 #include <filesystem>
 
@@ -58,13 +59,30 @@ protected:
 std::string BagRunnerTimeOffset::directory_, BagRunnerTimeOffset::bag_;
 sim::Scenario BagRunnerTimeOffset::scenario_;
 
+/// The bags run once and fitted by the session (which pairs them again at the estimated time
+/// offset when the configured one is off): the run with the session's pairs, `config` at the
+/// offset they were paired at.
+BagRunResult runAtEstimatedOffset(const std::vector<std::string>& bags, CalibrationConfig* config,
+                                  double end_s, OffsetPairing* pairing)
+{
+  BagRunResult run = runBags(bags, *config, 0.0, end_s);
+  const CalibrateOutcome outcome = run.session->calibrate({}).outcome;
+  const CalibrationSession& session = run.session->source(0);
+  run.pairs = session.pairs();
+  run.encoder_history = session.encoderHistory();
+  if (pairing)
+    *pairing = outcome.fit->offset_pairing;
+  config->collector.time_offset_s = session.timeOffset();
+  return run;
+}
+
 TEST_F(BagRunnerTimeOffset, PairsAgainAtTheEstimateAndFitsTheTrueRadius)
 {
   CalibrationConfig config = loadCalibrationConfig(kConfig + "/mines.yaml");
   ASSERT_NEAR(config.collector.time_offset_s, -0.15, 1e-9);  // the simulated truth is 0
   ASSERT_TRUE(config.estimate_time_offset);
   OffsetPairing pairing;
-  const BagRunResult run = runBagsAtEstimatedOffset({bag_}, &config, 0.0, 0.0, nullptr, &pairing);
+  const BagRunResult run = runAtEstimatedOffset({bag_}, &config, 0.0, &pairing);
   EXPECT_TRUE(pairing.paired_again) << pairing.text;
   EXPECT_NEAR(pairing.configured_s, -0.15, 1e-9);
   EXPECT_NEAR(pairing.estimate_s, 0.0, 0.02);
@@ -81,12 +99,11 @@ TEST_F(BagRunnerTimeOffset, ResultDoesNotDependOnTheConfiguredOffset)
   CalibrationConfig at_truth = loadCalibrationConfig(kConfig + "/mines.yaml");
   at_truth.collector.time_offset_s = 0.0;
   OffsetPairing once;
-  const BagRunResult run_at_truth =
-      runBagsAtEstimatedOffset({bag_}, &at_truth, 0.0, 0.0, nullptr, &once);
+  const BagRunResult run_at_truth = runAtEstimatedOffset({bag_}, &at_truth, 0.0, &once);
   EXPECT_FALSE(once.paired_again) << once.text;
   EXPECT_NE(once.text.find("paired at the configured time offset"), std::string::npos);
   CalibrationConfig off = loadCalibrationConfig(kConfig + "/mines.yaml");
-  const BagRunResult run_off = runBagsAtEstimatedOffset({bag_}, &off);
+  const BagRunResult run_off = runAtEstimatedOffset({bag_}, &off, 0.0, nullptr);
   const double at_truth_radius = meanRadius(at_truth, run_at_truth);
   EXPECT_NEAR(meanRadius(off, run_off), at_truth_radius, 0.002 * at_truth_radius);
 }
@@ -96,7 +113,7 @@ TEST_F(BagRunnerTimeOffset, WithoutEstimationPairsOnceAtTheConfiguredOffset)
   CalibrationConfig config = loadCalibrationConfig(kConfig + "/mines.yaml");
   config.estimate_time_offset = false;
   OffsetPairing pairing;
-  const BagRunResult run = runBagsAtEstimatedOffset({bag_}, &config, 0.0, 20.0, nullptr, &pairing);
+  const BagRunResult run = runAtEstimatedOffset({bag_}, &config, 20.0, &pairing);
   EXPECT_FALSE(pairing.paired_again);
   EXPECT_EQ(pairing.text, "");
   EXPECT_NEAR(config.collector.time_offset_s, -0.15, 1e-12);

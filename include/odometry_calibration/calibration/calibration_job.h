@@ -26,7 +26,8 @@ struct CalibrationJobOptions
   /// report's trajectories and per-pair errors; one prediction per pair and model).
   bool compare_trajectories = true;
   /// The time offset search already done on these same pairs and history (e.g. by
-  /// runBagsAtEstimatedOffset): used instead of searching again.
+  /// CalibrationSession::calibrate when the pairs were not paired again): used instead of
+  /// searching again.
   std::optional<TimeOffsetResult> time_offset_search;
 };
 

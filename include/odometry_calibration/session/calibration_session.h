@@ -27,6 +27,7 @@
 #include "odometry_calibration/session/encoder_watch.h"
 #include "odometry_calibration/session/input_monitor.h"
 #include "odometry_calibration/session/input_publishers.h"
+#include "odometry_calibration/session/input_record.h"
 #include "odometry_calibration/session/pairs_store.h"
 #include "odometry_calibration/session/session_assistant.h"
 #include "odometry_calibration/session/session_fit.h"
@@ -92,8 +93,12 @@ struct CalibrationRequest
   std::string options;  ///< YAML overriding the configuration's model sections ("" none)
   /// Default: kChoose when there are candidate intervals, else kConfigured.
   std::optional<FitIntervalMode> interval_mode;
-  double fixed_interval_s = 0.0;                  ///< with kFixed [s]
-  double fit_until_stamp_s = INFINITY;            ///< fit only pairs ending by this stamp
+  double fixed_interval_s = 0.0;        ///< with kFixed [s]
+  double fit_until_stamp_s = INFINITY;  ///< fit only pairs ending by this stamp
+  /// Hold out the last pairs (data/holdout.h: holdOutLastPairs of the pairs fitted, after any
+  /// pairing at the estimated offset): fit only those before its border (calibrate_bag
+  /// --holdout). In (0, 1); none: fit_until_stamp_s.
+  std::optional<double> holdout_fraction;
   std::optional<TimeOffsetResult> offset_search;  ///< already run on exactly these pairs
   /// The model sections for `model`, configured already (a joint session's, each source's
   /// with its own start pose): `options` is then not read.
@@ -186,9 +191,13 @@ public:
   /// The sensor's pose from another tool (odometry, pose); `frame` its child frame (or empty).
   void addSensorPose(double stamp_s, const Pose2& T_world_sensor, const std::string& frame,
                      const std::string& publisher = "");
-  /// The end of the data: pairs waiting for scans are made now.
+  /// The end of the data: scans waiting for their encoders are paired now (with what the
+  /// encoders gave). calibrate_bag calls it at the end of the bags; the node's input ends
+  /// when every input has been silent for silent_topic_timeout_s (tick(), calibrate()).
   void flush();
-  /// Periodic work: silent-input warnings, pairs the disk did not take.
+  /// Periodic work: silent-input warnings, pairs the disk did not take, and the end of the
+  /// input: every input silent for silent_topic_timeout_s after input came completes the
+  /// waiting pairs (flush(), once per silence).
   void tick();
   /// Writes the pairs the disk did not take yet; returns how many still are not written.
   std::size_t writePendingPairs();
@@ -197,6 +206,9 @@ public:
   std::vector<MotionPair> pairs() const;
   std::vector<IntervalPairs> candidatePairs() const;
   std::vector<EncoderSample> encoderHistory() const;
+  /// The memory the input record holds [bytes] (0 without one: the offset not estimated) and
+  /// the bytes of scans it spilled to its scratch file.
+  std::pair<std::size_t, std::uint64_t> inputRecordBytes() const;
   SessionCounts counts() const;
   /// SessionCounts::publisher_conflict alone (counts() waits for the collector's matches).
   std::string publisherConflict() const;
@@ -221,7 +233,14 @@ public:
   std::pair<std::shared_ptr<const MotionModel>, std::string> activeModel() const;
 
   // --- Actions (calibration_session_actions.cpp) ---
-  /// Fits (session_fit.h) the pairs held at the call; a converged fit becomes the active model
+  /// Fits (session_fit.h) the pairs held at the call (the waiting ones completed first when the
+  /// input has ended, as tick() would). When the configuration estimates the time offset and
+  /// the estimate on these pairs differs from the offset they were paired at by more than
+  /// kOffsetPairingToleranceS, the recorded inputs are paired again at the estimate (fresh
+  /// collectors, as a session configured at it would have paired them), those pairs (also the
+  /// candidates' and the encoder history) are fitted and become the session's (pairs.csv
+  /// rewritten; new pairs are made at the estimate); the fit's offset_pairing says what was
+  /// done. A converged fit becomes the active model
   /// (odometry integrated again, health monitor, guidance recentred, new time offset for new
   /// pairs) and is written to last_fit.yaml.
   CalibrateOutcome calibrate(const CalibrationRequest& request);
@@ -286,8 +305,27 @@ private:
   void say(SessionLogLevel level, const std::string& text) const;
   double now() const;
   std::string collectionStatus(SessionStatusReport* status) const;
-  /// What a fit needs, taken under the lock (and the guidance's summary for the reply).
-  SessionFitRequest snapshot(std::string* guidance) const;
+  /// What a fit needs, taken under the lock (and the guidance's summary for the reply; the
+  /// input record as it is now and the number of resumed pairs, when asked for).
+  SessionFitRequest snapshot(std::string* guidance,
+                             std::optional<InputRecordView>* record = nullptr,
+                             std::size_t* resumed = nullptr) const;
+  // --- Pairing at the estimated time offset (calibration_session_offset.cpp) ---
+  /// Fresh collectors and what they made of recorded inputs.
+  struct Repairing;
+  /// An input for the record (dropped, with an error said once, when it cannot be written).
+  void record(const std::function<void(InputRecord&)>& add);
+  void flushLocked();  ///< flush() with mutex_ held
+  /// Completes the waiting pairs when every input has been silent beyond the timeout.
+  void completeWhenInputEnded();
+  /// calibrate()'s pairing step (see there) on the snapshot `request` (config_'s model).
+  void pairAtEstimatedOffset(const std::optional<InputRecordView>& record, std::size_t resumed,
+                             SessionFitRequest* request, OffsetPairing* pairing);
+  /// Feeds `inputs` to `repairing`'s collectors as the session feeds its own.
+  void feed(const InputRecordView& inputs, Repairing* repairing) const;
+  /// The re-paired collectors, pairs and history (fed the inputs recorded since `end`) become
+  /// the session's, at `offset_s`.
+  void install(std::size_t end, Repairing repairing, double offset_s);
   /// `config`'s model sections for model `name` with the call's `options` (or its `models`);
   /// throws naming why.
   void configureModel(const std::string& name, const CalibrationRequest& request,
@@ -328,6 +366,9 @@ private:
   bool history_broken_ = false;  ///< time went backwards: no continuous stream until reset
   std::unique_ptr<EncoderDecoder> history_decoder_;
   std::vector<EncoderSample> encoder_history_;
+  /// The collectors' inputs, when the configuration estimates the time offset (input_record.h).
+  std::unique_ptr<InputRecord> record_;
+  bool input_since_flush_ = false;  ///< inputs came since the last flush (or the start)
   std::unique_ptr<SessionOdometry> odometry_;
   std::unique_ptr<SessionAssistant> assistant_;
   std::unique_ptr<InputMonitor> inputs_;

@@ -43,6 +43,8 @@ public:
   /// at most every 5 s).
   bool mayWarn(const std::string& problem, double now_s);
   const std::string& topic(SessionInput input) const { return inputs_[index(input)].topic; }
+  /// Every input had messages and all are silent beyond the timeout (the input has ended).
+  bool inputEnded(double now_s) const;
 
 private:
   struct Input
@@ -55,8 +57,6 @@ private:
   };
   static std::size_t index(SessionInput input) { return static_cast<std::size_t>(input); }
   double silentFor(const Input& input, double now_s) const;
-  /// Every input had messages and all are silent beyond the timeout.
-  bool inputEnded(double now_s) const;
 
   std::array<Input, 2> inputs_;
   double silent_timeout_s_;

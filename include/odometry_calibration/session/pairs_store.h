@@ -34,6 +34,10 @@ public:
   /// Sets every pair aside (the file moved to pairs-<date>-<time>.csv when it holds any) and
   /// starts an empty file; returns what was done, in words.
   std::string reset();
+  /// The pairs become `pairs` (made again from the same inputs): the file is rewritten
+  /// atomically (on failure it keeps the previous pairs, said as an error, and new pairs are
+  /// appended to it).
+  void replace(const std::vector<MotionPair>& pairs);
 
   const std::vector<MotionPair>& pairs() const { return pairs_; }
   std::size_t resumed() const { return resumed_; }

@@ -39,6 +39,19 @@ struct SessionFitRequest
   bool compare_trajectories = false;  ///< the report's trajectories (calibration_job.h)
 };
 
+/// Beyond this difference between the time offset estimated on the pairs and the one they were
+/// paired at, calibrate() pairs the recorded inputs again at the estimate [s].
+constexpr double kOffsetPairingToleranceS = 0.01;
+
+/// How calibrate() paired the inputs when the configuration estimates the time offset.
+struct OffsetPairing
+{
+  double configured_s = 0.0;  ///< the offset the pairs were made at [s]
+  double estimate_s = 0.0;    ///< the offset estimated on them [s]
+  bool paired_again = false;  ///< the recorded inputs were paired again, at estimate_s
+  std::string text;           ///< what was done, one line ending in '\n' (empty: nothing estimated)
+};
+
 struct SessionFit
 {
   CalibrationJobResult job;
@@ -46,6 +59,9 @@ struct SessionFit
   std::optional<FitIntervalChoice> choice;  ///< the cross-validation, when it ran
   std::string interval_text;      ///< how the interval was found, one line (empty: configured)
   bool offset_estimated = false;  ///< the time offset was searched (history available)
+  /// With the offset estimated: how the session made the fitted pairs (CalibrationSession::
+  /// calibrate; fitSessionPairs leaves it empty).
+  OffsetPairing offset_pairing;
 };
 
 /// Fits request.config.model as described above. The time offset is searched only with an
