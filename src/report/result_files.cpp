@@ -63,7 +63,7 @@ ReportPlots stageResultFiles(StagedFileSet& set, ResultFiles files, std::vector<
       std::string("`") + kTextReportFileName + "`: what the terminal showed",
       std::string("`") + kPlotFolderName +
           "/`: the images, their data (`.dat`) and gnuplot scripts (`.gp`)"};
-  for (const std::string& name : {kPairsFileName, kTextReportFileName, kPlotFolderName})
+  for (const char* name : {kPairsFileName, kTextReportFileName, kPlotFolderName})
     names->push_back(name);
   std::size_t listed = 1;  // after pairs.csv
   for (const auto& [name, content] : files.calibration.written) {

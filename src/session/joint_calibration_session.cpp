@@ -237,8 +237,11 @@ std::optional<double> JointCalibrationSession::healthStatistic() const
 
 JointCalibrateOutcome JointCalibrationSession::calibrate(const CalibrationRequest& request)
 {
-  if (sessions_.size() == 1)
-    return {sessions_.front()->calibrate(request), std::nullopt, ""};
+  if (sessions_.size() == 1) {
+    JointCalibrateOutcome one;
+    one.outcome = sessions_.front()->calibrate(request);
+    return one;
+  }
   std::lock_guard<std::mutex> fitting(fit_mutex_);
   return calibrateJointly(request);
 }
@@ -311,7 +314,13 @@ JointCalibrateOutcome JointCalibrationSession::calibrateJointly(const Calibratio
                       "); the active models are unchanged";
     return result;
   }
-  outcome.message = adoptJointFit(joint_config, *result.joint, result.alone, &outcome.success);
+  if (options_.adopt_fits) {
+    outcome.message = adoptJointFit(joint_config, *result.joint, result.alone, &outcome.success);
+  } else {  // calibrate_bag: the fit is the result, no source's session runs on with it
+    outcome.success = true;
+    outcome.message = "joint " + name + " fit of " + std::to_string(sessions_.size()) +
+                      " sensors converged";
+  }
   if (outcome.success) {
     joint_ = result.joint;
     joint_config_ = joint_config;

@@ -94,7 +94,8 @@ public:
   /// converge does not), then jointly; the joint fit converged, each source's session adopts
   /// its view of it, all or none (every view prepared, then committed, the committed ones put
   /// back when one fails: the reply names the source, the previous calibration stays active in
-  /// every source). request.model: a model with a joint fit (jointFitModelProblem; empty: the
+  /// every source; with SessionOptions::adopt_fits off, as calibrate_bag's, none adopts it: the
+  /// fit is the result). request.model: a model with a joint fit (jointFitModelProblem; empty: the
   /// configuration's); request.options: only that model's section, without sensor_pose (each
   /// source starts from its own), else refused naming the option.
   JointCalibrateOutcome calibrate(const CalibrationRequest& request);
