@@ -15,6 +15,7 @@
 
 #include "odometry_calibration/ros/bag_message_reader.h"
 #include "odometry_calibration/ros/bag_record_check.h"
+#include "odometry_calibration/ros/rosbag_messages.h"
 
 namespace odometry_calibration {
 namespace {
@@ -87,8 +88,7 @@ std::pair<ros::Time, ros::Time> timeWindow(const std::vector<std::unique_ptr<ros
 {
   rosbag::View all;
   for (const auto& bag : bags) {
-    all.addQuery(*bag, rosbag::TopicQuery(
-                           std::vector<std::string>{config.joint_state_topic, egoTopic(config)}));
+    all.addQuery(*bag, rosbag::TopicQuery(readTopics(config)));
   }
   if (all.size() == 0) {
     throw std::runtime_error("the bags hold no message on '" + config.joint_state_topic + "' or '" +
@@ -133,32 +133,6 @@ std::string egoMessageType(EgoMotionSource source)
   return source == EgoMotionSource::kScan    ? "LaserScan"
          : source == EgoMotionSource::kCloud ? "PointCloud2"
                                              : "pose";
-}
-
-/// One converted message into the session.
-void feed(CalibrationSession& session, BagInput& input, EgoMotionSource source)
-{
-  switch (input.kind) {
-    case BagInput::Kind::kBadJoints:
-      session.skipJointState(input.problem, input.publisher);
-      break;
-    case BagInput::Kind::kJoints:
-      session.addJointPositions(input.stamp_s, input.raw, input.publisher);
-      break;
-    case BagInput::Kind::kBadScan:
-      session.skipEgoMessage(egoMessageType(source), input.problem, input.publisher);
-      break;
-    case BagInput::Kind::kScan:
-      if (source == EgoMotionSource::kCloud)
-        session.addCloudScan(input.stamp_s, input.scan, input.frame, input.problem,
-                             input.publisher);
-      else
-        session.addScan(input.stamp_s, input.scan, input.frame, input.publisher);
-      break;
-    case BagInput::Kind::kPose:
-      session.addSensorPose(input.stamp_s, input.pose, input.frame, input.publisher);
-      break;
-  }
 }
 
 /// A publisher chosen by `key` (`chosen`, empty: none) that published nothing of `what` in the
@@ -231,10 +205,7 @@ BagRunResult runBagsUnchecked(const std::vector<std::string>& bag_paths,
   const auto [begin, end] = timeWindow(bags, config, start_offset_s, end_offset_s);
   rosbag::View view;
   for (const auto& bag : bags) {
-    view.addQuery(
-        *bag,
-        rosbag::TopicQuery(std::vector<std::string>{config.joint_state_topic, egoTopic(config)}),
-        begin, end);
+    view.addQuery(*bag, rosbag::TopicQuery(readTopics(config)), begin, end);
   }
   BagRunResult result;
   result.bag_span_s = (end - begin).toSec();
@@ -244,13 +215,14 @@ BagRunResult runBagsUnchecked(const std::vector<std::string>& bag_paths,
   session_config.collector.defer_keyframe_matches = true;
   result.session = bagSession(session_config, candidate_intervals_s);
   // Reading and converting run ahead on their own thread; this one feeds the session.
-  BagMessageReader reader(view, config, bagNames(bag_paths));
+  RosbagMessages recorded(view);
+  BagMessageReader reader(recorded, config, bagNames(bag_paths));
   std::size_t messages = 0;
   Clock::duration pairing{};
   for (std::vector<BagInput> batch = reader.next(); !batch.empty(); batch = reader.next()) {
-    for (BagInput& input : batch) {
+    for (const BagInput& input : batch) {
       const auto start = Clock::now();
-      feed(*result.session, input, config.ego_motion);
+      feedInput(*result.session, input.input);
       pairing += Clock::now() - start;
       if (progress && ++messages % 500 == 0)
         progress({input.fraction, messages, seconds(Clock::now() - run_start)});
