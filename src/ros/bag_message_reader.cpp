@@ -3,23 +3,15 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
 #include <cstring>
+#include <type_traits>
 #include <utility>
 
-#include <geometry_msgs/PoseStamped.h>
-#include <nav_msgs/Odometry.h>
-#include <sensor_msgs/JointState.h>
-#include <sensor_msgs/LaserScan.h>
-#include <sensor_msgs/PointCloud2.h>
-
-#include "odometry_calibration/ros/conversions.h"
-#include "odometry_calibration/ros/point_cloud_conversion.h"
-#include "odometry_calibration/ros/wire_length_check.h"
-#include "odometry_calibration/scan/cloud_to_scan.h"
-#include "odometry_calibration/session/calibration_session.h"
+#include "odometry_calibration/ros/message_adapter.h"
 
 namespace odometry_calibration {
 namespace {
@@ -57,34 +49,6 @@ void onBagReadFault(int signal)
   std::raise(signal);
 }
 
-/// The message deserialised as T, or nullptr when it is of another type. Its bytes are copied
-/// out of the chunk first (checkBagRecords vouched that they lie inside it) and their lengths
-/// are checked before deserialising: a corrupted array count would otherwise make roscpp
-/// allocate up to 4 G elements before it notices the bytes are missing.
-template <typename T>
-boost::shared_ptr<T> deserialiseChecked(const rosbag::MessageInstance& message,
-                                        ros_conversions::WireMessage type,
-                                        std::vector<std::uint8_t>& bytes)
-{
-  const std::string md5 = message.getMD5Sum();
-  if (message.getDataType() != ros::message_traits::datatype<T>() ||
-      (md5 != "*" && md5 != ros::message_traits::md5sum<T>()))
-    return nullptr;
-  bytes.resize(message.size());
-  ros::serialization::OStream out(bytes.data(), static_cast<std::uint32_t>(bytes.size()));
-  message.write(out);
-  if (!ros_conversions::wireLengthsFit(type, bytes.data(), bytes.size())) {
-    throw ros::Exception("a " + message.getDataType() + " message on '" + message.getTopic() +
-                         "' at " + std::to_string(message.getTime().toSec()) +
-                         " s claims strings or arrays longer than its " +
-                         std::to_string(bytes.size()) + " bytes");
-  }
-  auto deserialised = boost::make_shared<T>();
-  ros::serialization::IStream in(bytes.data(), static_cast<std::uint32_t>(bytes.size()));
-  ros::serialization::deserialize(in, *deserialised);
-  return deserialised;
-}
-
 /// Where the reading thread's time goes: reading and deserialising, converting, filtering
 /// clouds. `start` is when the current stretch of reading began.
 struct ReadTimers
@@ -107,123 +71,77 @@ struct ReadTimers
   }
 };
 
-/// A JointState into `input` (raw positions with the configured signs, or the reason they are
-/// unusable); false when the message is not one.
-bool readJointState(const rosbag::MessageInstance& message, const CalibrationConfig& config,
-                    const std::vector<EncoderChannelOptions>& channels,
-                    std::vector<std::uint8_t>& bytes, ReadTimers& timers, BagInput& input)
+/// What the messages on one of the read topics are: the joint states, or source `source`'s
+/// ego-motion messages of `type`.
+struct Route
 {
-  const auto joints = deserialiseChecked<sensor_msgs::JointState>(
-      message, ros_conversions::WireMessage::kJointState, bytes);
-  if (!joints)
+  std::string topic;
+  bool joints = false;
+  std::size_t source = 0;
+  EgoMotionSource type = EgoMotionSource::kScan;
+};
+
+/// The joint states' route, then each ego-motion source's.
+std::vector<Route> routes(const CalibrationConfig& config)
+{
+  std::vector<Route> result = {{config.joint_state_topic, true, 0, EgoMotionSource::kScan}};
+  const std::vector<EgoMotionSourceConfig> sources = egoMotionSources(config);
+  for (std::size_t k = 0; k < sources.size(); ++k)
+    result.push_back({sources[k].topic, false, k, sources[k].type});
+  return result;
+}
+
+/// The messages the reading thread deserialises into, reused from one message to the next.
+struct MessageBuffers
+{
+  sensor_msgs::JointState joints;
+  sensor_msgs::LaserScan scan;
+  sensor_msgs::PointCloud2 cloud;
+  nav_msgs::Odometry odometry;
+  geometry_msgs::PoseStamped pose;
+};
+
+/// The current message deserialised as M into `message`, then converted by `adapter` into
+/// `input` (for source `source`; false: of another type). Times reading and converting.
+template <typename M>
+bool readAs(RecordedMessages& messages, const MessageAdapter& adapter, std::size_t source,
+            M& message, ReadTimers& timers, ConvertedInput& input)
+{
+  if (!messages.read(message))
     return false;
   const auto converted = timers.endReading();
-  input.stamp_s = joints->header.stamp.toSec();
-  try {
-    input.raw = applySigns(config, ros_conversions::rawJointPositions(*joints, channels));
-  } catch (const std::invalid_argument& error) {
-    input.kind = BagInput::Kind::kBadJoints;
-    input.problem = error.what();
+  if constexpr (std::is_same_v<M, sensor_msgs::JointState>) {
+    input = adapter.convert(message, messages.publisher());
+  } else if constexpr (std::is_same_v<M, sensor_msgs::PointCloud2>) {
+    double filtering_s = 0.0;
+    input = adapter.convert(message, source, messages.publisher(), &filtering_s);
+    const auto filtering =
+        std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(filtering_s));
+    timers.converting -= filtering;
+    timers.filtering += filtering;
+  } else {
+    input = adapter.convert(message, source, messages.publisher());
   }
   timers.endConverting(converted);
   return true;
 }
 
-/// A LaserScan into `input`; false when the message is not one.
-bool readLaserScan(const rosbag::MessageInstance& message, long long max_rays,
-                   std::vector<std::uint8_t>& bytes, ReadTimers& timers, BagInput& input)
+/// The current message, on `route`'s topic, converted into `input`; false when it is not of
+/// the topic's type (a pose source takes Odometry and PoseStamped alike).
+bool readCurrent(RecordedMessages& messages, const MessageAdapter& adapter, const Route& route,
+                 MessageBuffers& buffers, ReadTimers& timers, ConvertedInput& input)
 {
-  const auto scan = deserialiseChecked<sensor_msgs::LaserScan>(
-      message, ros_conversions::WireMessage::kLaserScan, bytes);
-  if (!scan)
-    return false;
-  const auto converted = timers.endReading();
-  input.stamp_s = scan->header.stamp.toSec();
-  input.frame = scan->header.frame_id;
-  try {  // an impossible geometry or too many rays: skipped and counted, as the live node does
-    if (const std::string problem = scanRaysProblem(scan->ranges.size(), max_rays);
-        !problem.empty())
-      throw std::invalid_argument(problem);
-    input.scan = ros_conversions::fromLaserScanMsg(*scan);
-    input.kind = BagInput::Kind::kScan;
-  } catch (const std::invalid_argument& error) {
-    input.kind = BagInput::Kind::kBadScan;
-    input.problem = error.what();
-  }
-  timers.endConverting(converted);
-  return true;
-}
-
-/// Why a cloud in `frame_id` is not the sensor's: no frame, or another than the first cloud's
-/// (`sensor_frame`, empty before the first); empty when it is.
-std::string cloudFrameProblem(const std::string& frame_id, const std::string& sensor_frame)
-{
-  if (frame_id.empty())
-    return "PointCloud2 names no frame (header.frame_id is empty)";
-  if (!sensor_frame.empty() && frame_id != sensor_frame) {
-    return "PointCloud2 in frame '" + frame_id + "', not the sensor's frame '" + sensor_frame +
-           "' (the first cloud's)";
-  }
-  return "";
-}
-
-/// A PointCloud2 into `input`: converted and cut into a planar scan, or a bad scan with the
-/// reason; false when the message is not one. The first cloud's frame becomes the sensor's.
-bool readCloud(const rosbag::MessageInstance& message, const CalibrationConfig& config,
-               std::vector<std::uint8_t>& bytes, std::string& sensor_frame, ReadTimers& timers,
-               BagInput& input)
-{
-  const auto cloud = deserialiseChecked<sensor_msgs::PointCloud2>(
-      message, ros_conversions::WireMessage::kPointCloud2, bytes);
-  if (!cloud)
-    return false;
-  const auto converted = timers.endReading();
-  input.stamp_s = cloud->header.stamp.toSec();
-  input.kind = BagInput::Kind::kBadScan;
-  input.problem = cloudFrameProblem(cloud->header.frame_id, sensor_frame);
-  if (!input.problem.empty()) {
-    timers.endConverting(converted);
-    return true;
-  }
-  sensor_frame = cloud->header.frame_id;
-  input.frame = sensor_frame;
-  try {
-    const auto lidar = ros_conversions::fromPointCloud2Msg(*cloud, config.cloud.point_times);
-    const auto filtered = Clock::now();
-    timers.converting += filtered - converted;
-    try {
-      input.scan = cloudToScan(lidar.cloud, lidar.has_times, config.cloud);
-      input.kind = BagInput::Kind::kScan;
-      input.problem = lidar.time_problem;
-    } catch (const std::invalid_argument& error) {
-      input.problem = "PointCloud2 skipped: " + std::string(error.what());
-    }
-    timers.start = Clock::now();
-    timers.filtering += timers.start - filtered;
-  } catch (const std::invalid_argument& error) {
-    input.problem = "PointCloud2 skipped: " + std::string(error.what());
-    timers.endConverting(converted);
-  }
-  return true;
-}
-
-/// An Odometry's or a PoseStamped's pose into `input`; false when the message is neither.
-bool readPose(const rosbag::MessageInstance& message, std::vector<std::uint8_t>& bytes,
-              BagInput& input)
-{
-  input.kind = BagInput::Kind::kPose;
-  if (const auto odometry = deserialiseChecked<nav_msgs::Odometry>(
-          message, ros_conversions::WireMessage::kOdometry, bytes)) {
-    input.stamp_s = odometry->header.stamp.toSec();
-    input.pose = ros_conversions::fromPoseMsg(odometry->pose.pose);
-    input.frame = odometry->child_frame_id;
-    return true;
-  }
-  if (const auto stamped = deserialiseChecked<geometry_msgs::PoseStamped>(
-          message, ros_conversions::WireMessage::kPoseStamped, bytes)) {
-    input.stamp_s = stamped->header.stamp.toSec();
-    input.pose = ros_conversions::fromPoseMsg(stamped->pose);
-    return true;
+  if (route.joints)
+    return readAs(messages, adapter, 0, buffers.joints, timers, input);
+  switch (route.type) {
+    case EgoMotionSource::kScan:
+      return readAs(messages, adapter, route.source, buffers.scan, timers, input);
+    case EgoMotionSource::kCloud:
+      return readAs(messages, adapter, route.source, buffers.cloud, timers, input);
+    case EgoMotionSource::kOdometry:
+    case EgoMotionSource::kPose:
+      return readAs(messages, adapter, route.source, buffers.odometry, timers, input) ||
+             readAs(messages, adapter, route.source, buffers.pose, timers, input);
   }
   return false;
 }
@@ -250,13 +168,13 @@ BagReadScope::~BagReadScope()
   t_reading_bag = 0;
 }
 
-BagMessageReader::BagMessageReader(rosbag::View& view, const CalibrationConfig& config,
+BagMessageReader::BagMessageReader(RecordedMessages& messages, const CalibrationConfig& config,
                                    const std::string& bags)
 {
-  thread_ = std::thread([this, &view, config, bags] {
+  thread_ = std::thread([this, &messages, config, bags] {
     const BagReadScope reading(bags);
     try {
-      read(view, config);
+      read(messages, config);
     } catch (...) {
       std::lock_guard<std::mutex> lock(mutex_);
       error_ = std::current_exception();
@@ -300,38 +218,29 @@ std::vector<BagInput> BagMessageReader::next()
   return batch;
 }
 
-void BagMessageReader::read(rosbag::View& view, const CalibrationConfig& config)
+void BagMessageReader::read(RecordedMessages& messages, const CalibrationConfig& config)
 {
-  const std::vector<EncoderChannelOptions> channels = encoderChannels(config);
-  const std::vector<EgoMotionSourceConfig> sources = egoMotionSources(config);
-  cloud_frames_.assign(sources.size(), "");
-  const double begin_s = view.getBeginTime().toSec();
-  const double span_s = std::max(1e-9, (view.getEndTime() - view.getBeginTime()).toSec());
+  const MessageAdapter adapter(config);
+  const std::vector<Route> topic_routes = routes(config);
+  MessageBuffers buffers;
+  const double begin_s = messages.beginTime_s();
+  const double span_s = std::max(1e-9, messages.endTime_s() - begin_s);
   ReadTimers timers;
   std::vector<BagInput> batch;
-  for (const rosbag::MessageInstance& message : view) {
+  while (messages.next()) {
     {
       std::lock_guard<std::mutex> lock(mutex_);
       if (stopping_)
         return;
     }
+    const std::string& topic = messages.topic();
+    const auto route = std::find_if(topic_routes.begin(), topic_routes.end(),
+                                    [&](const Route& r) { return r.topic == topic; });
     BagInput input;
-    input.fraction = (message.getTime().toSec() - begin_s) / span_s;
-    input.publisher = message.getCallerId();
-    const std::string& topic = message.getTopic();
-    while (input.source + 1 < sources.size() && sources[input.source].topic != topic)
-      ++input.source;
-    const EgoMotionSource type = sources[input.source].type;
-    const bool read_one =
-        topic == config.joint_state_topic
-            ? readJointState(message, config, channels, message_bytes_, timers, input)
-        : type == EgoMotionSource::kScan
-            ? readLaserScan(message, config.max_scan_rays, message_bytes_, timers, input)
-        : type == EgoMotionSource::kCloud
-            ? readCloud(message, config, message_bytes_, cloud_frames_[input.source], timers, input)
-            : readPose(message, message_bytes_, input);
-    if (!read_one)
-      continue;  // another message type on the topic
+    if (route == topic_routes.end() ||
+        !readCurrent(messages, adapter, *route, buffers, timers, input.input))
+      continue;  // another topic, or another message type on the topic
+    input.fraction = (messages.recordTime_s() - begin_s) / span_s;
     batch.push_back(std::move(input));
     if (batch.size() == kBatchSize) {
       timers.reading += Clock::now() - timers.start;
@@ -346,6 +255,14 @@ void BagMessageReader::read(rosbag::View& view, const CalibrationConfig& config)
   read_time_s_ = seconds(timers.reading);
   conversion_time_s_ = seconds(timers.converting);
   filtering_time_s_ = seconds(timers.filtering);
+}
+
+std::vector<std::string> readTopics(const CalibrationConfig& config)
+{
+  std::vector<std::string> topics = {config.joint_state_topic};
+  for (const EgoMotionSourceConfig& source : egoMotionSources(config))
+    topics.push_back(source.topic);
+  return topics;
 }
 
 }  // namespace odometry_calibration

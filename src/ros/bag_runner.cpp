@@ -15,6 +15,7 @@
 
 #include "odometry_calibration/ros/bag_message_reader.h"
 #include "odometry_calibration/ros/bag_record_check.h"
+#include "odometry_calibration/ros/rosbag_messages.h"
 
 namespace odometry_calibration {
 namespace {
@@ -75,15 +76,6 @@ std::vector<std::unique_ptr<rosbag::Bag>> openBags(const std::vector<std::string
   return bags;
 }
 
-/// Every topic the bags are read for: the joint states' and each ego-motion source's.
-std::vector<std::string> inputTopics(const CalibrationConfig& config)
-{
-  std::vector<std::string> topics{config.joint_state_topic};
-  for (const EgoMotionSourceConfig& source : egoMotionSources(config))
-    topics.push_back(source.topic);
-  return topics;
-}
-
 /// The topics in words: "'/joint_states', '/scan'".
 std::string topicList(const std::vector<std::string>& topics)
 {
@@ -100,9 +92,9 @@ std::pair<ros::Time, ros::Time> timeWindow(const std::vector<std::unique_ptr<ros
 {
   rosbag::View all;
   for (const auto& bag : bags)
-    all.addQuery(*bag, rosbag::TopicQuery(inputTopics(config)));
+    all.addQuery(*bag, rosbag::TopicQuery(readTopics(config)));
   if (all.size() == 0)
-    throw std::runtime_error("the bags hold no message on " + topicList(inputTopics(config)));
+    throw std::runtime_error("the bags hold no message on " + topicList(readTopics(config)));
   const double span_s = (all.getEndTime() - all.getBeginTime()).toSec();
   if (start_offset_s >= span_s || (end_offset_s > 0.0 && end_offset_s <= start_offset_s)) {
     throw std::runtime_error("the time window [" + std::to_string(start_offset_s) + ", " +
@@ -144,35 +136,6 @@ std::string egoMessageType(EgoMotionSource source)
   return source == EgoMotionSource::kScan    ? "LaserScan"
          : source == EgoMotionSource::kCloud ? "PointCloud2"
                                              : "pose";
-}
-
-/// One converted message into the session.
-void feed(JointCalibrationSession& sessions, BagInput& input,
-          const std::vector<EgoMotionSourceConfig>& sources)
-{
-  if (input.kind == BagInput::Kind::kBadJoints)
-    return sessions.skipJointState(input.problem, input.publisher);
-  if (input.kind == BagInput::Kind::kJoints)
-    return sessions.addJointPositions(input.stamp_s, input.raw, input.publisher);
-  CalibrationSession& session = sessions.source(input.source);
-  const EgoMotionSource type = sources[input.source].type;
-  switch (input.kind) {
-    case BagInput::Kind::kBadScan:
-      session.skipEgoMessage(egoMessageType(type), input.problem, input.publisher);
-      break;
-    case BagInput::Kind::kScan:
-      if (type == EgoMotionSource::kCloud)
-        session.addCloudScan(input.stamp_s, input.scan, input.frame, input.problem,
-                             input.publisher);
-      else
-        session.addScan(input.stamp_s, input.scan, input.frame, input.publisher);
-      break;
-    case BagInput::Kind::kPose:
-      session.addSensorPose(input.stamp_s, input.pose, input.frame, input.publisher);
-      break;
-    default:
-      break;
-  }
 }
 
 /// A publisher chosen by `key` (`chosen`, empty: none) that published nothing of `what` in the
@@ -226,7 +189,7 @@ BagRunResult runBagsUnchecked(const std::vector<std::string>& bag_paths,
   const auto [begin, end] = timeWindow(bags, config, start_offset_s, end_offset_s);
   rosbag::View view;
   for (const auto& bag : bags)
-    view.addQuery(*bag, rosbag::TopicQuery(inputTopics(config)), begin, end);
+    view.addQuery(*bag, rosbag::TopicQuery(readTopics(config)), begin, end);
   BagRunResult result;
   result.bag_span_s = (end - begin).toSec();
   // Offline: the keyframe matches' events may come a few messages late (pair_collector.h), so
@@ -235,15 +198,15 @@ BagRunResult runBagsUnchecked(const std::vector<std::string>& bag_paths,
   session_config.collector.defer_keyframe_matches = true;
   result.session =
       bagSession(session_config, candidate_intervals_s, bag_paths.front(), fit_jointly);
-  const std::vector<EgoMotionSourceConfig> sources = egoMotionSources(config);
   // Reading and converting run ahead on their own thread; this one feeds the session.
-  BagMessageReader reader(view, config, bagNames(bag_paths));
+  RosbagMessages recorded(view);
+  BagMessageReader reader(recorded, config, bagNames(bag_paths));
   std::size_t messages = 0;
   Clock::duration pairing{};
   for (std::vector<BagInput> batch = reader.next(); !batch.empty(); batch = reader.next()) {
-    for (BagInput& input : batch) {
+    for (const BagInput& input : batch) {
       const auto start = Clock::now();
-      feed(*result.session, input, sources);
+      feedInput(*result.session, input.input);
       pairing += Clock::now() - start;
       if (progress && ++messages % 500 == 0)
         progress({input.fraction, messages, seconds(Clock::now() - run_start)});

@@ -10,10 +10,8 @@
 #include <visualization_msgs/Marker.h>
 
 #include "odometry_calibration/common/text_file.h"
-#include "odometry_calibration/ros/conversions.h"
-#include "odometry_calibration/ros/point_cloud_conversion.h"
 #include "odometry_calibration/ros/report_messages.h"
-#include "odometry_calibration/scan/cloud_to_scan.h"
+#include "odometry_calibration/session/converted_input.h"
 
 namespace odometry_calibration {
 namespace {
@@ -49,7 +47,7 @@ CalibrationNode::CalibrationNode(ros::NodeHandle handle, ros::NodeHandle private
 {
   const std::string config_text = readTextFile(options_.config_path, "the configuration");
   config_ = parseCalibrationConfig(config_text, options_.config_path);
-  channels_ = encoderChannels(config_);
+  adapter_ = std::make_unique<MessageAdapter>(config_);
   SessionOptions& session = options_.session;
   if (session.output_directory.empty())
     session.output_directory = config_.output_directory;
@@ -195,82 +193,36 @@ void CalibrationNode::subscribeSource(std::size_t k)
   ego_subscribers_.push_back(subscriber);
 }
 
-// --- Inputs: converted, then the session's -------------------------------------------------
+// --- Inputs: converted (message_adapter.h), then the session's ----------------------------
 
 void CalibrationNode::onJointState(const ros::MessageEvent<const sensor_msgs::JointState>& event)
 {
-  const auto& message = event.getConstMessage();
-  Eigen::VectorXd raw;
-  try {
-    raw = applySigns(config_, ros_conversions::rawJointPositions(*message, channels_));
-  } catch (const std::invalid_argument& error) {
-    sessions_->skipJointState(error.what(), event.getPublisherName());
-    return;
-  }
-  sessions_->addJointPositions(message->header.stamp.toSec(), raw, event.getPublisherName());
+  feedInput(*sessions_, adapter_->convert(*event.getConstMessage(), event.getPublisherName()));
 }
 
 void CalibrationNode::onScan(std::size_t k,
                              const ros::MessageEvent<const sensor_msgs::LaserScan>& event)
 {
-  const auto& message = event.getConstMessage();
-  if (const std::string problem = scanRaysProblem(message->ranges.size(), config_.max_scan_rays);
-      !problem.empty()) {  // refused before it is copied
-    sessions_->source(k).skipEgoMessage("LaserScan", problem, event.getPublisherName());
-    return;
-  }
-  Scan scan;
-  try {
-    scan = ros_conversions::fromLaserScanMsg(*message);
-  } catch (const std::invalid_argument& error) {
-    sessions_->source(k).skipEgoMessage("LaserScan", error.what(), event.getPublisherName());
-    return;
-  }
-  sessions_->source(k).addScan(message->header.stamp.toSec(), scan, message->header.frame_id,
-                               event.getPublisherName());
+  feedInput(*sessions_, adapter_->convert(*event.getConstMessage(), k, event.getPublisherName()));
 }
 
 void CalibrationNode::onCloud(std::size_t k,
                               const ros::MessageEvent<const sensor_msgs::PointCloud2>& event)
 {
-  const auto& message = event.getConstMessage();
   // Converted and filtered before the session's lock: the encoders keep flowing meanwhile.
-  try {
-    const auto lidar = ros_conversions::fromPointCloud2Msg(*message, config_.cloud.point_times);
-    const Scan scan = cloudToScan(lidar.cloud, lidar.has_times, config_.cloud);
-    sessions_->source(k).addCloudScan(message->header.stamp.toSec(), scan, message->header.frame_id,
-                                      lidar.time_problem, event.getPublisherName());
-  } catch (const std::invalid_argument& error) {
-    sessions_->source(k).skipEgoMessage("PointCloud2", error.what(), event.getPublisherName());
-  }
+  feedInput(*sessions_, adapter_->convert(*event.getConstMessage(), k, event.getPublisherName()));
 }
 
 void CalibrationNode::onOdometry(std::size_t k,
                                  const ros::MessageEvent<const nav_msgs::Odometry>& event)
 {
-  const auto& message = event.getConstMessage();
-  onSensorPose(k, message->header.stamp.toSec(), message->pose.pose, message->child_frame_id,
-               event.getPublisherName());
+  feedInput(*sessions_, adapter_->convert(*event.getConstMessage(), k, event.getPublisherName()));
 }
 
 void CalibrationNode::onPose(std::size_t k,
                              const ros::MessageEvent<const geometry_msgs::PoseStamped>& event)
 {
-  const auto& message = event.getConstMessage();
-  onSensorPose(k, message->header.stamp.toSec(), message->pose, "", event.getPublisherName());
-}
-
-void CalibrationNode::onSensorPose(std::size_t k, double stamp_s, const geometry_msgs::Pose& pose,
-                                   const std::string& frame, const std::string& publisher)
-{
-  Pose2 T_world_sensor;
-  try {
-    T_world_sensor = ros_conversions::fromPoseMsg(pose);
-  } catch (const std::invalid_argument& error) {
-    sessions_->source(k).skipEgoMessage("pose", error.what(), publisher);
-    return;
-  }
-  sessions_->source(k).addSensorPose(stamp_s, T_world_sensor, frame, publisher);
+  feedInput(*sessions_, adapter_->convert(*event.getConstMessage(), k, event.getPublisherName()));
 }
 
 }  // namespace odometry_calibration

@@ -161,7 +161,7 @@ TEST_F(CalibrateBagLidar3d, CloudsWithImpossibleAbsoluteStampsAreUsedWithoutTime
   EXPECT_NE(run.counts.first_cloud_time_problem.find("s from the stamp, beyond the 0.5 s"),
             std::string::npos)
       << run.counts.first_cloud_time_problem;
-  const std::string notes = formatBagRunSummary(run);
+  const std::string notes = formatBagRunSummary(run, run.counts, run.session->source(0).collectionNotes());
   EXPECT_NE(notes.find("1 PointCloud2 messages used without their per-point times"),
             std::string::npos)
       << notes;
@@ -230,8 +230,8 @@ TEST_F(CalibrateBagLidar3d, UnusableCloudsAreSkippedCountedAndNamed)
   EXPECT_EQ(run.counts.bad_ego_messages, 6u);
   EXPECT_EQ(run.counts.ego_messages, 80u + 6u);  // 80 sweeps end within 8 s
   EXPECT_GT(run.pairs.size(), 10u);              // the good clouds still pair
-  EXPECT_EQ(run.counts.first_bad_ego_message, "PointCloud2 skipped: the cloud is empty");
-  const std::string notes = formatBagRunSummary(run);
+  EXPECT_EQ(run.counts.first_bad_ego_message, "the cloud is empty");
+  const std::string notes = formatBagRunSummary(run, run.counts, run.session->source(0).collectionNotes());
   EXPECT_NE(notes.find("skipped 6 PointCloud2 messages"), std::string::npos) << notes;
 
   // Each reason on its own: the sparse cloud names the band and what remained.

@@ -1,11 +1,12 @@
-// Reads a bag view's messages on a thread of its own, ahead of the pairing: deserialised and
-// converted into the core's types (joint readings, scans, sensor poses) in batches through a
-// bounded queue, in the view's order. The pairing thread then only pairs, and the reading fills
+// Reads recorded messages (recorded_messages.h: a bag view, or another bag format behind the same
+// interface) on a thread of its own, ahead of the pairing: deserialised and converted into
+// session inputs by the node's own adapter (message_adapter.h) in batches through a bounded
+// queue, in record-time order: the joint states and every ego-motion source's messages, each
+// tagged with its source's index. The pairing thread then only pairs, and the reading fills
 // the moments the pairing threads wait for each other.
 #pragma once
 
 #include <condition_variable>
-#include <cstdint>
 #include <deque>
 #include <exception>
 #include <mutex>
@@ -13,38 +14,22 @@
 #include <thread>
 #include <vector>
 
-#include <rosbag/view.h>
-#include <Eigen/Core>
-
 #include "odometry_calibration/calibration/calibration_config.h"
-#include "odometry_calibration/geometry/se2.h"
-#include "odometry_calibration/scan/scan.h"
+#include "odometry_calibration/ros/recorded_messages.h"
+#include "odometry_calibration/session/converted_input.h"
 
 namespace odometry_calibration {
 
-/// One message, converted.
+/// One recorded message, converted (message_adapter.h), and where it lies in the recording.
 struct BagInput
 {
-  enum class Kind
-  {
-    kJoints,     ///< `raw`: the configured joints' positions, signs applied
-    kBadJoints,  ///< a JointState that could not be used (`problem` says why)
-    kScan,       ///< `scan` (from a LaserScan, or a PointCloud2 of the cloud source; a
-                 ///< non-empty `problem`: the cloud's per-point times were not used, and why)
-    kBadScan,    ///< a LaserScan or PointCloud2 that gave no scan (`problem` says why)
-    kPose,       ///< `pose`: the sensor's pose from an odometry or pose message
-  };
-  Kind kind = Kind::kJoints;
-  double stamp_s = 0.0;   ///< header stamp [s]
-  double fraction = 0.0;  ///< position in the view's time span [0, 1]
-  Eigen::VectorXd raw;
-  Scan scan;
-  Pose2 pose;
-  std::string frame;  ///< the scan's or cloud's frame, the odometry's child frame (or empty)
-  std::string problem;
-  std::string publisher;  ///< the connection's callerid: the node that published it (or empty)
-  std::size_t source = 0;  ///< the ego-motion source (egoMotionSources order) of an ego input
+  ConvertedInput input;
+  double fraction = 0.0;  ///< position in the recording's time span [0, 1]
 };
+
+/// The topics the reader reads for `config`: the joint states' and every ego-motion source's
+/// (egoMotionSources order).
+std::vector<std::string> readTopics(const CalibrationConfig& config);
 
 /// rosbag trusts a bag's index: a corrupted index entry makes it read outside its buffers
 /// (SIGSEGV, SIGBUS) where no exception can be caught. A tool calls this once at start: from
@@ -68,10 +53,10 @@ public:
 class BagMessageReader
 {
 public:
-  /// Starts reading `view` (which must outlive the reader) for the topics of `config`: the
-  /// joint states and every ego-motion source's (egoMotionSources), each ego input tagged with
-  /// its source.
-  BagMessageReader(rosbag::View& view, const CalibrationConfig& config,
+  /// Starts reading `messages` (which must outlive the reader) for the topics of `config`
+  /// (readTopics; messages on other topics, or of another type than their topic's, are passed
+  /// over). `bags` names the recording in words for a fault's message (BagReadScope).
+  BagMessageReader(RecordedMessages& messages, const CalibrationConfig& config,
                    const std::string& bags = "a bag");
   ~BagMessageReader();
   BagMessageReader(const BagMessageReader&) = delete;
@@ -88,7 +73,7 @@ public:
   double filteringTime() const { return filtering_time_s_; }
 
 private:
-  void read(rosbag::View& view, const CalibrationConfig& config);
+  void read(RecordedMessages& messages, const CalibrationConfig& config);
   void push(std::vector<BagInput> batch);
 
   std::mutex mutex_;
@@ -100,8 +85,6 @@ private:
   double read_time_s_ = 0.0;
   double conversion_time_s_ = 0.0;
   double filtering_time_s_ = 0.0;
-  std::vector<std::string> cloud_frames_;    ///< each source's first cloud's frame
-  std::vector<std::uint8_t> message_bytes_;  ///< the message being deserialised
   std::thread thread_;
 };
 

@@ -24,6 +24,7 @@
 #include <tf2_ros/transform_broadcaster.h>
 
 #include "odometry_calibration/Calibrate.h"
+#include "odometry_calibration/ros/message_adapter.h"
 #include "odometry_calibration/session/joint_calibration_session.h"
 
 namespace odometry_calibration {
@@ -72,8 +73,6 @@ private:
   void onCloud(std::size_t k, const ros::MessageEvent<const sensor_msgs::PointCloud2>& event);
   void onOdometry(std::size_t k, const ros::MessageEvent<const nav_msgs::Odometry>& event);
   void onPose(std::size_t k, const ros::MessageEvent<const geometry_msgs::PoseStamped>& event);
-  void onSensorPose(std::size_t k, double stamp_s, const geometry_msgs::Pose& pose,
-                    const std::string& frame, const std::string& publisher);
   void onTimer(const ros::WallTimerEvent& event);
   bool onCalibrate(Calibrate::Request& request, Calibrate::Response& response);
   bool onSave(std_srvs::Trigger::Request& request, std_srvs::Trigger::Response& response);
@@ -100,7 +99,7 @@ private:
   ros::NodeHandle handle_, private_handle_;
   NodeOptions options_;
   CalibrationConfig config_;
-  std::vector<EncoderChannelOptions> channels_;
+  std::unique_ptr<MessageAdapter> adapter_;  ///< messages into session inputs
   std::unique_ptr<JointCalibrationSession> sessions_;
   CalibrationSession* session_ = nullptr;  ///< source 0's: odometry, paths, assistant
   bool finished_ = false;                  ///< finish() ran

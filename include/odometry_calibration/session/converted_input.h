@@ -1,0 +1,60 @@
+// One input message, converted for the session: what a front end (the live node's subscriptions,
+// the bag reader) makes of a message before the session takes it, free of ROS. A message that
+// could not be converted is a "bad" input carrying the reason; feedInput hands every kind to the
+// session method that takes it, so that the node and calibrate_bag skip and count the same
+// messages: a bad input is skipped and counted (SessionCounts' bad_encoder_messages or
+// bad_ego_messages, the first reason kept), and so is an input the session refuses (too few
+// usable readings, a cloud in another frame than the first one's, ...).
+#pragma once
+
+#include <cstddef>
+#include <string>
+
+#include <Eigen/Core>
+
+#include "odometry_calibration/geometry/se2.h"
+#include "odometry_calibration/scan/scan.h"
+
+namespace odometry_calibration {
+
+class CalibrationSession;
+class JointCalibrationSession;
+
+/// One message made a session input.
+struct ConvertedInput
+{
+  enum class Kind
+  {
+    kJoints,         ///< `raw`: the configured joints' positions (encoderChannels order, signs
+                     ///< applied)
+    kBadJoints,      ///< an encoder message that could not be used (`problem` says why)
+    kScan,           ///< `scan` from a laser scan in `frame` (empty: unnamed)
+    kCloudScan,      ///< `scan` from a 3D lidar's cloud in `frame`; `problem` non-empty: the
+                     ///< cloud's per-point times were not used, and why
+    kBadEgoMessage,  ///< an ego-motion message that gave nothing: `message_type`, `problem`
+    kSensorPose,     ///< `pose`: the sensor's pose in the world; `frame` its child frame (or "")
+  };
+  Kind kind = Kind::kJoints;
+  /// The ego-motion source the message came from (egoMotionSources order; 0 with one source
+  /// and for encoder messages, which go to every source).
+  std::size_t source = 0;
+  double stamp_s = 0.0;  ///< the message's stamp [s]
+  Eigen::VectorXd raw;
+  Scan scan;
+  Pose2 pose;
+  std::string frame;
+  std::string problem;
+  std::string message_type;  ///< a bad ego-motion message's type ("LaserScan", "pose", ...)
+  std::string publisher;     ///< the node that published it (empty: unknown)
+};
+
+/// `input` into a session of one ego-motion source (its calibrate_bag form). Throws
+/// std::out_of_range for an ego-motion input of another source than 0.
+void feedInput(CalibrationSession& session, const ConvertedInput& input);
+
+/// `input` into a session of every source: encoder inputs to all of them (the joint session's
+/// own methods), ego-motion inputs to `sessions.source(input.source)` (std::out_of_range
+/// beyond the sources).
+void feedInput(JointCalibrationSession& sessions, const ConvertedInput& input);
+
+}  // namespace odometry_calibration
