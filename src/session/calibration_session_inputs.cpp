@@ -265,7 +265,8 @@ void CalibrationSession::completeWhenInputEnded()
   if (!input_since_flush_ || !inputs_->inputEnded(now()))
     return;
   flushLocked();
-  say(SessionLogLevel::kInfo, "the input has ended: its waiting pairs were completed (" +
+  say(SessionLogLevel::kInfo, "the scans waiting for their encoders were paired at the end of "
+                              "the input (" +
                                   std::to_string(store_->pairs().size()) + " pairs)");
 }
 

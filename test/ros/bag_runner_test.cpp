@@ -153,8 +153,8 @@ TEST_F(BagRunner, MismatchedJointStatesAreSkippedAndCounted)
   }
   const BagRunResult run = runBags({bag_path}, config_);
   EXPECT_EQ(run.counts.bad_encoder_messages, 200u);
-  EXPECT_NE(run.first_bad_joint_state.find("2 names but 1 positions"), std::string::npos)
-      << run.first_bad_joint_state;
+  EXPECT_NE(run.counts.first_bad_encoder_message.find("2 names but 1 positions"), std::string::npos)
+      << run.counts.first_bad_encoder_message;
   EXPECT_GT(run.pairs.size(), 60u);
 }
 
@@ -244,11 +244,12 @@ TEST_F(BagRunner, EncoderGlitchesAreSkippedCountedAndChangeNoParameter)
   EXPECT_EQ(glitched.counts.statistics.glitches.at("left_wheel"), 10u);
   EXPECT_EQ(glitched.counts.statistics.glitches.at("right_wheel"), 10u);
   EXPECT_EQ(clean.counts.statistics.glitches.size(), 0u);
-  EXPECT_EQ(glitched.bad_joint_states, 0u);
+  EXPECT_EQ(glitched.counts.bad_encoder_messages, 0u);
   EXPECT_GT(glitched.counts.statistics.rejected.at("encoder glitch in the interval"), 0u);
-  EXPECT_NE(formatBagRunSummary(glitched).find("skipped 10 encoder glitches on joint 'left_wheel'"),
-            std::string::npos)
-      << formatBagRunSummary(glitched);
+  const std::string summary = formatBagRunSummary(
+      glitched, glitched.counts, glitched.session->source(0).collectionNotes());
+  EXPECT_NE(summary.find("skipped 10 encoder glitches on joint 'left_wheel'"), std::string::npos)
+      << summary;
   // No glitch reaches the decoded history (a jump would be 500 turns).
   for (std::size_t k = 1; k < glitched.encoder_history.size(); ++k) {
     const Eigen::VectorXd step =

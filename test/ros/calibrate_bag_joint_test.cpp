@@ -38,9 +38,16 @@ struct JointBagRun
 
 using BagJob = std::function<int(const BagCalibrationOptions&, std::ostream&)>;
 
+/// calibrate_bag's job with the usual joint fit.
+int calibrateWithTheJointFit(const BagCalibrationOptions& options, std::ostream& out)
+{
+  return calibrateBags(options, out);
+}
+
 JointBagRun runJointBag(const std::string& name, unsigned seed,
                         const std::function<void(const BagCalibrationOptions&)>& before_run = {},
-                        double duration_s = 90.0, const BagJob& calibrate = calibrateBags)
+                        double duration_s = 90.0,
+                        const BagJob& calibrate = calibrateWithTheJointFit)
 {
   JointBagRun run;
   char pattern[] = "/tmp/calibrate_bag_joint_test.XXXXXX";
