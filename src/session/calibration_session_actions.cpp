@@ -147,7 +147,7 @@ CalibrateOutcome CalibrationSession::calibrate(const CalibrationRequest& request
   const std::string pairing = outcome.fit->offset_pairing.text;
   adopt(name, fit_request.config, guidance, &outcome);  // may make a new outcome
   if (!pairing.empty())
-    outcome.message += " Pairs " + pairing.substr(0, pairing.size() - 1) + ".";
+    outcome.message += " Pairs: " + pairing.substr(0, pairing.size() - 1) + ".";
   return outcome;
 }
 

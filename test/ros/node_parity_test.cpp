@@ -1,8 +1,8 @@
 // rostest (test/node_parity.test, issue 31): the live node and calibrate_bag are one calibration
 // session fed from two readers, so the same bag through both gives the same pairs and the same
 // fit: with a fixed keyframe interval, with the fit interval chosen among candidates, and with
-// the time offset estimated. The reply, the report and /diagnostics count the fitted, rejected and
-// down-weighted pairs alike (issue 34).
+// the time offset estimated (configured at the truth, and 0.1 s off it: paired again). The reply,
+// the report and /diagnostics count the fitted, rejected and down-weighted pairs alike (issue 34).
 #include <cmath>
 #include <cstdlib>
 #include <map>
@@ -24,7 +24,7 @@ using test::fileLines;
 using test::readText;
 using test::waitFor;
 
-const std::vector<std::string> kNodes = {"fixed", "intervals", "offset"};
+const std::vector<std::string> kNodes = {"fixed", "intervals", "offset", "offset_off"};
 
 /// The line counts of the nodes' pairs files.
 std::vector<std::size_t> pairFileLines(const std::string& output_directory)
@@ -85,6 +85,22 @@ TEST_P(NodeParity, NodeAndCalibrateBagGiveTheSamePairsAndParameters)
     const std::string bag_text = readText(bag_output + "/pairs.csv");
     EXPECT_GT(node_text.size(), 1000u);
     EXPECT_EQ(node_text, bag_text);
+  }
+  // ... as many as calibrate_bag collected (its summary counts them; with the offset 0.1 s off
+  // the truth both paired the recorded inputs again at the estimate) ...
+  const std::string bag_log = readText(bag_output + ".log");
+  EXPECT_NE(bag_log.find("keyframe pairs: " + std::to_string(fit.response.report.pairs_collected) +
+                         " from"),
+            std::string::npos)
+      << fit.response.report.pairs_collected << "\n"
+      << bag_log;
+  if (name == "offset_off") {
+    EXPECT_NE(bag_log.find("paired again at the estimated time offset"), std::string::npos)
+        << bag_log;
+    EXPECT_NE(fit.response.message.find("paired again at the estimated time offset"),
+              std::string::npos)
+        << fit.response.message;
+    EXPECT_NEAR(node_fit["time_offset_s"].as<double>(), 0.0, 0.01);  // the simulated truth
   }
   // ... the same pairs fitted, at the same interval and time offset ...
   EXPECT_EQ(node_fit["fit"]["pairs"].as<int>(), bag_fit["fit"]["pairs"].as<int>());
@@ -184,7 +200,7 @@ TEST_P(NodeParity, ReplyReportAndDiagnosticsGiveTheSameCounts)
 }
 
 INSTANTIATE_TEST_SUITE_P(Configurations, NodeParity,
-                         ::testing::Values("fixed", "intervals", "offset"));
+                         ::testing::Values("fixed", "intervals", "offset", "offset_off"));
 
 }  // namespace
 }  // namespace odometry_calibration
