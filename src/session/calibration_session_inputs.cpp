@@ -265,9 +265,10 @@ void CalibrationSession::completeWhenInputEnded()
   if (!input_since_flush_ || !inputs_->inputEnded(now()))
     return;
   flushLocked();
-  say(SessionLogLevel::kInfo, "the scans waiting for their encoders were paired at the end of "
-                              "the input (" +
-                                  std::to_string(store_->pairs().size()) + " pairs)");
+  say(SessionLogLevel::kInfo,
+      "the inputs waiting for their encoders were paired or rejected at the end of the input, as "
+      "calibrate_bag does at the end of its bags (" +
+          std::to_string(store_->pairs().size()) + " pairs)");
 }
 
 void CalibrationSession::tick()

@@ -65,8 +65,10 @@ protected:
                                                 listener);
   }
 
-  /// Feeds the drive up to `until_s` (its stamps), the clock following the stamps.
-  void feed(CalibrationSession& session, double until_s = 1e9, double stamp_shift_s = 0.0)
+  /// Feeds the drive up to `until_s` (its stamps), the clock following the stamps, then ends
+  /// the data (flush()) when `end` is set.
+  void feed(CalibrationSession& session, double until_s = 1e9, double stamp_shift_s = 0.0,
+            bool end = true)
   {
     const Recording& drive = officeDrive();
     for (const Recording::Message& message : drive.inOrder()) {
@@ -82,7 +84,8 @@ protected:
         session.addScan(stamp_s, test::toScan(drive.scans[message.index]), "laser");
       }
     }
-    session.flush();
+    if (end)
+      session.flush();
   }
 
   std::string directory_, config_text_;
@@ -276,6 +279,63 @@ TEST_F(Session, SaysASilenceOnceAndRecognisesTheInputsEnd)
     session->tick();
   }
   EXPECT_EQ(linesWith(log_, "the input has ended"), 2u);
+}
+
+/// Keyframe intervals concluded by `session` (paired or rejected).
+std::size_t concludedIntervals(const CalibrationSession& session)
+{
+  const SessionCounts counts = session.counts();
+  std::size_t concluded = counts.pairs;
+  for (const auto& [reason, count] : counts.statistics.rejected)
+    concluded += count;
+  return concluded;
+}
+
+TEST_F(Session, ConcludesTheWaitingKeyframeWhenTheInputEnds)
+{
+  // Encoders taken 10 ms after each scan's stamp: a keyframe scan just before the cut waits for
+  // a reading that never comes. Cut the drive just after one of five consecutive scans: one of
+  // them is a keyframe left waiting.
+  options_.silent_topic_timeout_s = 5.0;
+  options_.resume_pairs = false;  // each session its own collection
+  config_.collector.time_offset_s = 0.01;
+  const std::vector<sim::ScanSample>& scans = officeDrive().scans;
+  const auto first = std::find_if(scans.begin(), scans.end(),
+                                  [](const sim::ScanSample& scan) { return scan.stamp_s > 8.0; });
+  ASSERT_NE(first, scans.end());
+  bool waited = false;
+  for (auto scan = first; scan != first + 5 && !waited; ++scan) {
+    const double cut_s = scan->stamp_s + 0.001;
+    auto ended = makeSession();  // the data's end, as calibrate_bag has it (flush())
+    feed(*ended, cut_s);
+    auto live = makeSession();  // the same messages, then silence
+    feed(*live, cut_s, 0.0, false);
+    const std::size_t before = concludedIntervals(*live);
+    if (before == concludedIntervals(*ended))
+      continue;  // nothing waited at this cut
+    waited = true;
+    // Silent for less than the timeout: nothing is concluded (its encoders may still come).
+    clock_s_ = cut_s + 1.0;
+    live->tick();
+    EXPECT_EQ(concludedIntervals(*live), before);
+    // Silent beyond it: the input has ended, the waiting keyframe concluded as the bag tool's
+    // end of the data concludes it, and said once.
+    clock_s_ = cut_s + 6.0;
+    live->tick();
+    live->tick();
+    EXPECT_EQ(concludedIntervals(*live), concludedIntervals(*ended));
+    EXPECT_EQ(live->counts().statistics.rejected, ended->counts().statistics.rejected);
+    ASSERT_EQ(live->pairs().size(), ended->pairs().size());
+    EXPECT_EQ(live->pairs().back().end_stamp_s, ended->pairs().back().end_stamp_s);
+    EXPECT_EQ(linesWith(log_, "rejected at the end of the input"), 1u);
+    // A ~calibrate after the input ended, before any tick saw it, concludes it too.
+    auto called = makeSession();
+    feed(*called, cut_s, 0.0, false);
+    clock_s_ = cut_s + 6.0;
+    EXPECT_EQ(called->calibrate({}).pairs_collected, ended->pairs().size());
+    EXPECT_EQ(concludedIntervals(*called), concludedIntervals(*ended));
+  }
+  EXPECT_TRUE(waited) << "no keyframe scan waited for its encoders at any of the five cuts";
 }
 
 TEST_F(Session, InputRatesAreOverTheCallersPeriod)
