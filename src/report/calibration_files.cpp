@@ -54,14 +54,14 @@ FileSet calibrationFiles(const CalibrationFilesInput& input)
     throw std::invalid_argument("calibrationFiles: a fit needs its report and its model");
   FileSet set;
   set.written.emplace_back(
-      kResultFileName, calibrationResultYaml(*input.report, *input.model, input.source,
-                                             input.time_offset_s, input.joints,
-                                             input.fit_interval_s));
+      kResultFileName,
+      calibrationResultYaml(*input.report, *input.model, input.source, input.time_offset_s,
+                            input.joints, input.fit_interval_s));
   addControllerFile(controllerYaml(*input.report, input.source), &set);
   if (input.T_base_sensor) {
-    set.written.emplace_back(kLaserJointFileName, laserJointUrdf(*input.T_base_sensor,
-                                                                 input.base_frame,
-                                                                 input.sensor_frame));
+    set.written.emplace_back(
+        kLaserJointFileName,
+        laserJointUrdf(*input.T_base_sensor, input.base_frame, input.sensor_frame));
   }
   return set;
 }

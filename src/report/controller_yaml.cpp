@@ -4,7 +4,6 @@
 #include <cstdio>
 #include <vector>
 
-
 namespace odometry_calibration {
 namespace {
 

@@ -160,9 +160,9 @@ ResultFiles runFiles(const BagCalibrationOptions& options, const CalibrationConf
                      const std::string& text)
 {
   const CalibrationConfig source_config = configForSource(config, source);
-  ResultFiles files = resultFilesForJob(jointLayout(source_config), fit.job, fit.fit_interval_s,
-                                        options.bags.front(),
-                                        run.session->source(source).sensorFrame());
+  ResultFiles files =
+      resultFilesForJob(jointLayout(source_config), fit.job, fit.fit_interval_s,
+                        options.bags.front(), run.session->source(source).sensorFrame());
   describeRun(options, source_config, run, source, fit, &files);
   files.text_report = text;
   return files;
@@ -197,7 +197,8 @@ void writeFiles(const std::string& output_dir, ResultFiles files, std::ostream& 
 /// The options a run of several sources does not take (it fits every source's pairs at its own
 /// fit interval and tests nothing): named, so that none is silently ignored; the model must
 /// have a joint fit.
-void refuseSingleSourceOptions(const BagCalibrationOptions& options, const CalibrationConfig& config)
+void refuseSingleSourceOptions(const BagCalibrationOptions& options,
+                               const CalibrationConfig& config)
 {
   if (const std::string problem = jointFitModelProblem(config.model); !problem.empty())
     throw std::runtime_error(problem);
@@ -214,16 +215,15 @@ void refuseSingleSourceOptions(const BagCalibrationOptions& options, const Calib
 }
 
 /// Source `k`'s run and fit alone in words.
-std::string describeSource(const CalibrationConfig& config, const BagRunResult& run,
-                           std::size_t k, const SessionFit& fit)
+std::string describeSource(const CalibrationConfig& config, const BagRunResult& run, std::size_t k,
+                           const SessionFit& fit)
 {
   const CalibrationJobResult& job = fit.job;
-  return "\n=== source " + std::to_string(k) + ": " + egoMotionSources(config)[k].topic +
-         " ===\n" +
+  return "\n=== source " + std::to_string(k) + ": " + egoMotionSources(config)[k].topic + " ===\n" +
          formatBagRunSummary(run, run.session->source(k).counts(),
                              run.session->source(k).collectionNotes()) +
-         fit.offset_pairing.text + (job.time_offset ? formatTimeOffset(*job.time_offset) : "") + "\n" +
-         formatModelReport(job.report);
+         fit.offset_pairing.text + (job.time_offset ? formatTimeOffset(*job.time_offset) : "") +
+         "\n" + formatModelReport(job.report);
 }
 
 /// calibrateBags with one ego-motion source.
@@ -233,10 +233,10 @@ int calibrateOneSource(const BagCalibrationOptions& options, CalibrationConfig c
   const std::string output_dir =
       options.output_dir.empty() ? config.output_directory : options.output_dir;
   const IntervalPlan plan = planIntervals(options.interval, config);
-  BagRunResult run = runBags(
-      options.bags, config, options.start_s, options.end_s,
-      options.quiet ? nullptr : std::function<void(const BagProgress&)>(showProgress),
-      plan.candidates_s);
+  BagRunResult run =
+      runBags(options.bags, config, options.start_s, options.end_s,
+              options.quiet ? nullptr : std::function<void(const BagProgress&)>(showProgress),
+              plan.candidates_s);
   // Fitted at the estimated time offset (paired again when the configured one is off).
   const SessionFit fit = fitRun(&run, plan, options.holdout);
   if (fit.offset_pairing.paired_again)
@@ -304,8 +304,8 @@ int calibrateSeveralSources(const BagCalibrationOptions& options, const Calibrat
     }
   }
   if (!failure.empty()) {  // every source's fit alone is still written
-    failure = "the joint " + config.model +
-              " fit failed after every source was fitted alone: " + failure;
+    failure =
+        "the joint " + config.model + " fit failed after every source was fitted alone: " + failure;
     text += "\n=== joint fit ===\n" + failure + "\n";
     joint_files = failedJointCalibrationFiles(text);
   }

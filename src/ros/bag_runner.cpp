@@ -110,10 +110,9 @@ std::pair<ros::Time, ros::Time> timeWindow(const std::vector<std::unique_ptr<ros
 
 /// A session as calibrate_bag uses it: no files, no odometry, no assistant (the report says
 /// what they would), every encoder sample kept for the time offset and the nominal's re-cut.
-std::shared_ptr<JointCalibrationSession> bagSession(const CalibrationConfig& config,
-                                                    const std::vector<double>& candidate_intervals_s,
-                                                    const std::string& source,
-                                                    const JointFitFunction& fit_jointly)
+std::shared_ptr<JointCalibrationSession> bagSession(
+    const CalibrationConfig& config, const std::vector<double>& candidate_intervals_s,
+    const std::string& source, const JointFitFunction& fit_jointly)
 {
   SessionOptions options;
   options.load_saved_calibration = false;

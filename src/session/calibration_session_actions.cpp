@@ -123,32 +123,39 @@ CalibrateOutcome CalibrationSession::calibrate(const CalibrationRequest& request
         ": drive more, straight and turning both ways." + guidance;
     return outcome;
   }
-  fit_request.fixed_interval_s = request.fixed_interval_s;
-  fit_request.fit_until_stamp_s = request.fit_until_stamp_s;
-  fit_request.offset_search = request.offset_search;
   try {
-    OffsetPairing pairing;
-    pairAtEstimatedOffset(record, resumed, &fit_request, &pairing);
-    record.reset();
-    outcome.pairs_collected = fit_request.pairs.size();
-    if (request.holdout_fraction) {
-      fit_request.fit_until_stamp_s =
-          holdOutLastPairs(fit_request.pairs, *request.holdout_fraction).border_stamp_s;
-      fit_request.offset_search.reset();
-    }
-    fit_request.interval_mode = request.interval_mode.value_or(
-        fit_request.candidates.empty() ? FitIntervalMode::kConfigured : FitIntervalMode::kChoose);
-    outcome.fit = fitSessionPairs(fit_request);
-    outcome.fit->offset_pairing = std::move(pairing);
+    outcome.fit = fitPairs(request, record, resumed, &fit_request);
   } catch (const std::exception& error) {
     outcome.message = name + " fit failed: " + error.what();
     return outcome;
   }
+  outcome.pairs_collected = fit_request.pairs.size();
   const std::string pairing = outcome.fit->offset_pairing.text;
   adopt(name, fit_request.config, guidance, &outcome);  // may make a new outcome
   if (!pairing.empty())
     outcome.message += " Pairs: " + pairing.substr(0, pairing.size() - 1) + ".";
   return outcome;
+}
+
+SessionFit CalibrationSession::fitPairs(const CalibrationRequest& request,
+                                        const std::optional<InputRecordView>& record,
+                                        std::size_t resumed, SessionFitRequest* fit_request)
+{
+  fit_request->fixed_interval_s = request.fixed_interval_s;
+  fit_request->fit_until_stamp_s = request.fit_until_stamp_s;
+  fit_request->offset_search = request.offset_search;
+  OffsetPairing pairing;
+  pairAtEstimatedOffset(record, resumed, fit_request, &pairing);
+  if (request.holdout_fraction) {
+    fit_request->fit_until_stamp_s =
+        holdOutLastPairs(fit_request->pairs, *request.holdout_fraction).border_stamp_s;
+    fit_request->offset_search.reset();
+  }
+  fit_request->interval_mode = request.interval_mode.value_or(
+      fit_request->candidates.empty() ? FitIntervalMode::kConfigured : FitIntervalMode::kChoose);
+  SessionFit fit = fitSessionPairs(*fit_request);
+  fit.offset_pairing = std::move(pairing);
+  return fit;
 }
 
 /// What a fit changes in a session when it becomes the active model, and what it needs for the
@@ -239,11 +246,10 @@ PreparedAdoption CalibrationSession::prepare(const SessionFit& fit, const std::s
     std::lock_guard<std::mutex> lock(mutex_);
     state.T_base_sensor = fitSensorPose(fit);
     collector = config_.collector;
-    state.files = calibrationFiles({&report, fit.job.model.get(), options_.source,
-                                    fit.job.time_offset_s, jointLayout(config).names,
-                                    fit.fit_interval_s, state.T_base_sensor, options_.base_frame,
-                                    sensor_frame_.empty() ? options_.default_sensor_frame
-                                                          : sensor_frame_});
+    state.files = calibrationFiles(
+        {&report, fit.job.model.get(), options_.source, fit.job.time_offset_s,
+         jointLayout(config).names, fit.fit_interval_s, state.T_base_sensor, options_.base_frame,
+         sensor_frame_.empty() ? options_.default_sensor_frame : sensor_frame_});
   }
   try {
     state.replay = replayOdometry(fit);

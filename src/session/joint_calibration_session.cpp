@@ -318,8 +318,8 @@ JointCalibrateOutcome JointCalibrationSession::calibrateJointly(const Calibratio
     outcome.message = adoptJointFit(joint_config, *result.joint, result.alone, &outcome.success);
   } else {  // calibrate_bag: the fit is the result, no source's session runs on with it
     outcome.success = true;
-    outcome.message = "joint " + name + " fit of " + std::to_string(sessions_.size()) +
-                      " sensors converged";
+    outcome.message =
+        "joint " + name + " fit of " + std::to_string(sessions_.size()) + " sensors converged";
   }
   if (outcome.success) {
     joint_ = result.joint;

@@ -31,7 +31,7 @@ ResultFiles resultSet(const std::string& run, std::size_t pairs)
     files.pairs.pairs.push_back(pair);
   }
   files.calibration.written = {{"result.yaml", "source: " + run + "\n"},
-                                {"controller.yaml", "wheel_radius: 0.0765 # " + run + "\n"}};
+                               {"controller.yaml", "wheel_radius: 0.0765 # " + run + "\n"}};
   files.text_report = "report of " + run + "\n";
   files.markdown.bags = {run + ".bag"};
   files.markdown.trajectories.matched = {Pose2(), Pose2(1.0, 0.0, 0.0)};

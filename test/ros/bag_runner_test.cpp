@@ -178,7 +178,8 @@ TEST_F(BagRunner, ScansWithAnImpossibleGeometryAreSkippedAndCountedAsTheNodeDoes
   const BagRunResult clean = runBags({bag_}, config_);
   const BagRunResult run = runBags({bag_path}, config_);
   EXPECT_EQ(run.counts.bad_ego_messages, 8u);  // 401 scans, every 50th
-  EXPECT_NE(run.counts.first_bad_ego_message.find("angle_increment"), std::string::npos) << run.counts.first_bad_ego_message;
+  EXPECT_NE(run.counts.first_bad_ego_message.find("angle_increment"), std::string::npos)
+      << run.counts.first_bad_ego_message;
   const std::vector<std::string> notes = run.session->source(0).collectionNotes();
   ASSERT_FALSE(notes.empty());
   EXPECT_EQ(notes.front().rfind("skipped 8 LaserScan messages, first: ", 0), 0u) << notes.front();
@@ -246,8 +247,8 @@ TEST_F(BagRunner, EncoderGlitchesAreSkippedCountedAndChangeNoParameter)
   EXPECT_EQ(clean.counts.statistics.glitches.size(), 0u);
   EXPECT_EQ(glitched.counts.bad_encoder_messages, 0u);
   EXPECT_GT(glitched.counts.statistics.rejected.at("encoder glitch in the interval"), 0u);
-  const std::string summary = formatBagRunSummary(
-      glitched, glitched.counts, glitched.session->source(0).collectionNotes());
+  const std::string summary =
+      formatBagRunSummary(glitched, glitched.counts, glitched.session->source(0).collectionNotes());
   EXPECT_NE(summary.find("skipped 10 encoder glitches on joint 'left_wheel'"), std::string::npos)
       << summary;
   // No glitch reaches the decoded history (a jump would be 500 turns).

@@ -155,13 +155,15 @@ TEST_F(CalibrateBagLidar3d, CloudsWithImpossibleAbsoluteStampsAreUsedWithoutTime
   const BagRunResult run = runBags({bag, odd_bag}, config);
   EXPECT_EQ(run.counts.bad_ego_messages, 0u);
   EXPECT_EQ(run.counts.clouds_without_times, 1u);
-  EXPECT_NE(run.counts.first_cloud_time_problem.find("per-point times of field 'timestamp' ignored"),
-            std::string::npos)
+  EXPECT_NE(
+      run.counts.first_cloud_time_problem.find("per-point times of field 'timestamp' ignored"),
+      std::string::npos)
       << run.counts.first_cloud_time_problem;
   EXPECT_NE(run.counts.first_cloud_time_problem.find("s from the stamp, beyond the 0.5 s"),
             std::string::npos)
       << run.counts.first_cloud_time_problem;
-  const std::string notes = formatBagRunSummary(run, run.counts, run.session->source(0).collectionNotes());
+  const std::string notes =
+      formatBagRunSummary(run, run.counts, run.session->source(0).collectionNotes());
   EXPECT_NE(notes.find("1 PointCloud2 messages used without their per-point times"),
             std::string::npos)
       << notes;
@@ -231,7 +233,8 @@ TEST_F(CalibrateBagLidar3d, UnusableCloudsAreSkippedCountedAndNamed)
   EXPECT_EQ(run.counts.ego_messages, 80u + 6u);  // 80 sweeps end within 8 s
   EXPECT_GT(run.pairs.size(), 10u);              // the good clouds still pair
   EXPECT_EQ(run.counts.first_bad_ego_message, "the cloud is empty");
-  const std::string notes = formatBagRunSummary(run, run.counts, run.session->source(0).collectionNotes());
+  const std::string notes =
+      formatBagRunSummary(run, run.counts, run.session->source(0).collectionNotes());
   EXPECT_NE(notes.find("skipped 6 PointCloud2 messages"), std::string::npos) << notes;
 
   // Each reason on its own: the sparse cloud names the band and what remained.
@@ -249,8 +252,9 @@ TEST_F(CalibrateBagLidar3d, UnusableCloudsAreSkippedCountedAndNamed)
   }
   const BagRunResult sparse = runBags({bag, sparse_bag}, sparse_config);
   EXPECT_EQ(sparse.counts.bad_ego_messages, 2u);
-  EXPECT_NE(sparse.counts.first_bad_ego_message.find("too few points in the height band [-0.3, 0.3] m about "
-                                        "the sensor's plane: 5 bearings left (20 needed)"),
+  EXPECT_NE(sparse.counts.first_bad_ego_message.find(
+                "too few points in the height band [-0.3, 0.3] m about "
+                "the sensor's plane: 5 bearings left (20 needed)"),
             std::string::npos)
       << sparse.counts.first_bad_ego_message;
 }

@@ -1,9 +1,10 @@
 // The files of a bag calibration, written together at the end of a successful run: the pairs,
 // the calibration's files (calibration_files.h: result.yaml, controller.yaml, laser_joint.urdf),
 // the text report, the plot folder and the Markdown report; with several sensors each sensor's
-// set in source_<k>/ beside the joint fit's files. All are staged beside their places and replace the previous set only when every one
-// is written (common/staged_file_set.h), so a failed run (a full disk) leaves the old set as
-// it was and no new file; a plot that cannot be drawn never fails the run.
+// set in source_<k>/ beside the joint fit's files. All are staged beside their places and replace
+// the previous set only when every one is written (common/staged_file_set.h), so a failed run (a
+// full disk) leaves the old set as it was and no new file; a plot that cannot be drawn never fails
+// the run.
 #pragma once
 
 #include <string>

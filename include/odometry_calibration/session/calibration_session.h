@@ -321,6 +321,12 @@ private:
   /// calibrate()'s pairing step (see there) on the snapshot `request` (config_'s model).
   void pairAtEstimatedOffset(const std::optional<InputRecordView>& record, std::size_t resumed,
                              SessionFitRequest* request, OffsetPairing* pairing);
+  /// calibrate()'s fit of the snapshot `fit_request` (its model configured): the request's
+  /// interval, the pairing at the estimated offset (pairAtEstimatedOffset), the held-out part;
+  /// throws what fitSessionPairs throws.
+  SessionFit fitPairs(const CalibrationRequest& request,
+                      const std::optional<InputRecordView>& record, std::size_t resumed,
+                      SessionFitRequest* fit_request);
   /// Feeds `inputs` to `repairing`'s collectors as the session feeds its own.
   void feed(const InputRecordView& inputs, Repairing* repairing) const;
   /// The re-paired collectors, pairs and history (fed the inputs recorded since `end`) become
