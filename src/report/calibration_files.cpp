@@ -10,12 +10,6 @@
 
 namespace odometry_calibration {
 
-const char* const kResultFileName = "result.yaml";
-const char* const kControllerFileName = "controller.yaml";
-const char* const kLaserJointFileName = "laser_joint.urdf";
-const char* const kJointLaserJointsFileName = "laser_joints.urdf";
-const char* const kJointReportFileName = "joint_report.txt";
-
 namespace {
 
 namespace fs = std::filesystem;

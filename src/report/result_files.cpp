@@ -9,11 +9,6 @@
 
 namespace odometry_calibration {
 
-const char* const kPairsFileName = "pairs.csv";
-const char* const kTextReportFileName = "report.txt";
-const char* const kReportFileName = "report.md";
-const char* const kPlotFolderName = "plots";
-
 namespace {
 
 namespace fs = std::filesystem;

@@ -12,15 +12,9 @@
 #include "odometry_calibration/calibration/joint_source_fit.h"
 #include "odometry_calibration/geometry/se2.h"
 #include "odometry_calibration/models/model.h"
+#include "odometry_calibration/report/output_file_names.h"
 
 namespace odometry_calibration {
-
-/// File names inside the output directory.
-extern const char* const kResultFileName;            ///< "result.yaml"
-extern const char* const kControllerFileName;        ///< "controller.yaml"
-extern const char* const kLaserJointFileName;        ///< "laser_joint.urdf" (one sensor)
-extern const char* const kJointLaserJointsFileName;  ///< "laser_joints.urdf" (several sensors)
-extern const char* const kJointReportFileName;       ///< "joint_report.txt" (several sensors)
 
 /// Files to write into one directory as one set: (name, content) in writing order, and the
 /// names of an earlier set's files this one has not (removed when it is written). A name may

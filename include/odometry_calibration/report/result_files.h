@@ -18,12 +18,6 @@
 
 namespace odometry_calibration {
 
-/// File and folder names inside the output directory.
-extern const char* const kPairsFileName;       ///< "pairs.csv"
-extern const char* const kTextReportFileName;  ///< "report.txt"
-extern const char* const kReportFileName;      ///< "report.md"
-extern const char* const kPlotFolderName;      ///< "plots"
-
 /// What to write.
 struct ResultFiles
 {
