@@ -408,6 +408,13 @@ std::vector<EgoMotionSourceConfig> egoMotionSources(const CalibrationConfig& con
   return sources;
 }
 
+std::string egoMessageType(EgoMotionSource type)
+{
+  return type == EgoMotionSource::kScan    ? "LaserScan"
+         : type == EgoMotionSource::kCloud ? "PointCloud2"
+                                           : "pose";
+}
+
 CalibrationConfig configForSource(const CalibrationConfig& config, std::size_t index)
 {
   const std::vector<EgoMotionSourceConfig> sources = egoMotionSources(config);

@@ -56,6 +56,8 @@ FileSet calibrationFiles(const CalibrationFilesInput& input)
     set.written.emplace_back(
         kLaserJointFileName,
         laserJointUrdf(*input.T_base_sensor, input.base_frame, input.sensor_frame));
+  } else {  // an earlier calibration's pose must not pass for this one's
+    set.removed.push_back(kLaserJointFileName);
   }
   return set;
 }

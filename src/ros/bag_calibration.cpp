@@ -92,6 +92,7 @@ std::string scoreTestBags(const BagCalibrationOptions& options, const Calibratio
 {
   CalibrationConfig test_config = config;
   test_config.collector.time_offset_s = job.time_offset_s;
+  test_config.estimate_time_offset = false;  // paired at the fitted offset: nothing to record
   const BagRunResult test = runBags(options.test_bags, test_config, 0.0, 0.0);
   files->markdown.test_table =
       formatComparisonTable(scoreModelsOnTest(config, job, test.pairs, test.encoder_history));

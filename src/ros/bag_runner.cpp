@@ -129,14 +129,6 @@ std::shared_ptr<JointCalibrationSession> bagSession(
   return std::make_shared<JointCalibrationSession>(config, "", "", options, nullptr, fit_jointly);
 }
 
-/// The ego-motion messages' type, for messages.
-std::string egoMessageType(EgoMotionSource source)
-{
-  return source == EgoMotionSource::kScan    ? "LaserScan"
-         : source == EgoMotionSource::kCloud ? "PointCloud2"
-                                             : "pose";
-}
-
 /// A publisher chosen by `key` (`chosen`, empty: none) that published nothing of `what` in the
 /// bags, where `ignored` messages came from `other`: refused, naming both.
 void requireChosenPublisher(const std::string& key, const std::string& chosen,

@@ -63,8 +63,13 @@ CalibrationSession::CalibrationSession(const CalibrationConfig& config,
   if (options_.load_saved_calibration && !options_.output_directory.empty())
     loadSavedCalibration();
   makeCollectors();
-  if (config_.estimate_time_offset)  // to pair again at the estimated offset
-    record_ = std::make_unique<InputRecord>(options_.output_directory);
+  if (config_.estimate_time_offset) {  // to pair again at the estimated offset
+    try {
+      record_ = std::make_unique<InputRecord>(options_.output_directory);
+    } catch (const std::exception& error) {
+      dropRecord(error.what());  // the session runs on, pairing only at the configured offset
+    }
+  }
   store_ = std::make_unique<PairsStore>(options_.output_directory, jointLayout(config_),
                                         options_.resume_pairs, options_.log);
   if (options_.odometry)

@@ -50,11 +50,16 @@ std::string repairingAdvice(double paired_at_s, const SessionFit& fit)
 
 SessionFitRequest CalibrationSession::snapshot(std::string* guidance,
                                                std::optional<InputRecordView>* record,
-                                               std::size_t* resumed) const
+                                               std::size_t* resumed)
 {
   std::lock_guard<std::mutex> lock(mutex_);
-  if (record && record_)
-    *record = record_->view();
+  if (record && record_) {
+    try {
+      *record = record_->view();
+    } catch (const std::exception& error) {
+      dropRecord(error.what());
+    }
+  }
   if (resumed)
     *resumed = store_->resumed();
   SessionFitRequest fit_request;
@@ -135,27 +140,6 @@ CalibrateOutcome CalibrationSession::calibrate(const CalibrationRequest& request
   if (!pairing.empty())
     outcome.message += " Pairs: " + pairing.substr(0, pairing.size() - 1) + ".";
   return outcome;
-}
-
-SessionFit CalibrationSession::fitPairs(const CalibrationRequest& request,
-                                        const std::optional<InputRecordView>& record,
-                                        std::size_t resumed, SessionFitRequest* fit_request)
-{
-  fit_request->fixed_interval_s = request.fixed_interval_s;
-  fit_request->fit_until_stamp_s = request.fit_until_stamp_s;
-  fit_request->offset_search = request.offset_search;
-  OffsetPairing pairing;
-  pairAtEstimatedOffset(record, resumed, fit_request, &pairing);
-  if (request.holdout_fraction) {
-    fit_request->fit_until_stamp_s =
-        holdOutLastPairs(fit_request->pairs, *request.holdout_fraction).border_stamp_s;
-    fit_request->offset_search.reset();
-  }
-  fit_request->interval_mode = request.interval_mode.value_or(
-      fit_request->candidates.empty() ? FitIntervalMode::kConfigured : FitIntervalMode::kChoose);
-  SessionFit fit = fitSessionPairs(*fit_request);
-  fit.offset_pairing = std::move(pairing);
-  return fit;
 }
 
 /// What a fit changes in a session when it becomes the active model, and what it needs for the
@@ -460,16 +444,14 @@ std::pair<bool, std::string> CalibrationSession::save()
     const FileSet files = filesToSave();
     if (directory.empty())
       return {false, "nothing to save: the session has no output directory"};
+    writeFileSet(directory, files);  // all replaced, or none
     std::string message = "saved ";
     for (std::size_t f = 0; f < files.written.size(); ++f) {
-      const std::string path = absolutePath(directory, files.written[f].first);
-      writeFileAtomically(path, files.written[f].second);
       const bool urdf = files.written[f].first == kLaserJointFileName;
-      message += (f == 0 ? "" : urdf ? " and " : ", ") + path;
-    }
-    for (const std::string& name : files.removed) {
-      std::error_code ignored;
-      fs::remove(absolutePath(directory, name), ignored);
+      message += (f == 0 ? ""
+                  : urdf ? " and "
+                         : ", ") +
+                 absolutePath(directory, files.written[f].first);
     }
     return {true, message};
   } catch (const std::exception& error) {

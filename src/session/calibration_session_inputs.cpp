@@ -259,9 +259,9 @@ void CalibrationSession::flushLocked()
 
 void CalibrationSession::completeWhenInputEnded()
 {
-  // Every input silent this long: a scan still waiting for its encoders would wait for input
-  // more than max_encoder_gap_s later, which rejects it anyway, so none is lost. Mid-stream
-  // nothing is flushed: a waiting scan is paired once its encoders come.
+  // Every input silent this long (wall clock): the inputs still waiting for their encoders are
+  // concluded as calibrate_bag concludes them at the end of its bags. Mid-stream nothing is: a
+  // waiting scan is paired once its encoders come, and concluding it early would reject it.
   if (!input_since_flush_ || !inputs_->inputEnded(now()))
     return;
   flushLocked();

@@ -4,14 +4,26 @@
 // (calibrate_bag's result and the node's are then the same).
 #include <cmath>
 #include <cstdio>
+#include <memory>
 
 #include "odometry_calibration/calibration/candidate_collectors.h"
+#include "odometry_calibration/data/holdout.h"
 #include "odometry_calibration/session/calibration_session.h"
 
 namespace odometry_calibration {
 
+namespace {
+
+/// While more inputs than this came since the record's view, the catch-up feeds them without
+/// the lock (the inputs keep flowing); the rest is fed under it.
+constexpr std::size_t kCatchUpUnderLock = 200;
+
+}  // namespace
+
 struct CalibrationSession::Repairing
 {
+  std::size_t end = 0;            ///< the record's inputs [0, end) are fed
+  double offset_s = 0.0;          ///< the time offset the collectors pair at [s]
   std::vector<MotionPair> pairs;  ///< made so far, in order
   std::unique_ptr<PairCollector> collector;
   std::vector<EncoderSample> history;  ///< the encoder history as the session keeps it
@@ -28,10 +40,28 @@ void CalibrationSession::record(const std::function<void(InputRecord&)>& add)
   try {
     add(*record_);
   } catch (const std::exception& error) {
-    record_.reset();
-    say(SessionLogLevel::kError,
-        std::string("the input record failed (") + error.what() +
-            "): the pairs cannot be made again at the estimated time offset until ~reset");
+    dropRecord(error.what());
+  }
+}
+
+void CalibrationSession::dropRecord(const std::string& error)
+{
+  record_.reset();
+  say(SessionLogLevel::kError,
+      "the input record failed (" + error +
+          "): the pairs cannot be made again at the estimated time offset until ~reset");
+}
+
+std::optional<InputRecordView> CalibrationSession::recordSince(std::size_t first)
+{
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!record_)
+    return std::nullopt;
+  try {
+    return record_->view(first);
+  } catch (const std::exception& error) {
+    dropRecord(error.what());
+    return std::nullopt;
   }
 }
 
@@ -98,66 +128,133 @@ void CalibrationSession::feed(const InputRecordView& inputs, Repairing* repairin
   inputs.replay(visitor);
 }
 
-void CalibrationSession::install(std::size_t end, Repairing repairing, double offset_s)
+bool CalibrationSession::install(Repairing* repairing)
 {
+  // What came while the inputs were paired again: fed without the lock while much is new.
+  for (int round = 0; round < 4; ++round) {
+    const std::optional<InputRecordView> more = recordSince(repairing->end);
+    if (!more)
+      return false;
+    if (more->size() < kCatchUpUnderLock)
+      break;
+    feed(*more, repairing);
+    repairing->end = more->end();
+  }
   std::lock_guard<std::mutex> lock(mutex_);
-  if (record_)  // what came while the inputs were paired again
-    feed(record_->view(end), &repairing);
-  collector_ = std::move(repairing.collector);
-  candidates_ = std::move(repairing.candidates);
-  store_->replace(repairing.pairs);
-  history_decoder_ = std::move(repairing.decoder);
-  encoder_history_ = std::move(repairing.history);
-  history_broken_ = repairing.history_broken;
-  config_.collector.time_offset_s = offset_s;
+  if (!record_)
+    return false;  // dropped meanwhile: the inputs since cannot be caught up
+  try {
+    feed(record_->view(repairing->end), repairing);
+  } catch (const std::exception& error) {
+    dropRecord(error.what());
+    return false;
+  }
+  collector_ = std::move(repairing->collector);
+  candidates_ = std::move(repairing->candidates);
+  store_->replace(repairing->pairs);
+  history_decoder_ = std::move(repairing->decoder);
+  encoder_history_ = std::move(repairing->history);
+  history_broken_ = repairing->history_broken;
+  config_.collector.time_offset_s = repairing->offset_s;
   if (odometry_)
     odometry_->restart();  // it integrates at the pairing's offset
+  return true;
 }
 
-void CalibrationSession::pairAtEstimatedOffset(const std::optional<InputRecordView>& record,
-                                               std::size_t resumed, SessionFitRequest* request,
-                                               OffsetPairing* pairing)
+std::unique_ptr<CalibrationSession::Repairing> CalibrationSession::pairAtEstimatedOffset(
+    const std::optional<InputRecordView>& record, std::size_t resumed, SessionFitRequest* request,
+    OffsetPairing* pairing)
 {
   pairing->configured_s = pairing->estimate_s = request->config.collector.time_offset_s;
-  // Resumed pairs' inputs are not in the record: those pairs cannot be made again.
-  if (!record || resumed > 0 || !request->config.estimate_time_offset || request->pairs.empty() ||
-      request->encoder_history.empty())
-    return;
+  if (!request->config.estimate_time_offset || request->pairs.empty() ||
+      request->encoder_history.empty() || (!record && resumed == 0))
+    return nullptr;
   CalibrationJobOptions offset_only;
   offset_only.compare_trajectories = false;
   const CalibrationJobResult first =
       runCalibrationJob(request->config, request->pairs, request->encoder_history, offset_only);
   if (!first.time_offset || first.time_offset->flat)
-    return;
+    return nullptr;
   pairing->estimate_s = first.time_offset_s;
-  char text[300];
+  char text[400];
   if (!(std::abs(pairing->estimate_s - pairing->configured_s) > kOffsetPairingToleranceS)) {
     std::snprintf(text, sizeof(text),
                   "paired at the configured time offset %.3f s (estimated %.3f s, within %.3f s)\n",
                   pairing->configured_s, pairing->estimate_s, kOffsetPairingToleranceS);
     pairing->text = text;
     request->offset_search = first.time_offset;  // the very pairs it was searched on
-    return;
+    return nullptr;
+  }
+  if (resumed > 0 || !record) {  // resumed pairs' inputs are not in the record
+    std::snprintf(text, sizeof(text),
+                  "not paired again at the estimated time offset %.3f s (paired at %.3f s): %zu "
+                  "pairs were resumed from the pairs file without their inputs; set "
+                  "keyframes.time_offset_s to it, or ~reset and drive again\n",
+                  pairing->estimate_s, pairing->configured_s, resumed);
+    pairing->text = text;
+    return nullptr;
   }
   CollectorOptions options = request->config.collector;
   options.time_offset_s = pairing->estimate_s;
-  Repairing repairing;
-  buildCollectors(options, &repairing.collector, &repairing.candidates);
-  feed(*record, &repairing);  // without the lock: the inputs go on meanwhile
+  auto repairing = std::make_unique<Repairing>();
+  repairing->end = record->end();
+  repairing->offset_s = pairing->estimate_s;
+  buildCollectors(options, &repairing->collector, &repairing->candidates);
+  try {
+    feed(*record, repairing.get());  // without the lock: the inputs go on meanwhile
+  } catch (const std::exception& error) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      dropRecord(error.what());
+    }
+    pairing->text =
+        "not paired again at the estimated time offset: the input record could not "
+        "be read back (" +
+        std::string(error.what()) + ")\n";
+    return nullptr;
+  }
   request->config.collector.time_offset_s = pairing->estimate_s;
-  request->pairs = repairing.pairs;
+  request->pairs = repairing->pairs;
   request->candidates =
-      repairing.candidates ? repairing.candidates->pairs() : std::vector<IntervalPairs>();
+      repairing->candidates ? repairing->candidates->pairs() : std::vector<IntervalPairs>();
   request->encoder_history =
-      repairing.history_broken ? std::vector<EncoderSample>() : repairing.history;
+      repairing->history_broken ? std::vector<EncoderSample>() : repairing->history;
   request->offset_search.reset();
-  install(record->end(), std::move(repairing), pairing->estimate_s);
   pairing->paired_again = true;
   std::snprintf(text, sizeof(text),
                 "paired again at the estimated time offset %.3f s (configured %.3f s: set "
                 "keyframes.time_offset_s to it to pair once)\n",
                 pairing->estimate_s, pairing->configured_s);
   pairing->text = text;
+  return repairing;
+}
+
+SessionFit CalibrationSession::fitPairs(const CalibrationRequest& request,
+                                        const std::optional<InputRecordView>& record,
+                                        std::size_t resumed, SessionFitRequest* fit_request)
+{
+  fit_request->fixed_interval_s = request.fixed_interval_s;
+  fit_request->fit_until_stamp_s = request.fit_until_stamp_s;
+  fit_request->offset_search = request.offset_search;
+  OffsetPairing pairing;
+  const std::unique_ptr<Repairing> repairing =
+      pairAtEstimatedOffset(record, resumed, fit_request, &pairing);
+  if (request.holdout_fraction) {
+    fit_request->fit_until_stamp_s =
+        holdOutLastPairs(fit_request->pairs, *request.holdout_fraction).border_stamp_s;
+    fit_request->offset_search.reset();
+  }
+  fit_request->interval_mode = request.interval_mode.value_or(
+      fit_request->candidates.empty() ? FitIntervalMode::kConfigured : FitIntervalMode::kChoose);
+  SessionFit fit = fitSessionPairs(*fit_request);
+  // The pairs made again become the session's only with a fit that can be its result.
+  if (repairing && (fit.job.report.converged || !options_.adopt_fits) &&
+      !install(repairing.get())) {
+    pairing.text.pop_back();
+    pairing.text += "; the session keeps its earlier pairs: its input record was dropped\n";
+  }
+  fit.offset_pairing = std::move(pairing);
+  return fit;
 }
 
 }  // namespace odometry_calibration

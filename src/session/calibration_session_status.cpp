@@ -14,14 +14,6 @@ double matchingSuccess(const CollectorStatistics& s)
              : std::nan("");
 }
 
-/// The ego-motion messages' type, for notes.
-std::string egoMessageType(EgoMotionSource source)
-{
-  return source == EgoMotionSource::kScan    ? "LaserScan"
-         : source == EgoMotionSource::kCloud ? "PointCloud2"
-                                             : "pose";
-}
-
 }  // namespace
 
 std::vector<std::string> CalibrationSession::collectionNotes() const

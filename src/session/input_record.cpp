@@ -105,7 +105,7 @@ public:
     const std::string base =
         directory.empty() ? std::filesystem::temp_directory_path().string() : directory;
     std::string path = base + "/.odometry_calibration_inputs-XXXXXX";
-    fd_ = ::mkstemp(path.data());
+    fd_ = ::mkostemp(path.data(), O_CLOEXEC);  // not inherited by gnuplot and the like
     if (fd_ < 0) {
       throw std::runtime_error("cannot make the input record's scratch file in " + base + ": " +
                                std::strerror(errno));

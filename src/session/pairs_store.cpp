@@ -77,6 +77,8 @@ void PairsStore::writePending()
   if (unwritten_ == 0)
     return;
   try {
+    if (rewrite_pending_)  // the pairs were made again: the whole file, then appended to
+      rewrite();
     if (!appender_)  // a reset could not create the file
       appender_ = std::make_unique<PairsCsvAppender>(path(), joints_);
     for (; unwritten_ > 0; --unwritten_)
@@ -134,17 +136,18 @@ void PairsStore::replace(const std::vector<MotionPair>& pairs)
   unwritten_ = 0;
   if (directory_.empty())
     return;
-  try {
-    appender_.reset();
-    writePairsCsv(path(), {joints_, pairs_});
-    appender_ = std::make_unique<PairsCsvAppender>(path(), joints_);
-  } catch (const std::exception& error) {
-    say(SessionLogLevel::kError, std::string("cannot rewrite ") + path() +
-                                     " with the pairs made "
-                                     "again: " +
-                                     error.what() + " (it keeps the earlier pairs)");
-    problem_ = error.what();
-  }
+  rewrite_pending_ = true;
+  unwritten_ = pairs_.size();
+  writePending();
+}
+
+void PairsStore::rewrite()
+{
+  appender_.reset();
+  writePairsCsv(path(), {joints_, pairs_});  // atomically: the old file or the new one
+  appender_ = std::make_unique<PairsCsvAppender>(path(), joints_);
+  rewrite_pending_ = false;
+  unwritten_ = 0;
 }
 
 std::string PairsStore::archive(const std::string& why)

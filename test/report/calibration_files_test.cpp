@@ -61,10 +61,14 @@ TEST(CalibrationFiles, ResultYamlHoldsTheIntervalTheFitUsedAndTheUrdfTheSensorsP
   EXPECT_EQ(saved.joints, input.joints);
   const std::string urdf = set.content("laser_joint.urdf");
   EXPECT_NE(urdf.find("front_laser"), std::string::npos) << urdf;
-  EXPECT_NE(urdf.find("0.145"), std::string::npos) << urdf;
+  EXPECT_NE(urdf.find("<origin xyz=\"0.145000 0.010000 0\" rpy=\"0 0 0.020000\"/>"),
+            std::string::npos)
+      << urdf;
   // Without a known pose, no URDF; without a controller form, an earlier controller.yaml goes.
   input.T_base_sensor.reset();
-  EXPECT_EQ(calibrationFiles(input).written.size(), 2u);
+  const FileSet without_pose = calibrationFiles(input);
+  EXPECT_EQ(without_pose.written.size(), 2u);
+  EXPECT_EQ(without_pose.removed, std::vector<std::string>{"laser_joint.urdf"});
   const auto linear = makeModel("linear", config.models);
   ModelReport linear_report = fittedReport("linear");
   linear_report.parameters.clear();  // a model-free fit has no wheel parameters
@@ -72,7 +76,7 @@ TEST(CalibrationFiles, ResultYamlHoldsTheIntervalTheFitUsedAndTheUrdfTheSensorsP
   input.model = linear.get();
   const FileSet model_free = calibrationFiles(input);
   ASSERT_EQ(model_free.written.size(), 1u);
-  EXPECT_EQ(model_free.removed, std::vector<std::string>{"controller.yaml"});
+  EXPECT_EQ(model_free.removed, (std::vector<std::string>{"controller.yaml", "laser_joint.urdf"}));
   input.model = nullptr;
   EXPECT_THROW(calibrationFiles(input), std::invalid_argument);
 }

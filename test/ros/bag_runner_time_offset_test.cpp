@@ -1,7 +1,7 @@
-// The session's pairing at the estimated time offset, on a bag (issue 16): a bag paired at a wrong
+// The session's pairing at the estimated time offset, on a bag: a bag paired at a wrong
 // configured time offset is paired again at the estimated one, so that each scan's sweep
 // compensation uses the motion of its own instant. On a simulated Mines-like run (every sensor
-// effect on, true offset 0) with config/mines.yaml's -0.15 s, the one-pass pipeline fitted the mean
+// effect on, true offset 0) with config/mines.yaml's -0.15 s, pairs made at -0.15 s give the mean
 // wheel radius 0.8 % short.
 #include <cmath>
 #include <filesystem>
@@ -88,7 +88,7 @@ TEST_F(BagRunnerTimeOffset, PairsAgainAtTheEstimateAndFitsTheTrueRadius)
   EXPECT_NEAR(pairing.estimate_s, 0.0, 0.02);
   EXPECT_NEAR(config.collector.time_offset_s, pairing.estimate_s, 1e-12);
   EXPECT_NE(pairing.text.find("paired again"), std::string::npos);
-  // Paired at -0.15 s and only re-cut at the estimate (before the fix): -0.80 %.
+  // Paired at -0.15 s and only re-cut at the estimate, the radius reads -0.80 %.
   const double error = meanRadius(config, run) / trueMeanRadius() - 1.0;
   EXPECT_LT(std::abs(error), 0.004) << "mean radius error " << 100.0 * error << " %";
 }

@@ -1,8 +1,8 @@
 // The one input adapter (ros/message_adapter.h) on malformed messages: the same messages written
 // into a bag and run through runBags (calibrate_bag's path), and fed message by message through
 // the adapter into a JointCalibrationSession (the live node's callbacks), give the same counts
-// and outcomes; a pose with a zero quaternion is skipped and counted in both (calibrate_bag used
-// to stop on it as if the bag were corrupted).
+// and outcomes; a pose with a zero quaternion is skipped and counted in both (not taken for a
+// corrupted bag).
 #include <unistd.h>
 
 #include <cmath>

@@ -1,7 +1,7 @@
 // The session's pairing at the estimated time offset: a session configured 0.1 s off the truth
 // pairs its recorded inputs again at the estimate in calibrate() and gives exactly the pairs,
 // time offset and parameters of a fresh session configured at that estimate and fed the same
-// messages (what calibrate_bag's second pass gave); the record stays within its memory bound
+// messages; the record stays within its memory bound
 // and a reset clears it.
 #include <filesystem>
 #include <fstream>

@@ -117,6 +117,10 @@ struct CalibrationConfig
 /// or, without that list, the one source of ego_motion.source, scan_topic and topic.
 std::vector<EgoMotionSourceConfig> egoMotionSources(const CalibrationConfig& config);
 
+/// The messages of an ego-motion source of `type`, in words: "LaserScan", "PointCloud2" or
+/// "pose" (an Odometry or PoseStamped).
+std::string egoMessageType(EgoMotionSource type);
+
 /// The one-source configuration of source `index` of egoMotionSources(config) (issue 35: each
 /// source paired on its own): its type and topic as ego_motion.source and scan_topic or topic,
 /// its time offset as keyframes.time_offset_s, ego_motion.sources empty. Throws

@@ -48,7 +48,8 @@ struct CalibrationFilesInput
 /// result.yaml (calibrationResultYaml, `fit_interval_s` the interval the fit used), then
 /// controller.yaml (controllerYaml; removed instead when the model has no controller form, so
 /// that an earlier calibration's values do not pass for this one's), then laser_joint.urdf
-/// when a sensor pose is known. Throws std::invalid_argument without a report or model.
+/// when a sensor pose is known (removed likewise when none is). Throws std::invalid_argument
+/// without a report or model.
 FileSet calibrationFiles(const CalibrationFilesInput& input);
 
 /// A joint fit of several sensors: result.yaml (jointResultYaml), laser_joints.urdf (one fixed

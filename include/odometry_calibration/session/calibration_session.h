@@ -306,32 +306,42 @@ private:
   double now() const;
   std::string collectionStatus(SessionStatusReport* status) const;
   /// What a fit needs, taken under the lock (and the guidance's summary for the reply; the
-  /// input record as it is now and the number of resumed pairs, when asked for).
+  /// input record as it is now and the number of resumed pairs, when asked for: a record that
+  /// cannot be read is dropped, said once).
   SessionFitRequest snapshot(std::string* guidance,
                              std::optional<InputRecordView>* record = nullptr,
-                             std::size_t* resumed = nullptr) const;
+                             std::size_t* resumed = nullptr);
   // --- Pairing at the estimated time offset (calibration_session_offset.cpp) ---
   /// Fresh collectors and what they made of recorded inputs.
   struct Repairing;
   /// An input for the record (dropped, with an error said once, when it cannot be written).
   void record(const std::function<void(InputRecord&)>& add);
+  /// Drops the input record after `error` (said once): no pairing again until a reset.
+  void dropRecord(const std::string& error);
   void flushLocked();  ///< flush() with mutex_ held
   /// Completes the waiting pairs when every input has been silent beyond the timeout.
   void completeWhenInputEnded();
-  /// calibrate()'s pairing step (see there) on the snapshot `request` (config_'s model).
-  void pairAtEstimatedOffset(const std::optional<InputRecordView>& record, std::size_t resumed,
-                             SessionFitRequest* request, OffsetPairing* pairing);
+  /// calibrate()'s pairing step (see there) on the snapshot `request` (config_'s model): the
+  /// re-paired state (null when the pairs stay as they are; `pairing` says why).
+  std::unique_ptr<Repairing> pairAtEstimatedOffset(const std::optional<InputRecordView>& record,
+                                                   std::size_t resumed, SessionFitRequest* request,
+                                                   OffsetPairing* pairing);
   /// calibrate()'s fit of the snapshot `fit_request` (its model configured): the request's
-  /// interval, the pairing at the estimated offset (pairAtEstimatedOffset), the held-out part;
+  /// interval, the pairing at the estimated offset (pairAtEstimatedOffset, its pairs made the
+  /// session's only when the fit converged, or always without adopt_fits), the held-out part;
   /// throws what fitSessionPairs throws.
   SessionFit fitPairs(const CalibrationRequest& request,
                       const std::optional<InputRecordView>& record, std::size_t resumed,
                       SessionFitRequest* fit_request);
   /// Feeds `inputs` to `repairing`'s collectors as the session feeds its own.
   void feed(const InputRecordView& inputs, Repairing* repairing) const;
-  /// The re-paired collectors, pairs and history (fed the inputs recorded since `end`) become
-  /// the session's, at `offset_s`.
-  void install(std::size_t end, Repairing repairing, double offset_s);
+  /// The record's inputs since `first`, under the lock (none when it was dropped or cannot be
+  /// read: then dropped).
+  std::optional<InputRecordView> recordSince(std::size_t first);
+  /// The re-paired collectors, pairs and history, fed the inputs recorded since the snapshot
+  /// (mostly without the lock, the last of them under it), become the session's, at their
+  /// offset. False (nothing changed) when the record was dropped meanwhile.
+  bool install(Repairing* repairing);
   /// `config`'s model sections for model `name` with the call's `options` (or its `models`);
   /// throws naming why.
   void configureModel(const std::string& name, const CalibrationRequest& request,

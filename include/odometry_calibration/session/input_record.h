@@ -5,8 +5,9 @@
 // else as double). Bounded memory: the scans, the bulk, are spilled to an unlinked scratch file
 // (in the session's output directory, else in the system's temporary directory), so that the
 // memory holds only the small inputs and one index entry per input (about 6 MB per hour of
-// 10 Hz scans and 50 Hz encoder readings of two joints; the file about 104 MB per hour of
-// 720-ray scans).
+// 10 Hz scans and 50 Hz encoder readings of two joints; the file 2 953 bytes per 720-ray
+// LaserScan, 106 MB per hour at 10 Hz; a scan made from a cloud keeps its double ranges, ray
+// times and bearings, 24 bytes per ray).
 #pragma once
 
 #include <cstddef>

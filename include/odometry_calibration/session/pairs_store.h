@@ -35,8 +35,8 @@ public:
   /// starts an empty file; returns what was done, in words.
   std::string reset();
   /// The pairs become `pairs` (made again from the same inputs): the file is rewritten
-  /// atomically (on failure it keeps the previous pairs, said as an error, and new pairs are
-  /// appended to it).
+  /// atomically; when it cannot be, it keeps the previous pairs until writePending() manages
+  /// the rewrite (every pair counts as unwritten meanwhile).
   void replace(const std::vector<MotionPair>& pairs);
 
   const std::vector<MotionPair>& pairs() const { return pairs_; }
@@ -49,6 +49,8 @@ public:
 
 private:
   void open(bool resume);
+  /// Writes every pair into a new file (atomically) and appends to it from then on; throws.
+  void rewrite();
   std::string archive(const std::string& why);
   void say(SessionLogLevel level, const std::string& text) const;
 
@@ -58,7 +60,8 @@ private:
   std::unique_ptr<PairsCsvAppender> appender_;
   std::vector<MotionPair> pairs_;
   std::size_t resumed_ = 0;
-  std::size_t unwritten_ = 0;  ///< the last unwritten_ of pairs_ are not in the file yet
+  std::size_t unwritten_ = 0;     ///< the last unwritten_ of pairs_ are not in the file yet
+  bool rewrite_pending_ = false;  ///< the file holds other pairs than pairs_ (replace())
   std::string problem_;
 };
 
