@@ -32,7 +32,7 @@ std::string absolutePath(const std::string& directory, const std::string& name)
 
 /// When the estimated offset is far from the one the pairs were made at: what to do for pairs
 /// made at the estimate (their scans' sweep compensation and the matchers' guesses use it).
-std::string repairingAdvice(double paired_at_s, const SessionFit& fit)
+std::string pairingAgainAdvice(double paired_at_s, const SessionFit& fit)
 {
   if (!fit.offset_estimated || !fit.job.time_offset || fit.job.time_offset->flat ||
       !(std::abs(fit.job.time_offset_s - paired_at_s) > kOffsetPairingToleranceS))
@@ -381,7 +381,7 @@ CalibrateOutcome CalibrationSession::finish(PreparedAdoption& adoption, std::siz
   }
   outcome.success = true;
   outcome.message = successMessage(state.name, fit) + timeOffsetSentence(state.config, fit) +
-                    repairingAdvice(state.config.collector.time_offset_s, fit);
+                    pairingAgainAdvice(state.config.collector.time_offset_s, fit);
   for (const std::string& warning : fit.job.report.warnings)
     outcome.message += " WARNING: " + asSentence(warning);
   outcome.message += state.guidance;

@@ -2,6 +2,7 @@
 // when the offset estimated on the pairs is far from the one they were made at, paired again
 // at the estimate with fresh collectors, as a session configured at it would have paired them
 // (calibrate_bag's result and the node's are then the same).
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -20,7 +21,7 @@ constexpr std::size_t kCatchUpUnderLock = 200;
 
 }  // namespace
 
-struct CalibrationSession::Repairing
+struct CalibrationSession::PairingAgain
 {
   std::size_t end = 0;            ///< the record's inputs [0, end) are fed
   double offset_s = 0.0;          ///< the time offset the collectors pair at [s]
@@ -73,9 +74,9 @@ std::pair<std::size_t, std::uint64_t> CalibrationSession::inputRecordBytes() con
   return {record_->memoryBytes(), record_->spilledBytes()};
 }
 
-void CalibrationSession::feed(const InputRecordView& inputs, Repairing* repairing) const
+void CalibrationSession::feed(const InputRecordView& inputs, PairingAgain* again) const
 {
-  Repairing& r = *repairing;
+  PairingAgain& r = *again;
   auto take = [&r](const std::vector<CollectorEvent>& events) {
     for (const CollectorEvent& event : events) {
       if (event.type == CollectorEvent::Type::kPair) {
@@ -128,40 +129,40 @@ void CalibrationSession::feed(const InputRecordView& inputs, Repairing* repairin
   inputs.replay(visitor);
 }
 
-bool CalibrationSession::install(Repairing* repairing)
+bool CalibrationSession::install(PairingAgain* again)
 {
   // What came while the inputs were paired again: fed without the lock while much is new.
   for (int round = 0; round < 4; ++round) {
-    const std::optional<InputRecordView> more = recordSince(repairing->end);
+    const std::optional<InputRecordView> more = recordSince(again->end);
     if (!more)
       return false;
     if (more->size() < kCatchUpUnderLock)
       break;
-    feed(*more, repairing);
-    repairing->end = more->end();
+    feed(*more, again);
+    again->end = more->end();
   }
   std::lock_guard<std::mutex> lock(mutex_);
   if (!record_)
     return false;  // dropped meanwhile: the inputs since cannot be caught up
   try {
-    feed(record_->view(repairing->end), repairing);
+    feed(record_->view(again->end), again);
   } catch (const std::exception& error) {
     dropRecord(error.what());
     return false;
   }
-  collector_ = std::move(repairing->collector);
-  candidates_ = std::move(repairing->candidates);
-  store_->replace(repairing->pairs);
-  history_decoder_ = std::move(repairing->decoder);
-  encoder_history_ = std::move(repairing->history);
-  history_broken_ = repairing->history_broken;
-  config_.collector.time_offset_s = repairing->offset_s;
+  collector_ = std::move(again->collector);
+  candidates_ = std::move(again->candidates);
+  store_->replace(again->pairs);
+  history_decoder_ = std::move(again->decoder);
+  encoder_history_ = std::move(again->history);
+  history_broken_ = again->history_broken;
+  config_.collector.time_offset_s = again->offset_s;
   if (odometry_)
     odometry_->restart();  // it integrates at the pairing's offset
   return true;
 }
 
-std::unique_ptr<CalibrationSession::Repairing> CalibrationSession::pairAtEstimatedOffset(
+std::unique_ptr<CalibrationSession::PairingAgain> CalibrationSession::pairAtEstimatedOffset(
     const std::optional<InputRecordView>& record, std::size_t resumed, SessionFitRequest* request,
     OffsetPairing* pairing)
 {
@@ -196,12 +197,13 @@ std::unique_ptr<CalibrationSession::Repairing> CalibrationSession::pairAtEstimat
   }
   CollectorOptions options = request->config.collector;
   options.time_offset_s = pairing->estimate_s;
-  auto repairing = std::make_unique<Repairing>();
-  repairing->end = record->end();
-  repairing->offset_s = pairing->estimate_s;
-  buildCollectors(options, &repairing->collector, &repairing->candidates);
+  auto again = std::make_unique<PairingAgain>();
+  again->end = record->end();
+  again->offset_s = pairing->estimate_s;
+  buildCollectors(options, &again->collector, &again->candidates);
+  const auto started = std::chrono::steady_clock::now();
   try {
-    feed(*record, repairing.get());  // without the lock: the inputs go on meanwhile
+    feed(*record, again.get());  // without the lock: the inputs go on meanwhile
   } catch (const std::exception& error) {
     {
       std::lock_guard<std::mutex> lock(mutex_);
@@ -214,19 +216,20 @@ std::unique_ptr<CalibrationSession::Repairing> CalibrationSession::pairAtEstimat
     return nullptr;
   }
   request->config.collector.time_offset_s = pairing->estimate_s;
-  request->pairs = repairing->pairs;
+  request->pairs = again->pairs;
   request->candidates =
-      repairing->candidates ? repairing->candidates->pairs() : std::vector<IntervalPairs>();
-  request->encoder_history =
-      repairing->history_broken ? std::vector<EncoderSample>() : repairing->history;
+      again->candidates ? again->candidates->pairs() : std::vector<IntervalPairs>();
+  request->encoder_history = again->history_broken ? std::vector<EncoderSample>() : again->history;
   request->offset_search.reset();
   pairing->paired_again = true;
   std::snprintf(text, sizeof(text),
-                "paired again at the estimated time offset %.3f s (configured %.3f s: set "
-                "keyframes.time_offset_s to it to pair once)\n",
-                pairing->estimate_s, pairing->configured_s);
+                "paired again at the estimated time offset %.3f s in %.1f s (configured %.3f s: "
+                "set keyframes.time_offset_s to it to pair once)\n",
+                pairing->estimate_s,
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(),
+                pairing->configured_s);
   pairing->text = text;
-  return repairing;
+  return again;
 }
 
 SessionFit CalibrationSession::fitPairs(const CalibrationRequest& request,
@@ -237,7 +240,7 @@ SessionFit CalibrationSession::fitPairs(const CalibrationRequest& request,
   fit_request->fit_until_stamp_s = request.fit_until_stamp_s;
   fit_request->offset_search = request.offset_search;
   OffsetPairing pairing;
-  const std::unique_ptr<Repairing> repairing =
+  const std::unique_ptr<PairingAgain> again =
       pairAtEstimatedOffset(record, resumed, fit_request, &pairing);
   if (request.holdout_fraction) {
     fit_request->fit_until_stamp_s =
@@ -248,8 +251,7 @@ SessionFit CalibrationSession::fitPairs(const CalibrationRequest& request,
       fit_request->candidates.empty() ? FitIntervalMode::kConfigured : FitIntervalMode::kChoose);
   SessionFit fit = fitSessionPairs(*fit_request);
   // The pairs made again become the session's only with a fit that can be its result.
-  if (repairing && (fit.job.report.converged || !options_.adopt_fits) &&
-      !install(repairing.get())) {
+  if (again && (fit.job.report.converged || !options_.adopt_fits) && !install(again.get())) {
     pairing.text.pop_back();
     pairing.text += "; the session keeps its earlier pairs: its input record was dropped\n";
   }

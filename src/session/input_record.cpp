@@ -111,6 +111,7 @@ public:
                                std::strerror(errno));
     }
     ::unlink(path.c_str());
+    buffer_.reserve(kWriteBlockBytes);
   }
   ~ScanSpillFile() { ::close(fd_); }
   ScanSpillFile(const ScanSpillFile&) = delete;
@@ -119,9 +120,9 @@ public:
   /// Appends `bytes` (written once the buffer is full, or by sync()).
   void append(const std::vector<char>& bytes)
   {
+    if (buffer_.size() + bytes.size() > kWriteBlockBytes)
+      sync();  // the buffer keeps its one block of capacity
     buffer_.insert(buffer_.end(), bytes.begin(), bytes.end());
-    if (buffer_.size() >= kWriteBlockBytes)
-      sync();
   }
   /// Writes the buffer to the file.
   void sync()
@@ -211,12 +212,13 @@ void InputRecord::addFlush()
 void InputRecord::clear()
 {
   spill_ = std::make_shared<ScanSpillFile>(spill_directory_);
-  inputs_ = {};
-  encoder_values_ = {};
+  // Moved-from empty vectors: their memory is given back (assigning {} would keep it).
+  inputs_ = std::vector<RecordedInput>();
+  encoder_values_ = std::vector<double>();
   channels_ = 0;
-  scan_offsets_ = {0};
-  poses_ = {};
-  covariances_ = {};
+  scan_offsets_ = std::vector<std::uint64_t>{0};
+  poses_ = std::vector<Pose2>();
+  covariances_ = std::vector<Eigen::Matrix3d>();
 }
 
 std::size_t InputRecord::memoryBytes() const

@@ -313,7 +313,7 @@ private:
                              std::size_t* resumed = nullptr);
   // --- Pairing at the estimated time offset (calibration_session_offset.cpp) ---
   /// Fresh collectors and what they made of recorded inputs.
-  struct Repairing;
+  struct PairingAgain;
   /// An input for the record (dropped, with an error said once, when it cannot be written).
   void record(const std::function<void(InputRecord&)>& add);
   /// Drops the input record after `error` (said once): no pairing again until a reset.
@@ -323,9 +323,10 @@ private:
   void completeWhenInputEnded();
   /// calibrate()'s pairing step (see there) on the snapshot `request` (config_'s model): the
   /// re-paired state (null when the pairs stay as they are; `pairing` says why).
-  std::unique_ptr<Repairing> pairAtEstimatedOffset(const std::optional<InputRecordView>& record,
-                                                   std::size_t resumed, SessionFitRequest* request,
-                                                   OffsetPairing* pairing);
+  std::unique_ptr<PairingAgain> pairAtEstimatedOffset(const std::optional<InputRecordView>& record,
+                                                      std::size_t resumed,
+                                                      SessionFitRequest* request,
+                                                      OffsetPairing* pairing);
   /// calibrate()'s fit of the snapshot `fit_request` (its model configured): the request's
   /// interval, the pairing at the estimated offset (pairAtEstimatedOffset, its pairs made the
   /// session's only when the fit converged, or always without adopt_fits), the held-out part;
@@ -333,15 +334,15 @@ private:
   SessionFit fitPairs(const CalibrationRequest& request,
                       const std::optional<InputRecordView>& record, std::size_t resumed,
                       SessionFitRequest* fit_request);
-  /// Feeds `inputs` to `repairing`'s collectors as the session feeds its own.
-  void feed(const InputRecordView& inputs, Repairing* repairing) const;
+  /// Feeds `inputs` to `again`'s collectors as the session feeds its own.
+  void feed(const InputRecordView& inputs, PairingAgain* again) const;
   /// The record's inputs since `first`, under the lock (none when it was dropped or cannot be
   /// read: then dropped).
   std::optional<InputRecordView> recordSince(std::size_t first);
   /// The re-paired collectors, pairs and history, fed the inputs recorded since the snapshot
   /// (mostly without the lock, the last of them under it), become the session's, at their
   /// offset. False (nothing changed) when the record was dropped meanwhile.
-  bool install(Repairing* repairing);
+  bool install(PairingAgain* again);
   /// `config`'s model sections for model `name` with the call's `options` (or its `models`);
   /// throws naming why.
   void configureModel(const std::string& name, const CalibrationRequest& request,
