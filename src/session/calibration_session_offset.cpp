@@ -162,6 +162,30 @@ bool CalibrationSession::install(PairingAgain* again)
   return true;
 }
 
+std::unique_ptr<CalibrationSession::PairingAgain> CalibrationSession::pairRecord(
+    const InputRecordView& record, CollectorOptions options, double offset_s, std::string* problem)
+{
+  options.time_offset_s = offset_s;
+  auto again = std::make_unique<PairingAgain>();
+  again->end = record.end();
+  again->offset_s = offset_s;
+  buildCollectors(options, &again->collector, &again->candidates);
+  try {
+    feed(record, again.get());  // without the lock: the inputs go on meanwhile
+  } catch (const std::exception& error) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      dropRecord(error.what());
+    }
+    *problem =
+        "not paired again at the estimated time offset: the input record could not be "
+        "read back (" +
+        std::string(error.what()) + ")\n";
+    return nullptr;
+  }
+  return again;
+}
+
 std::unique_ptr<CalibrationSession::PairingAgain> CalibrationSession::pairAtEstimatedOffset(
     const std::optional<InputRecordView>& record, std::size_t resumed, SessionFitRequest* request,
     OffsetPairing* pairing)
@@ -195,26 +219,11 @@ std::unique_ptr<CalibrationSession::PairingAgain> CalibrationSession::pairAtEsti
     pairing->text = text;
     return nullptr;
   }
-  CollectorOptions options = request->config.collector;
-  options.time_offset_s = pairing->estimate_s;
-  auto again = std::make_unique<PairingAgain>();
-  again->end = record->end();
-  again->offset_s = pairing->estimate_s;
-  buildCollectors(options, &again->collector, &again->candidates);
   const auto started = std::chrono::steady_clock::now();
-  try {
-    feed(*record, again.get());  // without the lock: the inputs go on meanwhile
-  } catch (const std::exception& error) {
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      dropRecord(error.what());
-    }
-    pairing->text =
-        "not paired again at the estimated time offset: the input record could not "
-        "be read back (" +
-        std::string(error.what()) + ")\n";
+  std::unique_ptr<PairingAgain> again =
+      pairRecord(*record, request->config.collector, pairing->estimate_s, &pairing->text);
+  if (!again)
     return nullptr;
-  }
   request->config.collector.time_offset_s = pairing->estimate_s;
   request->pairs = again->pairs;
   request->candidates =

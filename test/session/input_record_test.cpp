@@ -6,6 +6,8 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -51,13 +53,11 @@ Replayed replay(const InputRecordView& view)
 Scan floatScan()
 {
   Scan scan;
-  scan.angle_min_rad = -1.5;
-  scan.angle_increment_rad = 0.01;
-  scan.range_min_m = 0.1;
-  scan.range_max_m = 30.0;
-  scan.time_increment_s = 1e-4;
   scan.ranges_m = {1.25, static_cast<double>(2.7f), std::nan(""),
                    std::numeric_limits<double>::infinity()};
+  std::tie(scan.angle_min_rad, scan.angle_increment_rad) = std::make_pair(-1.5, 0.01);
+  std::tie(scan.range_min_m, scan.range_max_m) = std::make_pair(0.1, 30.0);
+  scan.time_increment_s = 1e-4;
   scan.valid = {1, 0, 1, 1};
   return scan;
 }

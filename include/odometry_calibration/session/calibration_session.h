@@ -334,6 +334,10 @@ private:
   SessionFit fitPairs(const CalibrationRequest& request,
                       const std::optional<InputRecordView>& record, std::size_t resumed,
                       SessionFitRequest* fit_request);
+  /// Fresh collectors of `options` at `offset_s` fed `record` (without the lock); null when the
+  /// record cannot be read back (dropped; `problem` says so).
+  std::unique_ptr<PairingAgain> pairRecord(const InputRecordView& record, CollectorOptions options,
+                                           double offset_s, std::string* problem);
   /// Feeds `inputs` to `again`'s collectors as the session feeds its own.
   void feed(const InputRecordView& inputs, PairingAgain* again) const;
   /// The record's inputs since `first`, under the lock (none when it was dropped or cannot be
