@@ -277,9 +277,12 @@ std::vector<Entry> keyframeEntries()
       number<CalibrationConfig>("keyframes.time_offset_s", 0.0, "s", rangeOpen(-5.0, 5.0),
                                 "encoder values taken at scan time + offset",
                                 AT(collector.time_offset_s)),
-      number<CalibrationConfig>("keyframes.max_encoder_gap_s", 0.25, "s", rangeClosed(0.001, 60.0),
-                                "a pair with a longer encoder silence inside it is dropped",
-                                AT(collector.max_encoder_gap_s)),
+      number<CalibrationConfig>(
+          "keyframes.max_encoder_gap_s", 0.0, "s", rangeClosed(0.0, 60.0),
+          "a pair with a longer encoder silence inside it, or no reading this close to a "
+          "keyframe, is dropped (0: derived from the readings, max(0.25 s, 2.5 x their median "
+          "spacing))",
+          AT(collector.max_encoder_gap_s)),
       flag<CalibrationConfig>("keyframes.check_consistency", true,
                               "compare each keyframe match with the composed consecutive matches",
                               AT(collector.check_consistency)),
@@ -300,8 +303,9 @@ std::vector<Entry> keyframeEntries()
           "(the keyframe scans always join; at most half of the keyframe interval is used; 0: "
           "every scan)",
           AT(collector.consecutive_min_spacing_s)),
-      flag<CalibrationConfig>("keyframes.estimate_time_offset", false,
-                              "search the encoder-sensor time offset in time_offset_search_s",
+      flag<CalibrationConfig>("keyframes.estimate_time_offset", true,
+                              "search the encoder-sensor time offset in time_offset_search_s "
+                              "(coarsely by heading correlation, then finely by refitting)",
                               AT(estimate_time_offset)),
   };
 }
@@ -313,7 +317,7 @@ std::vector<Entry> keyframeListEntries()
   search.range = rangeOpen(-5.0, 5.0);
   search.min_size = search.max_size = 2;
   search.increasing = true;
-  search.default_value = std::vector<double>{-0.4, 0.4};
+  search.default_value = std::vector<double>{-2.0, 2.0};
   ConfigKeySpec fit =
       configKeySpec("keyframes.fit_intervals_s", ConfigType::kDoubleList, "s",
                     "candidate fit intervals chosen by time-blocked cross-validation "

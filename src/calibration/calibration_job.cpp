@@ -1,5 +1,6 @@
 #include "odometry_calibration/calibration/calibration_job.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <sstream>
@@ -12,6 +13,63 @@ namespace odometry_calibration {
 
 namespace {
 
+/// The fine search refits the model within this of the coarse estimate [s].
+constexpr double kFineSearchHalfWidthS = 0.2;
+/// Without a coarse estimate, the fine search's grid has at most this many steps over the range.
+constexpr double kMaxFineSteps = 40.0;
+
+/// Where the fine search refits: near the coarse estimate (the configured range searched by
+/// heading correlation with the nominal robot, coarse_time_offset.h, recorded in `job`) when
+/// the range is wider than the fine search's window and there is a nominal robot; else over
+/// the configured range, on a grid of at most kMaxFineSteps steps.
+TimeOffsetOptions fineSearch(const CalibrationConfig& config, const std::vector<MotionPair>& pairs,
+                             const std::vector<EncoderSample>& encoder_history,
+                             CalibrationJobResult* job)
+{
+  TimeOffsetOptions search;
+  search.min_s = config.time_offset_search_min_s;
+  search.max_s = config.time_offset_search_max_s;
+  search.interpolation = config.collector.encoder_interpolation;
+  const MotionPredictor predict = priorPredictor(config);
+  if (predict && search.max_s - search.min_s > 2.0 * kFineSearchHalfWidthS) {
+    CoarseTimeOffsetOptions coarse;
+    coarse.min_s = search.min_s;
+    coarse.max_s = search.max_s;
+    coarse.interpolation = search.interpolation;
+    job->coarse_time_offset = coarseTimeOffset(pairs, encoder_history, predict, coarse);
+    if (job->coarse_time_offset->found) {
+      search.min_s = std::max(search.min_s, job->coarse_time_offset->offset_s - kFineSearchHalfWidthS);
+      search.max_s = std::min(search.max_s, job->coarse_time_offset->offset_s + kFineSearchHalfWidthS);
+      return search;
+    }
+  }
+  search.step_s = std::max(search.step_s, (search.max_s - search.min_s) / kMaxFineSteps);
+  return search;
+}
+
+/// The fine search (models from `make_model`); once more around its result when that lies on
+/// an edge of the window that is not an edge of the configured range (the coarse estimate was
+/// off by more than the window).
+TimeOffsetResult searchFinely(const CalibrationConfig& config, const std::vector<MotionPair>& pairs,
+                              const std::vector<EncoderSample>& encoder_history,
+                              const std::function<std::unique_ptr<MotionModel>()>& make_model,
+                              TimeOffsetOptions search)
+{
+  TimeOffsetResult result = estimateTimeOffset(pairs, encoder_history, make_model, search);
+  auto insideRange = [&](double tau_s) {
+    return tau_s > config.time_offset_search_min_s + 1e-9 &&
+           tau_s < config.time_offset_search_max_s - 1e-9;
+  };
+  if (result.at_boundary && !result.flat && insideRange(result.offset_s)) {
+    const double centre_s = result.offset_s;
+    search.min_s = std::max(config.time_offset_search_min_s, centre_s - kFineSearchHalfWidthS);
+    search.max_s = std::min(config.time_offset_search_max_s, centre_s + kFineSearchHalfWidthS);
+    result = estimateTimeOffset(pairs, encoder_history, make_model, search);
+  }
+  result.at_boundary = result.at_boundary && !insideRange(result.offset_s);
+  return result;
+}
+
 /// The time-offset search (or the one given), its warnings, and the pairs re-cut at the offset.
 void estimateJobTimeOffset(const CalibrationConfig& config, const std::vector<MotionPair>& pairs,
                            const std::vector<EncoderSample>& encoder_history,
@@ -23,10 +81,6 @@ void estimateJobTimeOffset(const CalibrationConfig& config, const std::vector<Mo
         "time offset estimation needs one continuous encoder stream "
         "(the bags went back in time)");
   }
-  TimeOffsetOptions search;
-  search.min_s = config.time_offset_search_min_s;
-  search.max_s = config.time_offset_search_max_s;
-  search.interpolation = config.collector.encoder_interpolation;
   // The grid refits the model per offset from the configured start only: the global yaw
   // starts (issue 23) are for the final fit and would multiply the search's cost.
   ModelFactoryOptions search_models = config.models;
@@ -35,9 +89,9 @@ void estimateJobTimeOffset(const CalibrationConfig& config, const std::vector<Mo
   search_models.mecanum.yaw_starts = 1;
   job->time_offset = options.time_offset_search
                          ? *options.time_offset_search
-                         : estimateTimeOffset(
-                               pairs, encoder_history,
-                               [&]() { return makeModel(config.model, search_models); }, search);
+                         : searchFinely(config, pairs, encoder_history,
+                                        [&]() { return makeModel(config.model, search_models); },
+                                        fineSearch(config, pairs, encoder_history, job));
   const TimeOffsetResult& offset = *job->time_offset;
   if (offset.flat) {
     warnings->push_back(
@@ -91,6 +145,7 @@ CalibrationJobResult runCalibrationJob(const CalibrationConfig& config,
   job.report = job.model->fit(job.pairs);
   job.report.warnings.insert(job.report.warnings.end(), offset_warnings.begin(),
                              offset_warnings.end());
+  job.time_offset_warnings = offset_warnings.size();
   job.fit_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (options.compare_trajectories)
     compareJobTrajectories(config, pairs, encoder_history, &job);
@@ -186,6 +241,15 @@ int calibrationExitStatus(const ModelReport& report)
   if (!report.converged)
     return 3;
   return report.warnings.empty() ? 0 : 4;
+}
+
+int calibrationExitStatus(const CalibrationJobResult& job)
+{
+  if (!job.report.converged)
+    return 3;
+  if (job.time_offset_warnings > 0)
+    return 5;
+  return job.report.warnings.empty() ? 0 : 4;
 }
 
 }  // namespace odometry_calibration

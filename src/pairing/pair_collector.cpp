@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
@@ -36,6 +37,13 @@ double CollectorStatistics::keyframeVersusChainStandardErrorPercent() const
   return 100.0 * std::sqrt(std::max(0.0, residual2) * n / (n - 1.0)) / chained_m;
 }
 
+double derivedEncoderGap_s(double median_spacing_s)
+{
+  return std::isfinite(median_spacing_s)
+             ? std::max(kMinEncoderGapS, kEncoderGapPerSpacing * median_spacing_s)
+             : kMinEncoderGapS;
+}
+
 void validate(const CollectorOptions& o)
 {
   auto require = [](bool ok, const char* message) {
@@ -46,7 +54,8 @@ void validate(const CollectorOptions& o)
           "keyframe_interval_s must be > 0 s");
   require(std::isfinite(o.time_offset_s) && std::abs(o.time_offset_s) < 5.0,
           "time_offset_s must be within +-5 s");
-  require(o.max_encoder_gap_s > 0.0, "max_encoder_gap_s must be > 0 s");
+  require(std::isfinite(o.max_encoder_gap_s) && o.max_encoder_gap_s >= 0.0,
+          "max_encoder_gap_s must be >= 0 s (0: derived from the encoder readings' spacing)");
   require(o.min_translation_m >= 0.0 && o.min_rotation_rad >= 0.0,
           "min_translation_m and min_rotation_rad must be >= 0");
   require(o.consistency_translation_m > 0.0 && o.consistency_rotation_rad > 0.0,
@@ -83,6 +92,32 @@ PairCollector::PairCollector(std::vector<EncoderChannelOptions> channels, Collec
 
 PairCollector::~PairCollector() = default;
 
+double PairCollector::encoderGapLimit_s() const
+{
+  return options_.max_encoder_gap_s > 0.0 ? options_.max_encoder_gap_s
+                                          : derivedEncoderGap_s(encoder_spacing_.median_s());
+}
+
+std::string PairCollector::encoderGapConflict() const
+{
+  constexpr std::size_t kMinSpacings = 10;
+  constexpr double kMinGapPerSpacing = 1.5;
+  const double spacing_s = encoder_spacing_.median_s();
+  if (!(options_.max_encoder_gap_s > 0.0) || encoder_spacing_.count() < kMinSpacings ||
+      !(options_.max_encoder_gap_s < kMinGapPerSpacing * spacing_s))
+    return "";
+  // The value to set: the derived one, rounded up to 0.05 s.
+  const double suggested_s = std::ceil(derivedEncoderGap_s(spacing_s) / 0.05 - 1e-9) * 0.05;
+  char text[400];
+  std::snprintf(text, sizeof(text),
+                "keyframes.max_encoder_gap_s = %.3g s is shorter than the encoder readings allow: "
+                "they arrive every %.3g s (median of %zu spacings), so most keyframes find no "
+                "reading that close; set it to at least %.2f, or remove the key (its default "
+                "derives it from the readings)",
+                options_.max_encoder_gap_s, spacing_s, encoder_spacing_.count(), suggested_s);
+  return text;
+}
+
 void PairCollector::reset()
 {
   fold(Fold::kAll);
@@ -91,6 +126,7 @@ void PairCollector::reset()
   track_.clear();
   glitch_filter_.reset();
   glitch_spans_.clear();
+  encoder_spacing_.clear();
   keyframe_.reset();
   previous_scan_.reset();
   previous_full_scan_.reset();
@@ -144,6 +180,7 @@ std::vector<CollectorEvent> PairCollector::addEncoders(double stamp_s, const Eig
     return takeEvents();
   }
   last_input_stamp_s_ = std::max(last_input_stamp_s_, stamp_s);
+  encoder_spacing_.add(stamp_s);
   if (accepted)
     *accepted = filtered.corrected;
   if (!glitch_spans_.empty() && glitch_spans_.back().second == kOpen)
@@ -177,7 +214,7 @@ void PairCollector::processReadyScans(bool all)
     const double needed = pending_.front().stamp_s + sweep_s + options_.time_offset_s;
     const bool encoders_there = !track_.empty() && track_.lastStamp() >= needed;
     // Input this much later shows the encoders will not come (a gap, a dead stream).
-    const bool given_up = last_input_stamp_s_ > needed + options_.max_encoder_gap_s &&
+    const bool given_up = last_input_stamp_s_ > needed + encoderGapLimit_s() &&
                           (track_.empty() || track_.lastStamp() < needed);
     if (!all && !encoders_there && !given_up)
       break;
@@ -195,13 +232,13 @@ std::optional<std::vector<EncoderSample>> PairCollector::encoderWindow(double st
 {
   const double from = start_s + options_.time_offset_s;
   const double to = end_s + options_.time_offset_s;
-  if (!track_.covers(from, options_.max_encoder_gap_s) ||
-      !track_.covers(to, options_.max_encoder_gap_s)) {
-    *reason = "no encoder data around the keyframes";
+  const double gap_limit_s = encoderGapLimit_s();
+  if (!track_.covers(from, gap_limit_s) || !track_.covers(to, gap_limit_s)) {
+    *reason = kNoEncoderReadingReason;
     return std::nullopt;
   }
-  if (track_.largestGap(from, to) > options_.max_encoder_gap_s) {
-    *reason = "gap in the encoder stream";
+  if (track_.largestGap(from, to) > gap_limit_s) {
+    *reason = kEncoderGapReason;
     return std::nullopt;
   }
   // Between the readings around a glitch the counts are unknown (a jump was removed), and so

@@ -18,6 +18,9 @@ constexpr double kScaleCheckMinChain_m = 0.01;
 const CollectorStatistics& PairCollector::statistics() const
 {
   fold(Fold::kAll);
+  statistics_.encoder_spacing_median_s = encoder_spacing_.median_s();
+  statistics_.encoder_spacings = encoder_spacing_.count();
+  statistics_.max_encoder_gap_s = encoderGapLimit_s();
   return statistics_;
 }
 

@@ -262,7 +262,7 @@ int calibrateOneSource(const BagCalibrationOptions& options, CalibrationConfig c
   // Everything succeeded: write the files together.
   files.text_report = text;
   writeFiles(output_dir, std::move(files), out);
-  return calibrationExitStatus(job.report);
+  return calibrationExitStatus(job);
 }
 
 /// calibrateBags with several ego-motion sources.

@@ -202,9 +202,10 @@ BagRunResult runBagsUnchecked(const std::vector<std::string>& bag_paths,
       if (progress && ++messages % 500 == 0)
         progress({input.fraction, messages, seconds(Clock::now() - run_start)});
     }
-    // Two publishers of one input: refused as soon as the second one shows.
+    // Two publishers of one input, or a configured value the data contradicts: refused as
+    // soon as it shows.
     for (std::size_t k = 0; k < result.session->sourceCount(); ++k) {
-      if (const std::string conflict = result.session->source(k).publisherConflict();
+      if (const std::string conflict = result.session->source(k).inputConflict();
           !conflict.empty())
         throw std::runtime_error(conflict);
     }

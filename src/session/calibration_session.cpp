@@ -209,6 +209,13 @@ std::string CalibrationSession::publisherConflict() const
   return publishers_->conflict();
 }
 
+std::string CalibrationSession::inputConflict() const
+{
+  std::lock_guard<std::mutex> lock(mutex_);
+  const std::string publishers = publishers_->conflict();
+  return publishers.empty() ? counts_.configuration_conflict : publishers;
+}
+
 SessionCounts CalibrationSession::counts() const
 {
   std::lock_guard<std::mutex> lock(mutex_);

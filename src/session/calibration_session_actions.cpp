@@ -11,6 +11,7 @@
 #include "odometry_calibration/eval/model_report.h"
 #include "odometry_calibration/factory/model_factory.h"
 #include "odometry_calibration/session/calibration_session.h"
+#include "odometry_calibration/session/pairing_explanation.h"
 
 namespace odometry_calibration {
 namespace {
@@ -109,9 +110,13 @@ CalibrateOutcome CalibrationSession::calibrate(const CalibrationRequest& request
   SessionFitRequest fit_request = snapshot(&guidance, &record, &resumed);
   outcome.pairs_collected = fit_request.pairs.size();
   const std::string name = request.model.empty() ? fit_request.config.model : request.model;
-  if (const std::string conflict = counts().publisher_conflict; !conflict.empty()) {
-    outcome.message = "cannot calibrate: " + conflict;
-    return outcome;
+  const SessionCounts input_counts = counts();
+  for (const std::string* conflict :
+       {&input_counts.publisher_conflict, &input_counts.configuration_conflict}) {
+    if (!conflict->empty()) {
+      outcome.message = "cannot calibrate: " + *conflict;
+      return outcome;
+    }
   }
   try {
     configureModel(name, request, &fit_request.config);
@@ -122,10 +127,11 @@ CalibrateOutcome CalibrationSession::calibrate(const CalibrationRequest& request
   }
   if (static_cast<int>(fit_request.pairs.size()) < options_.min_pairs) {
     outcome.message =
-        "only " + std::to_string(fit_request.pairs.size()) + " pairs collected, " +
-        std::to_string(options_.min_pairs) + " needed" +
-        (options_.min_pairs_name.empty() ? "" : " (" + options_.min_pairs_name + ")") +
-        ": drive more, straight and turning both ways." + guidance;
+        explainTooFewPairs(input_counts.statistics, fit_request.config.collector,
+                           fit_request.pairs.size(),
+                           static_cast<std::size_t>(options_.min_pairs)) +
+        (options_.min_pairs_name.empty() ? "" : " (" + options_.min_pairs_name + " sets how many.)") +
+        guidance;
     return outcome;
   }
   try {

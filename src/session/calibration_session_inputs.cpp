@@ -77,6 +77,11 @@ void CalibrationSession::addJointPositions(double stamp_s, const Eigen::VectorXd
     return;
   }
   handleEvents(events, stamp_s);
+  if (counts_.configuration_conflict.empty()) {
+    counts_.configuration_conflict = collector_->encoderGapConflict();
+    if (!counts_.configuration_conflict.empty())
+      say(SessionLogLevel::kError, counts_.configuration_conflict);
+  }
   if (accepted.size() == 0)  // an encoder glitch: not motion
     return;
   recordEncoderHistory(stamp_s, accepted);

@@ -186,6 +186,38 @@ std::unique_ptr<CalibrationSession::PairingAgain> CalibrationSession::pairRecord
   return again;
 }
 
+std::unique_ptr<CalibrationSession::PairingAgain> CalibrationSession::pairUntilSettled(
+    const InputRecordView& record, const CalibrationConfig& config,
+    std::unique_ptr<PairingAgain> again, int* rounds)
+{
+  // Pairs made far from the true offset carry its trace (each scan's sweep undone with the
+  // motion of another instant), so the estimate on them lands short of it: each round pairs
+  // at the estimate of the previous one until it moves less than the tolerance.
+  CalibrationJobOptions offset_only;
+  offset_only.compare_trajectories = false;
+  while (*rounds < kMaxPairingRounds && !again->history_broken && !again->pairs.empty()) {
+    CalibrationConfig at = config;
+    at.collector.time_offset_s = again->offset_s;
+    std::optional<CalibrationJobResult> job;
+    try {
+      job = runCalibrationJob(at, again->pairs, again->history, offset_only);
+    } catch (const std::exception&) {
+      break;  // the pairs of the previous round stand
+    }
+    if (!job->time_offset || job->time_offset->flat ||
+        !(std::abs(job->time_offset_s - again->offset_s) > kOffsetPairingToleranceS))
+      break;
+    std::string problem;
+    std::unique_ptr<PairingAgain> next =
+        pairRecord(record, config.collector, job->time_offset_s, &problem);
+    if (!next)
+      break;
+    again = std::move(next);
+    ++*rounds;
+  }
+  return again;
+}
+
 std::unique_ptr<CalibrationSession::PairingAgain> CalibrationSession::pairAtEstimatedOffset(
     const std::optional<InputRecordView>& record, std::size_t resumed, SessionFitRequest* request,
     OffsetPairing* pairing)
@@ -224,6 +256,9 @@ std::unique_ptr<CalibrationSession::PairingAgain> CalibrationSession::pairAtEsti
       pairRecord(*record, request->config.collector, pairing->estimate_s, &pairing->text);
   if (!again)
     return nullptr;
+  int rounds = 1;
+  again = pairUntilSettled(*record, request->config, std::move(again), &rounds);
+  pairing->estimate_s = again->offset_s;
   request->config.collector.time_offset_s = pairing->estimate_s;
   request->pairs = again->pairs;
   request->candidates =
@@ -232,11 +267,11 @@ std::unique_ptr<CalibrationSession::PairingAgain> CalibrationSession::pairAtEsti
   request->offset_search.reset();
   pairing->paired_again = true;
   std::snprintf(text, sizeof(text),
-                "paired again at the estimated time offset %.3f s in %.1f s (configured %.3f s: "
-                "set keyframes.time_offset_s to it to pair once)\n",
+                "paired again at the estimated time offset %.3f s in %.1f s, %d round%s "
+                "(configured %.3f s: set keyframes.time_offset_s to it to pair once)\n",
                 pairing->estimate_s,
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(),
-                pairing->configured_s);
+                rounds, rounds == 1 ? "" : "s", pairing->configured_s);
   pairing->text = text;
   return again;
 }

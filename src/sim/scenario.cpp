@@ -140,6 +140,8 @@ void validate(const Scenario& s)
   validateLaserGeometry(s.laser);
   validateExtraLasers(s);
   require(s.encoders.rate_hz > 0.0, "encoders.rate_hz must be > 0");
+  require(s.encoders.rate_jitter_s >= 0.0 && s.encoders.rate_jitter_s < 0.5 / s.encoders.rate_hz,
+          "encoders.rate_jitter_s must be in [0, half the period 1 / rate_hz)");
   require(s.encoders.counter_bits >= 0 && s.encoders.counter_bits <= 52,
           "encoders.counter_bits must be in [0, 52]");
   require(std::abs(s.encoders.time_offset_s) < 10.0, "encoders.time_offset_s must be within 10 s");
@@ -295,10 +297,11 @@ void readLasersYaml(const YAML::Node& root, const std::string& path, std::string
 void readEncodersYaml(const YAML::Node& encoders, const std::string& where, EncoderOptions& options)
 {
   checkYamlKeys(encoders,
-                {"rate_hz", "topic", "joint_names", "units", "counter_bits", "initial_ticks",
-                 "time_offset_s"},
+                {"rate_hz", "rate_jitter_s", "topic", "joint_names", "units", "counter_bits",
+                 "initial_ticks", "time_offset_s"},
                 where);
   readYaml(encoders, "rate_hz", &options.rate_hz);
+  readYaml(encoders, "rate_jitter_s", &options.rate_jitter_s);
   readYaml(encoders, "topic", &options.topic);
   readYaml(encoders, "joint_names", &options.joint_names);
   std::string units = "ticks";

@@ -87,6 +87,7 @@ void emitEncodersAndTracker(const Scenario& s, YAML::Emitter& out)
 {
   out << YAML::Key << "encoders" << YAML::Value << YAML::BeginMap;
   out << YAML::Key << "rate_hz" << YAML::Value << s.encoders.rate_hz;
+  out << YAML::Key << "rate_jitter_s" << YAML::Value << s.encoders.rate_jitter_s;
   out << YAML::Key << "topic" << YAML::Value << s.encoders.topic;
   out << YAML::Key << "units" << YAML::Value << (s.encoders.output_ticks ? "ticks" : "radians");
   out << YAML::Key << "counter_bits" << YAML::Value << s.encoders.counter_bits;

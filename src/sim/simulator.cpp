@@ -298,6 +298,7 @@ public:
         rng_(scenario.seed ^ 0x5eed5eedULL),
         range_noise_(0.0, laser_.range_noise_m),
         tracker_rng_(scenario.seed ^ 0x7ac4e7ULL),
+        encoder_clock_rng_(scenario.seed ^ 0xc10c4ULL),
         laser_model_(laser_, scenario.seed),
         end_ns_(std::llround(scenario.duration_s * 1e9)),
         encoder_period_(periodNs(scenario.encoders.rate_hz)),
@@ -335,7 +336,7 @@ public:
       }
       if (now_ == next_encoder_) {
         publishEncoderInstant(t);
-        next_encoder_ += encoder_period_;
+        next_encoder_ += nextEncoderSpacing();
       }
       if (now_ == next_scan_ && multibeam_) {
         if (now_ >= scan_period_) {  // a sweep that began at the start or later
@@ -356,6 +357,16 @@ public:
   }
 
 private:
+  /// The spacing to the next encoder reading: the period, jittered by rate_jitter_s [ns].
+  std::int64_t nextEncoderSpacing()
+  {
+    const double jitter_s = scenario_.encoders.rate_jitter_s;
+    if (jitter_s <= 0.0)
+      return encoder_period_;
+    std::uniform_real_distribution<double> draw(-jitter_s, jitter_s);
+    return encoder_period_ + std::llround(draw(encoder_clock_rng_) * 1e9);
+  }
+
   /// When the next scan of an extra laser is due [ns] (never without one).
   std::int64_t nextExtraScan() const
   {
@@ -484,6 +495,7 @@ private:
   std::uniform_real_distribution<double> unit_{0.0, 1.0};
   // A stream of its own, so that enabling the tracker leaves the scans unchanged.
   std::mt19937_64 tracker_rng_;
+  std::mt19937_64 encoder_clock_rng_;  ///< the encoder spacing's jitter (rate_jitter_s)
   std::normal_distribution<double> unit_normal_{0.0, 1.0};
   // The planar laser's rays (and its realism effects, sim/laser_model.h); the multi-beam
   // lidar draws from rng_ above.

@@ -48,9 +48,10 @@ const char* kUsage =
     "  --gnuplot PROGRAM    the plotting program (default: gnuplot from PATH; without it the\n"
     "                       report is written without images and says what is missing)\n"
     "\n"
-    "exit status: 0 success; 1 bad input (message says what); 2 bad usage; 3 the fit did not\n"
-    "converge; 4 the fit warns that some parameter is not determined, or that the time\n"
-    "offset sits at the edge of its search range or is not observable\n";
+    "exit status: 0 a result to stand behind (advice may be printed); 1 bad input or a\n"
+    "configured value the data contradicts (the message names the file or key and the value\n"
+    "to set); 2 bad usage; 3 the fit did not converge; 4 a parameter is not determined; 5 the\n"
+    "time offset sits at the edge of its search range or is not observable\n";
 
 }  // namespace
 

@@ -95,9 +95,9 @@ struct CalibrationConfig
   std::vector<EgoMotionSourceConfig> ego_motion_sources;
   /// Estimate the encoder-laser time offset (bag tool) by searching this range [s]; the
   /// configured time_offset_s is then only the matcher's starting point.
-  bool estimate_time_offset = false;
-  double time_offset_search_min_s = -0.4;
-  double time_offset_search_max_s = 0.4;
+  bool estimate_time_offset = true;
+  double time_offset_search_min_s = -2.0;
+  double time_offset_search_max_s = 2.0;
   /// Candidate keyframe intervals of the fitted pairs [s], increasing
   /// (`keyframes.fit_intervals_s`): the node and calibrate_bag collect pairs at each and choose one
   /// by time-blocked cross-validation on the interval_s pairs (calibration/fit_interval.h); empty:

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "odometry_calibration/calibration/calibration_config.h"
+#include "odometry_calibration/calibration/coarse_time_offset.h"
 #include "odometry_calibration/calibration/time_offset.h"
 #include "odometry_calibration/data/motion_pair.h"
 #include "odometry_calibration/eval/model_comparison.h"
@@ -36,9 +37,14 @@ struct CalibrationJobResult
 {
   std::shared_ptr<MotionModel> model;           ///< the fitted model (config.model)
   ModelReport report;                           ///< its report, time-offset warnings included
+  /// How many of report.warnings are the time offset's (at the edge of its search range, not
+  /// observable): the last ones.
+  std::size_t time_offset_warnings = 0;
   std::vector<MotionPair> pairs;                ///< the pairs fitted (windows cut at time_offset_s)
   double time_offset_s = 0.0;                   ///< the offset the fit used [s]
   std::optional<TimeOffsetResult> time_offset;  ///< the offset search, when it ran
+  /// The coarse search that placed the fine one (coarse_time_offset.h), when it ran.
+  std::optional<CoarseTimeOffset> coarse_time_offset;
   /// Calibrated and nominal trajectories (with compare_trajectories); the nominal model is the
   /// configuration's prior at time offset 0, `nominal_description` says so (empty: none).
   TrajectoryComparison trajectories;
@@ -87,5 +93,9 @@ std::string formatNominalComparison(const CalibrationJobResult& job);
 
 /// calibrate_bag's exit status for a fit: 3 not converged, 4 converged with warnings, 0 clean.
 int calibrationExitStatus(const ModelReport& report);
+/// The same for a job, with the time offset apart: 3 not converged; 5 converged, but the time
+/// offset lies at the edge of its search range or is not observable; 4 converged with another
+/// warning (a parameter not determined); 0 a result to stand behind (notes and advice aside).
+int calibrationExitStatus(const CalibrationJobResult& job);
 
 }  // namespace odometry_calibration

@@ -28,6 +28,7 @@
 #include "odometry_calibration/data/encoder_glitch_filter.h"
 #include "odometry_calibration/data/encoder_track.h"
 #include "odometry_calibration/data/motion_pair.h"
+#include "odometry_calibration/data/stream_spacing.h"
 #include "odometry_calibration/pairing/match_queue.h"
 #include "odometry_calibration/scan/plicp.h"
 
@@ -52,8 +53,11 @@ struct CollectorOptions
   bool compensate_sweep = true;
   /// Encoder values are taken at scan time + time_offset_s [s] (clock offset between streams).
   double time_offset_s = 0.0;
-  /// A pair is dropped when the encoder stream has a gap longer than this inside it [s].
-  double max_encoder_gap_s = 0.25;
+  /// A pair is dropped when the encoder stream has a gap longer than this inside it, or no
+  /// reading this close to one of its keyframes [s]. 0: derived from the data,
+  /// max(kMinEncoderGapS, kEncoderGapPerSpacing x the median spacing of the readings so far), so
+  /// that a robot logging its encoders at 4 Hz pairs as one logging them at 50 Hz.
+  double max_encoder_gap_s = 0.0;
   /// Match consecutive scans too and reject a keyframe match that disagrees with their
   /// composition by more than the two thresholds below.
   bool check_consistency = true;
@@ -105,8 +109,25 @@ struct CollectorOptions
   PlicpOptions plicp;
 };
 
+/// The derived encoder gap limit (CollectorOptions::max_encoder_gap_s = 0): never below this
+/// [s], and this many median encoder spacings above it (a reading late by one and a half
+/// periods still pairs; a stream silent for that long has dropped readings) [-].
+constexpr double kMinEncoderGapS = 0.25;
+constexpr double kEncoderGapPerSpacing = 2.5;
+
+/// The encoder gap limit the data supports for readings `median_spacing_s` apart (NaN: not
+/// measured yet): max(kMinEncoderGapS, kEncoderGapPerSpacing x the spacing) [s].
+double derivedEncoderGap_s(double median_spacing_s);
+
 /// Throws std::invalid_argument naming the first invalid option.
 void validate(const CollectorOptions& options);
+
+/// The rejections of keyframe intervals for want of encoder readings (CollectorStatistics::
+/// rejected's keys): none close enough to a keyframe, or a pause inside the interval.
+inline constexpr const char* kNoEncoderReadingReason =
+    "no encoder reading within keyframes.max_encoder_gap_s of a keyframe";
+inline constexpr const char* kEncoderGapReason =
+    "encoder readings paused longer than keyframes.max_encoder_gap_s";
 
 /// Predicts the sensor's motion over encoder samples (e.g. the nominal model); used as the
 /// scan matcher's initial guess. Without one, the guess is no motion.
@@ -144,6 +165,11 @@ struct CollectorStatistics
   std::size_t restarts = 0;
   std::size_t unverified_pairs = 0;  ///< pairs kept without the consistency check (it failed)
   std::map<std::string, std::size_t> rejected;  ///< reason -> count
+  /// The encoder readings' median spacing over the last 100 [s] (NaN before two readings), how
+  /// many spacings it is over, and the gap limit in use (max_encoder_gap_s, or derived) [s].
+  double encoder_spacing_median_s = 0.0;
+  std::size_t encoder_spacings = 0;
+  double max_encoder_gap_s = 0.0;
   std::map<std::string, std::size_t> glitches;  ///< joint -> readings skipped as encoder glitches
   /// Scale check of the scan matcher (check_consistency): over the pairs that passed it, the
   /// summed length of the chained consecutive matches [m] and the summed keyframe matches
@@ -205,6 +231,13 @@ public:
 
   /// The counters, with every consecutive match submitted so far counted.
   const CollectorStatistics& statistics() const;
+  /// The encoder gap limit in use: max_encoder_gap_s, or derived from the readings' spacing
+  /// (derivedEncoderGap_s) when it is 0 [s].
+  double encoderGapLimit_s() const;
+  /// A configured max_encoder_gap_s that the readings contradict (shorter than 1.5 of their
+  /// median spacing, over at least 10 spacings: most keyframes would find no reading), in
+  /// words naming the key, the measured spacing and the value to set; empty otherwise.
+  std::string encoderGapConflict() const;
   const CollectorOptions& options() const { return options_; }
 
 private:
@@ -283,6 +316,7 @@ private:
   MotionPredictor predictor_;
   EncoderTrack track_;
   EncoderGlitchFilter glitch_filter_;
+  StreamSpacing encoder_spacing_;  ///< of the accepted readings
   /// Recent glitches, each as the stamps of the accepted readings around it (encoder clock; the
   /// second is +inf until the next reading is accepted) [s]: no pair may overlap one.
   std::deque<std::pair<double, double>> glitch_spans_;

@@ -33,8 +33,8 @@ struct BagCalibrationOptions
 void checkBagCalibrationOptions(const BagCalibrationOptions& options);
 
 /// Runs the calibration, prints what it did to `out` and writes the files. Returns the exit
-/// status (calibrationExitStatus: 0, 3 not converged, 4 warnings; several sources: of the joint
-/// fit, every sensor's warnings counted); throws std::exception for bad input (unreadable bags
+/// status (calibrationExitStatus: 0, 3 not converged, 4 warnings, 5 the time offset; several
+/// sources: of the joint fit, every sensor's warnings counted); throws std::exception for bad input (unreadable bags
 /// or configuration, too few pairs). Several ego-motion sources (`ego_motion.sources`, e.g. a
 /// front and a rear laser; models diff_drive, skid_steer, mecanum, tricycle): each source's run
 /// and fit alone is printed, then the joint fit (a table per sensor and the agreement of the fits

@@ -125,6 +125,9 @@ struct SessionCounts
   std::size_t restart_count = 0;      ///< every restart
   /// Two publishers of one input with none chosen (input_publishers.h), in words; empty: none.
   std::string publisher_conflict;
+  /// A configured value the data contradicts (PairCollector::encoderGapConflict), in words
+  /// naming the key, the measured value and the value to set; empty: none.
+  std::string configuration_conflict;
   /// Messages from another publisher than the one used (ignored; refused after a conflict).
   std::size_t ignored_encoder_messages = 0, ignored_ego_messages = 0;
   std::string encoder_publisher;          ///< whose JointStates are used ("" before any)
@@ -212,6 +215,9 @@ public:
   SessionCounts counts() const;
   /// SessionCounts::publisher_conflict alone (counts() waits for the collector's matches).
   std::string publisherConflict() const;
+  /// What stops the session from calibrating, as soon as the inputs show it: the publisher
+  /// conflict, else the configuration conflict; empty: none.
+  std::string inputConflict() const;
   double timeOffset() const;
   std::optional<Pose2> sensorPose() const;
   std::string sensorFrame() const;
@@ -321,6 +327,11 @@ private:
   void flushLocked();  ///< flush() with mutex_ held
   /// Completes the waiting pairs when every input has been silent beyond the timeout.
   void completeWhenInputEnded();
+  /// Pairs `record` again at the estimate on `again`'s pairs while it moves by more than
+  /// kOffsetPairingToleranceS, up to kMaxPairingRounds pairings in all (`rounds` counts them).
+  std::unique_ptr<PairingAgain> pairUntilSettled(const InputRecordView& record,
+                                                 const CalibrationConfig& config,
+                                                 std::unique_ptr<PairingAgain> again, int* rounds);
   /// calibrate()'s pairing step (see there) on the snapshot `request` (config_'s model): the
   /// re-paired state (null when the pairs stay as they are; `pairing` says why).
   std::unique_ptr<PairingAgain> pairAtEstimatedOffset(const std::optional<InputRecordView>& record,

@@ -42,6 +42,9 @@ struct SessionFitRequest
 /// Beyond this difference between the time offset estimated on the pairs and the one they were
 /// paired at, calibrate() pairs the recorded inputs again at the estimate [s].
 constexpr double kOffsetPairingToleranceS = 0.01;
+/// At most this many pairings at estimates, each at the estimate on the previous one's pairs
+/// (an offset found far from the configured one settles in two or three).
+constexpr int kMaxPairingRounds = 3;
 
 /// How calibrate() paired the inputs when the configuration estimates the time offset.
 struct OffsetPairing

@@ -74,6 +74,9 @@ struct LaserOptions
 struct EncoderOptions
 {
   double rate_hz = 50.0;                 ///< JointState messages per second
+  /// Each reading's spacing from the previous one is 1 / rate_hz plus a uniform draw in
+  /// [-rate_jitter_s, rate_jitter_s] (a slow, unsteady driver loop); 0 = evenly spaced [s].
+  double rate_jitter_s = 0.0;
   std::string topic = "/joint_states";   ///< bag topic
   std::vector<std::string> joint_names;  ///< empty = the robot's default names
   bool output_ticks = true;              ///< position in raw ticks (true) or radians (false)
