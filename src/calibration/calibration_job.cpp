@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <sstream>
 #include <stdexcept>
@@ -38,8 +39,10 @@ TimeOffsetOptions fineSearch(const CalibrationConfig& config, const std::vector<
     coarse.interpolation = search.interpolation;
     job->coarse_time_offset = coarseTimeOffset(pairs, encoder_history, predict, coarse);
     if (job->coarse_time_offset->found) {
-      search.min_s = std::max(search.min_s, job->coarse_time_offset->offset_s - kFineSearchHalfWidthS);
-      search.max_s = std::min(search.max_s, job->coarse_time_offset->offset_s + kFineSearchHalfWidthS);
+      search.min_s =
+          std::max(search.min_s, job->coarse_time_offset->offset_s - kFineSearchHalfWidthS);
+      search.max_s =
+          std::min(search.max_s, job->coarse_time_offset->offset_s + kFineSearchHalfWidthS);
       return search;
     }
   }
@@ -89,9 +92,10 @@ void estimateJobTimeOffset(const CalibrationConfig& config, const std::vector<Mo
   search_models.mecanum.yaw_starts = 1;
   job->time_offset = options.time_offset_search
                          ? *options.time_offset_search
-                         : searchFinely(config, pairs, encoder_history,
-                                        [&]() { return makeModel(config.model, search_models); },
-                                        fineSearch(config, pairs, encoder_history, job));
+                         : searchFinely(
+                               config, pairs, encoder_history,
+                               [&]() { return makeModel(config.model, search_models); },
+                               fineSearch(config, pairs, encoder_history, job));
   const TimeOffsetResult& offset = *job->time_offset;
   if (offset.flat) {
     warnings->push_back(
@@ -99,14 +103,18 @@ void estimateJobTimeOffset(const CalibrationConfig& config, const std::vector<Mo
         "configured " +
         std::to_string(job->time_offset_s) + " s");
   } else {
-    job->time_offset_s = offset.offset_s;
+    if (std::abs(offset.offset_s - job->time_offset_s) > options.keep_offset_within_s)
+      job->time_offset_s = offset.offset_s;
     if (offset.at_boundary) {
-      warnings->push_back("the time offset estimate " + std::to_string(job->time_offset_s) +
+      warnings->push_back("the time offset estimate " + std::to_string(offset.offset_s) +
                           " s lies at the edge of time_offset_search_s: widen it");
     }
   }
-  job->pairs = rewindowPairs(pairs, encoder_history, job->time_offset_s,
-                             config.collector.encoder_interpolation);
+  // At the offset they were made at, the pairs stay as made (a re-cut would drop those whose
+  // windows the history does not cover to the end).
+  if (job->time_offset_s != config.collector.time_offset_s)
+    job->pairs = rewindowPairs(pairs, encoder_history, job->time_offset_s,
+                               config.collector.encoder_interpolation);
 }
 
 /// The evidence: the calibrated model against the scan matches, and the nominal robot (the

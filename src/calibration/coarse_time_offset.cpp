@@ -38,9 +38,8 @@ double correlationAt(double tau_s, const std::vector<const MotionPair*>& covered
 {
   double ab = 0.0, bb = 0.0;
   for (std::size_t k = 0; k < covered.size(); ++k) {
-    const std::vector<EncoderSample> window =
-        cutEncoderWindow(history, covered[k]->start_stamp_s + tau_s,
-                         covered[k]->end_stamp_s + tau_s, interpolation);
+    const std::vector<EncoderSample> window = cutEncoderWindow(
+        history, covered[k]->start_stamp_s + tau_s, covered[k]->end_stamp_s + tau_s, interpolation);
     if (window.size() < 2)
       continue;
     const double b = predict(window).theta();
@@ -60,8 +59,9 @@ CoarseTimeOffset coarseTimeOffset(const std::vector<MotionPair>& pairs,
                                   const CoarseTimeOffsetOptions& options)
 {
   if (!(options.max_s > options.min_s) || !(options.step_s > 0.0) || !predict)
-    throw std::invalid_argument("coarse time offset search: need min_s < max_s, step_s > 0 and "
-                                "a nominal model");
+    throw std::invalid_argument(
+        "coarse time offset search: need min_s < max_s, step_s > 0 and "
+        "a nominal model");
   CoarseTimeOffset result;
   const std::vector<const MotionPair*> covered = coveredPairs(pairs, history, options);
   result.pairs = covered.size();
@@ -73,8 +73,9 @@ CoarseTimeOffset coarseTimeOffset(const std::vector<MotionPair>& pairs,
   }
   char text[300];
   if (covered.size() < kMinPairs) {
-    std::snprintf(text, sizeof(text), "%zu pairs lie %.3g s inside the encoder readings, %zu needed",
-                  covered.size(), std::max(-options.min_s, options.max_s), kMinPairs);
+    std::snprintf(text, sizeof(text),
+                  "%zu pairs lie %.3g s inside the encoder readings, %zu needed", covered.size(),
+                  std::max(-options.min_s, options.max_s), kMinPairs);
     result.problem = text;
     return result;
   }

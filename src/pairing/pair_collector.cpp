@@ -98,17 +98,28 @@ double PairCollector::encoderGapLimit_s() const
                                           : derivedEncoderGap_s(encoder_spacing_.median_s());
 }
 
-std::string PairCollector::encoderGapConflict() const
+std::string PairCollector::configurationConflict() const
 {
   constexpr std::size_t kMinSpacings = 10;
   constexpr double kMinGapPerSpacing = 1.5;
   const double spacing_s = encoder_spacing_.median_s();
-  if (!(options_.max_encoder_gap_s > 0.0) || encoder_spacing_.count() < kMinSpacings ||
+  if (encoder_spacing_.count() < kMinSpacings || !std::isfinite(spacing_s))
+    return "";
+  char text[400];
+  if (options_.keyframe_interval_s < spacing_s) {
+    std::snprintf(text, sizeof(text),
+                  "keyframes.interval_s = %.3g s is shorter than the encoder readings' spacing, "
+                  "%.3g s (median of %zu): a pair would hold no reading of its own; set it to at "
+                  "least %.2f (two spacings)",
+                  options_.keyframe_interval_s, spacing_s, encoder_spacing_.count(),
+                  std::ceil(2.0 * spacing_s / 0.05 - 1e-9) * 0.05);
+    return text;
+  }
+  if (!(options_.max_encoder_gap_s > 0.0) ||
       !(options_.max_encoder_gap_s < kMinGapPerSpacing * spacing_s))
     return "";
   // The value to set: the derived one, rounded up to 0.05 s.
   const double suggested_s = std::ceil(derivedEncoderGap_s(spacing_s) / 0.05 - 1e-9) * 0.05;
-  char text[400];
   std::snprintf(text, sizeof(text),
                 "keyframes.max_encoder_gap_s = %.3g s is shorter than the encoder readings allow: "
                 "they arrive every %.3g s (median of %zu spacings), so most keyframes find no "

@@ -205,8 +205,7 @@ BagRunResult runBagsUnchecked(const std::vector<std::string>& bag_paths,
     // Two publishers of one input, or a configured value the data contradicts: refused as
     // soon as it shows.
     for (std::size_t k = 0; k < result.session->sourceCount(); ++k) {
-      if (const std::string conflict = result.session->source(k).inputConflict();
-          !conflict.empty())
+      if (const std::string conflict = result.session->source(k).inputConflict(); !conflict.empty())
         throw std::runtime_error(conflict);
     }
   }

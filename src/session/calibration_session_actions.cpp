@@ -128,9 +128,9 @@ CalibrateOutcome CalibrationSession::calibrate(const CalibrationRequest& request
   if (static_cast<int>(fit_request.pairs.size()) < options_.min_pairs) {
     outcome.message =
         explainTooFewPairs(input_counts.statistics, fit_request.config.collector,
-                           fit_request.pairs.size(),
-                           static_cast<std::size_t>(options_.min_pairs)) +
-        (options_.min_pairs_name.empty() ? "" : " (" + options_.min_pairs_name + " sets how many.)") +
+                           fit_request.pairs.size(), static_cast<std::size_t>(options_.min_pairs)) +
+        (options_.min_pairs_name.empty() ? ""
+                                         : " (" + options_.min_pairs_name + " sets how many.)") +
         guidance;
     return outcome;
   }
@@ -246,7 +246,9 @@ PreparedAdoption CalibrationSession::prepare(const SessionFit& fit, const std::s
   } catch (const std::exception& error) {
     throw std::runtime_error(std::string("its odometry failed: ") + error.what());
   }
-  if (std::abs(fit.job.time_offset_s - collector.time_offset_s) >= 1e-6) {
+  // Within the pairing tolerance the offset stays: new pairs are made as the fitted ones were,
+  // and the odometry's path goes on.
+  if (std::abs(fit.job.time_offset_s - collector.time_offset_s) > kOffsetPairingToleranceS) {
     state.new_offset = true;
     collector.time_offset_s = fit.job.time_offset_s;
     try {  // the fit-interval candidates pair at the new offset too

@@ -78,7 +78,7 @@ void CalibrationSession::addJointPositions(double stamp_s, const Eigen::VectorXd
   }
   handleEvents(events, stamp_s);
   if (counts_.configuration_conflict.empty()) {
-    counts_.configuration_conflict = collector_->encoderGapConflict();
+    counts_.configuration_conflict = collector_->configurationConflict();
     if (!counts_.configuration_conflict.empty())
       say(SessionLogLevel::kError, counts_.configuration_conflict);
   }

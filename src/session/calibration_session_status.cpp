@@ -106,12 +106,18 @@ std::vector<SessionStatusReport> CalibrationSession::statusReports(double period
   const CollectorStatistics& s = collector_->statistics();
   for (const std::string& problem : encoder_watch_->problems(s.glitches))
     problems.push_back(problem);
+  status.add("encoder readings' spacing [s] (median)",
+             std::isfinite(s.encoder_spacing_median_s) ? std::to_string(s.encoder_spacing_median_s)
+                                                       : std::string("none yet"));
+  status.add("max encoder gap in use [s]", std::to_string(s.max_encoder_gap_s));
   status.add("messages from other publishers ignored",
              std::to_string(publishers_->ignored(SessionInput::kEncoders) +
                             publishers_->ignored(SessionInput::kEgoMotion)));
-  if (!publishers_->conflict().empty()) {
+  const std::string conflict =
+      publishers_->conflict().empty() ? counts_.configuration_conflict : publishers_->conflict();
+  if (!conflict.empty()) {
     status.level = SessionStatusReport::Level::kError;
-    status.message = publishers_->conflict();
+    status.message = conflict;
   } else if (!problems.empty()) {
     status.level = SessionStatusReport::Level::kWarn;
     status.message = problems.front();

@@ -54,8 +54,8 @@ std::string explainTooFewPairs(const CollectorStatistics& statistics,
                                const CollectorOptions& options, std::size_t pairs,
                                std::size_t needed)
 {
-  std::string text = "only " + std::to_string(pairs) + " pairs collected, " +
-                     std::to_string(needed) + " needed";
+  std::string text =
+      "only " + std::to_string(pairs) + " pairs collected, " + std::to_string(needed) + " needed";
   if (statistics.encoder_messages == 0)
     return text + ": no encoder reading arrived.";
   if (statistics.scans == 0 && statistics.keyframes == 0)
@@ -80,8 +80,9 @@ std::string explainTooFewPairs(const CollectorStatistics& statistics,
   if (isEncoderReason(leading))
     text += encoderGapCause(statistics, options);
   else if (leading.rfind("too little motion", 0) == 0)
-    text += " The robot barely moved between keyframes: drive more, straight and turning both "
-            "ways.";
+    text +=
+        " The robot barely moved between keyframes: drive more, straight and turning both "
+        "ways.";
   return text;
 }
 

@@ -119,6 +119,7 @@ SessionFit fitSessionPairs(const SessionFitRequest& request)
     fit.interval_text.pop_back();
   CalibrationJobOptions job_options;
   job_options.allow_time_offset = fit.offset_estimated;
+  job_options.keep_offset_within_s = kOffsetPairingToleranceS;
   job_options.compare_trajectories = request.compare_trajectories;
   const bool same_pairs = request.interval_mode == FitIntervalMode::kConfigured &&
                           fit_pairs.size() == request.pairs.size();
@@ -133,6 +134,7 @@ SessionFit fitSessionPairs(const SessionFitRequest& request)
         "the time offset was not estimated: it needs one continuous encoder stream (time went "
         "backwards in the data); kept the configured " +
         std::to_string(fit.job.time_offset_s) + " s");
+    ++fit.job.time_offset_warnings;
   }
   return fit;
 }
@@ -151,6 +153,12 @@ std::string timeOffsetSentence(const CalibrationConfig& config, const SessionFit
   } else if (!job.time_offset || job.time_offset->flat) {
     std::snprintf(text, sizeof(text),
                   " Time offset: not observable from this drive (flat cost), kept %.4f s.",
+                  job.time_offset_s);
+  } else if (job.time_offset->offset_s != job.time_offset_s) {
+    std::snprintf(text, sizeof(text),
+                  " Time offset: tau = %.4f +- %.4f s (encoder values at scan time + tau), within "
+                  "%.3f s of the %.4f s the pairs were made at: kept.",
+                  job.time_offset->offset_s, job.time_offset->sigma_s, kOffsetPairingToleranceS,
                   job.time_offset_s);
   } else {
     std::snprintf(text, sizeof(text),

@@ -250,6 +250,59 @@ TEST(PairCollector, PairsLastTheIntervalWithinHalfAPeriodOverTheRange)
   }
 }
 
+// Encoders read every 0.26 s (a slow driver loop): the derived gap limit pairs them; a configured
+// 0.25 s rejects every interval and is named with the spacing and the value to set; a keyframe
+// interval shorter than the spacing is named too.
+TEST(PairCollector, TheEncoderGapFollowsTheReadingsAndAContradictingValueIsNamed)
+{
+  const Eigen::Matrix3d covariance = Eigen::Matrix3d::Identity() * 1e-4;
+  auto drive = [&](PairCollector& collector) {
+    std::size_t pairs = 0, rejected = 0;
+    auto count = [&](const std::vector<CollectorEvent>& events) {
+      for (const CollectorEvent& event : events) {
+        pairs += event.type == CollectorEvent::Type::kPair;
+        rejected += event.type == CollectorEvent::Type::kRejected;
+      }
+    };
+    for (int k = 0; k <= 40; ++k) {
+      count(collector.addEncoders(0.26 * k, Eigen::Vector2d(100 * k, 100 * k)));
+      count(collector.addSensorPose(0.26 * k + 0.01, Pose2(0.01 * k, 0, 0), covariance));
+    }
+    return std::make_pair(pairs, rejected);
+  };
+  PairCollector derived(wheels(), CollectorOptions());
+  const auto [pairs, rejected] = drive(derived);
+  EXPECT_GE(pairs, 15u);
+  EXPECT_EQ(rejected, 0u);
+  EXPECT_NEAR(derived.encoderGapLimit_s(), 0.65, 1e-9);  // 2.5 x 0.26 s
+  EXPECT_NEAR(derived.statistics().encoder_spacing_median_s, 0.26, 1e-9);
+  EXPECT_EQ(derived.configurationConflict(), "");
+
+  CollectorOptions configured;
+  configured.max_encoder_gap_s = 0.25;
+  PairCollector refused(wheels(), configured);
+  const auto [none, all] = drive(refused);
+  EXPECT_EQ(none, 0u);
+  EXPECT_GE(all, 15u);
+  EXPECT_EQ(refused.statistics().rejected.count(kNoEncoderReadingReason) +
+                refused.statistics().rejected.count(kEncoderGapReason),
+            refused.statistics().rejected.size());
+  const std::string conflict = refused.configurationConflict();
+  for (const char* part : {"keyframes.max_encoder_gap_s = 0.25 s", "every 0.26 s",
+                           "median of 40 spacings", "at least 0.65"})
+    EXPECT_NE(conflict.find(part), std::string::npos) << part << " in: " << conflict;
+
+  CollectorOptions short_interval;
+  short_interval.keyframe_interval_s = 0.2;
+  PairCollector too_short(wheels(), short_interval);
+  drive(too_short);
+  EXPECT_NE(too_short.configurationConflict().find(
+                "keyframes.interval_s = 0.2 s is shorter than the encoder readings' spacing, "
+                "0.26 s (median of 40)"),
+            std::string::npos)
+      << too_short.configurationConflict();
+}
+
 TEST(PairCollector, InvalidOptionsAreNamed)
 {
   CollectorOptions options;

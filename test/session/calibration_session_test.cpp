@@ -299,6 +299,7 @@ TEST_F(Session, ConcludesTheWaitingKeyframeWhenTheInputEnds)
   options_.silent_topic_timeout_s = 5.0;
   options_.resume_pairs = false;  // each session its own collection
   config_.collector.time_offset_s = 0.01;
+  config_.estimate_time_offset = false;  // pairing again at an estimate would change the count
   const std::vector<sim::ScanSample>& scans = officeDrive().scans;
   const auto first = std::find_if(scans.begin(), scans.end(),
                                   [](const sim::ScanSample& scan) { return scan.stamp_s > 8.0; });

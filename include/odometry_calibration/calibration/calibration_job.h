@@ -30,13 +30,16 @@ struct CalibrationJobOptions
   /// CalibrationSession::calibrate when the pairs were not paired again): used instead of
   /// searching again.
   std::optional<TimeOffsetResult> time_offset_search;
+  /// An estimate within this of the offset the pairs were made at keeps that offset: the pairs
+  /// are fitted as made (the estimate is still reported) [s]. 0: any estimate is used.
+  double keep_offset_within_s = 0.0;
 };
 
 /// The outcome of one calibration.
 struct CalibrationJobResult
 {
-  std::shared_ptr<MotionModel> model;           ///< the fitted model (config.model)
-  ModelReport report;                           ///< its report, time-offset warnings included
+  std::shared_ptr<MotionModel> model;  ///< the fitted model (config.model)
+  ModelReport report;                  ///< its report, time-offset warnings included
   /// How many of report.warnings are the time offset's (at the edge of its search range, not
   /// observable): the last ones.
   std::size_t time_offset_warnings = 0;

@@ -234,10 +234,11 @@ public:
   /// The encoder gap limit in use: max_encoder_gap_s, or derived from the readings' spacing
   /// (derivedEncoderGap_s) when it is 0 [s].
   double encoderGapLimit_s() const;
-  /// A configured max_encoder_gap_s that the readings contradict (shorter than 1.5 of their
-  /// median spacing, over at least 10 spacings: most keyframes would find no reading), in
-  /// words naming the key, the measured spacing and the value to set; empty otherwise.
-  std::string encoderGapConflict() const;
+  /// A configured value the encoder readings contradict, once at least 10 spacings measure
+  /// them: a max_encoder_gap_s shorter than 1.5 median spacings (most keyframes would find no
+  /// reading), or a keyframe interval shorter than one (a pair would hold no reading of its
+  /// own). In words naming the key, the measured spacing and the value to set; empty: none.
+  std::string configurationConflict() const;
   const CollectorOptions& options() const { return options_; }
 
 private:

@@ -34,14 +34,14 @@ void checkBagCalibrationOptions(const BagCalibrationOptions& options);
 
 /// Runs the calibration, prints what it did to `out` and writes the files. Returns the exit
 /// status (calibrationExitStatus: 0, 3 not converged, 4 warnings, 5 the time offset; several
-/// sources: of the joint fit, every sensor's warnings counted); throws std::exception for bad input (unreadable bags
-/// or configuration, too few pairs). Several ego-motion sources (`ego_motion.sources`, e.g. a
-/// front and a rear laser; models diff_drive, skid_steer, mecanum, tricycle): each source's run
-/// and fit alone is printed, then the joint fit (a table per sensor and the agreement of the fits
-/// alone); each source's files go to <output>/source_<k>/ and the joint result.yaml,
-/// laser_joints.urdf, controller.yaml (not for tricycle) and joint_report.txt to <output>, all
-/// as one set. When the joint fit (`fit_jointly`; a test forces a failure through it) fails
-/// after every source was fitted alone, the sources' text is printed and their files written
+/// sources: of the joint fit, every sensor's warnings counted); throws std::exception for bad input
+/// (unreadable bags or configuration, too few pairs). Several ego-motion sources
+/// (`ego_motion.sources`, e.g. a front and a rear laser; models diff_drive, skid_steer, mecanum,
+/// tricycle): each source's run and fit alone is printed, then the joint fit (a table per sensor
+/// and the agreement of the fits alone); each source's files go to <output>/source_<k>/ and the
+/// joint result.yaml, laser_joints.urdf, controller.yaml (not for tricycle) and joint_report.txt to
+/// <output>, all as one set. When the joint fit (`fit_jointly`; a test forces a failure through it)
+/// fails after every source was fitted alone, the sources' text is printed and their files written
 /// (with joint_report.txt; an earlier run's joint result.yaml, laser_joints.urdf and
 /// controller.yaml removed), then std::runtime_error says that the joint fit failed and why.
 int calibrateBags(const BagCalibrationOptions& options, std::ostream& out,

@@ -125,7 +125,7 @@ struct SessionCounts
   std::size_t restart_count = 0;      ///< every restart
   /// Two publishers of one input with none chosen (input_publishers.h), in words; empty: none.
   std::string publisher_conflict;
-  /// A configured value the data contradicts (PairCollector::encoderGapConflict), in words
+  /// A configured value the data contradicts (PairCollector::configurationConflict), in words
   /// naming the key, the measured value and the value to set; empty: none.
   std::string configuration_conflict;
   /// Messages from another publisher than the one used (ignored; refused after a conflict).

@@ -73,7 +73,7 @@ struct LaserOptions
 /// The wheel / joint encoders, published together as one sensor_msgs/JointState.
 struct EncoderOptions
 {
-  double rate_hz = 50.0;                 ///< JointState messages per second
+  double rate_hz = 50.0;  ///< JointState messages per second
   /// Each reading's spacing from the previous one is 1 / rate_hz plus a uniform draw in
   /// [-rate_jitter_s, rate_jitter_s] (a slow, unsteady driver loop); 0 = evenly spaced [s].
   double rate_jitter_s = 0.0;
