@@ -8,6 +8,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "odometry_calibration/common/text_file.h"
+#include "odometry_calibration/common/yaml_reading.h"
 #include "odometry_calibration/eval/model_report.h"
 #include "odometry_calibration/factory/model_factory.h"
 
@@ -37,10 +38,11 @@ CalibrationResult parseCalibrationResult(const std::string& text, const std::str
 {
   YAML::Node root;
   try {
-    root = YAML::Load(text);
+    YAML::Load(text);
   } catch (const YAML::Exception& error) {
     throw std::runtime_error(source + ": not YAML: " + error.what());
   }
+  root = loadYamlDocument(text, source);
   if (!root.IsMap() || !root["model"] || !root["model"].IsMap()) {
     throw std::runtime_error(source + ": no 'model' section (not an odometry_calibration result)");
   }
