@@ -39,9 +39,9 @@ std::vector<JointEntry> jointEntries()
           [](const JointConfig& j) {
             return j.kind == EncoderKind::kAbsolute ? "absolute" : "incremental";
           }),
-      number<JointConfig>("joints[].units_per_turn", 2.0 * M_PI, "units/turn", rangeClosed(1e-3, 1e9),
-                          "position units per joint turn: ticks, or 2 pi for radians",
-                          AT(units_per_turn)),
+      number<JointConfig>(
+          "joints[].units_per_turn", 2.0 * M_PI, "units/turn", rangeClosed(1e-3, 1e9),
+          "position units per joint turn: ticks, or 2 pi for radians", AT(units_per_turn)),
       integer<JointConfig>("joints[].counter_bits", 0, rangeClosed(0, 52),
                            "incremental: the raw counter wraps at 2^bits (0: never)",
                            AT(counter_bits)),
@@ -375,7 +375,8 @@ std::vector<Entry> scanMatchingEntries()
                                 ConfigRange{0.0, M_PI / 2, false, true},
                                 "drop veiling points at depth steps seen below this angle (0: off)",
                                 AT(collector.plicp.line_fit.veiling_min_angle_rad)),
-      number<CalibrationConfig>("scan_matching.trim_keep_fraction", 0.95, "", rangeClosed(0.01, 1.0),
+      number<CalibrationConfig>("scan_matching.trim_keep_fraction", 0.95, "",
+                                rangeClosed(0.01, 1.0),
                                 "keep at most this fraction of the correspondences (the nearest)",
                                 AT(collector.plicp.trim_keep_fraction)),
   };

@@ -35,12 +35,12 @@ YAML::Node loadYamlDocument(const std::string& text, const std::string& source,
             " written; an alias bomb?): write the values out instead of repeating anchors (&) "
             "through aliases (*)");
       }
-      throw std::runtime_error(source + ": the document holds more than " +
-                               std::to_string(max_nodes) +
-                               " nodes: no file this program reads needs that many; check the path");
+      throw std::runtime_error(
+          source + ": the document holds more than " + std::to_string(max_nodes) +
+          " nodes: no file this program reads needs that many; check the path");
     }
-    const auto position = static_cast<std::size_t>(node.Mark().pos + 1) * 8 +
-                          static_cast<std::size_t>(node.Type());
+    const auto position =
+        static_cast<std::size_t>(node.Mark().pos + 1) * 8 + static_cast<std::size_t>(node.Type());
     repeated = !positions.insert(position).second || repeated;
     if (node.IsSequence()) {
       for (const YAML::Node& child : node)

@@ -13,8 +13,8 @@ namespace {
 /// Throws std::invalid_argument "header '#<line>': <name> = <value> is outside [min, max]
 /// <unit> ..." for a header value no tricycle has (the same ranges as the configuration's
 /// tricycle section): a start value of 1e308 would only make a fit that cannot be trusted.
-void requireHeaderValue(const std::string& line, const std::string& name, double value,
-                        double min, double max, const std::string& unit)
+void requireHeaderValue(const std::string& line, const std::string& name, double value, double min,
+                        double max, const std::string& unit)
 {
   if (value >= min && value <= max)  // false for NaN
     return;

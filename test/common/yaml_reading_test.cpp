@@ -40,8 +40,7 @@ std::string thrown(Load load)
 TEST(YamlReading, RefusesAnAliasBombAtOnceNamingTheSource)
 {
   const auto start = std::chrono::steady_clock::now();
-  const std::string message =
-      thrown([] { loadYamlDocument(aliasBomb(9), "bomb.yaml"); });
+  const std::string message = thrown([] { loadYamlDocument(aliasBomb(9), "bomb.yaml"); });
   const double elapsed_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   EXPECT_EQ(message.rfind("bomb.yaml: YAML aliases expand to more than 100000 nodes", 0), 0u)
@@ -58,8 +57,9 @@ TEST(YamlReading, KeepsDocumentsWithinTheBoundAliasesIncluded)
       loadYamlDocument("pose: &p [0.1, 0, 0]\nsame: *p\nname: x\n", "small.yaml");
   EXPECT_EQ(small["same"][0].as<double>(), 0.1);
   // The bound is the caller's: the same four levels refused below 10^4.
-  EXPECT_NE(thrown([] { loadYamlDocument(aliasBomb(4), "four.yaml", 5000); })
-                .find("YAML aliases expand to more than 5000 nodes"),
+  EXPECT_NE(thrown([] {
+              loadYamlDocument(aliasBomb(4), "four.yaml", 5000);
+            }).find("YAML aliases expand to more than 5000 nodes"),
             std::string::npos);
 }
 

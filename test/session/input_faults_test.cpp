@@ -83,19 +83,22 @@ TEST_F(InputFaults, Explore)
     auto session = makeSession();
     feed(*session, [](double) { return 12.3; });
     const CalibrateOutcome outcome = session->calibrate({});
-    std::cout << "ONE STAMP: pairs " << session->pairs().size() << ": " << outcome.message
-              << "\n";
+    std::cout << "ONE STAMP: pairs " << session->pairs().size() << ": " << outcome.message << "\n";
   }
   fs::remove_all(options_.output_directory);
   {
     auto session = makeSession();
-    feed(*session, [](double t) { return t; }, 10.0, 32.0);
+    feed(
+        *session, [](double t) { return t; }, 10.0, 32.0);
     const CalibrateOutcome outcome = session->calibrate({});
     std::cout << "ZEROS: pairs " << session->pairs().size() << ": " << outcome.message << "\n";
     std::size_t zero_pairs = 0;
     for (const MotionPair& pair : session->pairs()) {
       for (std::size_t i = 1; i < pair.encoder_samples.size(); ++i)
-        if ((pair.encoder_samples[i].values - pair.encoder_samples[i-1].values).norm() > 1.0) { ++zero_pairs; break; }
+        if ((pair.encoder_samples[i].values - pair.encoder_samples[i - 1].values).norm() > 1.0) {
+          ++zero_pairs;
+          break;
+        }
     }
     std::cout << "pairs with zero samples " << zero_pairs << "\n";
     for (const std::string& line : log_)

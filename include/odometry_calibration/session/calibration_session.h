@@ -139,7 +139,7 @@ struct SessionCounts
   CollectorStatistics statistics;
   std::size_t pairs = 0, pairs_resumed = 0, pairs_unwritten = 0;
   std::size_t encoder_messages = 0, ego_messages = 0;  ///< received (used or not)
-  InputStamps encoder_stamps, ego_stamps;  ///< the stamps of the messages with data
+  InputStamps encoder_stamps, ego_stamps;              ///< the stamps of the messages with data
   std::size_t bad_encoder_messages = 0, bad_ego_messages = 0, clouds_without_times = 0;
   std::string first_bad_encoder_message, first_bad_ego_message, first_cloud_time_problem;
   std::vector<std::string> restarts;  ///< time going backwards, in words (the first 100)
