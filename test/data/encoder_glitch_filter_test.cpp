@@ -48,6 +48,49 @@ TEST(EncoderGlitchFilter, SkipsASpikeAndGoesOn)
   EXPECT_DOUBLE_EQ(next.corrected(0), 1030.0);
 }
 
+TEST(EncoderGlitchFilter, SkipsZerosBetweenTheReadingsWithinTheRateLimit)
+{
+  // A wheel 0.75 turns from 0, turning at 0.6 turns/s (1200 ticks/s), read at 50 Hz; then a
+  // driver that sends a reading of 0 10 ms after each real one. Each step of 1500 ticks to 0
+  // is within the 2000 ticks the rate limit allows over 0.1 s, yet 60 times the wheel's motion.
+  EncoderGlitchFilter filter = makeFilter();
+  double ticks = 1500.0;
+  for (int k = 0; k < 60; ++k) {
+    const double t = 0.02 * k;
+    const auto real = filter.filter(t, reading(ticks));
+    ASSERT_FALSE(real.glitch) << k;
+    EXPECT_DOUBLE_EQ(real.corrected(0), ticks) << k;  // no offset: the counts went on
+    EXPECT_EQ(real.continuous, k > 10) << k;          // after a skipped zero
+    if (k >= 10) {
+      const auto zero = filter.filter(t + 0.01, reading(0.0));
+      EXPECT_TRUE(zero.glitch) << k;
+      EXPECT_NEAR(zero.increment, -ticks, 1e-9) << k;
+    }
+    ticks += 24.0;
+  }
+}
+
+TEST(EncoderGlitchFilter, SteadinessLeavesStartsBunchedStampsAndSlowEncodersAlone)
+{
+  EncoderGlitchFilter filter = makeFilter();
+  // From rest to 15 000 ticks/s in one 10 ms step: within the rate limit over the interval.
+  EXPECT_FALSE(filter.filter(0.00, reading(0.0)).glitch);
+  EXPECT_FALSE(filter.filter(0.01, reading(0.0)).glitch);
+  EXPECT_FALSE(filter.filter(0.02, reading(150.0)).glitch);
+  // Two messages stamped 0.1 ms apart, the second with a whole period's motion.
+  EXPECT_FALSE(filter.filter(0.0201, reading(300.0)).glitch);
+  EXPECT_FALSE(filter.filter(0.03, reading(450.0)).glitch);
+  // A 4 Hz encoder whose readings come 0.20 to 0.32 s apart, speeding up and slowing down.
+  EncoderGlitchFilter slow = makeFilter();
+  double t = 0.0, ticks = 0.0;
+  for (int k = 0; k < 40; ++k) {
+    const double dt = k % 3 == 0 ? 0.32 : 0.20;
+    t += dt;
+    ticks += (k % 7 < 4 ? 4000.0 : 500.0) * dt;
+    ASSERT_FALSE(slow.filter(t, reading(ticks)).glitch) << k;
+  }
+}
+
 TEST(EncoderGlitchFilter, AHugeOrNonFiniteReadingNeverPasses)
 {
   EncoderGlitchFilter filter = makeFilter();

@@ -1,8 +1,10 @@
 // Inputs a faulty driver sends the session, without ROS: every JointState at one stamp, and a
 // reading of 0 between the real ones (the glitch filter rejects those; no pair, no row of the
 // pairs file and no resumed fit may carry them).
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 
 #include <gtest/gtest.h>
 
@@ -77,32 +79,104 @@ protected:
   std::vector<std::string> log_;
 };
 
-TEST_F(InputFaults, Explore)
+/// The largest step between two successive encoder samples of any pair, in ticks.
+double largestStep(const std::vector<MotionPair>& pairs)
 {
-  {
-    auto session = makeSession();
-    feed(*session, [](double) { return 12.3; });
-    const CalibrateOutcome outcome = session->calibrate({});
-    std::cout << "ONE STAMP: pairs " << session->pairs().size() << ": " << outcome.message << "\n";
-  }
-  fs::remove_all(options_.output_directory);
-  {
-    auto session = makeSession();
-    feed(
-        *session, [](double t) { return t; }, 10.0, 32.0);
-    const CalibrateOutcome outcome = session->calibrate({});
-    std::cout << "ZEROS: pairs " << session->pairs().size() << ": " << outcome.message << "\n";
-    std::size_t zero_pairs = 0;
-    for (const MotionPair& pair : session->pairs()) {
-      for (std::size_t i = 1; i < pair.encoder_samples.size(); ++i)
-        if ((pair.encoder_samples[i].values - pair.encoder_samples[i - 1].values).norm() > 1.0) {
-          ++zero_pairs;
-          break;
-        }
+  double largest = 0.0;
+  for (const MotionPair& pair : pairs) {
+    for (std::size_t k = 1; k < pair.encoder_samples.size(); ++k) {
+      const Eigen::VectorXd step =
+          pair.encoder_samples[k].values - pair.encoder_samples[k - 1].values;
+      largest = std::max(largest, step.cwiseAbs().maxCoeff());
     }
-    std::cout << "pairs with zero samples " << zero_pairs << "\n";
-    for (const std::string& line : log_)
-      std::cout << "LOG " << line << "\n";
+  }
+  return largest;
+}
+
+TEST_F(InputFaults, EveryJointStateAtOneStampIsSaidAsSuch)
+{
+  auto session = makeSession();
+  feed(*session, [](double) { return 12.3; });
+  const CalibrateOutcome outcome = session->calibrate({});
+  EXPECT_FALSE(outcome.success);
+  EXPECT_EQ(outcome.message,
+            "cannot calibrate: all " + std::to_string(officeDrive().joints.size()) +
+                " JointState samples on joint states carry the same stamp 12.3 s: the publisher "
+                "does not stamp its messages (header.stamp); stamp each with the time of its "
+                "measurement");
+}
+
+TEST_F(InputFaults, EveryScanAtOneStampIsSaidAsSuch)
+{
+  auto session = makeSession();
+  const Recording& drive = officeDrive();
+  for (const Recording::Message& message : drive.inOrder()) {
+    clock_s_ = message.stamp_s;
+    if (message.joints) {
+      const auto& positions = drive.joints[message.index].positions;
+      session->addJointPositions(
+          message.stamp_s, Eigen::Map<const Eigen::VectorXd>(positions.data(), positions.size()));
+    } else {
+      session->addScan(0.0, test::toScan(drive.scans[message.index]), "laser");
+    }
+  }
+  session->flush();
+  const CalibrateOutcome outcome = session->calibrate({});
+  EXPECT_FALSE(outcome.success);
+  EXPECT_EQ(outcome.message.rfind("cannot calibrate: all " + std::to_string(drive.scans.size()) +
+                                      " LaserScan samples on ",
+                                  0),
+            0u)
+      << outcome.message;
+  EXPECT_NE(outcome.message.find("carry the same stamp 0 s: the publisher does not stamp"),
+            std::string::npos)
+      << outcome.message;
+}
+
+TEST_F(InputFaults, ZerosBetweenTheReadingsReachNoPairAndNoResumedFit)
+{
+  // The clean drive's fit.
+  auto clean = makeSession();
+  feed(*clean, [](double t) { return t; });
+  const CalibrateOutcome clean_outcome = clean->calibrate({});
+  ASSERT_TRUE(clean_outcome.success) << clean_outcome.message;
+  const std::vector<MotionPair> clean_pairs = clean->pairs();
+  clean.reset();
+  fs::remove_all(options_.output_directory);
+
+  // A driver that sends a reading of 0 10 ms after each real one for 22 s (50 Hz), while the
+  // wheels are within a few turns of 0: steps within max_turns_per_s, yet no motion.
+  std::size_t pairs_written = 0;
+  {
+    auto zeros = makeSession();
+    feed(
+        *zeros, [](double t) { return t; }, 10.0, 32.0);
+    const std::vector<MotionPair> pairs = zeros->pairs();
+    pairs_written = pairs.size();
+    // Every zero skipped as a glitch, and none in a pair: the pairs are the clean drive's.
+    std::size_t glitches = 0;
+    for (const auto& [joint, count] : zeros->counts().statistics.glitches)
+      glitches = std::max(glitches, count);
+    EXPECT_GE(glitches, 1000u);
+    EXPECT_LT(largestStep(pairs), 100.0);  // ticks between samples 20 ms apart
+    ASSERT_EQ(pairs.size(), clean_pairs.size());
+    for (std::size_t k = 0; k < pairs.size(); ++k) {
+      ASSERT_EQ(pairs[k].encoder_samples.size(), clean_pairs[k].encoder_samples.size()) << k;
+      EXPECT_EQ(pairs[k].start_stamp_s, clean_pairs[k].start_stamp_s) << k;
+    }
+  }
+  // A restarted session resumes the pairs file written meanwhile and fits as the clean run.
+  auto resumed = makeSession();
+  ASSERT_EQ(resumed->counts().pairs_resumed, pairs_written);
+  EXPECT_LT(largestStep(resumed->pairs()), 100.0);
+  const CalibrateOutcome outcome = resumed->calibrate({});
+  ASSERT_TRUE(outcome.success) << outcome.message;
+  const auto& expected = clean_outcome.fit->job.report.parameters;
+  const auto& fitted = outcome.fit->job.report.parameters;
+  ASSERT_EQ(fitted.size(), expected.size());
+  for (std::size_t i = 0; i < fitted.size(); ++i) {
+    EXPECT_NEAR(fitted[i].value, expected[i].value, 5e-4 * std::abs(expected[i].value))
+        << fitted[i].name;
   }
 }
 
