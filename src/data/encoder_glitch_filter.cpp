@@ -51,11 +51,18 @@ bool EncoderGlitchFilter::steady(const Eigen::VectorXd& to, double dt_s, std::si
       continue;
     const auto k = static_cast<Eigen::Index>(i);
     const double change = step(i, anchor_raw_(k), to(k));
-    // The joint's recent speed over at least kMinInterval_s (stamps jitter and bunch), with
-    // room to speed up, plus any start the rate limit allows over the real interval.
+    // Going on (or from rest): up to max_rate_per_s over the real interval, plus
+    // kSteadyFactor times the recent speed over at least kMinInterval_s (stamps jitter and
+    // bunch). Turning back against the last step: the joint stopped first, so at most what it
+    // covers from rest reaching max_rate_per_s within kMinInterval_s (a huge acceleration),
+    // plus a count of dither.
+    const double rate = channels_[i].max_rate_per_s;
     const double speed = std::abs(last_step_(k)) / *last_step_dt_s_;
-    const double allowed =
-        channels_[i].max_rate_per_s * dt + kSteadyFactor * speed * std::max(dt, kMinInterval_s);
+    const bool reverses = change * last_step_(k) < 0.0;
+    const double from_rest = 0.5 * rate / kMinInterval_s * dt * dt + rate * kDither_s;
+    const double allowed = reverses || speed == 0.0
+                               ? from_rest
+                               : from_rest + kSteadyFactor * speed * std::max(dt, *last_step_dt_s_);
     if (!(std::abs(change) <= allowed)) {
       *channel = i;
       *increment = change;

@@ -28,8 +28,15 @@ TEST(EncoderGlitchFilter, PassesMotionWithinTheLimit)
     ASSERT_FALSE(result.glitch) << k;
     EXPECT_EQ(result.corrected, reading(150.0 * k, k % 2 ? 4000.0 : 10.0));
   }
-  // Stamps that jitter close together still allow 0.1 s of motion.
-  EXPECT_FALSE(filter.filter(0.9901, reading(150.0 * 99 + 1500.0)).glitch);
+  // Stamps that jitter close together: a period's motion 0.1 ms after the last reading.
+  EXPECT_FALSE(filter.filter(0.9901, reading(150.0 * 100)).glitch);
+  // Before a speed is known (one reading), the rate limit alone: 0.1 s of motion at most.
+  EncoderGlitchFilter fresh = makeFilter();
+  EXPECT_FALSE(fresh.filter(0.0, reading(0.0)).glitch);
+  EXPECT_FALSE(fresh.filter(0.0001, reading(2000.0)).glitch);
+  EncoderGlitchFilter beyond = makeFilter();
+  EXPECT_FALSE(beyond.filter(0.0, reading(0.0)).glitch);
+  EXPECT_TRUE(beyond.filter(0.0001, reading(2001.0)).glitch);
 }
 
 TEST(EncoderGlitchFilter, SkipsASpikeAndGoesOn)
@@ -73,16 +80,22 @@ TEST(EncoderGlitchFilter, SkipsZerosBetweenTheReadingsWithinTheRateLimit)
 TEST(EncoderGlitchFilter, SteadinessLeavesStartsBunchedStampsAndSlowEncodersAlone)
 {
   EncoderGlitchFilter filter = makeFilter();
-  // From rest to 15 000 ticks/s in one 10 ms step: within the rate limit over the interval.
-  EXPECT_FALSE(filter.filter(0.00, reading(0.0)).glitch);
-  EXPECT_FALSE(filter.filter(0.01, reading(0.0)).glitch);
-  EXPECT_FALSE(filter.filter(0.02, reading(150.0)).glitch);
+  // From rest, at once 1000 ticks/s (a simulated robot's step in speed), then doubling its
+  // speed every 10 ms up to 8000 ticks/s, and turning back after a stop.
+  double t = 0.0, ticks = 0.0;
+  EXPECT_FALSE(filter.filter(t, reading(ticks)).glitch);
+  EXPECT_FALSE(filter.filter(t += 0.01, reading(ticks)).glitch);
+  for (double speed : {1000.0, 2000.0, 4000.0, 8000.0, 8000.0, 0.0, -1000.0, -2000.0}) {
+    ticks += speed * 0.01;
+    ASSERT_FALSE(filter.filter(t += 0.01, reading(ticks)).glitch) << speed;
+  }
   // Two messages stamped 0.1 ms apart, the second with a whole period's motion.
-  EXPECT_FALSE(filter.filter(0.0201, reading(300.0)).glitch);
-  EXPECT_FALSE(filter.filter(0.03, reading(450.0)).glitch);
+  EXPECT_FALSE(filter.filter(t += 0.0001, reading(ticks -= 20.0)).glitch);
+  EXPECT_FALSE(filter.filter(t += 0.01, reading(ticks -= 20.0)).glitch);
   // A 4 Hz encoder whose readings come 0.20 to 0.32 s apart, speeding up and slowing down.
   EncoderGlitchFilter slow = makeFilter();
-  double t = 0.0, ticks = 0.0;
+  t = 0.0;
+  ticks = 0.0;
   for (int k = 0; k < 40; ++k) {
     const double dt = k % 3 == 0 ? 0.32 : 0.20;
     t += dt;

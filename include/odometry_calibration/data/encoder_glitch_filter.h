@@ -30,12 +30,16 @@ namespace odometry_calibration {
 /// interval around it); an absolute channel's new reading is taken as it is.
 ///
 /// Once two readings were accepted in a row, a reading must also be steady: its step from the
-/// last accepted reading at most max_rate_per_s * dt (the real interval, no 0.1 s floor) plus
-/// kSteadyFactor times the motion at the last accepted step's speed over max(dt,
-/// kMinInterval_s). A driver that puts a reading of 0 between its real ones sends steps that
-/// are within the rate limit while the wheel is within a few turns of 0, yet hundreds of times
-/// the wheel's motion; stamps bunched by jitter stay within the second term, a wheel starting
-/// from rest within the first.
+/// last accepted reading at most what the joint covers from rest over dt at an acceleration
+/// that reaches max_rate_per_s within kMinInterval_s (huge for a wheel), plus a dither of
+/// max_rate_per_s * kDither_s, plus, when the joint was moving and the step goes on the same
+/// way, kSteadyFactor times the motion at the last step's speed over max(dt, that step's
+/// interval). A step that turns back stopped first and gets no speed term. A driver that puts
+/// a reading of 0 between its real ones sends steps within the rate limit while the wheel is
+/// within a few turns of 0, yet hundreds of times its motion and each back the other way;
+/// a reading stamped close after the last one (bunched stamps) keeps the last interval's room.
+/// A stream that starts with such readings is steady on its own terms: it is caught once a
+/// step leaves the rate limit, and re-anchors on the first reading after that.
 class EncoderGlitchFilter
 {
 public:
@@ -44,6 +48,8 @@ public:
   /// A steady step is at most this many times the motion at the last step's speed (plus the
   /// rate limit over dt).
   static constexpr double kSteadyFactor = 4.0;
+  /// The dither a steady step may always have: max_rate_per_s times this [s].
+  static constexpr double kDither_s = 1e-4;
 
   /// Validates the channels (throws std::invalid_argument).
   explicit EncoderGlitchFilter(std::vector<EncoderChannelOptions> channels);
