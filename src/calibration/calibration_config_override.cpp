@@ -42,7 +42,7 @@ std::pair<YAML::Node, YAML::Node> loadBoth(const std::string& config_text,
   } catch (const YAML::Exception& error) {
     throw std::runtime_error("options are not YAML: " + std::string(error.what()));
   }
-  loadYamlDocument(override_yaml, "options");  // refuses aliases expanded beyond the bound
+  refuseYamlBeyond(overrides, "options");
   try {
     refuseDuplicateKeys(overrides);
   } catch (const std::runtime_error& error) {

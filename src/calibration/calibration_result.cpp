@@ -38,11 +38,11 @@ CalibrationResult parseCalibrationResult(const std::string& text, const std::str
 {
   YAML::Node root;
   try {
-    YAML::Load(text);
+    root = YAML::Load(text);
   } catch (const YAML::Exception& error) {
     throw std::runtime_error(source + ": not YAML: " + error.what());
   }
-  root = loadYamlDocument(text, source);
+  refuseYamlBeyond(root, source);
   if (!root.IsMap() || !root["model"] || !root["model"].IsMap()) {
     throw std::runtime_error(source + ": no 'model' section (not an odometry_calibration result)");
   }

@@ -16,6 +16,12 @@ YAML::Node loadYamlDocument(const std::string& text, const std::string& source,
   } catch (const YAML::Exception& error) {
     throw std::runtime_error(source + ": " + error.what());
   }
+  refuseYamlBeyond(root, source, max_nodes);
+  return root;
+}
+
+void refuseYamlBeyond(const YAML::Node& root, const std::string& source, std::size_t max_nodes)
+{
   // Walk the tree as its readers will (an alias once at each use), iteratively (no recursion
   // on a deep document), and stop at the bound. A node met again is recognised by where it
   // stands in the text and its type (a block map starts where its first key does): aliases are
@@ -31,9 +37,10 @@ YAML::Node loadYamlDocument(const std::string& text, const std::string& source,
       if (repeated) {
         throw std::runtime_error(
             source + ": YAML aliases expand to more than " + std::to_string(max_nodes) +
-            " nodes (" + std::to_string(positions.size()) +
-            " written; an alias bomb?): write the values out instead of repeating anchors (&) "
-            "through aliases (*)");
+            " nodes (the first " + std::to_string(max_nodes) + " are " +
+            std::to_string(positions.size()) +
+            " written ones repeated: an alias bomb?): write the values out instead of "
+            "repeating anchors (&) through aliases (*)");
       }
       throw std::runtime_error(
           source + ": the document holds more than " + std::to_string(max_nodes) +
@@ -52,7 +59,6 @@ YAML::Node loadYamlDocument(const std::string& text, const std::string& source,
       }
     }
   }
-  return root;
 }
 
 void rethrowWithYamlContext(const std::string& source, const std::string& where)

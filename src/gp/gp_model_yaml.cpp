@@ -226,7 +226,7 @@ std::unique_ptr<GaussianProcessModel> GaussianProcessModel::fromYaml(const std::
   } catch (const YAML::Exception& error) {
     throw std::runtime_error(std::string("gp yaml: ") + error.what());
   }
-  root = loadYamlDocument(text, "gp yaml");
+  refuseYamlBeyond(root, "gp yaml");
   try {
     if (require(root, "model", "the file").as<std::string>() != "gp") {
       throw std::runtime_error("gp yaml: not a gp model");

@@ -60,7 +60,7 @@ void refuseNonJointOptions(const std::string& model, const std::string& options)
     throw std::invalid_argument(std::string("the options are not YAML: ") + error.what());
   }
   try {
-    loadYamlDocument(options, "the options");  // aliases expanded beyond the bound
+    refuseYamlBeyond(root, "the options");
   } catch (const std::runtime_error& error) {
     throw std::invalid_argument(error.what());
   }

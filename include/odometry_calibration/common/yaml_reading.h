@@ -26,6 +26,10 @@ constexpr std::size_t kMaxYamlNodes = 100000;
 YAML::Node loadYamlDocument(const std::string& text, const std::string& source,
                             std::size_t max_nodes = kMaxYamlNodes);
 
+/// The bound of loadYamlDocument on a document parsed already (`root`, read from `source`).
+void refuseYamlBeyond(const YAML::Node& root, const std::string& source,
+                      std::size_t max_nodes = kMaxYamlNodes);
+
 /// Throws std::runtime_error "<where>: unknown key 'k' (known: ...)" for a key not in
 /// `allowed`, or "<where>: expected a map". An absent node is fine.
 inline void checkYamlKeys(const YAML::Node& node, const std::set<std::string>& allowed,
