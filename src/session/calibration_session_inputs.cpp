@@ -29,12 +29,17 @@ std::string CalibrationSession::oneStampProblem() const
   for (const auto& [input, stamps] : inputs) {
     if (!stamps->oneStamp())
       continue;
-    const std::string type =
-        input == SessionInput::kEncoders ? "JointState" : egoMessageType(config_.ego_motion);
+    const bool encoders = input == SessionInput::kEncoders;
+    const std::string type = encoders ? "JointState" : egoMessageType(config_.ego_motion);
+    // The configured topic (the input monitor's name for it may be a description).
+    const std::string topic = encoders ? config_.joint_state_topic
+                              : config_.ego_motion == EgoMotionSource::kScan
+                                  ? config_.scan_topic
+                                  : config_.ego_motion_topic;
     char stamp[32];
     std::snprintf(stamp, sizeof(stamp), "%.9g", stamps->first_s);
-    return "all " + std::to_string(stamps->count) + " " + type + " samples on " +
-           inputs_->topic(input) + " carry the same stamp " + stamp +
+    return "all " + std::to_string(stamps->count) + " " + type + " samples on " + topic +
+           " carry the same stamp " + stamp +
            " s: the publisher does not stamp its messages (header.stamp); stamp each with the "
            "time of its measurement";
   }

@@ -101,7 +101,7 @@ TEST_F(InputFaults, EveryJointStateAtOneStampIsSaidAsSuch)
   EXPECT_FALSE(outcome.success);
   EXPECT_EQ(outcome.message,
             "cannot calibrate: all " + std::to_string(officeDrive().joints.size()) +
-                " JointState samples on joint states carry the same stamp 12.3 s: the publisher "
+                " JointState samples on /joint_states carry the same stamp 12.3 s: the publisher "
                 "does not stamp its messages (header.stamp); stamp each with the time of its "
                 "measurement");
 }
@@ -124,7 +124,7 @@ TEST_F(InputFaults, EveryScanAtOneStampIsSaidAsSuch)
   const CalibrateOutcome outcome = session->calibrate({});
   EXPECT_FALSE(outcome.success);
   EXPECT_EQ(outcome.message.rfind("cannot calibrate: all " + std::to_string(drive.scans.size()) +
-                                      " LaserScan samples on ",
+                                      " LaserScan samples on /scan carry the same stamp 0 s",
                                   0),
             0u)
       << outcome.message;
