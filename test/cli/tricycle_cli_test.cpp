@@ -291,6 +291,7 @@ TEST(TricycleCli, AbsurdHeaderValuesAreRefusedByNameAndWriteNothing)
     std::ostringstream out, err;
     EXPECT_EQ(runTricycleCli(options, out, err), 1) << header;
     EXPECT_NE(err.str().find(expected), std::string::npos) << err.str();
+    EXPECT_NE(err.str().find("absurd.txt"), std::string::npos) << err.str();
     EXPECT_FALSE(exists(options.output_path)) << header;
   }
 }
