@@ -138,8 +138,8 @@ std::vector<CollectorEvent> PairCollector::addEncoders(double stamp_s, const Eig
     std::ostringstream reason;
     reason << "encoder glitch on joint '" << channel.name << "': an increment of "
            << filtered.increment << " units, beyond " << channel.max_rate_per_s
-           << " units/s (the joint's max_turns_per_s) or " << EncoderGlitchFilter::kSteadyFactor
-           << " times the step before; reading skipped";
+           << " units/s (the joint's max_turns_per_s) or unsteady against the readings before "
+              "(a spike or a stray reading between real ones); reading skipped";
     event.reason = reason.str();
     queueEvent(event, false);
     return takeEvents();
