@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "odometry_calibration/calibration/calibration_config.h"
+#include "support/alias_bomb.h"
 
 namespace odometry_calibration {
 namespace {
@@ -352,14 +353,7 @@ TEST(CalibrationConfig, AnAliasBombIsRefusedAtOnceNamingTheFile)
 {
   // Nine levels of ten aliases each: 10^9 nodes once expanded, which every walk of the
   // document (duplicate keys, unknown keys) expanded for minutes.
-  std::string text = "joints: [{name: l}, {name: r}]\nx0: &x0 [a, a, a, a, a, a, a, a, a, a]\n";
-  for (int level = 1; level < 9; ++level) {
-    const std::string below = "*x" + std::to_string(level - 1);
-    text += "x" + std::to_string(level) + ": &x" + std::to_string(level) + " [";
-    for (int i = 0; i < 10; ++i)
-      text += (i > 0 ? ", " : "") + below;
-    text += "]\n";
-  }
+  const std::string text = test::aliasBomb(9, "joints: [{name: l}, {name: r}]\n");
   char pattern[] = "/tmp/calibration_config_test.XXXXXX";
   ASSERT_NE(mkdtemp(pattern), nullptr);
   const std::string path = std::string(pattern) + "/bomb.yaml";

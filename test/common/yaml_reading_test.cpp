@@ -6,24 +6,12 @@
 
 #include <gtest/gtest.h>
 
+#include "support/alias_bomb.h"
+
 namespace odometry_calibration {
 namespace {
 
-/// The "billion laughs": `levels` anchors, each a list of ten aliases of the one before
-/// (10^levels nodes once expanded, a few hundred bytes written).
-std::string aliasBomb(int levels)
-{
-  std::string text = "a0: &a0 [x, x, x, x, x, x, x, x, x, x]\n";
-  for (int level = 1; level < levels; ++level) {
-    const std::string name = "a" + std::to_string(level);
-    const std::string below = "*a" + std::to_string(level - 1);
-    text += name + ": &" + name + " [";
-    for (int i = 0; i < 10; ++i)
-      text += (i > 0 ? ", " : "") + below;
-    text += "]\n";
-  }
-  return text;
-}
+using test::aliasBomb;
 
 /// The message of what `load` throws ("" when it does not).
 template <typename Load>
