@@ -51,11 +51,11 @@ bool EncoderGlitchFilter::steady(const Eigen::VectorXd& to, double dt_s, std::si
       continue;
     const auto k = static_cast<Eigen::Index>(i);
     const double change = step(i, anchor_raw_(k), to(k));
-    // Going on (or from rest): up to max_rate_per_s over the real interval, plus
-    // kSteadyFactor times the recent speed over at least kMinInterval_s (stamps jitter and
-    // bunch). Turning back against the last step: the joint stopped first, so at most what it
-    // covers from rest reaching max_rate_per_s within kMinInterval_s (a huge acceleration),
-    // plus a count of dither.
+    // From rest, or turning back against the last step (the joint stopped first): at most
+    // what it covers accelerating to max_rate_per_s within kMinInterval_s (huge for a wheel),
+    // plus a dither. Going on the same way: also kSteadyFactor times the motion at its last
+    // speed over max(dt, the last step's interval), so that a reading stamped close after
+    // the last one (bunched stamps) keeps that interval's room.
     const double rate = channels_[i].max_rate_per_s;
     const double speed = std::abs(last_step_(k)) / *last_step_dt_s_;
     const bool reverses = change * last_step_(k) < 0.0;
