@@ -46,7 +46,7 @@ public:
   /// Readings less than this far apart [s] may still move by max_rate_per_s * kMinInterval_s.
   static constexpr double kMinInterval_s = 0.1;
   /// A steady step is at most this many times the motion at the last step's speed (plus the
-  /// rate limit over dt).
+  /// start from rest over dt).
   static constexpr double kSteadyFactor = 4.0;
   /// The dither a steady step may always have: max_rate_per_s times this [s].
   static constexpr double kDither_s = 1e-4;
