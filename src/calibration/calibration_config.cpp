@@ -14,6 +14,7 @@
 #include "odometry_calibration/common/config_schema.h"
 #include "odometry_calibration/common/name_list.h"
 #include "odometry_calibration/common/text_file.h"
+#include "odometry_calibration/common/yaml_reading.h"
 
 #include "odometry_calibration/gp/gp_options.h"
 
@@ -356,8 +357,14 @@ void resolveModelChoices(CalibrationConfig& c, const GivenValues& given)
 
 CalibrationConfig parseCalibrationConfig(const std::string& text, const std::string& source)
 {
+  // Outside the try: its messages name the source already.
+  const YAML::Node root = loadYamlDocument(text, source);
+  if (root.IsNull()) {
+    throw std::runtime_error(source +
+                             " holds no settings (only blanks or comments): a configuration "
+                             "needs at least its joints (see config/diff_drive.yaml)");
+  }
   try {
-    const YAML::Node root = YAML::Load(text);
     refuseDuplicateKeys(root);
     refuseUnknownKeys(root, schemaKeys());
     CalibrationConfig c;

@@ -6,6 +6,7 @@
 
 #include "odometry_calibration/calibration/calibration_config.h"
 #include "odometry_calibration/common/config_schema.h"
+#include "odometry_calibration/common/yaml_reading.h"
 
 namespace odometry_calibration {
 namespace {
@@ -29,9 +30,9 @@ std::pair<YAML::Node, YAML::Node> loadBoth(const std::string& config_text,
                                            const std::string& override_yaml,
                                            const std::string& source)
 {
-  YAML::Node root, overrides;
+  YAML::Node root = loadYamlDocument(config_text, source);
+  YAML::Node overrides;
   try {
-    root = YAML::Load(config_text);
     refuseDuplicateKeys(root);
   } catch (const std::runtime_error& error) {  // also YAML::Exception
     throw std::runtime_error(source + ": " + error.what());
@@ -41,6 +42,7 @@ std::pair<YAML::Node, YAML::Node> loadBoth(const std::string& config_text,
   } catch (const YAML::Exception& error) {
     throw std::runtime_error("options are not YAML: " + std::string(error.what()));
   }
+  refuseYamlBeyond(overrides, "options");
   try {
     refuseDuplicateKeys(overrides);
   } catch (const std::runtime_error& error) {

@@ -2,7 +2,8 @@
 // keys (the models' in calibration_config_schema_models.cpp). Ranges: values a physical robot and
 // sensor can have (positive lengths, keyframe intervals of at least a fast sensor's period, 10 ms),
 // and upper bounds on counts (iterations, starts, inducing points) that keep a fit's memory and
-// time bounded.
+// time bounded. No positive key reaches down to 0: a value like 1e-300 is a typo, not a robot
+// (an encoder resolution of 1e-3 units per turn already means a whole turn reads as 0.001).
 #include "odometry_calibration/calibration/calibration_config_schema.h"
 
 #include <cmath>
@@ -38,9 +39,9 @@ std::vector<JointEntry> jointEntries()
           [](const JointConfig& j) {
             return j.kind == EncoderKind::kAbsolute ? "absolute" : "incremental";
           }),
-      number<JointConfig>("joints[].units_per_turn", 2.0 * M_PI, "units/turn", rangePositive(1e9),
-                          "position units per joint turn: ticks, or 2 pi for radians",
-                          AT(units_per_turn)),
+      number<JointConfig>(
+          "joints[].units_per_turn", 2.0 * M_PI, "units/turn", rangeClosed(1e-3, 1e9),
+          "position units per joint turn: ticks, or 2 pi for radians", AT(units_per_turn)),
       integer<JointConfig>("joints[].counter_bits", 0, rangeClosed(0, 52),
                            "incremental: the raw counter wraps at 2^bits (0: never)",
                            AT(counter_bits)),
@@ -213,7 +214,7 @@ std::vector<Entry> cloudFilterEntries()
                                  "StatisticalOutlierRemoval's k (0: off)",
                                  AT(cloud.outlier_neighbours)),
       number<CalibrationConfig>(
-          "ego_motion.cloud.outlier_stddev", 1.0, "sigma", rangePositive(100.0),
+          "ego_motion.cloud.outlier_stddev", 1.0, "sigma", rangeClosed(0.01, 100.0),
           "its threshold: mean distance + this many sigma", AT(cloud.outlier_stddev)),
       number<CalibrationConfig>("ego_motion.cloud.range_min_m", 0.3, "m", rangeClosed(0.0, 100.0),
                                 "nearer points (the robot itself) dropped", AT(cloud.range_min_m)),
@@ -252,7 +253,7 @@ std::vector<Entry> cloudScanEntries()
           },
           [](const CalibrationConfig& c) { return toString(c.cloud.point_times.reference); }),
       number<CalibrationConfig>("ego_motion.cloud.point_time_limit_s", 0.5, "s",
-                                rangePositive(10.0),
+                                rangeClosed(1e-4, 10.0),
                                 "a time farther from the stamp: the cloud is used without times",
                                 AT(cloud.point_times.limit_s)),
   };
@@ -348,7 +349,7 @@ std::vector<Entry> scanMatchingEntries()
 {
   return {
       number<CalibrationConfig>("scan_matching.max_correspondence_distance_m", 0.5, "m",
-                                rangePositive(10.0), "farthest point-to-line correspondence",
+                                rangeClosed(1e-3, 10.0), "farthest point-to-line correspondence",
                                 AT(collector.plicp.max_correspondence_distance_m)),
       integer<CalibrationConfig>("scan_matching.max_iterations", 50, rangeClosed(1, 1000),
                                  "PLICP iteration cap", AT(collector.plicp.max_iterations)),
@@ -356,11 +357,11 @@ std::vector<Entry> scanMatchingEntries()
                                 "laser range noise, for the match covariance",
                                 AT(collector.plicp.range_sigma_m)),
       number<CalibrationConfig>("scan_matching.max_correction_translation_m", 0.5, "m",
-                                rangePositive(100.0),
+                                rangeClosed(1e-4, 100.0),
                                 "largest allowed correction of the initial guess, translation",
                                 AT(collector.plicp.max_correction_translation_m)),
       number<CalibrationConfig>("scan_matching.max_correction_rotation_rad", 0.5, "rad",
-                                rangePositive(M_PI),
+                                rangeClosed(1e-4, M_PI),
                                 "largest allowed correction of the initial guess, rotation",
                                 AT(collector.plicp.max_correction_rotation_rad)),
       integer<CalibrationConfig>("scan_matching.min_points", 20, rangeClosed(3, 100000),
@@ -378,7 +379,8 @@ std::vector<Entry> scanMatchingEntries()
                                 ConfigRange{0.0, M_PI / 2, false, true},
                                 "drop veiling points at depth steps seen below this angle (0: off)",
                                 AT(collector.plicp.line_fit.veiling_min_angle_rad)),
-      number<CalibrationConfig>("scan_matching.trim_keep_fraction", 0.95, "", rangePositive(1.0),
+      number<CalibrationConfig>("scan_matching.trim_keep_fraction", 0.95, "",
+                                rangeClosed(0.01, 1.0),
                                 "keep at most this fraction of the correspondences (the nearest)",
                                 AT(collector.plicp.trim_keep_fraction)),
   };

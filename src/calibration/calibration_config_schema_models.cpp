@@ -17,6 +17,11 @@ using Entry = ConfigSchemaEntry<CalibrationConfig>;
     return target.member;   \
   }
 
+/// A wheel's radius: from a 1 mm micro-robot's wheel to a 5 m mining truck's tyre.
+const ConfigRange kRadiusRange = rangeClosed(1e-3, 5.0);
+/// A wheel separation, wheelbase or half wheelbase + half track: 1 cm to 50 m.
+const ConfigRange kTrackRange = rangeClosed(0.01, 50.0);
+
 /// A model section's `sensor_pose: [x, y, theta]`, the start value of the sensor's pose.
 template <typename Field>
 Entry sensorPose(const std::string& key, Field field)
@@ -94,7 +99,7 @@ std::vector<Entry> fitOptions(const std::string& section, ConfigRange huber, con
   };
 }
 
-constexpr ConfigRange kHuberRange{0.0, 100.0, true, false};
+constexpr ConfigRange kHuberRange{0.01, 100.0, false, false};
 
 std::vector<Entry> diffDriveEntries()
 {
@@ -105,7 +110,7 @@ std::vector<Entry> diffDriveEntries()
                [](const CalibrationConfig& c) { return c.models.diff_drive.layout.right_index; }),
       [] {
         Entry radius =
-            number<CalibrationConfig>("diff_drive.wheel_radius_m", 0.05, "m", rangePositive(5.0),
+            number<CalibrationConfig>("diff_drive.wheel_radius_m", 0.05, "m", kRadiusRange,
                                       "nominal wheel radius: start value and matcher guesses",
                                       AT(models.diff_drive.initial_left_radius_m));
         auto set = radius.set;
@@ -115,7 +120,7 @@ std::vector<Entry> diffDriveEntries()
         };
         return radius;
       }(),
-      number<CalibrationConfig>("diff_drive.wheel_separation_m", 0.3, "m", rangePositive(50.0),
+      number<CalibrationConfig>("diff_drive.wheel_separation_m", 0.3, "m", kTrackRange,
                                 "nominal wheel separation: start value and matcher guesses",
                                 AT(models.diff_drive.initial_separation_m)),
       sensorPose("diff_drive.sensor_pose", AT(models.diff_drive.initial_T_base_sensor)),
@@ -133,14 +138,14 @@ std::vector<Entry> tricycleEntries()
                [](const CalibrationConfig& c) { return c.models.tricycle.layout.steering_index; }),
       jointKey("tricycle.traction_joint", "second joint", "traction wheel joint (incremental)",
                [](const CalibrationConfig& c) { return c.models.tricycle.layout.traction_index; }),
-      number<CalibrationConfig>("tricycle.steering_scale", 0.1, "", rangePositive(100.0),
+      number<CalibrationConfig>("tricycle.steering_scale", 0.1, "", rangeClosed(1e-4, 100.0),
                                 "Ks: steering angle per encoder angle (start value)",
                                 AT(models.tricycle.initial.steering_scale)),
       number<CalibrationConfig>("tricycle.traction_scale_m_per_turn", 0.01, "m/turn",
-                                rangePositive(100.0),
+                                rangeClosed(1e-6, 100.0),
                                 "Kt: front-wheel travel per wheel turn (start value)",
                                 AT(models.tricycle.initial.traction_scale_m_per_turn)),
-      number<CalibrationConfig>("tricycle.axis_length_m", 1.0, "m", rangePositive(50.0),
+      number<CalibrationConfig>("tricycle.axis_length_m", 1.0, "m", kTrackRange,
                                 "a: front wheel to rear axle (start value)",
                                 AT(models.tricycle.initial.axis_length_m)),
       number<CalibrationConfig>("tricycle.steering_offset_rad", 0.0, "rad",
@@ -175,7 +180,7 @@ std::vector<Entry> mecanumEntries()
   ConfigKeySpec radii =
       configKeySpec("mecanum.wheel_radii_m", ConfigType::kDoubleList, "m",
                     "nominal radii [front_left, front_right, rear_left, rear_right]");
-  radii.range = rangePositive(5.0);
+  radii.range = kRadiusRange;
   radii.min_size = radii.max_size = 4;
   std::vector<Entry> entries = {
       jointKey("mecanum.front_left_joint", "first joint", "front-left wheel joint",
@@ -188,7 +193,7 @@ std::vector<Entry> mecanumEntries()
                [](const CalibrationConfig& c) { return mecanumIndex(c, 3); }),
       [] {
         Entry radius = number<CalibrationConfig>(
-            "mecanum.wheel_radius_m", 0.05, "m", rangePositive(5.0),
+            "mecanum.wheel_radius_m", 0.05, "m", kRadiusRange,
             "nominal radius of every wheel (start value, matcher guesses)",
             AT(models.mecanum.initial_radius_m[0]));
         radius.set = [](CalibrationConfig& c, const ConfigValue& v) {
@@ -201,7 +206,7 @@ std::vector<Entry> mecanumEntries()
                                         const auto& r = c.models.mecanum.initial_radius_m;
                                         return ConfigValue(std::vector<double>(r.begin(), r.end()));
                                       }),
-      number<CalibrationConfig>("mecanum.lx_plus_ly_m", 0.35, "m", rangePositive(50.0),
+      number<CalibrationConfig>("mecanum.lx_plus_ly_m", 0.35, "m", kTrackRange,
                                 "nominal half wheelbase + half track (start value)",
                                 AT(models.mecanum.initial_lx_plus_ly_m)),
       sensorPose("mecanum.sensor_pose", AT(models.mecanum.initial_T_base_sensor)),
@@ -219,9 +224,9 @@ std::vector<Entry> skidSteerEntries()
                 "the left side's wheel joints (averaged)", &SkidSteerOptions::left_indices),
       jointList("skid_steer.right_joints", "incremental joints named *right*",
                 "the right side's wheel joints (averaged)", &SkidSteerOptions::right_indices),
-      number<CalibrationConfig>("skid_steer.wheel_radius_m", 0.1, "m", rangePositive(5.0),
+      number<CalibrationConfig>("skid_steer.wheel_radius_m", 0.1, "m", kRadiusRange,
                                 "geometric wheel radius", AT(models.skid_steer.wheel_radius_m)),
-      number<CalibrationConfig>("skid_steer.wheel_separation_m", 0.5, "m", rangePositive(50.0),
+      number<CalibrationConfig>("skid_steer.wheel_separation_m", 0.5, "m", kTrackRange,
                                 "geometric track width, wheel centre to centre",
                                 AT(models.skid_steer.wheel_separation_m)),
       sensorPose("skid_steer.sensor_pose", AT(models.skid_steer.initial_T_base_sensor)),

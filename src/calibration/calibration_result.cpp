@@ -8,6 +8,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "odometry_calibration/common/text_file.h"
+#include "odometry_calibration/common/yaml_reading.h"
 #include "odometry_calibration/eval/model_report.h"
 #include "odometry_calibration/factory/model_factory.h"
 
@@ -41,6 +42,7 @@ CalibrationResult parseCalibrationResult(const std::string& text, const std::str
   } catch (const YAML::Exception& error) {
     throw std::runtime_error(source + ": not YAML: " + error.what());
   }
+  refuseYamlBeyond(root, source);
   if (!root.IsMap() || !root["model"] || !root["model"].IsMap()) {
     throw std::runtime_error(source + ": no 'model' section (not an odometry_calibration result)");
   }

@@ -11,6 +11,7 @@
 #include "odometry_calibration/calibration/calibration_config.h"
 #include "odometry_calibration/calibration/saved_calibration_score.h"
 #include "odometry_calibration/common/text_file.h"
+#include "odometry_calibration/common/yaml_reading.h"
 #include "odometry_calibration/data/pairs_csv.h"
 #include "odometry_calibration/eval/model_comparison.h"
 #include "odometry_calibration/factory/model_factory.h"
@@ -95,7 +96,8 @@ namespace {
 ModelFactoryOptions optionsFromConfig(const CompareModelsCliOptions& cli, const PairsFile& training,
                                       std::shared_ptr<MotionModel>& nominal)
 {
-  YAML::Node root = YAML::Load(readTextFile(cli.config_path, "the configuration"));
+  YAML::Node root =
+      loadYamlDocument(readTextFile(cli.config_path, "the configuration"), cli.config_path);
   root["compare_models"] = cli.models;
   std::ostringstream text;
   text << root;

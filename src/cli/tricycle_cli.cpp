@@ -1,6 +1,7 @@
 #include "odometry_calibration/cli/tricycle_cli.h"
 
 #include <cmath>
+#include <utility>
 
 #include "odometry_calibration/common/arguments.h"
 #include "odometry_calibration/common/atomic_file.h"
@@ -242,13 +243,23 @@ int reportTricycleRun(const TricycleCliOptions& options, std::size_t dataset_sam
   return result.warnings.empty() ? 0 : 4;
 }
 
+/// The encoder layout and the nominal parameters of the log's header; a refusal names the log.
+std::pair<TricycleEncoderLayout, TricycleParameters> readHeader(const TricycleDataset& dataset,
+                                                                const std::string& path)
+{
+  try {
+    return {tricycleLayoutFromHeader(dataset.header), tricycleNominalFromHeader(dataset.header)};
+  } catch (const std::invalid_argument& error) {
+    throw std::invalid_argument(path + ": " + error.what());
+  }
+}
+
 /// Calibrates on a loaded dataset of at least two samples: interval, pairs, fit, evaluation
 /// (and on the held-out samples), report.
 int calibrateDataset(const TricycleDataset& dataset, const TricycleCliOptions& options,
                      std::ostream& out)
 {
-  const TricycleEncoderLayout layout = tricycleLayoutFromHeader(dataset.header);
-  const TricycleParameters nominal = tricycleNominalFromHeader(dataset.header);
+  const auto [layout, nominal] = readHeader(dataset, options.dataset_path);
   const std::vector<EncoderSample> all_samples = decodeTricycleEncoders(dataset, layout);
   const std::vector<Pose2> all_reference = tricycleTrackerPoses(dataset);
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();

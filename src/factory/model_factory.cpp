@@ -5,6 +5,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "odometry_calibration/common/yaml_reading.h"
 #include "odometry_calibration/gp/gp_model.h"
 #include "odometry_calibration/models/model_checks.h"
 
@@ -74,7 +75,7 @@ std::unique_ptr<MotionModel> loadModel(const std::string& model_yaml)
 {
   std::string name;
   try {
-    name = YAML::Load(model_yaml)["model"].as<std::string>("");
+    name = loadYamlDocument(model_yaml, "model YAML")["model"].as<std::string>("");
   } catch (const YAML::Exception& error) {
     throw std::runtime_error(std::string("model YAML: ") + error.what());
   }

@@ -7,6 +7,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "odometry_calibration/common/yaml_reading.h"
 #include "odometry_calibration/gp/gp_model.h"
 #include "odometry_calibration/models/model_yaml.h"
 
@@ -225,6 +226,7 @@ std::unique_ptr<GaussianProcessModel> GaussianProcessModel::fromYaml(const std::
   } catch (const YAML::Exception& error) {
     throw std::runtime_error(std::string("gp yaml: ") + error.what());
   }
+  refuseYamlBeyond(root, "gp yaml");
   try {
     if (require(root, "model", "the file").as<std::string>() != "gp") {
       throw std::runtime_error("gp yaml: not a gp model");

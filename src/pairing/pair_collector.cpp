@@ -185,7 +185,8 @@ std::vector<CollectorEvent> PairCollector::addEncoders(double stamp_s, const Eig
     std::ostringstream reason;
     reason << "encoder glitch on joint '" << channel.name << "': an increment of "
            << filtered.increment << " units, beyond " << channel.max_rate_per_s
-           << " units/s (the joint's max_turns_per_s); reading skipped";
+           << " units/s (the joint's max_turns_per_s) or unsteady against the readings before "
+              "(a spike or a stray reading between real ones); reading skipped";
     event.reason = reason.str();
     queueEvent(event, false);
     return takeEvents();
@@ -194,8 +195,14 @@ std::vector<CollectorEvent> PairCollector::addEncoders(double stamp_s, const Eig
   encoder_spacing_.add(stamp_s);
   if (accepted)
     *accepted = filtered.corrected;
-  if (!glitch_spans_.empty() && glitch_spans_.back().second == kOpen)
-    glitch_spans_.back().second = stamp_s;
+  if (!glitch_spans_.empty() && glitch_spans_.back().second == kOpen) {
+    // After skipped spikes the counts go on from the reading before them: nothing is unknown
+    // between the two, and pairs may span them. After a jump they are unknown there.
+    if (filtered.continuous)
+      glitch_spans_.pop_back();
+    else
+      glitch_spans_.back().second = stamp_s;
+  }
   if (track_.add(stamp_s, filtered.corrected) == EncoderTrack::AddResult::kRestarted) {
     // The encoder history is gone: so is the keyframe it would have been paired with.
     restart("the encoder stream");

@@ -118,6 +118,10 @@ CalibrateOutcome CalibrationSession::calibrate(const CalibrationRequest& request
       return outcome;
     }
   }
+  if (const std::string problem = oneStampProblem(); !problem.empty()) {
+    outcome.message = "cannot calibrate: " + problem;
+    return outcome;
+  }
   try {
     configureModel(name, request, &fit_request.config);
   } catch (const std::exception& error) {

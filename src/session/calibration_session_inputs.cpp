@@ -20,6 +20,32 @@ void CalibrationSession::warnInput(const std::string& problem, const std::string
     say(SessionLogLevel::kWarn, text);
 }
 
+std::string CalibrationSession::oneStampProblem() const
+{
+  std::lock_guard<std::mutex> lock(mutex_);
+  const std::pair<SessionInput, const InputStamps*> inputs[] = {
+      {SessionInput::kEncoders, &counts_.encoder_stamps},
+      {SessionInput::kEgoMotion, &counts_.ego_stamps}};
+  for (const auto& [input, stamps] : inputs) {
+    if (!stamps->oneStamp())
+      continue;
+    const bool encoders = input == SessionInput::kEncoders;
+    const std::string type = encoders ? "JointState" : egoMessageType(config_.ego_motion);
+    // The configured topic (the input monitor's name for it may be a description).
+    const std::string topic = encoders ? config_.joint_state_topic
+                              : config_.ego_motion == EgoMotionSource::kScan
+                                  ? config_.scan_topic
+                                  : config_.ego_motion_topic;
+    char stamp[32];
+    std::snprintf(stamp, sizeof(stamp), "%.9g", stamps->first_s);
+    return "all " + std::to_string(stamps->count) + " " + type + " samples on " + topic +
+           " carry the same stamp " + stamp +
+           " s: the publisher does not stamp its messages (header.stamp); stamp each with the "
+           "time of its measurement";
+  }
+  return "";
+}
+
 void CalibrationSession::rejectInput(SessionInput input, const std::string& what,
                                      const std::string& problem)
 {
@@ -64,6 +90,7 @@ void CalibrationSession::addJointPositions(double stamp_s, const Eigen::VectorXd
   std::lock_guard<std::mutex> lock(mutex_);
   if (!admit(SessionInput::kEncoders, publisher))
     return;
+  counts_.encoder_stamps.add(stamp_s);
   encoder_watch_->add(raw);
   Eigen::VectorXd accepted;
   std::vector<CollectorEvent> events;
@@ -167,6 +194,7 @@ void CalibrationSession::addScan(double stamp_s, const Scan& scan, const std::st
   std::lock_guard<std::mutex> lock(mutex_);
   if (!admit(SessionInput::kEgoMotion, publisher))
     return;
+  counts_.ego_stamps.add(stamp_s);
   noteFrame(frame);
   std::vector<CollectorEvent> events;
   try {
@@ -196,6 +224,7 @@ void CalibrationSession::addCloudScan(double stamp_s, const Scan& scan, const st
   if (!admit(SessionInput::kEgoMotion, publisher))
     return;
   cloud_frame_fixed_ = true;
+  counts_.ego_stamps.add(stamp_s);
   noteFrame(frame);
   if (!time_problem.empty()) {
     if (counts_.clouds_without_times++ == 0)
@@ -230,6 +259,7 @@ void CalibrationSession::addSensorPose(double stamp_s, const Pose2& T_world_sens
   std::lock_guard<std::mutex> lock(mutex_);
   if (!admit(SessionInput::kEgoMotion, publisher))
     return;
+  counts_.ego_stamps.add(stamp_s);
   noteFrame(frame);
   const double sigma_m = config_.ego_motion_sigma_m, sigma_rad = config_.ego_motion_sigma_rad;
   const Eigen::Matrix3d covariance =

@@ -7,6 +7,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "odometry_calibration/common/yaml_reading.h"
 #include "odometry_calibration/eval/joint_fit_text.h"
 #include "odometry_calibration/report/calibration_files.h"
 
@@ -57,6 +58,11 @@ void refuseNonJointOptions(const std::string& model, const std::string& options)
     root = YAML::Load(options);
   } catch (const YAML::Exception& error) {
     throw std::invalid_argument(std::string("the options are not YAML: ") + error.what());
+  }
+  try {
+    refuseYamlBeyond(root, "the options");
+  } catch (const std::runtime_error& error) {
+    throw std::invalid_argument(error.what());
   }
   if (root.IsNull())
     return;

@@ -6,6 +6,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "odometry_calibration/common/text_file.h"
 #include "odometry_calibration/common/yaml_reading.h"
 
 namespace odometry_calibration {
@@ -422,7 +423,7 @@ Scenario loadScenarioYaml(const std::string& path, const std::string& worlds_dir
   Scenario s;
   std::string where = path;
   try {
-    const YAML::Node root = YAML::LoadFile(path);
+    const YAML::Node root = loadYamlDocument(readTextFile(path, "the scenario"), path);
     readScenarioTop(root, path, worlds_directory, s);
     where = path + ": robot";
     readRobotYaml(root["robot"], s.robot);

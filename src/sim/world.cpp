@@ -9,6 +9,8 @@
 #include <yaml-cpp/yaml.h>
 #include <Eigen/Geometry>
 
+#include "odometry_calibration/common/yaml_reading.h"
+
 namespace odometry_calibration {
 namespace sim {
 
@@ -277,8 +279,8 @@ World parseWorldYaml(const std::string& text, const std::string& source)
 {
   World world;
   std::string entry = source;
+  const YAML::Node root = loadYamlDocument(text, source);  // its messages name the source
   try {
-    const YAML::Node root = YAML::Load(text);
     checkWorldKeys(root);
     double wall_height_m = std::numeric_limits<double>::infinity();
     if (root["wall_height_m"]) {

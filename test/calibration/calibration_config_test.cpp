@@ -1,8 +1,13 @@
+#include <chrono>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
 
 #include <gtest/gtest.h>
 
 #include "odometry_calibration/calibration/calibration_config.h"
+#include "support/alias_bomb.h"
 
 namespace odometry_calibration {
 namespace {
@@ -325,6 +330,71 @@ TEST(CalibrationConfig, MecanumTemplateParsesAndNamesItsWheels)
             std::string::npos);
   // A gp fitted on a mecanum robot may take the mecanum model as its nominal one.
   EXPECT_EQ(message(joints + "model: gp\nprior_model: mecanum\n"), "");
+}
+
+}  // namespace
+}  // namespace odometry_calibration
+
+namespace odometry_calibration {
+namespace {
+
+/// The message loading `path` throws ("" when it loads).
+std::string loadRefusal(const std::string& path)
+{
+  try {
+    loadCalibrationConfig(path);
+  } catch (const std::runtime_error& error) {
+    return error.what();
+  }
+  return "";
+}
+
+TEST(CalibrationConfig, AnAliasBombIsRefusedAtOnceNamingTheFile)
+{
+  // Nine levels of ten aliases each: 10^9 nodes once expanded, which every walk of the
+  // document (duplicate keys, unknown keys) expanded for minutes.
+  const std::string text = test::aliasBomb(9, "joints: [{name: l}, {name: r}]\n");
+  char pattern[] = "/tmp/calibration_config_test.XXXXXX";
+  ASSERT_NE(mkdtemp(pattern), nullptr);
+  const std::string path = std::string(pattern) + "/bomb.yaml";
+  std::ofstream(path) << text;
+  const auto start = std::chrono::steady_clock::now();
+  const std::string message = loadRefusal(path);
+  const double elapsed_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_EQ(message.rfind(path + ": YAML aliases expand to more than 100000 nodes", 0), 0u)
+      << message;
+  EXPECT_LT(elapsed_s, 2.0);
+  // The ~calibrate options are read with the same bound.
+  std::string options_message;
+  try {
+    configForModel("joints: [{name: l}, {name: r}]\n", "diff_drive", text, "c.yaml");
+  } catch (const std::runtime_error& error) {
+    options_message = error.what();
+  }
+  EXPECT_NE(options_message.find("options: YAML aliases expand to more than 100000 nodes"),
+            std::string::npos)
+      << options_message;
+  std::filesystem::remove_all(pattern);
+}
+
+TEST(CalibrationConfig, APathThatIsNoConfigurationSaysWhatItIs)
+{
+  char pattern[] = "/tmp/calibration_config_test.XXXXXX";
+  ASSERT_NE(mkdtemp(pattern), nullptr);
+  const std::string directory = pattern;
+  EXPECT_EQ(loadRefusal(directory), directory + " is a directory, not a configuration file");
+  EXPECT_EQ(loadRefusal(directory + "/none.yaml"),
+            directory + "/none.yaml does not exist: give the path of the configuration file");
+  std::ofstream(directory + "/empty.yaml").close();
+  EXPECT_EQ(loadRefusal(directory + "/empty.yaml"),
+            directory + "/empty.yaml is empty: the configuration file holds nothing to read");
+  std::ofstream(directory + "/comments.yaml") << "# joints: to do\n\n";
+  EXPECT_EQ(loadRefusal(directory + "/comments.yaml"),
+            directory +
+                "/comments.yaml holds no settings (only blanks or comments): a configuration "
+                "needs at least its joints (see config/diff_drive.yaml)");
+  std::filesystem::remove_all(directory);
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include "odometry_calibration/calibration/calibration_result.h"
 #include "odometry_calibration/factory/model_factory.h"
 #include "odometry_calibration/sim/pair_generator.h"
+#include "support/alias_bomb.h"
 
 namespace odometry_calibration {
 namespace {
@@ -95,6 +96,15 @@ TEST(CalibrationResult, BadFilesNameTheProblem)
         << error.what();
   }
   EXPECT_THROW(readCalibrationResult("/nonexistent/result.yaml"), std::runtime_error);
+  // An alias bomb in a result file is refused before anything walks it.
+  try {
+    parseCalibrationResult(test::aliasBomb(9, "model: {model: linear}\n"), "bomb.yaml");
+    FAIL() << "an alias bomb accepted";
+  } catch (const std::runtime_error& error) {
+    EXPECT_NE(std::string(error.what()).find("bomb.yaml: YAML aliases expand to more than 100000"),
+              std::string::npos)
+        << error.what();
+  }
 }
 
 TEST(CalibrationResult, AModelForOtherJointsRefusesToPredict)

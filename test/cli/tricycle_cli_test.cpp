@@ -3,6 +3,8 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <utility>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
@@ -239,13 +241,59 @@ TEST(TricycleCli, BadInputFailsCleanlyAndWritesNothing)
   }
   err.str("");
   EXPECT_EQ(runTricycleCli(options, out, err), 1);
-  EXPECT_NE(err.str().find("axis_length must be > 0"), std::string::npos) << err.str();
+  EXPECT_NE(err.str().find("header '#parameter_values': axis_length = 0 is outside [0.01, 50] m"),
+            std::string::npos)
+      << err.str();
 
   options.dataset_path = directory;
   err.str("");
   EXPECT_EQ(runTricycleCli(options, out, err), 1);
   EXPECT_NE(err.str().find("is a directory"), std::string::npos) << err.str();
   EXPECT_FALSE(exists(options.output_path));
+}
+
+/// A log of 200 rows of steady driving under `header` (the '#' lines).
+void writeDrivingLog(const std::string& path, const std::string& header)
+{
+  std::ofstream log(path);
+  log << header;
+  for (int i = 0; i < 200; ++i) {
+    log << "time: " << 100 + 0.1 * i << " ticks: " << 290 + 10 * (i % 7) << " " << 5000 * i
+        << " model_pose: 0 0 0 tracker_pose: " << 0.01 * i << " 0 0\n";
+  }
+}
+
+TEST(TricycleCli, AbsurdHeaderValuesAreRefusedByNameAndWriteNothing)
+{
+  // A header value no tricycle has used to be fitted from (an axis length of 1e308 gave exit 4
+  // and a written result): refused with the header line, the value and the range.
+  const ScratchDirectory scratch;
+  TricycleCliOptions options;
+  options.output_path = scratch.path() + "/result.yaml";
+  options.dataset_path = scratch.path() + "/absurd.txt";
+  const std::string pose =
+      "#laser wrt base_link\n#\ttranslation: [ 1.5, 0, 0 ],\n#\trotation: [ 0, 0, 0, 1 ]\n";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"#parameter_values: 0.1 0.0106141 1e308 0\n#joints_max_enc_values: 8192 5000\n" + pose,
+       "header '#parameter_values': axis_length = 1e+308 is outside [0.01, 50] m"},
+      {"#parameter_values: 1e-300 0.0106141 1.4 0\n#joints_max_enc_values: 8192 5000\n" + pose,
+       "header '#parameter_values': Ksteer = 1e-300 is outside [0.0001, 100]"},
+      {"#parameter_values: 0.1 0.0106141 1.4 nan\n#joints_max_enc_values: 8192 5000\n" + pose,
+       "header 'parameter_values': expected a list of numbers"},
+      {"#parameter_values: 0.1 0.0106141 1.4 0\n#joints_max_enc_values: 8192 1e300\n" + pose,
+       "header '#joints_max_enc_values': traction ticks per turn = 1e+300 is outside"},
+      {"#parameter_values: 0.1 0.0106141 1.4 0\n#joints_max_enc_values: 8192 5000\n"
+       "#laser wrt base_link\n#\ttranslation: [ 1e308, 0, 0 ],\n#\trotation: [ 0, 0, 0, 1 ]\n",
+       "header '#laser wrt base_link': translation x = 1e+308 is outside [-100, 100] m"},
+  };
+  for (const auto& [header, expected] : cases) {
+    writeDrivingLog(options.dataset_path, header);
+    std::ostringstream out, err;
+    EXPECT_EQ(runTricycleCli(options, out, err), 1) << header;
+    EXPECT_NE(err.str().find(expected), std::string::npos) << err.str();
+    EXPECT_NE(err.str().find("absurd.txt"), std::string::npos) << err.str();
+    EXPECT_FALSE(exists(options.output_path)) << header;
+  }
 }
 
 TEST(TricycleCli, WarnsAboutAnUnterminatedLastLineAndPoorlyDeterminedFits)

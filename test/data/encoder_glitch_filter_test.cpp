@@ -28,8 +28,15 @@ TEST(EncoderGlitchFilter, PassesMotionWithinTheLimit)
     ASSERT_FALSE(result.glitch) << k;
     EXPECT_EQ(result.corrected, reading(150.0 * k, k % 2 ? 4000.0 : 10.0));
   }
-  // Stamps that jitter close together still allow 0.1 s of motion.
-  EXPECT_FALSE(filter.filter(0.9901, reading(150.0 * 99 + 1500.0)).glitch);
+  // Stamps that jitter close together: a period's motion 0.1 ms after the last reading.
+  EXPECT_FALSE(filter.filter(0.9901, reading(150.0 * 100)).glitch);
+  // Before a speed is known (one reading), the rate limit alone: 0.1 s of motion at most.
+  EncoderGlitchFilter fresh = makeFilter();
+  EXPECT_FALSE(fresh.filter(0.0, reading(0.0)).glitch);
+  EXPECT_FALSE(fresh.filter(0.0001, reading(2000.0)).glitch);
+  EncoderGlitchFilter beyond = makeFilter();
+  EXPECT_FALSE(beyond.filter(0.0, reading(0.0)).glitch);
+  EXPECT_TRUE(beyond.filter(0.0001, reading(2001.0)).glitch);
 }
 
 TEST(EncoderGlitchFilter, SkipsASpikeAndGoesOn)
@@ -46,6 +53,55 @@ TEST(EncoderGlitchFilter, SkipsASpikeAndGoesOn)
   const auto next = filter.filter(0.03, reading(1030.0));
   ASSERT_FALSE(next.glitch);
   EXPECT_DOUBLE_EQ(next.corrected(0), 1030.0);
+}
+
+TEST(EncoderGlitchFilter, SkipsZerosBetweenTheReadingsWithinTheRateLimit)
+{
+  // A wheel 0.75 turns from 0, turning at 0.6 turns/s (1200 ticks/s), read at 50 Hz; then a
+  // driver that sends a reading of 0 10 ms after each real one. Each step of 1500 ticks to 0
+  // is within the 2000 ticks the rate limit allows over 0.1 s, yet 60 times the wheel's motion.
+  EncoderGlitchFilter filter = makeFilter();
+  double ticks = 1500.0;
+  for (int k = 0; k < 60; ++k) {
+    const double t = 0.02 * k;
+    const auto real = filter.filter(t, reading(ticks));
+    ASSERT_FALSE(real.glitch) << k;
+    EXPECT_DOUBLE_EQ(real.corrected(0), ticks) << k;  // no offset: the counts went on
+    EXPECT_EQ(real.continuous, k > 10) << k;          // after a skipped zero
+    if (k >= 10) {
+      const auto zero = filter.filter(t + 0.01, reading(0.0));
+      EXPECT_TRUE(zero.glitch) << k;
+      EXPECT_NEAR(zero.increment, -ticks, 1e-9) << k;
+    }
+    ticks += 24.0;
+  }
+}
+
+TEST(EncoderGlitchFilter, SteadinessLeavesStartsBunchedStampsAndSlowEncodersAlone)
+{
+  EncoderGlitchFilter filter = makeFilter();
+  // From rest, at once 1000 ticks/s (a simulated robot's step in speed), then doubling its
+  // speed every 10 ms up to 8000 ticks/s, and turning back after a stop.
+  double t = 0.0, ticks = 0.0;
+  EXPECT_FALSE(filter.filter(t, reading(ticks)).glitch);
+  EXPECT_FALSE(filter.filter(t += 0.01, reading(ticks)).glitch);
+  for (double speed : {1000.0, 2000.0, 4000.0, 8000.0, 8000.0, 0.0, -1000.0, -2000.0}) {
+    ticks += speed * 0.01;
+    ASSERT_FALSE(filter.filter(t += 0.01, reading(ticks)).glitch) << speed;
+  }
+  // Two messages stamped 0.1 ms apart, the second with a whole period's motion.
+  EXPECT_FALSE(filter.filter(t += 0.0001, reading(ticks -= 20.0)).glitch);
+  EXPECT_FALSE(filter.filter(t += 0.01, reading(ticks -= 20.0)).glitch);
+  // A 4 Hz encoder whose readings come 0.20 to 0.32 s apart, speeding up and slowing down.
+  EncoderGlitchFilter slow = makeFilter();
+  t = 0.0;
+  ticks = 0.0;
+  for (int k = 0; k < 40; ++k) {
+    const double dt = k % 3 == 0 ? 0.32 : 0.20;
+    t += dt;
+    ticks += (k % 7 < 4 ? 4000.0 : 500.0) * dt;
+    ASSERT_FALSE(slow.filter(t, reading(ticks)).glitch) << k;
+  }
 }
 
 TEST(EncoderGlitchFilter, AHugeOrNonFiniteReadingNeverPasses)

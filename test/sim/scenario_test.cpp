@@ -8,6 +8,8 @@
 
 #include "odometry_calibration/sim/pair_generator.h"
 #include "odometry_calibration/sim/simulator.h"
+#include "odometry_calibration/sim/world.h"
+#include "support/alias_bomb.h"
 
 namespace odometry_calibration {
 namespace sim {
@@ -22,6 +24,30 @@ TEST(SimScenario, ShippedWorldsAreThePackagesConfigWorlds)
   const Scenario scenario =
       loadScenarioYaml(kScenarios + "/diff_drive_office.yaml", shippedWorldsDirectory());
   EXPECT_EQ(std::filesystem::path(scenario.world_path).filename(), "office.yaml");
+}
+
+TEST(SimScenario, AnAliasBombIsRefusedNamingTheFile)
+{
+  // A scenario or a world whose aliases expand to a billion nodes: refused at once.
+  const std::string path = testing::TempDir() + "/bomb_scenario.yaml";
+  std::ofstream(path) << test::aliasBomb(9);
+  try {
+    sim::loadScenarioYaml(path, "");
+    FAIL() << "an alias bomb accepted";
+  } catch (const std::runtime_error& error) {
+    EXPECT_NE(std::string(error.what()).find(path + ": YAML aliases expand to more than 100000"),
+              std::string::npos)
+        << error.what();
+  }
+  try {
+    sim::parseWorldYaml(test::aliasBomb(9), "bomb_world.yaml");
+    FAIL() << "an alias bomb accepted";
+  } catch (const std::runtime_error& error) {
+    EXPECT_EQ(std::string(error.what()).rfind("bomb_world.yaml: YAML aliases expand to more", 0),
+              0u)
+        << error.what();
+  }
+  std::remove(path.c_str());
 }
 
 TEST(SimScenario, OverridesReplaceSeedAndDurationOnlyWhenGiven)

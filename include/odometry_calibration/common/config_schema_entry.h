@@ -33,12 +33,6 @@ inline ConfigRange rangeClosed(double min, double max)
   return {min, max, false, false};
 }
 
-/// (0, max]
-inline ConfigRange rangePositive(double max)
-{
-  return {0.0, max, true, false};
-}
-
 /// (min, max)
 inline ConfigRange rangeOpen(double min, double max)
 {

@@ -2,6 +2,7 @@
 // not silently fall back to a default), optional keys keep their defaults.
 #pragma once
 
+#include <cstddef>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -9,6 +10,25 @@
 #include <yaml-cpp/yaml.h>
 
 namespace odometry_calibration {
+
+/// The most nodes a document read by loadYamlDocument may hold, each alias counted at every
+/// place it is used. A configuration has a few hundred; a result.yaml, a scenario or a world a
+/// few thousand (a world's walls); an alias bomb (anchors nested a few levels deep, each
+/// repeating the one below ten times) expands to billions.
+constexpr std::size_t kMaxYamlNodes = 100000;
+
+/// `text` (the file or document `source`) parsed as YAML. Throws std::runtime_error
+/// "<source>: YAML aliases expand to more than <max_nodes> nodes ..." when its nodes, aliases
+/// expanded, number more than `max_nodes` (the walk stops at the bound, so an alias bomb is
+/// refused at once instead of hanging every later walk of the document), "<source>: the
+/// document holds more than <max_nodes> nodes" without aliases, and "<source>: <what>" for a
+/// YAML syntax error.
+YAML::Node loadYamlDocument(const std::string& text, const std::string& source,
+                            std::size_t max_nodes = kMaxYamlNodes);
+
+/// The bound of loadYamlDocument on a document parsed already (`root`, read from `source`).
+void refuseYamlBeyond(const YAML::Node& root, const std::string& source,
+                      std::size_t max_nodes = kMaxYamlNodes);
 
 /// Throws std::runtime_error "<where>: unknown key 'k' (known: ...)" for a key not in
 /// `allowed`, or "<where>: expected a map". An absent node is fine.

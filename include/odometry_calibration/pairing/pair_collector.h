@@ -205,9 +205,10 @@ public:
   /// A raw encoder reading (one value per channel). Throws std::invalid_argument for bad
   /// readings (the caller reports them); a time going backwards restarts the pairing. Scans
   /// waiting for encoder data up to their time are processed now (hence the events). A reading
-  /// beyond a channel's max_rate_per_s is a glitch (encoder_glitch_filter.h): skipped, counted,
-  /// one kGlitch event, and no pair is made across it. `accepted` (optional): the reading to
-  /// use for odometry, jumps removed; empty for a glitch.
+  /// beyond a channel's max_rate_per_s, or not steady, is a glitch (encoder_glitch_filter.h):
+  /// skipped, counted, one kGlitch event; no pair is made across a jump the filter absorbed
+  /// (pairs may span skipped spikes: the counts go on across them). `accepted` (optional): the
+  /// reading to use for odometry, jumps removed; empty for a glitch.
   std::vector<CollectorEvent> addEncoders(double stamp_s, const Eigen::VectorXd& raw,
                                           Eigen::VectorXd* accepted = nullptr);
 
@@ -319,7 +320,8 @@ private:
   EncoderGlitchFilter glitch_filter_;
   StreamSpacing encoder_spacing_;  ///< of the accepted readings
   /// Recent glitches, each as the stamps of the accepted readings around it (encoder clock; the
-  /// second is +inf until the next reading is accepted) [s]: no pair may overlap one.
+  /// second is +inf until the next reading is accepted) [s]: no pair may overlap one. A run of
+  /// spikes after which the counts go on (EncoderGlitchFilter::Result::continuous) leaves none.
   std::deque<std::pair<double, double>> glitch_spans_;
   // Mutable: the consecutive matches run in the background and are folded in lazily, also
   // from statistics(); the folded state is what a one-threaded run would have had.

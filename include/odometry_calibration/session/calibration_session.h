@@ -113,12 +113,33 @@ struct CalibrateOutcome
   std::size_t pairs_collected = 0;
 };
 
+/// The stamps of one input's messages (used or skipped after their stamp was read): how many,
+/// the first, and whether any other differed from it. A publisher that does not stamp its
+/// messages sends them all with one stamp (often 0, or the time it started).
+struct InputStamps
+{
+  std::size_t count = 0;
+  double first_s = 0.0;
+  bool varied = false;
+
+  void add(double stamp_s)
+  {
+    if (count++ == 0)
+      first_s = stamp_s;
+    else if (stamp_s != first_s)
+      varied = true;
+  }
+  /// Two or more messages, every one at the same stamp.
+  bool oneStamp() const { return count >= 2 && !varied; }
+};
+
 /// The session's counts and state, for /diagnostics and summaries.
 struct SessionCounts
 {
   CollectorStatistics statistics;
   std::size_t pairs = 0, pairs_resumed = 0, pairs_unwritten = 0;
   std::size_t encoder_messages = 0, ego_messages = 0;  ///< received (used or not)
+  InputStamps encoder_stamps, ego_stamps;              ///< the stamps of the messages with data
   std::size_t bad_encoder_messages = 0, bad_ego_messages = 0, clouds_without_times = 0;
   std::string first_bad_encoder_message, first_bad_ego_message, first_cloud_time_problem;
   std::vector<std::string> restarts;  ///< time going backwards, in words (the first 100)
@@ -302,6 +323,9 @@ private:
   void noteFrame(const std::string& frame);
   void notifySensorPose() const;
   void warnInput(const std::string& problem, const std::string& text);
+  /// "all <n> JointState samples on <topic> carry the same stamp <t> s: ..." when every
+  /// message of an input came at one stamp (no pair can be made of them), else "".
+  std::string oneStampProblem() const;
   /// Whether a message of `input` from `publisher` is used (counted as received either way);
   /// `carries_data`: false for one that could not be read (it names no publisher of the
   /// joints, so it starts no conflict).
