@@ -22,7 +22,7 @@ YAML::Node loadModelYaml(const std::string& text, const std::string& model)
 {
   // Read through a const node: a missing key is then an invalid node (named in yaml-cpp's
   // error), not a null one added to the map.
-  const YAML::Node node = loadYamlDocument(text, model + " model");
+  const YAML::Node node = loadYamlDocument(text, model + " model YAML");
   if (node["model"].as<std::string>() != model)
     throw std::runtime_error("not a " + model + " model");
   return node;

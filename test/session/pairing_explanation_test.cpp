@@ -32,9 +32,8 @@ TEST(PairingExplanation, NamesTheEncoderGapKeyTheSpacingAndTheValueToSet)
   options.max_encoder_gap_s = 0.25;  // configured
   const std::string text = explainTooFewPairs(slowEncoders(), options, 0, 10);
   for (const char* part :
-       {"only 0 pairs collected, 10 needed", "107 keyframe intervals rejected",
-        "(102)", "(5)", "every 0.26 s (median)", "keyframes.max_encoder_gap_s = 0.25 s",
-        "set it to at least 0.65"})
+       {"only 0 pairs collected, 10 needed", "107 keyframe intervals rejected", "(102)", "(5)",
+        "every 0.26 s (median)", "keyframes.max_encoder_gap_s = 0.25 s", "set it to at least 0.65"})
     EXPECT_TRUE(contains(text, part)) << part << " in: " << text;
   EXPECT_FALSE(contains(text, "drive")) << text;
   // The derived limit exceeded: the stream drops readings; nothing to set.

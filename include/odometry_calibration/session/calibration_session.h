@@ -129,8 +129,9 @@ struct InputStamps
     else if (stamp_s != first_s)
       varied = true;
   }
-  /// Two or more messages, every one at the same stamp.
-  bool oneStamp() const { return count >= 2 && !varied; }
+  /// Ten or more messages, every one at the same stamp (fewer are not yet evidence of a
+  /// publisher that does not stamp: a few bad messages may share one).
+  bool oneStamp() const { return count >= 10 && !varied; }
 };
 
 /// The session's counts and state, for /diagnostics and summaries.
