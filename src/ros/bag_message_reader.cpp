@@ -155,8 +155,8 @@ bool readOrMarkBad(RecordedMessages& messages, const MessageAdapter& adapter, co
     return readCurrent(messages, adapter, route, buffers, timers, input);
   } catch (const UnreadableMessage& error) {
     input = ConvertedInput();
-    input.kind = route.joints ? ConvertedInput::Kind::kBadJoints
-                              : ConvertedInput::Kind::kBadEgoMessage;
+    input.kind =
+        route.joints ? ConvertedInput::Kind::kBadJoints : ConvertedInput::Kind::kBadEgoMessage;
     input.source = route.joints ? 0 : route.source;
     input.stamp_s = messages.recordTime_s();
     input.problem = error.what();

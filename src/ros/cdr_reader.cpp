@@ -34,10 +34,9 @@ CdrReader::CdrReader(const std::uint8_t* data, std::size_t size, std::string typ
   if (data[0] != 0 || data[1] > 1) {
     const bool parameter_list = data[0] == 0 && (data[1] == 2 || data[1] == 3);
     throw CdrError("a " + type_ + " in an unsupported encapsulation (" +
-                   (parameter_list ? std::string("parameter-list CDR") : "bytes " +
-                                                                             std::to_string(data[0]) +
-                                                                             " " +
-                                                                             std::to_string(data[1])) +
+                   (parameter_list
+                        ? std::string("parameter-list CDR")
+                        : "bytes " + std::to_string(data[0]) + " " + std::to_string(data[1])) +
                    "; plain CDR expected)");
   }
   big_endian_ = data[1] == 0;

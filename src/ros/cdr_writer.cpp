@@ -18,7 +18,8 @@ bool hostIsBigEndian()
 
 }  // namespace
 
-CdrWriter::CdrWriter(bool big_endian) : bytes_{0, big_endian ? std::uint8_t{0} : std::uint8_t{1}, 0, 0}, big_endian_(big_endian)
+CdrWriter::CdrWriter(bool big_endian)
+    : bytes_{0, big_endian ? std::uint8_t{0} : std::uint8_t{1}, 0, 0}, big_endian_(big_endian)
 {
 }
 

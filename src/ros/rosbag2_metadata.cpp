@@ -42,8 +42,8 @@ Rosbag2Metadata parseInformation(const YAML::Node& info)
   metadata.version = scalar<int>(info["version"], 0);
   if (metadata.version < 1 || metadata.version > kNewestVersion) {
     throw std::runtime_error("version " + std::to_string(metadata.version) +
-                             " is not one this tool reads (1 to " +
-                             std::to_string(kNewestVersion) + ")");
+                             " is not one this tool reads (1 to " + std::to_string(kNewestVersion) +
+                             ")");
   }
   metadata.storage_identifier = scalar<std::string>(info["storage_identifier"], "");
   const YAML::Node paths = info["relative_file_paths"];
@@ -74,8 +74,8 @@ Rosbag2Metadata parseRosbag2Metadata(const std::string& text, const std::string&
   } catch (const YAML::Exception& error) {
     throw std::runtime_error("'" + path + "' is not a rosbag2 metadata file: " + error.what());
   } catch (const std::runtime_error& error) {
-    throw std::runtime_error("'" + path + "' is not a rosbag2 metadata file this tool reads: " +
-                             error.what());
+    throw std::runtime_error("'" + path +
+                             "' is not a rosbag2 metadata file this tool reads: " + error.what());
   }
 }
 

@@ -30,8 +30,8 @@ struct Rosbag2SqliteMessages::Storage
   };
   std::string path;  ///< as the user named it (the .db3 or .db3.zstd)
   std::unique_ptr<SqliteDatabase> database;
-  std::vector<Topic> topics;          ///< the topics asked for that the file records
-  std::string topic_ids;              ///< their ids, "1, 3" (for the queries)
+  std::vector<Topic> topics;  ///< the topics asked for that the file records
+  std::string topic_ids;      ///< their ids, "1, 3" (for the queries)
   std::unique_ptr<SqliteStatement> rows;
   // The current row (valid while `has_row`; `data` until the next step).
   bool has_row = false;
@@ -77,7 +77,8 @@ void loadTopics(Storage& storage, const std::vector<std::string>& wanted)
     storage.topic_ids += (storage.topic_ids.empty() ? "" : ", ") + std::to_string(query.integer(0));
   }
   // The messages table checked now, so that a file without one fails at opening.
-  SqliteStatement check(*storage.database, "SELECT topic_id, timestamp, data FROM messages LIMIT 1");
+  SqliteStatement check(*storage.database,
+                        "SELECT topic_id, timestamp, data FROM messages LIMIT 1");
   check.step();
 }
 
@@ -99,7 +100,8 @@ std::string decompressed(const std::string& path)
 }
 
 /// Opens the storage file `path` (.db3, or .db3.zstd decompressed first) for `topics`.
-std::unique_ptr<Storage> openStorage(const std::string& path, const std::vector<std::string>& topics)
+std::unique_ptr<Storage> openStorage(const std::string& path,
+                                     const std::vector<std::string>& topics)
 {
   std::error_code error;
   if (!fs::is_regular_file(path, error))
@@ -109,8 +111,7 @@ std::unique_ptr<Storage> openStorage(const std::string& path, const std::vector<
   if (endsWith(path, ".zstd")) {
     const std::string temporary = decompressed(path);
     try {
-      storage->database =
-          std::make_unique<SqliteDatabase>(temporary, SqliteDatabase::Mode::kRead);
+      storage->database = std::make_unique<SqliteDatabase>(temporary, SqliteDatabase::Mode::kRead);
     } catch (...) {
       std::remove(temporary.c_str());
       throw;
@@ -184,8 +185,8 @@ bool edgeTime(const Storage& storage, const char* order, std::int64_t& time_ns)
   if (storage.topics.empty())
     return false;
   SqliteStatement query(*storage.database, "SELECT timestamp FROM messages WHERE topic_id IN (" +
-                                               storage.topic_ids + ") ORDER BY timestamp " +
-                                               order + " LIMIT 1");
+                                               storage.topic_ids + ") ORDER BY timestamp " + order +
+                                               " LIMIT 1");
   if (!query.step())
     return false;
   time_ns = query.integer(0);
@@ -209,7 +210,8 @@ Rosbag2SqliteMessages::Rosbag2SqliteMessages(const std::vector<std::string>& pat
   for (const std::string& path : paths) {
     std::error_code error;
     if (endsWith(path, ".mcap")) {
-      throw std::runtime_error("'" + path + "' is an MCAP file; only rosbag2's SQLite storage "
+      throw std::runtime_error("'" + path +
+                               "' is an MCAP file; only rosbag2's SQLite storage "
                                "(.db3, .db3.zstd) is read so far");
     }
     const std::vector<std::string> files =
@@ -284,9 +286,10 @@ bool Rosbag2SqliteMessages::next()
       if (storage->topics.empty())
         continue;
       storage->rows = std::make_unique<SqliteStatement>(
-          *storage->database, "SELECT topic_id, timestamp, data FROM messages WHERE topic_id IN (" +
-                                  storage->topic_ids +
-                                  ") AND timestamp >= ?1 AND timestamp <= ?2 ORDER BY timestamp, id");
+          *storage->database,
+          "SELECT topic_id, timestamp, data FROM messages WHERE topic_id IN (" +
+              storage->topic_ids +
+              ") AND timestamp >= ?1 AND timestamp <= ?2 ORDER BY timestamp, id");
       storage->rows->bind(1, begin_ns_);
       storage->rows->bind(2, end_ns_);
       advance(*storage);

@@ -56,8 +56,8 @@ SimBagWriter::SimBagWriter(const std::string& bag_path, const sim::Scenario& sce
       joint_names_(std::move(joint_names))
 {
   if (format != BagFormat::kRos1) {
-    rosbag2_ = std::make_unique<Rosbag2SqliteWriter>(bag_path, bag_name,
-                                                     format == BagFormat::kDb3Zstd);
+    rosbag2_ =
+        std::make_unique<Rosbag2SqliteWriter>(bag_path, bag_name, format == BagFormat::kDb3Zstd);
     return;
   }
   bag_ = std::make_unique<rosbag::Bag>();

@@ -59,8 +59,8 @@ void decompressZstdFile(const std::string& from, const std::string& to)
       ZSTD_outBuffer out_buffer = {output.data(), output.size(), 0};
       last = ZSTD_decompressStream(stream.get(), &out_buffer, &in_buffer);
       if (ZSTD_isError(last)) {
-        throw std::runtime_error("'" + from + "' does not decompress (zstd: " +
-                                 ZSTD_getErrorName(last) + ")");
+        throw std::runtime_error("'" + from +
+                                 "' does not decompress (zstd: " + ZSTD_getErrorName(last) + ")");
       }
       writeAll(out.get(), output.data(), out_buffer.pos, to);
     }

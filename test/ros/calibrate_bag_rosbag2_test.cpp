@@ -81,8 +81,8 @@ TEST_F(CalibrateBagRosbag2, Rosbag2GivesTheSamePairsAndResultAsTheRos1Bag)
   ASSERT_GT(std::count(pairs.begin(), pairs.end(), '\n'), 10) << pairs;
   EXPECT_NE(result.find("wheel_radius"), std::string::npos) << result;
   const std::pair<const char*, const char*> runs[] = {{"drive_db3", "out_db3"},
-                                                       {"drive_zstd", "out_zstd"},
-                                                       {"drive_db3/drive_db3_0.db3", "out_file"}};
+                                                      {"drive_zstd", "out_zstd"},
+                                                      {"drive_db3/drive_db3_0.db3", "out_file"}};
   for (const auto& [bag, name] : runs) {
     SCOPED_TRACE(bag);
     const std::string output = directory_ + "/" + name;
@@ -127,13 +127,12 @@ TEST_F(CalibrateBagRosbag2, MixedFormatsAndMissingTopicsAreRefusedClearly)
                "/diff_drive.yaml > " + config)
                   .c_str());
   const std::string command = kTool + " --config " + config + " " + directory_ +
-                              "/drive_db3 --quiet --output-dir " + directory_ +
-                              "/out_topics > " + directory_ + "/out_topics.txt 2>&1";
+                              "/drive_db3 --quiet --output-dir " + directory_ + "/out_topics > " +
+                              directory_ + "/out_topics.txt 2>&1";
   std::system(command.c_str());
   const std::string text = printed("out_topics");
   EXPECT_NE(text.find("no topic '/wheels'"), std::string::npos) << text;
-  EXPECT_NE(text.find("'/joint_states' (sensor_msgs/msg/JointState, "), std::string::npos)
-      << text;
+  EXPECT_NE(text.find("'/joint_states' (sensor_msgs/msg/JointState, "), std::string::npos) << text;
 }
 
 }  // namespace

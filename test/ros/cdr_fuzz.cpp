@@ -40,13 +40,27 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::uint8_t* message = data + 1;
   const std::size_t length = size - 1;
   switch (data[0] % 7) {
-    case 0: readAndWriteBack<sensor_msgs::JointState>(message, length); break;
-    case 1: readAndWriteBack<sensor_msgs::LaserScan>(message, length); break;
-    case 2: readAndWriteBack<sensor_msgs::PointCloud2>(message, length); break;
-    case 3: readAndWriteBack<nav_msgs::Odometry>(message, length); break;
-    case 4: readAndWriteBack<geometry_msgs::PoseStamped>(message, length); break;
-    case 5: readAndWriteBack<sensor_msgs::Imu>(message, length); break;
-    default: readAndWriteBack<tf2_msgs::TFMessage>(message, length); break;
+    case 0:
+      readAndWriteBack<sensor_msgs::JointState>(message, length);
+      break;
+    case 1:
+      readAndWriteBack<sensor_msgs::LaserScan>(message, length);
+      break;
+    case 2:
+      readAndWriteBack<sensor_msgs::PointCloud2>(message, length);
+      break;
+    case 3:
+      readAndWriteBack<nav_msgs::Odometry>(message, length);
+      break;
+    case 4:
+      readAndWriteBack<geometry_msgs::PoseStamped>(message, length);
+      break;
+    case 5:
+      readAndWriteBack<sensor_msgs::Imu>(message, length);
+      break;
+    default:
+      readAndWriteBack<tf2_msgs::TFMessage>(message, length);
+      break;
   }
   return 0;
 }

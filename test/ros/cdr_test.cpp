@@ -202,7 +202,7 @@ TEST(Cdr, PoseStampedHasRos2sLayout)
   m.header.frame_id = "ab";
   m.pose.position.x = 1.0;
   const std::vector<std::uint8_t> bytes = writeCdr(m);
-  const std::vector<std::uint8_t> start = {0, 1, 0, 0, 4,   3,   2, 1, 8, 7,
+  const std::vector<std::uint8_t> start = {0, 1, 0, 0, 4, 3, 2,   1,   8, 7,
                                            6, 5, 3, 0, 0, 0, 'a', 'b', 0, 0};
   ASSERT_EQ(bytes.size(), 4u + 16u + 7u * 8u);
   EXPECT_TRUE(std::equal(start.begin(), start.end(), bytes.begin()));
@@ -257,8 +257,7 @@ TEST(Cdr, TheErrorNamesWhatWasCutAndWhere)
   } catch (const CdrError& error) {
     const std::string text = error.what();
     EXPECT_NE(text.find("sensor_msgs/LaserScan"), std::string::npos) << text;
-    EXPECT_NE(text.find("cut off at byte " + std::to_string(bytes.size() - 4)),
-              std::string::npos)
+    EXPECT_NE(text.find("cut off at byte " + std::to_string(bytes.size() - 4)), std::string::npos)
         << text;
   }
 }

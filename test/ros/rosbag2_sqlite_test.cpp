@@ -62,10 +62,7 @@ protected:
     return folder;
   }
 
-  void writeText(const std::string& path, const std::string& text)
-  {
-    std::ofstream(path) << text;
-  }
+  void writeText(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
 
   std::string directory_;
 };
@@ -246,8 +243,7 @@ TEST_F(Rosbag2, BadInputIsRefusedNamingTheFileAndTheCause)
   expectError(other, "compressed per message");
   writeText(other + "/metadata.yaml", "rosbag2_bagfile_information: [1, 2");
   const std::string text = openingError({other});
-  EXPECT_NE(text.find(other + "/metadata.yaml' is not a rosbag2 metadata file"),
-            std::string::npos)
+  EXPECT_NE(text.find(other + "/metadata.yaml' is not a rosbag2 metadata file"), std::string::npos)
       << text;
   EXPECT_NE(openingError({directory_ + "/x.mcap"}).find("MCAP"), std::string::npos);
 }
@@ -265,9 +261,10 @@ TEST(Rosbag2Metadata, TheVersionsWrittenSinceFoxyAreParsed)
         offered_qos_profiles: ""
       message_count: 355
 )";
-  const std::string v1 = "rosbag2_bagfile_information:\n  version: 1\n  storage_identifier: "
-                         "sqlite3\n  relative_file_paths: [bag/bag_0.db3]\n  message_count: 355\n" +
-                         topics;
+  const std::string v1 =
+      "rosbag2_bagfile_information:\n  version: 1\n  storage_identifier: "
+      "sqlite3\n  relative_file_paths: [bag/bag_0.db3]\n  message_count: 355\n" +
+      topics;
   Rosbag2Metadata m = parseRosbag2Metadata(v1, "v1");
   EXPECT_EQ(m.version, 1);
   EXPECT_EQ(m.relative_file_paths, std::vector<std::string>{"bag/bag_0.db3"});
@@ -276,7 +273,8 @@ TEST(Rosbag2Metadata, TheVersionsWrittenSinceFoxyAreParsed)
   EXPECT_EQ(m.topics[0].message_count, 355u);
   const std::string v4 =
       "rosbag2_bagfile_information:\n  version: 4\n  storage_identifier: sqlite3\n"
-      "  relative_file_paths: [bag_0.db3.zstd, bag_1.db3.zstd]\n  duration: {nanoseconds: 46000000000}\n"
+      "  relative_file_paths: [bag_0.db3.zstd, bag_1.db3.zstd]\n  duration: {nanoseconds: "
+      "46000000000}\n"
       "  starting_time: {nanoseconds_since_epoch: 1700000000000000000}\n  message_count: 9\n"
       "  compression_format: zstd\n  compression_mode: FILE\n" +
       topics;
@@ -288,8 +286,10 @@ TEST(Rosbag2Metadata, TheVersionsWrittenSinceFoxyAreParsed)
   EXPECT_EQ(m.starting_time_ns, 1700000000000000000);
   const std::string v9 =
       "rosbag2_bagfile_information:\n  version: 9\n  storage_identifier: sqlite3\n"
-      "  relative_file_paths: [bag_0.db3]\n  files:\n    - path: bag_0.db3\n      message_count: 9\n"
-      "  custom_data: {}\n  ros_distro: jazzy\n  compression_format: \"\"\n  compression_mode: \"\"\n" +
+      "  relative_file_paths: [bag_0.db3]\n  files:\n    - path: bag_0.db3\n      message_count: "
+      "9\n"
+      "  custom_data: {}\n  ros_distro: jazzy\n  compression_format: \"\"\n  compression_mode: "
+      "\"\"\n" +
       topics;
   m = parseRosbag2Metadata(v9, "v9");
   EXPECT_EQ(m.version, 9);

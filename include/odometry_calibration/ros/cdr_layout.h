@@ -147,33 +147,75 @@ void tfMessageLayout(S& s, M& m)
 
 // The layouts by message type (const or not: the writer's messages are const).
 template <class S>
-void layout(S& s, sensor_msgs::JointState& m) { jointStateLayout(s, m); }
+void layout(S& s, sensor_msgs::JointState& m)
+{
+  jointStateLayout(s, m);
+}
 template <class S>
-void layout(S& s, const sensor_msgs::JointState& m) { jointStateLayout(s, m); }
+void layout(S& s, const sensor_msgs::JointState& m)
+{
+  jointStateLayout(s, m);
+}
 template <class S>
-void layout(S& s, sensor_msgs::LaserScan& m) { laserScanLayout(s, m); }
+void layout(S& s, sensor_msgs::LaserScan& m)
+{
+  laserScanLayout(s, m);
+}
 template <class S>
-void layout(S& s, const sensor_msgs::LaserScan& m) { laserScanLayout(s, m); }
+void layout(S& s, const sensor_msgs::LaserScan& m)
+{
+  laserScanLayout(s, m);
+}
 template <class S>
-void layout(S& s, sensor_msgs::PointCloud2& m) { pointCloud2Layout(s, m); }
+void layout(S& s, sensor_msgs::PointCloud2& m)
+{
+  pointCloud2Layout(s, m);
+}
 template <class S>
-void layout(S& s, const sensor_msgs::PointCloud2& m) { pointCloud2Layout(s, m); }
+void layout(S& s, const sensor_msgs::PointCloud2& m)
+{
+  pointCloud2Layout(s, m);
+}
 template <class S>
-void layout(S& s, nav_msgs::Odometry& m) { odometryLayout(s, m); }
+void layout(S& s, nav_msgs::Odometry& m)
+{
+  odometryLayout(s, m);
+}
 template <class S>
-void layout(S& s, const nav_msgs::Odometry& m) { odometryLayout(s, m); }
+void layout(S& s, const nav_msgs::Odometry& m)
+{
+  odometryLayout(s, m);
+}
 template <class S>
-void layout(S& s, geometry_msgs::PoseStamped& m) { poseStampedLayout(s, m); }
+void layout(S& s, geometry_msgs::PoseStamped& m)
+{
+  poseStampedLayout(s, m);
+}
 template <class S>
-void layout(S& s, const geometry_msgs::PoseStamped& m) { poseStampedLayout(s, m); }
+void layout(S& s, const geometry_msgs::PoseStamped& m)
+{
+  poseStampedLayout(s, m);
+}
 template <class S>
-void layout(S& s, sensor_msgs::Imu& m) { imuLayout(s, m); }
+void layout(S& s, sensor_msgs::Imu& m)
+{
+  imuLayout(s, m);
+}
 template <class S>
-void layout(S& s, const sensor_msgs::Imu& m) { imuLayout(s, m); }
+void layout(S& s, const sensor_msgs::Imu& m)
+{
+  imuLayout(s, m);
+}
 template <class S>
-void layout(S& s, tf2_msgs::TFMessage& m) { tfMessageLayout(s, m); }
+void layout(S& s, tf2_msgs::TFMessage& m)
+{
+  tfMessageLayout(s, m);
+}
 template <class S>
-void layout(S& s, const tf2_msgs::TFMessage& m) { tfMessageLayout(s, m); }
+void layout(S& s, const tf2_msgs::TFMessage& m)
+{
+  tfMessageLayout(s, m);
+}
 
 }  // namespace cdr
 }  // namespace odometry_calibration

@@ -12,9 +12,9 @@
 #include <type_traits>
 #include <vector>
 
-#include <boost/array.hpp>
 #include <ros/message_traits.h>
 #include <ros/time.h>
+#include <boost/array.hpp>
 
 #include "odometry_calibration/ros/cdr_layout.h"
 

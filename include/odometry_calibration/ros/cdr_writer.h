@@ -8,8 +8,8 @@
 #include <type_traits>
 #include <vector>
 
-#include <boost/array.hpp>
 #include <ros/time.h>
+#include <boost/array.hpp>
 
 #include "odometry_calibration/ros/cdr_layout.h"
 
