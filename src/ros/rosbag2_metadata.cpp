@@ -53,9 +53,12 @@ Rosbag2Metadata parseInformation(const YAML::Node& info)
     metadata.relative_file_paths.push_back(path.as<std::string>());
   metadata.compression_format = scalar<std::string>(info["compression_format"], "");
   metadata.compression_mode = scalar<std::string>(info["compression_mode"], "");
-  metadata.starting_time_ns =
-      scalar<std::int64_t>(info["starting_time"]["nanoseconds_since_epoch"], 0);
-  metadata.duration_ns = scalar<std::int64_t>(info["duration"]["nanoseconds"], 0);
+  // (A missing map must not be indexed: yaml-cpp throws for a key of an undefined node.)
+  const YAML::Node starting_time = info["starting_time"], duration = info["duration"];
+  if (starting_time && starting_time.IsMap())
+    metadata.starting_time_ns = scalar<std::int64_t>(starting_time["nanoseconds_since_epoch"], 0);
+  if (duration && duration.IsMap())
+    metadata.duration_ns = scalar<std::int64_t>(duration["nanoseconds"], 0);
   metadata.message_count = scalar<std::uint64_t>(info["message_count"], 0);
   metadata.topics = parseTopics(info["topics_with_message_count"]);
   return metadata;
