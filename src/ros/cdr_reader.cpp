@@ -24,39 +24,30 @@ bool hostIsBigEndian()
 
 }  // namespace
 
-CdrReader::CdrReader(const std::uint8_t* data, std::size_t size, std::string type)
-    : data_(data), size_(size), type_(std::move(type))
+CdrReader::CdrReader(const std::uint8_t* data, std::size_t size, const char* type)
+    : data_(data), size_(size), type_(type)
 {
   if (size < 4) {
-    throw CdrError("a " + type_ + " of " + std::to_string(size) +
+    throw CdrError("a " + std::string(type_) + " of " + std::to_string(size) +
                    " bytes is cut off in its 4-byte encapsulation header");
   }
   if (data[0] != 0 || data[1] > 1) {
     const bool parameter_list = data[0] == 0 && (data[1] == 2 || data[1] == 3);
-    throw CdrError("a " + type_ + " in an unsupported encapsulation (" +
+    throw CdrError("a " + std::string(type_) + " in an unsupported encapsulation (" +
                    (parameter_list
                         ? std::string("parameter-list CDR")
                         : "bytes " + std::to_string(data[0]) + " " + std::to_string(data[1])) +
                    "; plain CDR expected)");
   }
   big_endian_ = data[1] == 0;
+  swap_ = big_endian_ != hostIsBigEndian();
 }
 
-void CdrReader::need(std::size_t n, const char* what) const
+void CdrReader::cutOff(std::size_t n, const char* what) const
 {
-  if (n > size_ - offset_) {
-    throw CdrError("a " + type_ + " of " + std::to_string(size_) + " bytes is cut off at byte " +
-                   std::to_string(offset_) + ": " + what + " needs " + std::to_string(n) +
-                   " bytes, " + std::to_string(size_ - offset_) + " remain");
-  }
-}
-
-void CdrReader::align(std::size_t size)
-{
-  const std::size_t body = offset_ - 4;
-  const std::size_t padding = (size - body % size) % size;
-  need(padding, "the alignment padding");
-  offset_ += padding;
+  throw CdrError("a " + std::string(type_) + " of " + std::to_string(size_) +
+                 " bytes is cut off at byte " + std::to_string(offset_) + ": " + what + " needs " +
+                 std::to_string(n) + " bytes, " + std::to_string(size_ - offset_) + " remain");
 }
 
 void CdrReader::primitives(void* out, std::size_t size, std::size_t n, const char* what)
@@ -65,7 +56,7 @@ void CdrReader::primitives(void* out, std::size_t size, std::size_t n, const cha
   need(size * n, what);  // n <= size_ / size: checked by count() for sequences
   std::memcpy(out, data_ + offset_, size * n);
   offset_ += size * n;
-  if (size > 1 && big_endian_ != hostIsBigEndian())
+  if (size > 1 && swap_)
     swapEach(static_cast<std::uint8_t*>(out), size, n);
 }
 
@@ -75,7 +66,7 @@ std::size_t CdrReader::count(std::size_t min_size)
   primitives(&n, 4, 1, "a sequence's count");
   // Checked before anything is allocated: n elements need at least n * min_size bytes.
   if (n > (size_ - offset_) / min_size) {
-    throw CdrError("a " + type_ + " of " + std::to_string(size_) + " bytes claims " +
+    throw CdrError("a " + std::string(type_) + " of " + std::to_string(size_) + " bytes claims " +
                    std::to_string(n) + " elements at byte " + std::to_string(offset_) +
                    ", more than its " + std::to_string(size_ - offset_) + " remaining bytes hold");
   }
@@ -92,8 +83,8 @@ void CdrReader::text(std::string& s)
     return;
   }
   if (data_[offset_ + length - 1] != 0) {
-    throw CdrError("a " + type_ + " has a string without its terminating NUL at byte " +
-                   std::to_string(offset_));
+    throw CdrError("a " + std::string(type_) +
+                   " has a string without its terminating NUL at byte " + std::to_string(offset_));
   }
   s.assign(reinterpret_cast<const char*>(data_ + offset_), length - 1);
   offset_ += length;
@@ -106,8 +97,9 @@ void CdrReader::stamp(ros::Time& t)
   value(sec);
   value(nanosec);
   if (sec < 0 || nanosec >= 1000000000u) {
-    throw CdrError("a " + type_ + " has a stamp out of range (" + std::to_string(sec) + " s, " +
-                   std::to_string(nanosec) + " ns) before byte " + std::to_string(offset_));
+    throw CdrError("a " + std::string(type_) + " has a stamp out of range (" + std::to_string(sec) +
+                   " s, " + std::to_string(nanosec) + " ns) before byte " +
+                   std::to_string(offset_));
   }
   t.sec = static_cast<std::uint32_t>(sec);
   t.nsec = nanosec;

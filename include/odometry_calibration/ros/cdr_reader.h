@@ -5,8 +5,10 @@
 // bytes that remain before anything is allocated: a corrupted count costs nothing.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -33,8 +35,8 @@ class CdrReader
 {
 public:
   /// Reads the encapsulation header of `size` bytes at `data`, a message of type `type` (for
-  /// the errors' text). Throws CdrError.
-  CdrReader(const std::uint8_t* data, std::size_t size, std::string type);
+  /// the errors' text; must outlive the reader). Throws CdrError.
+  CdrReader(const std::uint8_t* data, std::size_t size, const char* type);
   CdrReader(const CdrReader&) = delete;
   CdrReader& operator=(const CdrReader&) = delete;
 
@@ -46,7 +48,14 @@ public:
   void value(T& v)
   {
     static_assert(std::is_arithmetic_v<T>, "CDR primitives only");
-    primitives(&v, sizeof(T), 1, "a value");
+    align(sizeof(T));
+    need(sizeof(T), "a value");
+    std::memcpy(&v, data_ + offset_, sizeof(T));
+    offset_ += sizeof(T);
+    if (sizeof(T) > 1 && swap_) {
+      auto* bytes = reinterpret_cast<std::uint8_t*>(&v);
+      std::reverse(bytes, bytes + sizeof(T));
+    }
   }
   void text(std::string& s);
   void stamp(ros::Time& t);
@@ -80,15 +89,27 @@ private:
   void primitives(void* out, std::size_t size, std::size_t n, const char* what);
   /// A sequence's uint32 count, checked: n elements of at least `min_size` bytes must fit.
   std::size_t count(std::size_t min_size);
-  void align(std::size_t size);
+  /// Skips the padding before a primitive of `size` (1, 2, 4 or 8) bytes.
+  void align(std::size_t size)
+  {
+    const std::size_t padding = (0 - (offset_ - 4)) & (size - 1);
+    need(padding, "the alignment padding");
+    offset_ += padding;
+  }
   /// Throws unless `n` more bytes remain, naming `what` and where.
-  void need(std::size_t n, const char* what) const;
+  void need(std::size_t n, const char* what) const
+  {
+    if (n > size_ - offset_)
+      cutOff(n, what);
+  }
+  [[noreturn]] void cutOff(std::size_t n, const char* what) const;
 
   const std::uint8_t* data_;
   std::size_t size_;
   std::size_t offset_ = 4;
   bool big_endian_ = false;
-  std::string type_;
+  bool swap_ = false;  ///< the stream's byte order is not the host's
+  const char* type_;
 };
 
 /// `size` bytes of CDR (encapsulation header first) as a message of type M (one of cdr_layout.h).
