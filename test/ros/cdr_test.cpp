@@ -200,6 +200,31 @@ TEST(Cdr, EveryTypeRoundTripsInBothEndiannessesAtEveryAlignment)
   }
 }
 
+TEST(Cdr, StdMsgsNumbersRoundTrip)
+{
+  for (const bool big_endian : {false, true}) {
+    std_msgs::Float64 f;
+    f.data = -1.25e-7;
+    std::vector<std::uint8_t> bytes = writeCdr(f, big_endian);
+    ASSERT_EQ(bytes.size(), 12u);  // the header, then the float64 aligned to 8 from byte 4
+    std_msgs::Float64 read_f;
+    readCdr(bytes.data(), bytes.size(), read_f);
+    EXPECT_EQ(read_f.data, f.data);
+    std_msgs::Int32 i;
+    i.data = -123456;
+    bytes = writeCdr(i, big_endian);
+    std_msgs::Int32 read_i;
+    readCdr(bytes.data(), bytes.size(), read_i);
+    EXPECT_EQ(read_i.data, i.data);
+    std_msgs::Bool b;
+    b.data = 1;
+    bytes = writeCdr(b, big_endian);
+    EXPECT_EQ(bytes.size(), 5u);
+    std_msgs::UInt16 cut;
+    EXPECT_THROW(readCdr(bytes.data(), bytes.size(), cut), CdrError);
+  }
+}
+
 TEST(Cdr, PoseStampedHasRos2sLayout)
 {
   // Little-endian; the header's int32 sec and uint32 nanosec, the frame "ab" with its NUL

@@ -17,7 +17,20 @@
 #include <sensor_msgs/JointState.h>
 #include <sensor_msgs/LaserScan.h>
 #include <sensor_msgs/PointCloud2.h>
+#include <std_msgs/Bool.h>
+#include <std_msgs/Float32.h>
+#include <std_msgs/Float64.h>
+#include <std_msgs/Int16.h>
+#include <std_msgs/Int32.h>
+#include <std_msgs/Int64.h>
+#include <std_msgs/Int8.h>
+#include <std_msgs/UInt16.h>
+#include <std_msgs/UInt32.h>
+#include <std_msgs/UInt64.h>
+#include <std_msgs/UInt8.h>
 #include <tf2_msgs/TFMessage.h>
+
+#include <type_traits>
 
 namespace odometry_calibration {
 namespace cdr {
@@ -215,6 +228,62 @@ template <class S>
 void layout(S& s, const tf2_msgs::TFMessage& m)
 {
   tfMessageLayout(s, m);
+}
+
+// The std_msgs number types (Bool, Float32/64, Int8..64, UInt8..64): their one field, `data`.
+template <class M>
+struct IsStdNumber : std::false_type
+{
+};
+template <class A>
+struct IsStdNumber<std_msgs::Bool_<A>> : std::true_type
+{
+};
+template <class A>
+struct IsStdNumber<std_msgs::Float32_<A>> : std::true_type
+{
+};
+template <class A>
+struct IsStdNumber<std_msgs::Float64_<A>> : std::true_type
+{
+};
+template <class A>
+struct IsStdNumber<std_msgs::Int8_<A>> : std::true_type
+{
+};
+template <class A>
+struct IsStdNumber<std_msgs::Int16_<A>> : std::true_type
+{
+};
+template <class A>
+struct IsStdNumber<std_msgs::Int32_<A>> : std::true_type
+{
+};
+template <class A>
+struct IsStdNumber<std_msgs::Int64_<A>> : std::true_type
+{
+};
+template <class A>
+struct IsStdNumber<std_msgs::UInt8_<A>> : std::true_type
+{
+};
+template <class A>
+struct IsStdNumber<std_msgs::UInt16_<A>> : std::true_type
+{
+};
+template <class A>
+struct IsStdNumber<std_msgs::UInt32_<A>> : std::true_type
+{
+};
+template <class A>
+struct IsStdNumber<std_msgs::UInt64_<A>> : std::true_type
+{
+};
+
+template <class S, class M>
+std::enable_if_t<IsStdNumber<std::remove_const_t<M>>::value> layout(S& s, M& m)
+{
+  s.value(m.data);
 }
 
 }  // namespace cdr
