@@ -202,7 +202,7 @@ bool isRosbag2Path(const std::string& path)
 {
   std::error_code error;
   if (fs::is_directory(path, error))
-    return fs::exists(fs::path(path) / "metadata.yaml", error);
+    return true;  // a bag folder (one without metadata.yaml is refused, saying so)
   return endsWith(path, ".db3") || endsWith(path, ".db3.zstd") || endsWith(path, ".mcap");
 }
 

@@ -229,6 +229,7 @@ TEST_F(Rosbag2, BadInputIsRefusedNamingTheFileAndTheCause)
   // A folder whose metadata names a missing file, another storage, per-message compression.
   const std::string other = directory_ + "/other";
   fs::create_directory(other);
+  expectError(other, "has no readable metadata.yaml");
   Rosbag2Metadata metadata;
   metadata.relative_file_paths = {"gone_0.db3"};
   writeText(other + "/metadata.yaml", rosbag2MetadataYaml(metadata));

@@ -14,8 +14,9 @@
 
 namespace odometry_calibration {
 
-/// Whether `path` is to be read as a rosbag2 recording: a folder holding metadata.yaml, or a
-/// file ending in .db3, .db3.zstd or .mcap (refused when opened: MCAP is not read yet).
+/// Whether `path` is to be read as a rosbag2 recording: a folder (a bag folder holds
+/// metadata.yaml), or a file ending in .db3, .db3.zstd or .mcap (refused when opened: MCAP is not
+/// read yet).
 bool isRosbag2Path(const std::string& path);
 
 /// The messages of one or more rosbag2 recordings, their storage files merged in record-time
