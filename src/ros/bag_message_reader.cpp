@@ -146,6 +146,29 @@ bool readCurrent(RecordedMessages& messages, const MessageAdapter& adapter, cons
   return false;
 }
 
+/// readCurrent, with a message that cannot be deserialised (UnreadableMessage) made a bad input
+/// of its route, skipped and counted by the session as any other bad message.
+bool readOrMarkBad(RecordedMessages& messages, const MessageAdapter& adapter, const Route& route,
+                   MessageBuffers& buffers, ReadTimers& timers, ConvertedInput& input)
+{
+  try {
+    return readCurrent(messages, adapter, route, buffers, timers, input);
+  } catch (const UnreadableMessage& error) {
+    input = ConvertedInput();
+    input.kind =
+        route.joints ? ConvertedInput::Kind::kBadJoints : ConvertedInput::Kind::kBadEgoMessage;
+    input.source = route.joints ? 0 : route.source;
+    input.stamp_s = messages.recordTime_s();
+    input.problem = error.what();
+    input.message_type = route.type == EgoMotionSource::kCloud  ? "PointCloud2"
+                         : route.type == EgoMotionSource::kScan ? "LaserScan"
+                                                                : "pose";
+    input.publisher = messages.publisher();
+    timers.endConverting(timers.endReading());
+    return true;
+  }
+}
+
 }  // namespace
 
 void containBagReadFaults()
@@ -238,7 +261,7 @@ void BagMessageReader::read(RecordedMessages& messages, const CalibrationConfig&
                                     [&](const Route& r) { return r.topic == topic; });
     BagInput input;
     if (route == topic_routes.end() ||
-        !readCurrent(messages, adapter, *route, buffers, timers, input.input))
+        !readOrMarkBad(messages, adapter, *route, buffers, timers, input.input))
       continue;  // another topic, or another message type on the topic
     input.fraction = (messages.recordTime_s() - begin_s) / span_s;
     batch.push_back(std::move(input));

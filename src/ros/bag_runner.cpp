@@ -15,6 +15,7 @@
 
 #include "odometry_calibration/ros/bag_message_reader.h"
 #include "odometry_calibration/ros/bag_record_check.h"
+#include "odometry_calibration/ros/rosbag2_sqlite_messages.h"
 #include "odometry_calibration/ros/rosbag_messages.h"
 
 namespace odometry_calibration {
@@ -85,6 +86,16 @@ std::string topicList(const std::vector<std::string>& topics)
   return list;
 }
 
+/// Refuses an empty time window [start_offset_s, end_offset_s] of bags holding `span_s`.
+void requireWindow(double start_offset_s, double end_offset_s, double span_s)
+{
+  if (start_offset_s >= span_s || (end_offset_s > 0.0 && end_offset_s <= start_offset_s)) {
+    throw std::runtime_error("the time window [" + std::to_string(start_offset_s) + ", " +
+                             (end_offset_s > 0.0 ? std::to_string(end_offset_s) : "end") +
+                             "] s is empty: the bags hold " + std::to_string(span_s) + " s");
+  }
+}
+
 /// The time window [begin, end] of the bags' messages on the configured topics.
 std::pair<ros::Time, ros::Time> timeWindow(const std::vector<std::unique_ptr<rosbag::Bag>>& bags,
                                            const CalibrationConfig& config, double start_offset_s,
@@ -96,16 +107,83 @@ std::pair<ros::Time, ros::Time> timeWindow(const std::vector<std::unique_ptr<ros
   if (all.size() == 0)
     throw std::runtime_error("the bags hold no message on " + topicList(readTopics(config)));
   const double span_s = (all.getEndTime() - all.getBeginTime()).toSec();
-  if (start_offset_s >= span_s || (end_offset_s > 0.0 && end_offset_s <= start_offset_s)) {
-    throw std::runtime_error("the time window [" + std::to_string(start_offset_s) + ", " +
-                             (end_offset_s > 0.0 ? std::to_string(end_offset_s) : "end") +
-                             "] s is empty: the bags hold " + std::to_string(span_s) + " s");
-  }
+  requireWindow(start_offset_s, end_offset_s, span_s);
   const ros::Time begin = all.getBeginTime() + ros::Duration(start_offset_s);
   const ros::Time end = end_offset_s > 0.0 && end_offset_s < span_s
                             ? all.getBeginTime() + ros::Duration(end_offset_s)
                             : all.getEndTime();
   return {begin, end};
+}
+
+/// The recording a run reads: its messages on the configured topics within the time window,
+/// and what holds them open.
+struct OpenRecording
+{
+  std::vector<std::unique_ptr<rosbag::Bag>> bags;
+  std::unique_ptr<rosbag::View> view;
+  std::unique_ptr<RecordedMessages> messages;
+  double span_s = 0.0;  ///< the window's length [s]
+};
+
+OpenRecording openRosbag1(const std::vector<std::string>& bag_paths,
+                          const CalibrationConfig& config, double start_offset_s,
+                          double end_offset_s)
+{
+  OpenRecording recording;
+  recording.bags = openBags(bag_paths);
+  const auto [begin, end] = timeWindow(recording.bags, config, start_offset_s, end_offset_s);
+  recording.view = std::make_unique<rosbag::View>();
+  for (const auto& bag : recording.bags)
+    recording.view->addQuery(*bag, rosbag::TopicQuery(readTopics(config)), begin, end);
+  recording.messages = std::make_unique<RosbagMessages>(*recording.view);
+  recording.span_s = (end - begin).toSec();
+  return recording;
+}
+
+OpenRecording openRosbag2(const std::vector<std::string>& bag_paths,
+                          const CalibrationConfig& config, double start_offset_s,
+                          double end_offset_s)
+{
+  auto messages = std::make_unique<Rosbag2SqliteMessages>(bag_paths, readTopics(config));
+  if (const std::vector<std::string> missing = messages->missingTopics(); !missing.empty()) {
+    throw std::runtime_error("the bags record no topic " + topicList(missing) +
+                             " (set the topic names in the config); they record " +
+                             messages->describeTopics());
+  }
+  if (messages->empty()) {
+    throw std::runtime_error("the bags hold no message on " + topicList(readTopics(config)) +
+                             "; they record " + messages->describeTopics());
+  }
+  const std::int64_t first_ns = messages->firstTime_ns(), last_ns = messages->lastTime_ns();
+  const double span_s = static_cast<double>(last_ns - first_ns) * 1e-9;
+  requireWindow(start_offset_s, end_offset_s, span_s);
+  const std::int64_t begin_ns = first_ns + std::llround(start_offset_s * 1e9);
+  const std::int64_t end_ns = end_offset_s > 0.0 && end_offset_s < span_s
+                                  ? first_ns + std::llround(end_offset_s * 1e9)
+                                  : last_ns;
+  messages->restrictTo(begin_ns, end_ns);
+  OpenRecording recording;
+  recording.messages = std::move(messages);
+  recording.span_s = static_cast<double>(end_ns - begin_ns) * 1e-9;
+  return recording;
+}
+
+/// The bags opened by their format: all ROS 1 bags, or all rosbag2 recordings (bag folders,
+/// .db3 or .db3.zstd files). A mix is refused.
+OpenRecording openRecording(const std::vector<std::string>& bag_paths,
+                            const CalibrationConfig& config, double start_offset_s,
+                            double end_offset_s)
+{
+  std::size_t rosbag2 = 0;
+  for (const std::string& path : bag_paths)
+    rosbag2 += isRosbag2Path(path) ? 1 : 0;
+  if (rosbag2 == 0)
+    return openRosbag1(bag_paths, config, start_offset_s, end_offset_s);
+  if (rosbag2 < bag_paths.size()) {
+    throw std::runtime_error("ROS 1 bags and rosbag2 recordings cannot be read in one run (" +
+                             bagNames(bag_paths) + "): convert them to one format");
+  }
+  return openRosbag2(bag_paths, config, start_offset_s, end_offset_s);
 }
 
 /// A session as calibrate_bag uses it: no files, no odometry, no assistant (the report says
@@ -176,13 +254,9 @@ BagRunResult runBagsUnchecked(const std::vector<std::string>& bag_paths,
                               const JointFitFunction& fit_jointly)
 {
   const auto run_start = Clock::now();
-  const std::vector<std::unique_ptr<rosbag::Bag>> bags = openBags(bag_paths);
-  const auto [begin, end] = timeWindow(bags, config, start_offset_s, end_offset_s);
-  rosbag::View view;
-  for (const auto& bag : bags)
-    view.addQuery(*bag, rosbag::TopicQuery(readTopics(config)), begin, end);
+  OpenRecording recording = openRecording(bag_paths, config, start_offset_s, end_offset_s);
   BagRunResult result;
-  result.bag_span_s = (end - begin).toSec();
+  result.bag_span_s = recording.span_s;
   // Offline: the keyframe matches' events may come a few messages late (pair_collector.h), so
   // that both cores match while this thread feeds the session.
   CalibrationConfig session_config = config;
@@ -190,8 +264,7 @@ BagRunResult runBagsUnchecked(const std::vector<std::string>& bag_paths,
   result.session =
       bagSession(session_config, candidate_intervals_s, bag_paths.front(), fit_jointly);
   // Reading and converting run ahead on their own thread; this one feeds the session.
-  RosbagMessages recorded(view);
-  BagMessageReader reader(recorded, config, bagNames(bag_paths));
+  BagMessageReader reader(*recording.messages, config, bagNames(bag_paths));
   std::size_t messages = 0;
   Clock::duration pairing{};
   for (std::vector<BagInput> batch = reader.next(); !batch.empty(); batch = reader.next()) {

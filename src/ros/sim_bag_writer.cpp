@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <stdexcept>
 
 #include <geometry_msgs/PoseStamped.h>
@@ -14,7 +15,9 @@
 #include <tf2_msgs/TFMessage.h>
 
 #include "odometry_calibration/common/atomic_file.h"
+#include "odometry_calibration/common/staged_directory.h"
 #include "odometry_calibration/ros/conversions.h"
+#include "odometry_calibration/ros/rosbag2_sqlite_writer.h"
 #include "odometry_calibration/sim/tricycle_log_sink.h"
 #include "odometry_calibration/sim/world.h"
 
@@ -33,14 +36,31 @@ ros::Time rosTime(double start_time_s, double stamp_s)
 
 }  // namespace
 
+BagFormat bagFormatFromName(const std::string& name)
+{
+  if (name == "bag")
+    return BagFormat::kRos1;
+  if (name == "db3")
+    return BagFormat::kDb3;
+  if (name == "db3.zstd")
+    return BagFormat::kDb3Zstd;
+  throw std::invalid_argument("unknown bag format '" + name + "' (bag, db3 or db3.zstd)");
+}
+
 SimBagWriter::SimBagWriter(const std::string& bag_path, const sim::Scenario& scenario,
-                           std::vector<std::string> joint_names)
-    : bag_(std::make_unique<rosbag::Bag>()),
-      scenario_(scenario),
+                           std::vector<std::string> joint_names, BagFormat format,
+                           const std::string& bag_name)
+    : scenario_(scenario),
       lasers_(sim::allLasers(scenario)),
       scan_seqs_(lasers_.size(), 0),
       joint_names_(std::move(joint_names))
 {
+  if (format != BagFormat::kRos1) {
+    rosbag2_ =
+        std::make_unique<Rosbag2SqliteWriter>(bag_path, bag_name, format == BagFormat::kDb3Zstd);
+    return;
+  }
+  bag_ = std::make_unique<rosbag::Bag>();
   try {
     bag_->open(bag_path, rosbag::bagmode::Write);
   } catch (const std::exception& error) {
@@ -51,6 +71,15 @@ SimBagWriter::SimBagWriter(const std::string& bag_path, const sim::Scenario& sce
 
 SimBagWriter::~SimBagWriter() = default;
 
+template <typename M>
+void SimBagWriter::record(const std::string& topic, const ros::Time& time, const M& message)
+{
+  if (rosbag2_)
+    rosbag2_->write(topic, time, message);
+  else
+    bag_->write(topic, time, message);
+}
+
 void SimBagWriter::onJointState(const sim::JointStateSample& sample)
 {
   sensor_msgs::JointState message;
@@ -58,7 +87,7 @@ void SimBagWriter::onJointState(const sim::JointStateSample& sample)
   message.header.stamp = rosTime(scenario_.start_time_s, sample.stamp_s);
   message.name = joint_names_;
   message.position = sample.positions;
-  bag_->write(scenario_.encoders.topic, message.header.stamp, message);
+  record(scenario_.encoders.topic, message.header.stamp, message);
 }
 
 void SimBagWriter::onScan(const sim::ScanSample& sample)
@@ -83,7 +112,7 @@ void SimBagWriter::onScan(const sim::ScanSample& sample)
   message.range_max = sample.range_max_m;
   message.ranges = sample.ranges;
   const double sweep_s = sample.time_increment_s * static_cast<double>(sample.ranges.size() - 1);
-  bag_->write(laser.topic, rosTime(scenario_.start_time_s, sample.stamp_s + sweep_s), message);
+  record(laser.topic, rosTime(scenario_.start_time_s, sample.stamp_s + sweep_s), message);
 }
 
 void SimBagWriter::onCloud(const sim::CloudSample& sample)
@@ -137,7 +166,7 @@ void SimBagWriter::onCloud(const sim::CloudSample& sample)
   // Bag time: when the sweep is complete and the driver publishes it.
   const ros::Time published =
       rosTime(scenario_.start_time_s, sample.stamp_s + 1.0 / scenario_.laser.rate_hz);
-  bag_->write(scenario_.laser.topic, published, message);
+  record(scenario_.laser.topic, published, message);
 }
 
 void SimBagWriter::onTruth(const sim::TruthSample& sample)
@@ -155,7 +184,7 @@ void SimBagWriter::onTruth(const sim::TruthSample& sample)
       laser.transform = ros_conversions::toTransformMsg(options.T_base_laser);
       tf_static.transforms.push_back(laser);
     }
-    bag_->write("/tf_static", stamp, tf_static);
+    record("/tf_static", stamp, tf_static);
     wrote_static_tf_ = true;
   }
   nav_msgs::Odometry odometry;
@@ -167,7 +196,7 @@ void SimBagWriter::onTruth(const sim::TruthSample& sample)
   odometry.twist.twist.linear.x = sample.twist.vx_mps;
   odometry.twist.twist.linear.y = sample.twist.vy_mps;
   odometry.twist.twist.angular.z = sample.twist.omega_radps;
-  bag_->write(scenario_.ground_truth_topic, stamp, odometry);
+  record(scenario_.ground_truth_topic, stamp, odometry);
 
   tf2_msgs::TFMessage tf;
   geometry_msgs::TransformStamped transform;
@@ -176,7 +205,7 @@ void SimBagWriter::onTruth(const sim::TruthSample& sample)
   transform.child_frame_id = base;
   transform.transform = ros_conversions::toTransformMsg(sample.T_world_base);
   tf.transforms.push_back(transform);
-  bag_->write("/tf", stamp, tf);
+  record("/tf", stamp, tf);
 }
 
 void SimBagWriter::onTracker(const sim::TrackerSample& sample)
@@ -186,17 +215,20 @@ void SimBagWriter::onTracker(const sim::TrackerSample& sample)
   pose.header.stamp = rosTime(scenario_.start_time_s, sample.stamp_s);
   pose.header.frame_id = scenario_.tracker.frame_id;
   pose.pose = ros_conversions::toPoseMsg(sample.T_world_sensor);
-  bag_->write(scenario_.tracker.topic, pose.header.stamp, pose);
+  record(scenario_.tracker.topic, pose.header.stamp, pose);
 }
 
 void SimBagWriter::close()
 {
-  bag_->close();
+  if (rosbag2_)
+    rosbag2_->close();
+  else
+    bag_->close();
 }
 
-std::string defaultSimulationBagPath(const sim::Scenario& scenario)
+std::string defaultSimulationBagPath(const sim::Scenario& scenario, BagFormat format)
 {
-  return scenario.name + ".bag";
+  return format == BagFormat::kRos1 ? scenario.name + ".bag" : scenario.name;
 }
 
 std::string defaultTruthPath(const std::string& bag_path)
@@ -206,28 +238,65 @@ std::string defaultTruthPath(const std::string& bag_path)
   return (ends_in_bag ? bag_path.substr(0, bag_path.size() - 4) : bag_path) + "_truth.yaml";
 }
 
+namespace {
+
+/// The scenario run into `writer` (and `extra_sink`), closed when complete.
+sim::SimulationSummary simulateInto(const sim::Scenario& scenario, const sim::World& world,
+                                    const sim::Robot& robot, SimBagWriter& writer,
+                                    sim::SimulationSink* extra_sink)
+{
+  std::vector<sim::SimulationSink*> sinks = {&writer};
+  if (extra_sink)
+    sinks.push_back(extra_sink);
+  sim::TeeSink tee(sinks);
+  const sim::SimulationSummary summary = sim::simulate(scenario, world, robot, tee);
+  writer.close();
+  return summary;
+}
+
+/// The scenario into the rosbag2 bag folder `folder`, staged and put in place when complete.
+sim::SimulationSummary simulateToRosbag2(const sim::Scenario& scenario, const sim::World& world,
+                                         const sim::Robot& robot, const std::string& folder,
+                                         BagFormat format, sim::SimulationSink* extra_sink)
+{
+  std::filesystem::path final_path(folder);
+  if (!final_path.has_filename())  // "bag/"
+    final_path = final_path.parent_path();
+  const std::string parent =
+      final_path.has_parent_path() ? final_path.parent_path().string() : std::string(".");
+  const std::string name = final_path.filename().string();
+  StagedDirectory staged(parent, name);
+  SimBagWriter writer(staged.path(), scenario, sim::publishedJointNames(scenario, robot), format,
+                      name);
+  const sim::SimulationSummary summary = simulateInto(scenario, world, robot, writer, extra_sink);
+  staged.commit();
+  return summary;
+}
+
+}  // namespace
+
 sim::SimulationSummary simulateToBag(const sim::Scenario& scenario, const std::string& bag_path,
-                                     const std::string& truth_path, sim::SimulationSink* extra_sink)
+                                     const std::string& truth_path, sim::SimulationSink* extra_sink,
+                                     BagFormat format)
 {
   const sim::World world = sim::loadWorldYaml(scenario.world_path);
   const auto robot = sim::makeRobot(scenario.robot);
-  const std::string temporary = bag_path + ".partial";
   sim::SimulationSummary summary;
-  try {
-    SimBagWriter writer(temporary, scenario, sim::publishedJointNames(scenario, *robot));
-    std::vector<sim::SimulationSink*> sinks = {&writer};
-    if (extra_sink)
-      sinks.push_back(extra_sink);
-    sim::TeeSink tee(sinks);
-    summary = sim::simulate(scenario, world, *robot, tee);
-    writer.close();
-  } catch (...) {
-    std::remove(temporary.c_str());
-    throw;
-  }
-  if (std::rename(temporary.c_str(), bag_path.c_str()) != 0) {
-    std::remove(temporary.c_str());
-    throw std::runtime_error("cannot move the finished bag to '" + bag_path + "'");
+  if (format != BagFormat::kRos1) {
+    summary = simulateToRosbag2(scenario, world, *robot, bag_path, format, extra_sink);
+  } else {
+    const std::string temporary = bag_path + ".partial";
+    try {
+      SimBagWriter writer(temporary, scenario, sim::publishedJointNames(scenario, *robot));
+      summary = simulateInto(scenario, world, *robot, writer, extra_sink);
+    } catch (...) {
+      std::remove(temporary.c_str());
+      throw;
+    }
+    if (std::rename(temporary.c_str(), bag_path.c_str()) != 0) {
+      std::remove(temporary.c_str());
+      throw std::runtime_error("cannot move the finished bag to '" + bag_path + "'");
+    }
   }
   if (!truth_path.empty()) {
     writeFileAtomically(truth_path, sim::scenarioTruthYaml(scenario, *robot));
@@ -239,7 +308,7 @@ int simulateToFiles(const sim::Scenario& scenario, SimulationFiles files, std::o
                     std::ostream& err)
 {
   if (files.bag_path.empty())
-    files.bag_path = defaultSimulationBagPath(scenario);
+    files.bag_path = defaultSimulationBagPath(scenario, files.format);
   if (files.truth_path.empty())
     files.truth_path = defaultTruthPath(files.bag_path);
   std::unique_ptr<sim::TricycleLogSink> log_sink;
@@ -252,7 +321,7 @@ int simulateToFiles(const sim::Scenario& scenario, SimulationFiles files, std::o
     log_sink = sim::makeTricycleLogSink(scenario);
   }
   const sim::SimulationSummary summary =
-      simulateToBag(scenario, files.bag_path, files.truth_path, log_sink.get());
+      simulateToBag(scenario, files.bag_path, files.truth_path, log_sink.get(), files.format);
   if (log_sink) {
     writeFileAtomically(files.tricycle_log_path, log_sink->text());
   }

@@ -18,7 +18,11 @@ const char* kUsage =
     "plus a YAML file with the true parameters. A fixed seed gives a byte-identical bag.\n"
     "\n"
     "options:\n"
-    "  --output BAG      bag to write (default: <scenario name>.bag)\n"
+    "  --output BAG      bag to write (default: <scenario name>.bag; rosbag2: the folder\n"
+    "                    <scenario name>)\n"
+    "  --format F        bag: a ROS 1 bag (default); db3: a rosbag2 bag folder in SQLite\n"
+    "                    storage (CDR messages, metadata.yaml); db3.zstd: the same with its\n"
+    "                    storage file compressed with zstd (compression_mode FILE)\n"
     "  --truth YAML      truth file (default: the bag's name with _truth.yaml)\n"
     "  --seed N          override the scenario's seed\n"
     "  --duration S      override the scenario's duration [s]\n"
@@ -38,6 +42,7 @@ int main(int argc, char** argv)
   SimulationFiles files;
   std::vector<std::string> scenario_paths;
   long long seed = -1;
+  std::string format = "bag";
   sim::ScenarioOverrides overrides;
   try {
     ArgumentParser parser;
@@ -45,6 +50,7 @@ int main(int argc, char** argv)
         .option("--truth", &files.truth_path)
         .option("--tricycle-log", &files.tricycle_log_path)
         .option("--worlds", &worlds)
+        .option("--format", &format)
         .wholeNumber("--seed", &seed, 0)
         .positiveNumber("--duration", &overrides.duration_s)
         .positionals(&scenario_paths, 1);
@@ -55,6 +61,7 @@ int main(int argc, char** argv)
     if (scenario_paths.empty())
       throw ArgumentError("missing the scenario file");
     overrides.seed = static_cast<double>(seed);
+    files.format = bagFormatFromName(format);
   } catch (const std::exception& error) {
     std::cerr << "error: " << error.what() << "\n\n" << kUsage;
     return 2;

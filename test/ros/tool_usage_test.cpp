@@ -132,6 +132,8 @@ TEST(ToolUsage, Simulate)
   expectBadUsage("simulate", "s.yaml --duration 0",
                  "option --duration: expected a number > 0, got '0'");
   expectBadUsage("simulate", "a.yaml b.yaml", "unexpected argument 'b.yaml'");
+  expectBadUsage("simulate", "s.yaml --format mcap",
+                 "unknown bag format 'mcap' (bag, db3 or db3.zstd)");
 }
 
 TEST(ToolUsage, ScoreCalibration)

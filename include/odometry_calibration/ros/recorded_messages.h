@@ -4,6 +4,7 @@
 // current one into the ROS 1 message types the input adapter converts (message_adapter.h).
 #pragma once
 
+#include <stdexcept>
 #include <string>
 
 #include <geometry_msgs/PoseStamped.h>
@@ -13,6 +14,16 @@
 #include <sensor_msgs/PointCloud2.h>
 
 namespace odometry_calibration {
+
+/// Thrown by RecordedMessages::read for one message whose bytes do not hold its type while the
+/// recording around it is sound (a rosbag2 message cut short): the bag reader skips and counts
+/// it as a bad input of its topic (converted_input.h). Its text names the topic, the record
+/// time and the byte where the message fell short.
+class UnreadableMessage : public std::runtime_error
+{
+public:
+  using std::runtime_error::runtime_error;
+};
 
 /// A cursor over recorded messages. Not thread-safe: one reader at a time.
 class RecordedMessages
@@ -34,7 +45,9 @@ public:
 
   /// The current message deserialised into `message` when it is of that type (reusing its
   /// storage); false, `message` unspecified, when it is of another type. Throws
-  /// ros::Exception (or std::runtime_error) for a message whose bytes do not hold what they claim.
+  /// UnreadableMessage for one message whose bytes do not hold what they claim (skipped), or
+  /// ros::Exception (or std::runtime_error) when the recording itself is corrupted (the run
+  /// stops).
   virtual bool read(sensor_msgs::JointState& message) = 0;
   virtual bool read(sensor_msgs::LaserScan& message) = 0;
   virtual bool read(sensor_msgs::PointCloud2& message) = 0;

@@ -3,13 +3,16 @@
 // (or sensor_msgs/PointCloud2 of the multi-beam lidar: x, y, z, intensity, ring, time),
 // and the ground truth as nav_msgs/Odometry plus its own tf tree (sim_world -> sim_base_link
 // -> sim_<laser frame>), kept apart from the frames a calibration uses (odom, base_link,
-// laser) so that it never leaks into calibration inputs.
+// laser) so that it never leaks into calibration inputs. The same messages at the same record
+// times go into a ROS 1 bag or a rosbag2 bag folder (SQLite storage, CDR; optionally zstd).
 #pragma once
 
 #include <memory>
 #include <ostream>
 #include <string>
 #include <vector>
+
+#include <ros/time.h>
 
 #include "odometry_calibration/sim/scenario.h"
 #include "odometry_calibration/sim/simulator.h"
@@ -20,14 +23,32 @@ class Bag;
 
 namespace odometry_calibration {
 
+class Rosbag2SqliteWriter;
+
+/// What a simulation writes: a ROS 1 bag, or a rosbag2 bag folder in SQLite storage (its
+/// storage file as it is, or compressed with zstd).
+enum class BagFormat
+{
+  kRos1,
+  kDb3,
+  kDb3Zstd,
+};
+
+/// "bag", "db3" or "db3.zstd" (simulate's --format) as a BagFormat. Throws
+/// std::invalid_argument for another name.
+BagFormat bagFormatFromName(const std::string& name);
+
 /// A SimulationSink that writes a bag. Messages are written with their header stamps as bag
 /// times; the bag is uncompressed so a fixed seed gives a byte-identical file.
 class SimBagWriter : public sim::SimulationSink
 {
 public:
-  /// Opens `bag_path` for writing (truncates). Throws std::runtime_error if it cannot.
+  /// Opens `bag_path` for writing (truncates). Throws std::runtime_error if it cannot. A
+  /// rosbag2 `format` writes into the existing folder `bag_path` the bag named `bag_name`
+  /// (the folder's final name: its storage file is "<bag_name>_0.db3").
   SimBagWriter(const std::string& bag_path, const sim::Scenario& scenario,
-               std::vector<std::string> joint_names);
+               std::vector<std::string> joint_names, BagFormat format = BagFormat::kRos1,
+               const std::string& bag_name = "");
   ~SimBagWriter() override;
   SimBagWriter(const SimBagWriter&) = delete;
   SimBagWriter& operator=(const SimBagWriter&) = delete;
@@ -42,7 +63,12 @@ public:
   void close();
 
 private:
+  /// `message` on `topic` at record time `time`, into the bag of either format.
+  template <typename M>
+  void record(const std::string& topic, const ros::Time& time, const M& message);
+
   std::unique_ptr<rosbag::Bag> bag_;
+  std::unique_ptr<Rosbag2SqliteWriter> rosbag2_;
   sim::Scenario scenario_;
   std::vector<sim::LaserOptions> lasers_;  ///< every laser, in ScanSample::laser_index order
   std::vector<std::uint32_t> scan_seqs_;   ///< the extra lasers' header seq (the first's below)
@@ -51,19 +77,22 @@ private:
   bool wrote_static_tf_ = false;
 };
 
-/// The bag a simulation writes unless told otherwise: "<scenario name>.bag".
-std::string defaultSimulationBagPath(const sim::Scenario& scenario);
+/// The bag a simulation writes unless told otherwise: "<scenario name>.bag" (rosbag2: the
+/// folder "<scenario name>").
+std::string defaultSimulationBagPath(const sim::Scenario& scenario,
+                                     BagFormat format = BagFormat::kRos1);
 
 /// The truth file that goes with a bag unless told otherwise: the bag's path without ".bag",
 /// plus "_truth.yaml".
 std::string defaultTruthPath(const std::string& bag_path);
 
-/// Runs the scenario into a bag written atomically (temporary file, renamed when complete)
-/// and writes the truth YAML next to it atomically ("" skips it). `extra_sink`, if given,
-/// receives every sample too. Returns the run's summary.
+/// Runs the scenario into a bag written atomically (temporary file, renamed when complete; a
+/// rosbag2 folder staged and renamed) and writes the truth YAML next to it atomically ("" skips
+/// it). `extra_sink`, if given, receives every sample too. Returns the run's summary.
 sim::SimulationSummary simulateToBag(const sim::Scenario& scenario, const std::string& bag_path,
                                      const std::string& truth_path,
-                                     sim::SimulationSink* extra_sink = nullptr);
+                                     sim::SimulationSink* extra_sink = nullptr,
+                                     BagFormat format = BagFormat::kRos1);
 
 /// Where the simulate tool writes a run: the bag and the truth ("" = the defaults above), and
 /// the tricycle dataset's text log ("" = none).
@@ -72,6 +101,7 @@ struct SimulationFiles
   std::string bag_path;
   std::string truth_path;
   std::string tricycle_log_path;
+  BagFormat format = BagFormat::kRos1;
 };
 
 /// The simulate tool's run: the scenario into its bag, truth and (if asked) tricycle log, the
