@@ -128,7 +128,7 @@ TEST(CalibrateBagGalleryRefusal, AGapLimitTheEncodersContradictIsRefusedByName)
 }
 
 // The hobby base's slow encoders (4.5 Hz, +-0.05 s) with its 5.5 Hz sweeping scanner leave a
-// bias the others do not have: over seeds 3-6 the radii come out 0.4-0.8 % long and tau 13-25 ms
+// bias the others do not have: over seeds 3-6 the radii come out 0.4-0.8 % long and tau 16-30 ms
 // late (README, "What the defaults assume"); its bounds say so, the others' are the targets.
 INSTANTIATE_TEST_SUITE_P(
     Robots, CalibrateBagGallery,
