@@ -100,6 +100,17 @@ bool EncoderGlitchFilter::sane(const Eigen::VectorXd& from, const Eigen::VectorX
   return true;
 }
 
+int EncoderGlitchFilter::counterWrapBits(double increment, double motion)
+{
+  const double size = std::abs(increment);
+  if (!std::isfinite(size) || !(size > 0.0))
+    return 0;
+  const int bits = static_cast<int>(std::lround(std::log2(size)));
+  if (bits < 16 || bits > 52)
+    return 0;
+  return std::abs(size - std::ldexp(1.0, bits)) <= motion ? bits : 0;
+}
+
 EncoderGlitchFilter::Result EncoderGlitchFilter::filter(double stamp_s, const Eigen::VectorXd& raw)
 {
   Result result;
@@ -129,6 +140,11 @@ EncoderGlitchFilter::Result EncoderGlitchFilter::filter(double stamp_s, const Ei
       result.glitch = true;
       result.channel = channel;
       result.increment = increment;
+      if (channels_[channel].kind == EncoderKind::kIncremental &&
+          channels_[channel].wrap_period <= 0.0) {
+        result.wrap_bits = counterWrapBits(
+            increment, channels_[channel].max_rate_per_s * std::max(dt_s, kMinInterval_s));
+      }
       glitch_stamp_s_ = stamp_s;
       glitch_raw_ = raw;
       return result;

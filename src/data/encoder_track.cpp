@@ -38,6 +38,14 @@ void EncoderTrack::clear()
   decoder_.reset();
 }
 
+std::size_t EncoderTrack::readingsFrom(double stamp_s) const
+{
+  const auto first =
+      std::lower_bound(samples_.begin(), samples_.end(), stamp_s,
+                       [](const EncoderSample& sample, double t) { return sample.stamp_s < t; });
+  return static_cast<std::size_t>(std::distance(first, samples_.end()));
+}
+
 bool EncoderTrack::covers(double stamp_s, double max_gap_s) const
 {
   if (samples_.empty() || stamp_s < firstStamp() || stamp_s > lastStamp())
@@ -50,12 +58,12 @@ bool EncoderTrack::covers(double stamp_s, double max_gap_s) const
   return after->stamp_s - std::prev(after)->stamp_s <= max_gap_s;
 }
 
-EncoderSample EncoderTrack::at(double stamp_s) const
+EncoderSample EncoderTrack::at(double stamp_s, EncoderInterpolation mode) const
 {
   if (samples_.empty() || stamp_s < firstStamp() || stamp_s > lastStamp()) {
     throw std::out_of_range("no encoder data at the requested time");
   }
-  return interpolateEncoderSample(samples_, stamp_s);
+  return interpolateEncoderSample(samples_, stamp_s, mode);
 }
 
 std::vector<EncoderSample> EncoderTrack::between(double start_s, double end_s,

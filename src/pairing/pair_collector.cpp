@@ -37,6 +37,12 @@ double CollectorStatistics::keyframeVersusChainStandardErrorPercent() const
   return 100.0 * std::sqrt(std::max(0.0, residual2) * n / (n - 1.0)) / chained_m;
 }
 
+double roundedUpForAdvice_s(double seconds)
+{
+  constexpr double kStep_s = 0.05;
+  return std::ceil(seconds / kStep_s - 1e-9) * kStep_s;
+}
+
 double derivedEncoderGap_s(double median_spacing_s)
 {
   return std::isfinite(median_spacing_s)
@@ -112,14 +118,13 @@ std::string PairCollector::configurationConflict() const
                   "%.3g s (median of %zu): a pair would hold no reading of its own; set it to at "
                   "least %.2f (two spacings)",
                   options_.keyframe_interval_s, spacing_s, encoder_spacing_.count(),
-                  std::ceil(2.0 * spacing_s / 0.05 - 1e-9) * 0.05);
+                  roundedUpForAdvice_s(2.0 * spacing_s));
     return text;
   }
   if (!(options_.max_encoder_gap_s > 0.0) ||
       !(options_.max_encoder_gap_s < kMinGapPerSpacing * spacing_s))
     return "";
-  // The value to set: the derived one, rounded up to 0.05 s.
-  const double suggested_s = std::ceil(derivedEncoderGap_s(spacing_s) / 0.05 - 1e-9) * 0.05;
+  const double suggested_s = roundedUpForAdvice_s(derivedEncoderGap_s(spacing_s));
   std::snprintf(text, sizeof(text),
                 "keyframes.max_encoder_gap_s = %.3g s is shorter than the encoder readings allow: "
                 "they arrive every %.3g s (median of %zu spacings), so most keyframes find no "
@@ -175,6 +180,8 @@ std::vector<CollectorEvent> PairCollector::addEncoders(double stamp_s, const Eig
   if (filtered.glitch) {
     const EncoderChannelOptions& channel = track_.channels()[filtered.channel];
     ++statistics_.glitches[channel.name];
+    if (filtered.wrap_bits > 0)
+      statistics_.glitch_wrap_bits[channel.name] = filtered.wrap_bits;
     if (glitch_spans_.empty() || glitch_spans_.back().second < kOpen) {
       glitch_spans_.emplace_back(track_.empty() ? -kOpen : track_.lastStamp(), kOpen);
     }
@@ -230,10 +237,12 @@ void PairCollector::processReadyScans(bool all)
             ? front_scan->sweepDuration()
             : 0.0;
     const double needed = pending_.front().stamp_s + sweep_s + options_.time_offset_s;
-    const bool encoders_there = !track_.empty() && track_.lastStamp() >= needed;
+    // The cubic interpolation's slope at the reading after `needed` takes the one after it.
+    const std::size_t readings_needed =
+        options_.encoder_interpolation == EncoderInterpolation::kCubic ? 2 : 1;
+    const bool encoders_there = track_.readingsFrom(needed) >= readings_needed;
     // Input this much later shows the encoders will not come (a gap, a dead stream).
-    const bool given_up = last_input_stamp_s_ > needed + encoderGapLimit_s() &&
-                          (track_.empty() || track_.lastStamp() < needed);
+    const bool given_up = last_input_stamp_s_ > needed + encoderGapLimit_s() && !encoders_there;
     if (!all && !encoders_there && !given_up)
       break;
     const PendingInput input = pending_.front();

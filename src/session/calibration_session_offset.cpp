@@ -31,6 +31,8 @@ struct CalibrationSession::PairingAgain
   bool history_broken = false;         ///< time went backwards (no history until a reset)
   std::unique_ptr<CandidateCollectors> candidates;
   std::unique_ptr<EncoderDecoder> decoder;  ///< the history's (made at the first reading)
+  /// The time-offset search run on exactly `pairs` at `offset_s` (when one was).
+  std::optional<TimeOffsetResult> offset_search;
 };
 
 void CalibrationSession::record(const std::function<void(InputRecord&)>& add)
@@ -205,8 +207,10 @@ std::unique_ptr<CalibrationSession::PairingAgain> CalibrationSession::pairUntilS
       break;  // the pairs of the previous round stand
     }
     if (!job->time_offset || job->time_offset->flat ||
-        !(std::abs(job->time_offset_s - again->offset_s) > kOffsetPairingToleranceS))
+        !(std::abs(job->time_offset_s - again->offset_s) > kOffsetPairingToleranceS)) {
+      again->offset_search = job->time_offset;  // settled: the final fit reuses it
       break;
+    }
     std::string problem;
     std::unique_ptr<PairingAgain> next =
         pairRecord(record, config.collector, job->time_offset_s, &problem);
@@ -264,7 +268,7 @@ std::unique_ptr<CalibrationSession::PairingAgain> CalibrationSession::pairAtEsti
   request->candidates =
       again->candidates ? again->candidates->pairs() : std::vector<IntervalPairs>();
   request->encoder_history = again->history_broken ? std::vector<EncoderSample>() : again->history;
-  request->offset_search.reset();
+  request->offset_search = again->offset_search;
   pairing->paired_again = true;
   std::snprintf(text, sizeof(text),
                 "paired again at the estimated time offset %.3f s in %.1f s, %d round%s "

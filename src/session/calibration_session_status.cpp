@@ -45,8 +45,16 @@ std::vector<std::string> CalibrationSession::collectionNotes() const
                     " messages, first: " + c.first_bad_ego_message);
   }
   for (const auto& [joint, count] : c.statistics.glitches) {
+    const auto wrap = c.statistics.glitch_wrap_bits.find(joint);
+    const std::string cause =
+        wrap == c.statistics.glitch_wrap_bits.end()
+            ? "increments beyond its max_turns_per_s"
+            : "steps of a whole 2^" + std::to_string(wrap->second) +
+                  " counts: its counter wraps at " + std::to_string(wrap->second) +
+                  " bits; set joints[].counter_bits: " + std::to_string(wrap->second) + " for '" +
+                  joint + "'";
     notes.push_back("skipped " + std::to_string(count) + " encoder glitches on joint '" + joint +
-                    "' (increments beyond its max_turns_per_s)");
+                    "' (" + cause + ")");
   }
   for (const std::string& restart : c.restarts)
     notes.push_back("restart " + restart);

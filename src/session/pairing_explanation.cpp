@@ -27,7 +27,7 @@ std::string encoderGapCause(const CollectorStatistics& statistics, const Collect
   if (!(std::isfinite(spacing_s) && statistics.encoder_spacings > 0))
     return " The encoder readings are too few to measure their spacing.";
   if (options.max_encoder_gap_s > 0.0) {
-    const double suggested_s = std::ceil(derivedEncoderGap_s(spacing_s) / 0.05 - 1e-9) * 0.05;
+    const double suggested_s = roundedUpForAdvice_s(derivedEncoderGap_s(spacing_s));
     std::snprintf(text, sizeof(text),
                   " The encoder readings arrive every %.3g s (median); keyframes need one "
                   "within keyframes.max_encoder_gap_s = %.3g s (configured) of each keyframe: "

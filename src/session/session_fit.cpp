@@ -1,9 +1,11 @@
 #include "odometry_calibration/session/session_fit.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <stdexcept>
 
+#include "odometry_calibration/data/stream_spacing.h"
 #include "odometry_calibration/models/model_checks.h"
 
 namespace odometry_calibration {
@@ -56,6 +58,41 @@ std::vector<IntervalPairs> allCandidates(const SessionFitRequest& request)
   return all;
 }
 
+/// Candidate intervals shorter than this many encoder spacings hold too few readings of their
+/// own to be told apart by the readings' timing: left out of the choice.
+constexpr double kMinSpacingsPerCandidate = 2.0;
+
+/// Removes from `candidates` those shorter than kMinSpacingsPerCandidate spacings of the
+/// readings in `history` (never `keep_s`, the evaluation interval), and says which ("" when none).
+std::string dropCandidatesBelowEncoderRate(const std::vector<EncoderSample>& history, double keep_s,
+                                           std::vector<IntervalPairs>* candidates)
+{
+  StreamSpacing spacing(history.size());
+  for (const EncoderSample& sample : history)
+    spacing.add(sample.stamp_s);
+  const double shortest_s = kMinSpacingsPerCandidate * spacing.median_s();
+  if (!std::isfinite(shortest_s))
+    return "";
+  std::string dropped;
+  for (auto it = candidates->begin(); it != candidates->end();) {
+    if (it->interval_s < shortest_s && std::abs(it->interval_s - keep_s) > 1e-9) {
+      char value[32];
+      std::snprintf(value, sizeof(value), "%s%.2f", dropped.empty() ? "" : ", ", it->interval_s);
+      dropped += value;
+      it = candidates->erase(it);
+    } else {
+      ++it;
+    }
+  }
+  if (dropped.empty())
+    return "";
+  char text[200];
+  std::snprintf(text, sizeof(text),
+                "; left out T = %s s: shorter than %.0f encoder spacings (readings every %.3g s)",
+                dropped.c_str(), kMinSpacingsPerCandidate, spacing.median_s());
+  return text;
+}
+
 /// Cross-validates the candidates. The time offset belongs to the robot, not to T: found once
 /// on the evaluation pairs, then every candidate is cut at it, so the comparison is of intervals
 /// only. The chosen interval's pairs are returned as collected (the job re-cuts them).
@@ -64,6 +101,8 @@ void chooseInterval(const SessionFitRequest& request, bool with_offset, SessionF
 {
   const std::vector<IntervalPairs> collected = allCandidates(request);
   std::vector<IntervalPairs> candidates = collected;
+  const std::string left_out = dropCandidatesBelowEncoderRate(
+      request.encoder_history, request.config.collector.keyframe_interval_s, &candidates);
   std::vector<MotionPair> evaluation = pairsEndingBy(request.pairs, request.fit_until_stamp_s);
   if (with_offset) {
     CalibrationJobOptions offset_only;
@@ -85,6 +124,12 @@ void chooseInterval(const SessionFitRequest& request, bool with_offset, SessionF
   }
   fit->interval_text =
       formatFitIntervalChoice(*fit->choice, request.config.collector.keyframe_interval_s);
+  if (!left_out.empty()) {
+    const bool newline = !fit->interval_text.empty() && fit->interval_text.back() == '\n';
+    if (newline)
+      fit->interval_text.pop_back();
+    fit->interval_text += left_out + (newline ? "\n" : "");
+  }
 }
 
 }  // namespace

@@ -63,7 +63,7 @@ TEST(CandidateCollectors, PairsAtEachIntervalFromOneStream)
   feeder.main = &main;
   feeder.candidates = &candidates;
   sim::simulate(scenario, world, *robot, feeder);
-  main.flush();
+  feeder.take(main.flush());
   candidates.flush();
 
   const std::vector<IntervalPairs> pairs = candidates.pairs();

@@ -140,6 +140,29 @@ TEST(EncoderGlitchFilter, WrapAroundIsNotAGlitch)
   EXPECT_FALSE(filter.filter(0.01, reading(50.0)).glitch);
 }
 
+TEST(EncoderGlitchFilter, AnUndescribedCounterWrapIsNamed)
+{
+  // The same wheel without its counter size: a reading just across the 32-bit wrap (100 ticks
+  // back) is a glitch whose step is a whole 2^32 give or take the motion possible in 0.1 s.
+  EncoderGlitchFilter filter({{"wheel", EncoderKind::kIncremental, 0.0, 0.0, 2e4}});
+  const double top = std::ldexp(1.0, 32);
+  EXPECT_FALSE(filter.filter(0.0, Eigen::VectorXd::Constant(1, 50.0)).glitch);
+  const auto wrapped = filter.filter(0.1, Eigen::VectorXd::Constant(1, top - 50.0));
+  ASSERT_TRUE(wrapped.glitch);
+  EXPECT_EQ(wrapped.wrap_bits, 32);
+  // A driver restart to an arbitrary count is no wrap.
+  EncoderGlitchFilter restart({{"wheel", EncoderKind::kIncremental, 0.0, 0.0, 2e4}});
+  EXPECT_FALSE(restart.filter(0.0, Eigen::VectorXd::Constant(1, 50.0)).glitch);
+  const auto jumped = restart.filter(0.1, Eigen::VectorXd::Constant(1, 7e6));
+  ASSERT_TRUE(jumped.glitch);
+  EXPECT_EQ(jumped.wrap_bits, 0);
+  EXPECT_EQ(EncoderGlitchFilter::counterWrapBits(-65536.0 + 900.0, 1000.0), 16);
+  EXPECT_EQ(EncoderGlitchFilter::counterWrapBits(-65536.0 + 1100.0, 1000.0), 0);
+  EXPECT_EQ(EncoderGlitchFilter::counterWrapBits(256.0, 1000.0), 0);  // 8 bits: within motion
+  EXPECT_EQ(EncoderGlitchFilter::counterWrapBits(1e308, 1000.0), 0);
+  EXPECT_EQ(EncoderGlitchFilter::counterWrapBits(std::nan(""), 1000.0), 0);
+}
+
 TEST(EncoderGlitchFilter, TimeGoingBackwardsStartsOver)
 {
   EncoderGlitchFilter filter = makeFilter();

@@ -23,10 +23,17 @@ TEST(EncoderTrack, InterpolatesBetweenSamplesAcrossAWrap)
   t.add(1.0, Eigen::Vector2d(4294967000.0, 100));
   t.add(1.1, Eigen::Vector2d(4294967200.0, 200));
   t.add(1.2, Eigen::Vector2d(104.0, 8092));  // wrapped: +200 ticks; steering -100
-  EXPECT_NEAR(t.at(1.05).values(0), 100.0, 1e-9);
+  constexpr auto kLinear = EncoderInterpolation::kLinear;
+  EXPECT_NEAR(t.at(1.05, kLinear).values(0), 100.0, 1e-9);
+  EXPECT_NEAR(t.at(1.15, kLinear).values(0), 300.0, 1e-6);
+  EXPECT_NEAR(t.at(1.15, kLinear).values(1), 50.0, 1e-6);  // halfway from 200 to -100
+  // The cubic (the default) through the same readings: the wheel at a constant 2000 ticks/s is
+  // the line; halfway p = (v0 + v1) / 2 + h (m0 - m1) / 8 for the steering, with the centred
+  // slope at 1.1 s (-200 over 0.2 s) and the chord at the last reading (-300 over 0.1 s).
+  EXPECT_NEAR(t.at(1.05).values(0), 100.0, 1e-6);
   EXPECT_NEAR(t.at(1.15).values(0), 300.0, 1e-6);
-  EXPECT_NEAR(t.at(1.15).values(1), 50.0, 1e-6);  // halfway from 200 to -100
-  const auto window = t.between(1.05, 1.15);
+  EXPECT_NEAR(t.at(1.15).values(1), 50.0 + 0.1 * (-1000.0 + 3000.0) / 8.0, 1e-6);
+  const auto window = t.between(1.05, 1.15, kLinear);
   ASSERT_EQ(window.size(), 3u);
   EXPECT_NEAR(window.front().stamp_s, 1.05, 1e-12);
   EXPECT_NEAR(window[1].values(0), 200.0, 1e-9);
@@ -50,9 +57,53 @@ TEST(EncoderTrack, NearestReadingInsteadOfInterpolation)
   EXPECT_EQ(window.back().values(0), 300.0);  // the reading at 1.2
   EXPECT_EQ(window.back().values(1), 300.0);
   // Linear for comparison: 30 % and 70 % of the way.
-  const auto linear = t.between(1.03, 1.17);
+  const auto linear = t.between(1.03, 1.17, EncoderInterpolation::kLinear);
   EXPECT_NEAR(linear.front().values(0), 60.0, 1e-9);
   EXPECT_NEAR(linear.back().values(0), 270.0, 1e-9);
+}
+
+EncoderTrack wheelTrack(const std::vector<std::pair<double, double>>& readings)
+{
+  EncoderTrack t({{"wheel", EncoderKind::kIncremental, 0.0, 0.0}}, 10.0);
+  for (const auto& [stamp_s, ticks] : readings)
+    t.add(stamp_s, Eigen::VectorXd::Constant(1, ticks));
+  return t;
+}
+
+TEST(EncoderTrack, CubicFollowsAnAcceleratingWheelBetweenSlowReadings)
+{
+  // A wheel at 1000 t^2 ticks read every 0.25 s: the centred slopes are its exact speeds, and
+  // the cubic through them is the parabola; the chord is 15 ticks off at 0.6 s.
+  std::vector<std::pair<double, double>> readings;
+  for (int k = 0; k <= 4; ++k)
+    readings.emplace_back(0.25 * k, 1000.0 * 0.0625 * k * k);
+  const EncoderTrack t = wheelTrack(readings);
+  EXPECT_NEAR(t.at(0.6).values(0), 360.0, 1e-9);
+  EXPECT_NEAR(t.at(0.6, EncoderInterpolation::kLinear).values(0), 375.0, 1e-9);
+  const auto window = t.between(0.3, 0.6);
+  ASSERT_EQ(window.size(), 3u);
+  EXPECT_NEAR(window.front().values(0), 90.0, 1e-9);
+  EXPECT_NEAR(window.back().values(0) - window.front().values(0), 270.0, 1e-9);
+}
+
+TEST(EncoderTrack, CubicInventsNoMotionAtRestOrAcrossGaps)
+{
+  // The wheel stops at 2 s: between equal readings it stays put (no overshoot), and the
+  // interval before the stop stays between its readings.
+  const EncoderTrack stopping = wheelTrack({{0, 0}, {1, 100}, {2, 200}, {3, 200}, {4, 200}});
+  EXPECT_EQ(stopping.at(2.5).values(0), 200.0);
+  const double before_stop = stopping.at(1.5).values(0);
+  EXPECT_GT(before_stop, 150.0);  // still decelerating from 100 ticks/s
+  EXPECT_LT(before_stop, 200.0);
+  // A reading beyond a gap (more than twice the interval away) does not shape the slope: the
+  // interval's end takes the chord, as does a centred slope beyond three chords (limited).
+  const EncoderTrack gap = wheelTrack({{0.0, 0}, {0.1, 10}, {0.2, 20}, {1.0, 1000}});
+  EXPECT_NEAR(gap.at(0.15).values(0), 15.0, 1e-9);
+  const EncoderTrack jump = wheelTrack({{0.0, 0}, {0.1, 1}, {0.2, 2}, {0.3, 100}});
+  const double slope_limited = jump.at(0.15).values(0);
+  EXPECT_GE(slope_limited, 1.0);
+  EXPECT_LE(slope_limited, 2.0);
+  EXPECT_NEAR(slope_limited, 1.5 + 0.1 * (10.0 - 30.0) / 8.0, 1e-9);
 }
 
 TEST(EncoderTrack, TimeGoingBackwardsRestartsTheTrack)

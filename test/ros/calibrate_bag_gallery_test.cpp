@@ -127,12 +127,12 @@ TEST(CalibrateBagGalleryRefusal, AGapLimitTheEncodersContradictIsRefusedByName)
   fs::remove_all(directory);
 }
 
-// The hobby base's slow encoders (4.5 Hz, +-0.05 s) with its 5.5 Hz sweeping scanner leave a
-// bias the others do not have: over seeds 3-6 the radii come out 0.4-0.8 % long and tau 16-30 ms
-// late (README, "What the defaults assume"); its bounds say so, the others' are the targets.
+// The hobby base's slow encoders (4.5 Hz, +-0.05 s) with its 5.5 Hz sweeping scanner: its sweep
+// is undone with velocities from readings 0.22 s apart, and over seeds 3-6 tau comes out 9-21 ms
+// late (README, "What the defaults assume"); its time bound says so, the rest are the targets.
 INSTANTIATE_TEST_SUITE_P(
     Robots, CalibrateBagGallery,
-    ::testing::Values(GalleryRobot{"hobby", {0.01, 0.005, 0.005, 0.3 * M_PI / 180.0, 0.03}},
+    ::testing::Values(GalleryRobot{"hobby", {0.003, 0.005, 0.005, 0.3 * M_PI / 180.0, 0.015}},
                       GalleryRobot{"fast", {}}, GalleryRobot{"warehouse", {}},
                       GalleryRobot{"late_laser", {}}),
     [](const ::testing::TestParamInfo<GalleryRobot>& info) {

@@ -170,8 +170,22 @@ TEST(NodeReplay, FitsMidRunPublishesCorrectedOdometryAndMatchesTheBagTool)
                               " --output-dir " + bag_output + " " + bag + " > " + output_directory +
                               "/calibrate_bag.log 2>&1";
   ASSERT_EQ(std::system(command.c_str()), 0) << command;
-  const PairsFile node_pairs = readPairsCsv(output_directory + "/pairs.csv");
   const PairsFile bag_pairs = readPairsCsv(bag_output + "/pairs.csv");
+  // The last scans wait for the encoder reading after theirs; the node concludes them, as
+  // calibrate_bag does at the end of its bag, once every input has been silent for
+  // ~silent_topic_timeout_s (5 s).
+  PairsFile node_pairs;
+  waitFor(
+      [&] {
+        try {
+          node_pairs = readPairsCsv(output_directory + "/pairs.csv");
+        } catch (const std::exception&) {
+          return false;  // a row being appended
+        }
+        return node_pairs.pairs.size() >= bag_pairs.pairs.size() &&
+               pairs_seen >= bag_pairs.pairs.size();
+      },
+      15.0);
   ASSERT_EQ(node_pairs.pairs.size(), bag_pairs.pairs.size());
   EXPECT_EQ(node_pairs.pairs.size(), pairs_seen);
   for (std::size_t i = 0; i < bag_pairs.pairs.size(); ++i) {

@@ -66,9 +66,10 @@ protected:
   }
 
   /// Feeds the drive up to `until_s` (its stamps), the clock following the stamps, then ends
-  /// the data (flush()) when `end` is set.
+  /// the data (flush()) when `end` is set; with `joints_every` only every that many-th
+  /// JointState (a slower encoder driver).
   void feed(CalibrationSession& session, double until_s = 1e9, double stamp_shift_s = 0.0,
-            bool end = true)
+            bool end = true, std::size_t joints_every = 1)
   {
     const Recording& drive = officeDrive();
     for (const Recording::Message& message : drive.inOrder()) {
@@ -76,6 +77,8 @@ protected:
         break;
       clock_s_ = message.stamp_s;
       const double stamp_s = message.stamp_s + stamp_shift_s;
+      if (message.joints && message.index % joints_every != 0)
+        continue;
       if (message.joints) {
         const auto& positions = drive.joints[message.index].positions;
         session.addJointPositions(
@@ -394,6 +397,24 @@ TEST_F(Session, ChoosesTheFitIntervalAmongItsCandidates)
   ASSERT_TRUE(outcome.fit->choice);
   EXPECT_EQ(outcome.fit->choice->curve.size(), 2u);
   EXPECT_NE(outcome.message.find("chosen by time-blocked cross-validation"), std::string::npos)
+      << outcome.message;
+}
+
+TEST_F(Session, LeavesOutCandidateIntervalsShorterThanTwoEncoderSpacings)
+{
+  // Every 10th JointState of the 50 Hz drive: readings 0.2 s apart, so a 0.3 s interval holds
+  // at most one reading of its own and is left out of the choice by name; 0.5 and 1.0 s stay.
+  config_.fit_intervals_s = {0.3, 0.5, 1.0};
+  auto session = makeSession();
+  feed(*session, 1e9, 0.0, true, 10);
+  const CalibrateOutcome outcome = session->calibrate({});
+  ASSERT_TRUE(outcome.success) << outcome.message;
+  ASSERT_TRUE(outcome.fit->choice);
+  EXPECT_EQ(outcome.fit->choice->curve.size(), 2u);
+  EXPECT_NE(outcome.fit->fit_interval_s, 0.3);
+  EXPECT_NE(outcome.message.find("left out T = 0.30 s: shorter than 2 encoder spacings "
+                                 "(readings every 0.2 s)"),
+            std::string::npos)
       << outcome.message;
 }
 

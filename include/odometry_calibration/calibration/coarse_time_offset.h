@@ -21,7 +21,7 @@ struct CoarseTimeOffsetOptions
   double min_s = -2.0;   ///< search range start [s]
   double max_s = 2.0;    ///< search range end [s]
   double step_s = 0.02;  ///< grid step [s]
-  EncoderInterpolation interpolation = EncoderInterpolation::kLinear;
+  EncoderInterpolation interpolation = EncoderInterpolation::kCubic;
 };
 
 struct CoarseTimeOffset

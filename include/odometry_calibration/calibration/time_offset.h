@@ -24,7 +24,7 @@ struct TimeOffsetOptions
   double step_s = 0.02;  ///< grid step [s]
   double trim = 0.1;     ///< fraction of the largest errors ignored in the cost [-]
   /// How the windows' end values are taken between encoder readings.
-  EncoderInterpolation interpolation = EncoderInterpolation::kLinear;
+  EncoderInterpolation interpolation = EncoderInterpolation::kCubic;
 };
 
 /// The estimate and the cost curve behind it.
@@ -49,6 +49,6 @@ TimeOffsetResult estimateTimeOffset(const std::vector<MotionPair>& pairs,
 /// cover are left out), end values taken as `interpolation` says.
 std::vector<MotionPair> rewindowPairs(
     const std::vector<MotionPair>& pairs, const std::vector<EncoderSample>& history, double tau_s,
-    EncoderInterpolation interpolation = EncoderInterpolation::kLinear);
+    EncoderInterpolation interpolation = EncoderInterpolation::kCubic);
 
 }  // namespace odometry_calibration

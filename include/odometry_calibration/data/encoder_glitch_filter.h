@@ -57,9 +57,13 @@ public:
   /// What filter() found.
   struct Result
   {
-    bool glitch = false;        ///< the reading is skipped
-    std::size_t channel = 0;    ///< the first channel beyond its limit (if glitch)
-    double increment = 0.0;     ///< that channel's increment [raw units] (if glitch)
+    bool glitch = false;      ///< the reading is skipped
+    std::size_t channel = 0;  ///< the first channel beyond its limit (if glitch)
+    double increment = 0.0;   ///< that channel's increment [raw units] (if glitch)
+    /// The increment is a whole counter turn of 2^bits (16 <= bits <= 52) give or take what the
+    /// channel can turn in the interval: a counter wrapping that no counter_bits describes (0:
+    /// not that, if glitch).
+    int wrap_bits = 0;
     Eigen::VectorXd corrected;  ///< the reading to use, jumps removed (if not a glitch)
     /// The reading ends a run of skipped glitches and is sane against the reading before them:
     /// the counts went on without a jump, nothing was lost in between.
@@ -69,6 +73,10 @@ public:
   /// Checks the reading stamped `stamp_s` [s]. A reading stamped before the last one starts
   /// over (it becomes the anchor). `raw` must hold one finite value per channel.
   Result filter(double stamp_s, const Eigen::VectorXd& raw);
+
+  /// The counter size 2^bits (16 <= bits <= 52) that `increment` [raw units] is a whole turn
+  /// of, give or take `motion` [raw units] (what the channel can turn in the interval), or 0.
+  static int counterWrapBits(double increment, double motion);
 
   /// Forgets the anchor (the next reading is accepted as it is, offsets kept).
   void reset();

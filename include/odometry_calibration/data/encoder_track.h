@@ -1,6 +1,6 @@
 // A short history of decoded encoder samples from a live stream, with interpolation at any
 // instant inside it: keyframes fall between encoder messages, so a pair's encoder samples
-// start and end with values interpolated at the keyframes' times (DESIGN.md, "Time").
+// start and end with values interpolated at the keyframes' times.
 #pragma once
 
 #include <algorithm>
@@ -12,44 +12,17 @@
 #include <Eigen/Core>
 
 #include "odometry_calibration/data/encoder.h"
+#include "odometry_calibration/data/encoder_interpolation.h"
 #include "odometry_calibration/data/motion_pair.h"
 
 namespace odometry_calibration {
-
-/// How a value between two encoder readings is taken.
-enum class EncoderInterpolation
-{
-  kLinear,   ///< linear in time between the readings around it (the default)
-  kNearest,  ///< the reading nearest in time (as pipelines that pair each scan with a reading)
-};
-
-/// Decoded values at `stamp_s`, linearly interpolated in time-ordered `samples` (a vector or a
-/// deque), or with kNearest the values of the nearest sample (stamped `stamp_s`). Requires
-/// samples.front().stamp_s <= stamp_s <= samples.back().stamp_s.
-template <class Samples>
-EncoderSample interpolateEncoderSample(const Samples& samples, double stamp_s,
-                                       EncoderInterpolation mode = EncoderInterpolation::kLinear)
-{
-  const auto after =
-      std::lower_bound(samples.begin(), samples.end(), stamp_s,
-                       [](const EncoderSample& sample, double t) { return sample.stamp_s < t; });
-  if (after->stamp_s == stamp_s || after == samples.begin())
-    return *after;
-  const EncoderSample& before = *std::prev(after);
-  if (mode == EncoderInterpolation::kNearest) {
-    const bool before_nearer = stamp_s - before.stamp_s <= after->stamp_s - stamp_s;
-    return {stamp_s, before_nearer ? before.values : after->values};
-  }
-  const double fraction = (stamp_s - before.stamp_s) / (after->stamp_s - before.stamp_s);
-  return {stamp_s, before.values + fraction * (after->values - before.values)};
-}
 
 /// The samples of [start_s, end_s] from time-ordered `samples`: values interpolated (`mode`) at
 /// both ends and every sample strictly inside. Empty when the samples do not cover the interval.
 template <class Samples>
 std::vector<EncoderSample> cutEncoderWindow(
     const Samples& samples, double start_s, double end_s,
-    EncoderInterpolation mode = EncoderInterpolation::kLinear)
+    EncoderInterpolation mode = EncoderInterpolation::kCubic)
 {
   if (samples.size() < 2 || !(end_s > start_s) || start_s < samples.front().stamp_s ||
       end_s > samples.back().stamp_s) {
@@ -93,20 +66,22 @@ public:
   double firstStamp() const { return samples_.front().stamp_s; }
   double lastStamp() const { return samples_.back().stamp_s; }
 
+  /// How many kept samples are stamped at or after `stamp_s` [s].
+  std::size_t readingsFrom(double stamp_s) const;
+
   /// Whether `stamp_s` lies within the kept samples, with no gap longer than `max_gap_s` [s]
   /// around it.
   bool covers(double stamp_s, double max_gap_s) const;
 
-  /// Decoded values at `stamp_s`, linearly interpolated between the neighbouring samples.
+  /// Decoded values at `stamp_s`, interpolated (`mode`) between the neighbouring samples.
   /// Requires covers(stamp_s, ...) to hold (throws std::out_of_range otherwise).
-  EncoderSample at(double stamp_s) const;
+  EncoderSample at(double stamp_s, EncoderInterpolation mode = EncoderInterpolation::kCubic) const;
 
   /// The samples of [start_s, end_s]: interpolated values (`mode`) at both ends and every
   /// sample strictly inside. Requires both ends to be covered (throws std::out_of_range
   /// otherwise).
   std::vector<EncoderSample> between(
-      double start_s, double end_s,
-      EncoderInterpolation mode = EncoderInterpolation::kLinear) const;
+      double start_s, double end_s, EncoderInterpolation mode = EncoderInterpolation::kCubic) const;
 
   /// The longest time between consecutive samples within [start_s, end_s] [s].
   double largestGap(double start_s, double end_s) const;

@@ -86,7 +86,7 @@ struct CollectorOptions
   /// the keyframe match's covariance and is dropped when a consecutive match failed).
   bool pair_motion_from_chain = false;
   /// How the encoder values at the keyframes' times (+ time_offset_s) are taken between readings.
-  EncoderInterpolation encoder_interpolation = EncoderInterpolation::kLinear;
+  EncoderInterpolation encoder_interpolation = EncoderInterpolation::kCubic;
   /// The scan matcher of both kinds of matches; empty: matchScans (scan/plicp.h). For
   /// comparisons with other implementations (match_queue.h).
   ScanMatcher matcher;
@@ -118,6 +118,9 @@ constexpr double kEncoderGapPerSpacing = 2.5;
 /// The encoder gap limit the data supports for readings `median_spacing_s` apart (NaN: not
 /// measured yet): max(kMinEncoderGapS, kEncoderGapPerSpacing x the spacing) [s].
 double derivedEncoderGap_s(double median_spacing_s);
+
+/// `seconds` rounded up to the next 0.05 s: a value to suggest for a key in a message [s].
+double roundedUpForAdvice_s(double seconds);
 
 /// Throws std::invalid_argument naming the first invalid option.
 void validate(const CollectorOptions& options);
@@ -171,6 +174,9 @@ struct CollectorStatistics
   std::size_t encoder_spacings = 0;
   double max_encoder_gap_s = 0.0;
   std::map<std::string, std::size_t> glitches;  ///< joint -> readings skipped as encoder glitches
+  /// joint -> the counter size 2^bits its glitches' steps were whole turns of (a wrap that no
+  /// joints[].counter_bits describes; EncoderGlitchFilter::counterWrapBits)
+  std::map<std::string, int> glitch_wrap_bits;
   /// Scale check of the scan matcher (check_consistency): over the pairs that passed it, the
   /// summed length of the chained consecutive matches [m] and the summed keyframe matches
   /// projected on the chain's direction [m] (chains under 1 cm left out). An unbiased matcher
