@@ -111,6 +111,24 @@ int EncoderGlitchFilter::counterWrapBits(double increment, double motion)
   return std::abs(size - std::ldexp(1.0, bits)) <= motion ? bits : 0;
 }
 
+EncoderGlitchFilter::Result EncoderGlitchFilter::skip(double stamp_s, const Eigen::VectorXd& raw,
+                                                      std::size_t channel, double increment,
+                                                      double dt_s)
+{
+  Result result;
+  result.glitch = true;
+  result.channel = channel;
+  result.increment = increment;
+  const EncoderChannelOptions& options = channels_[channel];
+  if (options.kind == EncoderKind::kIncremental && options.wrap_period <= 0.0) {
+    result.wrap_bits =
+        counterWrapBits(increment, options.max_rate_per_s * std::max(dt_s, kMinInterval_s));
+  }
+  glitch_stamp_s_ = stamp_s;
+  glitch_raw_ = raw;
+  return result;
+}
+
 EncoderGlitchFilter::Result EncoderGlitchFilter::filter(double stamp_s, const Eigen::VectorXd& raw)
 {
   Result result;
@@ -137,17 +155,7 @@ EncoderGlitchFilter::Result EncoderGlitchFilter::filter(double stamp_s, const Ei
       }
       jumped = true;
     } else {
-      result.glitch = true;
-      result.channel = channel;
-      result.increment = increment;
-      if (channels_[channel].kind == EncoderKind::kIncremental &&
-          channels_[channel].wrap_period <= 0.0) {
-        result.wrap_bits = counterWrapBits(
-            increment, channels_[channel].max_rate_per_s * std::max(dt_s, kMinInterval_s));
-      }
-      glitch_stamp_s_ = stamp_s;
-      glitch_raw_ = raw;
-      return result;
+      return skip(stamp_s, raw, channel, increment, dt_s);
     }
   }
   // The step just accepted, for the next reading's steadiness (none across a jump or a restart;

@@ -82,6 +82,10 @@ public:
   void reset();
 
 private:
+  /// The reading is a glitch on `channel` (its `increment` over `dt_s` [s]): remembered as the
+  /// last reading, skipped.
+  Result skip(double stamp_s, const Eigen::VectorXd& raw, std::size_t channel, double increment,
+              double dt_s);
   bool sane(const Eigen::VectorXd& from, const Eigen::VectorXd& to, double dt_s,
             std::size_t* channel, double* increment) const;
   /// Whether the step from the anchor to `to` is steady (see the class comment); true while
