@@ -93,6 +93,7 @@ JointCalibrationSession::JointCalibrationSession(
     : config_(config),
       config_text_(config_text),
       config_source_(config_source),
+      wheel_signals_(std::make_unique<WheelSignals>(config)),
       options_(options),
       sources_(egoMotionSources(config)),
       fit_jointly_(std::move(fit_jointly))
@@ -141,6 +142,41 @@ void JointCalibrationSession::skipJointState(const std::string& problem,
 {
   for (const auto& session : sessions_)
     session->skipJointState(problem, publisher);
+}
+
+void JointCalibrationSession::feedWheelOutput(const WheelSignalOutput& output,
+                                              const std::string& publisher)
+{
+  for (const EncoderSample& sample : output.samples)
+    addJointPositions(sample.stamp_s, sample.values, publisher);
+  if (!output.problem.empty())
+    skipJointState(output.problem, publisher);
+}
+
+void JointCalibrationSession::addWheelTick(std::size_t wheel, double stamp_s, double raw,
+                                           const std::string& publisher)
+{
+  WheelSignalOutput output;
+  std::string joint_publisher;
+  {
+    std::lock_guard<std::mutex> lock(wheel_mutex_);
+    if (wheel == 0)
+      wheel_publisher_ = publisher;
+    output = wheel_signals_->addTick(wheel, stamp_s, raw);
+    joint_publisher = wheel_publisher_;
+  }
+  feedWheelOutput(output, joint_publisher);
+}
+
+void JointCalibrationSession::addJointVelocities(double stamp_s, const Eigen::VectorXd& velocity,
+                                                 const std::string& publisher)
+{
+  WheelSignalOutput output;
+  {
+    std::lock_guard<std::mutex> lock(wheel_mutex_);
+    output = wheel_signals_->addVelocities(stamp_s, velocity);
+  }
+  feedWheelOutput(output, publisher);
 }
 
 void JointCalibrationSession::flush()
