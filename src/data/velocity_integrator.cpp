@@ -33,7 +33,13 @@ Eigen::VectorXd VelocityIntegrator::add(double stamp_s, const Eigen::VectorXd& v
     return position_;
   const double dt = stamp_s - previous_stamp_s_;
   if (has_previous_ && dt > 0.0 && dt <= max_gap_s_) {
-    position_ += 0.5 * (previous_velocity_ + velocity) * dt;
+    const Eigen::VectorXd position = position_ + 0.5 * (previous_velocity_ + velocity) * dt;
+    if (!position.allFinite()) {
+      throw std::invalid_argument(
+          "joint velocities of up to " + std::to_string(velocity.cwiseAbs().maxCoeff()) +
+          " units/s integrate to positions beyond a double's range: not a wheel's speed");
+    }
+    position_ = position;
   } else if (has_previous_ && note) {
     *note = dt < 0.0 ? "the joint velocities' time went back by " + std::to_string(-dt) +
                            " s (a looped bag, a clock reset): integration restarted"

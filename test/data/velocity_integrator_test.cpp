@@ -71,6 +71,10 @@ TEST(VelocityIntegrator, BadInputIsRefused)
   EXPECT_THROW(integrator.add(0.0, both(std::nan(""), 1)), std::invalid_argument);
   EXPECT_THROW(integrator.add(0.0, both(1e308, 1e308 * 10)), std::invalid_argument);
   EXPECT_THROW(VelocityIntegrator(2, 0.0, "wheels.max_gap_s"), std::invalid_argument);
+  // Finite velocities whose integral is not: refused, the positions kept.
+  integrator.add(1.0, both(1e308, 1e308));
+  EXPECT_THROW(integrator.add(1.1, both(1e308, 1e308)), std::invalid_argument);
+  EXPECT_TRUE(integrator.add(1.2, both(1, 1)).allFinite());
 }
 
 }  // namespace
