@@ -457,11 +457,11 @@ std::vector<EncoderChannelOptions> encoderChannels(const CalibrationConfig& conf
   std::vector<EncoderChannelOptions> channels;
   for (const JointConfig& joint : config.joints) {
     const bool incremental = joint.kind == EncoderKind::kIncremental;
-    const bool wraps = incremental && joint.counter_bits > 0 &&
-                       config.wheels.source == WheelSource::kJointState;
-    channels.push_back(
-        {joint.name, joint.kind, wraps ? std::ldexp(1.0, joint.counter_bits) : 0.0,
-         incremental ? 0.0 : joint.units_per_turn, joint.max_turns_per_s * joint.units_per_turn});
+    const bool wraps =
+        incremental && joint.counter_bits > 0 && config.wheels.source == WheelSource::kJointState;
+    channels.push_back({joint.name, joint.kind, wraps ? std::ldexp(1.0, joint.counter_bits) : 0.0,
+                        incremental ? 0.0 : joint.units_per_turn,
+                        joint.max_turns_per_s * joint.units_per_turn});
   }
   return channels;
 }

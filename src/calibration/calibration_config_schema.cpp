@@ -449,8 +449,9 @@ const std::vector<ConfigSchemaEntry<CalibrationConfig>>& calibrationConfigSchema
 {
   static const std::vector<Entry> entries = [] {
     std::vector<Entry> all;
-    for (auto section : {topLevelEntries, wheelEntries, egoMotionEntries, cloudScanEntries, cloudFilterEntries,
-                         keyframeEntries, keyframeListEntries, scanMatchingEntries})
+    for (auto section :
+         {topLevelEntries, wheelEntries, egoMotionEntries, cloudScanEntries, cloudFilterEntries,
+          keyframeEntries, keyframeListEntries, scanMatchingEntries})
       appendEntries(all, section());
     appendEntries(all, modelConfigSchema());
     return all;

@@ -43,13 +43,11 @@ void TickUnwrapper::checkAliasing(double step, double spacing_s)
   const double predicted = rate_per_s_ * spacing_s;
   if (std::abs(step - predicted) <= 0.5 * period_)
     return;
-  refused_ = "wheel " + wheel_ + ": the counter of " + key_ + " " +
-             std::to_string(counter_bits_) + " (" + number(period_) +
-             " ticks) aliases: at the previous speed (" + number(rate_per_s_) +
-             " ticks/s) it turned " + number(predicted) + " ticks in the " +
+  refused_ = "wheel " + wheel_ + ": the counter of " + key_ + " " + std::to_string(counter_bits_) +
+             " (" + number(period_) + " ticks) aliases: at the previous speed (" +
+             number(rate_per_s_) + " ticks/s) it turned " + number(predicted) + " ticks in the " +
              number(spacing_s) + " s since the last message, the reading says " + number(step) +
-             " (more than half a counter turn, " + number(0.5 * period_) +
-             ", apart); set " + key_ +
+             " (more than half a counter turn, " + number(0.5 * period_) + ", apart); set " + key_ +
              " to the counter's real width or publish the ticks faster";
   throw std::invalid_argument(refused_);
 }
@@ -60,8 +58,8 @@ double TickUnwrapper::unwrap(double stamp_s, double raw)
     throw std::invalid_argument("refused since an earlier reading: " + refused_);
   if (!std::isfinite(raw) || !std::isfinite(stamp_s))
     throw std::invalid_argument("wheel " + wheel_ + ": a tick reading that is not finite");
-  const bool fits = period_ > 0.0 ? raw >= -0.5 * period_ && raw < period_
-                                  : std::abs(raw) < kExactTicks;
+  const bool fits =
+      period_ > 0.0 ? raw >= -0.5 * period_ && raw < period_ : std::abs(raw) < kExactTicks;
   if (!fits) {
     throw std::invalid_argument(
         "wheel " + wheel_ + ": reading " + number(raw) + " does not fit " + key_ + " " +

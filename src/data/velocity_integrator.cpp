@@ -43,8 +43,8 @@ Eigen::VectorXd VelocityIntegrator::add(double stamp_s, const Eigen::VectorXd& v
   } else if (has_previous_ && note) {
     *note = dt < 0.0 ? "the joint velocities' time went back by " + std::to_string(-dt) +
                            " s (a looped bag, a clock reset): integration restarted"
-                     : "no joint velocity for " + std::to_string(dt) + " s (more than " +
-                           gap_key_ + " " + std::to_string(max_gap_s_) +
+                     : "no joint velocity for " + std::to_string(dt) + " s (more than " + gap_key_ +
+                           " " + std::to_string(max_gap_s_) +
                            " s): the motion in between is unknown, integration restarted";
   }
   has_previous_ = true;

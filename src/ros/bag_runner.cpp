@@ -251,10 +251,10 @@ void requireUsableData(const SessionCounts& counts, const CalibrationConfig& con
   // stays refused): most of them refused is a setting to fix, not data to fit around.
   if (config.wheels.source != WheelSource::kJointState &&
       2 * counts.bad_encoder_messages > counts.encoder_messages) {
-    throw std::runtime_error(wheel_input + ": " + std::to_string(counts.bad_encoder_messages) +
-                             " of " + std::to_string(counts.encoder_messages) +
-                             " messages could not be used, first: " +
-                             counts.first_bad_encoder_message);
+    throw std::runtime_error(
+        wheel_input + ": " + std::to_string(counts.bad_encoder_messages) + " of " +
+        std::to_string(counts.encoder_messages) +
+        " messages could not be used, first: " + counts.first_bad_encoder_message);
   }
 }
 

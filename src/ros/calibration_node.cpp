@@ -166,19 +166,17 @@ void CalibrationNode::subscribeWheelTicks(std::size_t wheel)
   // The messages carry no stamp: each is taken at its receive time (the clock's, /clock's when
   // a bag is played with use_sim_time).
   const auto hints = ros::TransportHints().tcpNoDelay();
-  tick_subscribers_.push_back(
-      visitWheelTickType(config_.wheels.message_type, [&](auto message) {
-        using M = decltype(message);
-        return subscribeEvents<M>(
-            handle_, config_.wheels.topics[wheel], 2000,
-            [this, wheel](const ros::MessageEvent<const M>& event) {
-              feedInput(*sessions_,
-                        adapter_->convertWheelTick(static_cast<double>(event.getMessage()->data),
-                                                   wheel, event.getReceiptTime().toSec(),
-                                                   event.getPublisherName()));
-            },
-            hints);
-      }));
+  tick_subscribers_.push_back(visitWheelTickType(config_.wheels.message_type, [&](auto message) {
+    using M = decltype(message);
+    return subscribeEvents<M>(
+        handle_, config_.wheels.topics[wheel], 2000,
+        [this, wheel](const ros::MessageEvent<const M>& event) {
+          feedInput(*sessions_, adapter_->convertWheelTick(
+                                    static_cast<double>(event.getMessage()->data), wheel,
+                                    event.getReceiptTime().toSec(), event.getPublisherName()));
+        },
+        hints);
+  }));
 }
 
 void CalibrationNode::subscribeSource(std::size_t k)

@@ -55,8 +55,7 @@ Eigen::VectorXd namedJointValues(const sensor_msgs::JointState& message,
 {
   if (message.name.size() != values.size()) {
     throw std::invalid_argument("JointState has " + std::to_string(message.name.size()) +
-                                " names but " + std::to_string(values.size()) + " " + what +
-                                "s");
+                                " names but " + std::to_string(values.size()) + " " + what + "s");
   }
   Eigen::VectorXd raw(static_cast<Eigen::Index>(channels.size()));
   for (std::size_t c = 0; c < channels.size(); ++c) {

@@ -20,8 +20,8 @@
 #include "odometry_calibration/common/staged_directory.h"
 #include "odometry_calibration/ros/conversions.h"
 #include "odometry_calibration/ros/rosbag2_sqlite_writer.h"
-#include "odometry_calibration/sim/tricycle_log_sink.h"
 #include "odometry_calibration/ros/wheel_tick_messages.h"
+#include "odometry_calibration/sim/tricycle_log_sink.h"
 #include "odometry_calibration/sim/world.h"
 
 namespace odometry_calibration {

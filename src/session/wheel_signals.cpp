@@ -48,8 +48,8 @@ WheelSignalOutput WheelSignals::addTick(std::size_t wheel, double stamp_s, doubl
 {
   WheelSignalOutput output;
   if (wheel >= unwrappers_.size()) {
-    output.problem = "a tick of wheel " + std::to_string(wheel) + " of " +
-                     std::to_string(unwrappers_.size());
+    output.problem =
+        "a tick of wheel " + std::to_string(wheel) + " of " + std::to_string(unwrappers_.size());
     return output;
   }
   double& last_s = last_stamp_s_[wheel];

@@ -302,11 +302,11 @@ void readLasersYaml(const YAML::Node& root, const std::string& path, std::string
 /// encoders: rate, topic, joints, units, counter width, start and time offset.
 void readEncodersYaml(const YAML::Node& encoders, const std::string& where, EncoderOptions& options)
 {
-  checkYamlKeys(encoders,
-                {"rate_hz", "rate_jitter_s", "topic", "joint_names", "units", "counter_bits",
-                 "initial_ticks", "time_offset_s", "output", "tick_topics", "tick_type",
-                 "tick_stagger_s"},
-                where);
+  checkYamlKeys(
+      encoders,
+      {"rate_hz", "rate_jitter_s", "topic", "joint_names", "units", "counter_bits", "initial_ticks",
+       "time_offset_s", "output", "tick_topics", "tick_type", "tick_stagger_s"},
+      where);
   readYaml(encoders, "rate_hz", &options.rate_hz);
   readYaml(encoders, "rate_jitter_s", &options.rate_jitter_s);
   readYaml(encoders, "topic", &options.topic);

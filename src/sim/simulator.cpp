@@ -4,8 +4,8 @@
 #include <cmath>
 #include <cstdint>
 #include <deque>
-#include <map>
 #include <limits>
+#include <map>
 #include <memory>
 #include <random>
 #include <stdexcept>
@@ -387,8 +387,8 @@ private:
       const std::size_t j = pending_ticks_.begin()->second;
       pending_ticks_.erase(pending_ticks_.begin());
       const Eigen::VectorXd shaft = current_robot_->encoderAngles(joints_);
-      sink_.onWheelTick({t + encoder_time_offset_s_, j,
-                         encoderReading(specs_[j], scenario_.encoders, shaft(j))});
+      sink_.onWheelTick(
+          {t + encoder_time_offset_s_, j, encoderReading(specs_[j], scenario_.encoders, shaft(j))});
     }
   }
 
@@ -562,8 +562,8 @@ private:
   const bool ticks_;                     // encoders.output ticks: each joint on its own topic
   const std::int64_t tick_stagger_ns_;   // joint j read j * this after the instant
   std::multimap<std::int64_t, std::size_t> pending_ticks_;  // due time [ns] -> joint
-  const bool velocities_;                // encoders.output joint_velocity
-  Eigen::VectorXd shaft_rate_;           // over the last integration step [rad/s]
+  const bool velocities_;                                   // encoders.output joint_velocity
+  Eigen::VectorXd shaft_rate_;  // over the last integration step [rad/s]
 };
 
 }  // namespace

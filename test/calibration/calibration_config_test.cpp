@@ -61,8 +61,9 @@ TEST(CalibrationConfig, WheelsSectionChoosesTheWheelInput)
       "joints: [{name: l, units_per_turn: 360, counter_bits: 8}, "
       "{name: r, units_per_turn: 360, counter_bits: 8}]\n";
   const CalibrationConfig ticks = parseCalibrationConfig(
-      joints + "wheels: {source: ticks, topics: [/makeblock/lwheel, /makeblock/rwheel], "
-               "message_type: std_msgs/Int16, max_gap_s: 0.3}\n",
+      joints +
+          "wheels: {source: ticks, topics: [/makeblock/lwheel, /makeblock/rwheel], "
+          "message_type: std_msgs/Int16, max_gap_s: 0.3}\n",
       "w.yaml");
   EXPECT_EQ(ticks.wheels.source, WheelSource::kTicks);
   EXPECT_EQ(ticks.wheels.topics[1], "/makeblock/rwheel");

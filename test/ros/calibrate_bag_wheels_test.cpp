@@ -99,7 +99,8 @@ protected:
       result.text = out.str() + "error: " + error.what();
     }
     if (result.status == 0 || result.status == 4) {
-      const YAML::Node parameters = YAML::LoadFile(options.output_dir + "/result.yaml")["parameters"];
+      const YAML::Node parameters =
+          YAML::LoadFile(options.output_dir + "/result.yaml")["parameters"];
       for (const char* name : kParameters)
         result.parameters[name] = parameters[name]["value"].as<double>();
     }

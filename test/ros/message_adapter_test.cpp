@@ -302,7 +302,8 @@ TEST(MessageAdapterWheels, VelocityOnlyJointStatesAreIntegratedAndPositionsOnlyO
   ASSERT_EQ(input.kind, ConvertedInput::Kind::kJointVelocities) << input.problem;
   EXPECT_EQ(input.raw(0), 100.0);  // the joints' order, no signs yet
   EXPECT_EQ(input.raw(1), -200.0);
-  const ConvertedInput positions = adapter.convert(joints({"left_wheel", "right_wheel"}, {1, 2}), "");
+  const ConvertedInput positions =
+      adapter.convert(joints({"left_wheel", "right_wheel"}, {1, 2}), "");
   EXPECT_EQ(positions.kind, ConvertedInput::Kind::kBadJoints);
   EXPECT_NE(positions.problem.find("set wheels.source joint_state"), std::string::npos)
       << positions.problem;

@@ -1,9 +1,9 @@
 // Fuzz target: the wheels' signals other than JointState positions (session/wheel_signals.h) as
 // bytes, through the tick unwrapping and alignment or the velocity integration into the pair
-// collector (its glitch filter and the diff_drive prior's guesses) of config/diff_drive.yaml. The first byte picks
-// the source (even: ticks, odd: joint velocities) and the counters' width (8, 16 or 0 bits);
-// then records of 11 bytes: the wheel (a byte), the step to the previous stamp (int16, 0.1 ms:
-// negative is time going backwards) and the value (a double's raw bits: NaN, 1e308 and the
+// collector (its glitch filter and the diff_drive prior's guesses) of config/diff_drive.yaml. The
+// first byte picks the source (even: ticks, odd: joint velocities) and the counters' width (8, 16
+// or 0 bits); then records of 11 bytes: the wheel (a byte), the step to the previous stamp (int16,
+// 0.1 ms: negative is time going backwards) and the value (a double's raw bits: NaN, 1e308 and the
 // like included). The joint samples that come out must be finite and never go back in time
 // without a problem said.
 #include <cmath>

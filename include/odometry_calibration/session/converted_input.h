@@ -25,15 +25,15 @@ struct ConvertedInput
 {
   enum class Kind
   {
-    kJoints,         ///< `raw`: the configured joints' positions (encoderChannels order, signs
-                     ///< applied)
-    kBadJoints,      ///< an encoder message that could not be used (`problem` says why)
-    kScan,           ///< `scan` from a laser scan in `frame` (empty: unnamed)
-    kCloudScan,      ///< `scan` from a 3D lidar's cloud in `frame`; `problem` non-empty: the
-                     ///< cloud's per-point times were not used, and why
-    kBadEgoMessage,  ///< an ego-motion message that gave nothing: `message_type`, `problem`
-    kSensorPose,     ///< `pose`: the sensor's pose in the world; `frame` its child frame (or "")
-    kWheelTick,      ///< `raw(0)`: joint `wheel`'s raw tick reading (wheels.source ticks)
+    kJoints,           ///< `raw`: the configured joints' positions (encoderChannels order, signs
+                       ///< applied)
+    kBadJoints,        ///< an encoder message that could not be used (`problem` says why)
+    kScan,             ///< `scan` from a laser scan in `frame` (empty: unnamed)
+    kCloudScan,        ///< `scan` from a 3D lidar's cloud in `frame`; `problem` non-empty: the
+                       ///< cloud's per-point times were not used, and why
+    kBadEgoMessage,    ///< an ego-motion message that gave nothing: `message_type`, `problem`
+    kSensorPose,       ///< `pose`: the sensor's pose in the world; `frame` its child frame (or "")
+    kWheelTick,        ///< `raw(0)`: joint `wheel`'s raw tick reading (wheels.source ticks)
     kJointVelocities,  ///< `raw`: the joints' velocities (encoderChannels order, no signs)
   };
   Kind kind = Kind::kJoints;

@@ -166,11 +166,11 @@ Scenario loadScenarioYaml(const std::string& path, const std::string& worlds_dir
 /// What a command line may change in a scenario file.
 struct ScenarioOverrides
 {
-  double seed = -1.0;        ///< >= 0: replaces the scenario's seed (as an unsigned)
-  double duration_s = -1.0;  ///< > 0: replaces the scenario's duration [s]
-  std::string wheel_output;  ///< non-empty: replaces encoders.output
-  int counter_bits = -1;     ///< >= 0: replaces encoders.counter_bits
-  std::string tick_type;     ///< non-empty: replaces encoders.tick_type
+  double seed = -1.0;            ///< >= 0: replaces the scenario's seed (as an unsigned)
+  double duration_s = -1.0;      ///< > 0: replaces the scenario's duration [s]
+  std::string wheel_output;      ///< non-empty: replaces encoders.output
+  int counter_bits = -1;         ///< >= 0: replaces encoders.counter_bits
+  std::string tick_type;         ///< non-empty: replaces encoders.tick_type
   double tick_stagger_s = -1.0;  ///< >= 0: replaces encoders.tick_stagger_s [s]
 };
 
