@@ -156,27 +156,18 @@ void JointCalibrationSession::feedWheelOutput(const WheelSignalOutput& output,
 void JointCalibrationSession::addWheelTick(std::size_t wheel, double stamp_s, double raw,
                                            const std::string& publisher)
 {
-  WheelSignalOutput output;
-  std::string joint_publisher;
-  {
-    std::lock_guard<std::mutex> lock(wheel_mutex_);
-    if (wheel == 0)
-      wheel_publisher_ = publisher;
-    output = wheel_signals_->addTick(wheel, stamp_s, raw);
-    joint_publisher = wheel_publisher_;
-  }
-  feedWheelOutput(output, joint_publisher);
+  // Held while feeding too: the joint samples reach the sessions in the order they were made.
+  std::lock_guard<std::mutex> lock(wheel_mutex_);
+  if (wheel == 0)
+    wheel_publisher_ = publisher;
+  feedWheelOutput(wheel_signals_->addTick(wheel, stamp_s, raw), wheel_publisher_);
 }
 
 void JointCalibrationSession::addJointVelocities(double stamp_s, const Eigen::VectorXd& velocity,
                                                  const std::string& publisher)
 {
-  WheelSignalOutput output;
-  {
-    std::lock_guard<std::mutex> lock(wheel_mutex_);
-    output = wheel_signals_->addVelocities(stamp_s, velocity);
-  }
-  feedWheelOutput(output, publisher);
+  std::lock_guard<std::mutex> lock(wheel_mutex_);
+  feedWheelOutput(wheel_signals_->addVelocities(stamp_s, velocity), publisher);
 }
 
 void JointCalibrationSession::flush()

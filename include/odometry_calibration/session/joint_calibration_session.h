@@ -149,7 +149,7 @@ private:
   CalibrationConfig config_;
   std::string config_text_, config_source_;
   std::unique_ptr<WheelSignals> wheel_signals_;
-  std::mutex wheel_mutex_;       ///< guards wheel_signals_ (the node's callbacks may overlap)
+  std::mutex wheel_mutex_;       ///< guards wheel_signals_ and the order its samples are fed in
   std::string wheel_publisher_;  ///< the first joint's topic's publisher (ticks)
   SessionOptions options_;
   std::vector<EgoMotionSourceConfig> sources_;
