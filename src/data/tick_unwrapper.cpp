@@ -33,21 +33,20 @@ TickUnwrapper::TickUnwrapper(int counter_bits, std::string key, std::string whee
 void TickUnwrapper::restart()
 {
   has_previous_ = false;
-  has_rate_ = false;
+  has_step_ = false;
 }
 
 void TickUnwrapper::checkAliasing(double step, double spacing_s)
 {
-  if (period_ <= 0.0 || !has_rate_)
+  if (period_ <= 0.0 || !has_step_)
     return;
-  const double predicted = rate_per_s_ * spacing_s;
-  if (std::abs(step - predicted) <= 0.5 * period_)
+  if (std::abs(step - previous_step_) <= 0.5 * period_)
     return;
   refused_ = "wheel " + wheel_ + ": the counter of " + key_ + " " + std::to_string(counter_bits_) +
-             " (" + number(period_) + " ticks) aliases: at the previous speed (" +
-             number(rate_per_s_) + " ticks/s) it turned " + number(predicted) + " ticks in the " +
-             number(spacing_s) + " s since the last message, the reading says " + number(step) +
-             " (more than half a counter turn, " + number(0.5 * period_) + ", apart); set " + key_ +
+             " (" + number(period_) + " ticks) aliases: the previous message's step was " +
+             number(previous_step_) + " ticks, this one (" + number(spacing_s) +
+             " s later) reads " + number(step) + " (more than half a counter turn, " +
+             number(0.5 * period_) + ", apart); set " + key_ +
              " to the counter's real width or publish the ticks faster";
   throw std::invalid_argument(refused_);
 }
@@ -77,10 +76,8 @@ double TickUnwrapper::unwrap(double stamp_s, double raw)
   const double spacing_s = stamp_s - previous_stamp_s_;
   const double step = wrappedDifference(previous_raw_, raw, period_);
   checkAliasing(step, spacing_s);
-  if (spacing_s > 0.0) {
-    rate_per_s_ = step / spacing_s;
-    has_rate_ = true;
-  }
+  previous_step_ = step;
+  has_step_ = true;
   cumulative_ += step;
   previous_raw_ = raw;
   previous_stamp_s_ = stamp_s;

@@ -64,12 +64,22 @@ TEST(TickUnwrapper, AliasingIsRefusedNamingTheKeyTheMeasuredStepAndTheFix)
   EXPECT_NE(text.find("aliases"), std::string::npos) << text;
   EXPECT_NE(text.find("joints[0].counter_bits 8 (256 ticks)"), std::string::npos) << text;
   EXPECT_NE(text.find("'left' on '/lwheel'"), std::string::npos) << text;
-  EXPECT_NE(text.find("turned 100 ticks"), std::string::npos) << text;  // the prediction
-  EXPECT_NE(text.find("says -126"), std::string::npos) << text;         // the aliased step
+  EXPECT_NE(text.find("the previous message's step was 100 ticks"), std::string::npos) << text;
+  EXPECT_NE(text.find("reads -126"), std::string::npos) << text;  // the aliased step
   EXPECT_NE(text.find("publish the ticks faster"), std::string::npos) << text;
   // The wheel stays refused: a count that skipped a wrap would be wrong in every later pair.
   const std::string later = refusal([&] { unwrapper.unwrap(0.12, 50.0); });
   EXPECT_NE(later.find("refused since an earlier reading"), std::string::npos) << later;
+}
+
+TEST(TickUnwrapper, BunchedAndStalledReceiveTimesAreNotAliasing)
+{
+  // 100 ticks per message on an 8-bit counter, the messages received in bursts: 1 ms apart, then
+  // a 0.3 s stall (a speed of 100 ticks / 1 ms would predict 30000 ticks across it).
+  TickUnwrapper unwrapper(8, "joints[0].counter_bits", "'left'");
+  const double stamps[] = {0.0, 0.001, 0.002, 0.302, 0.303, 0.304};
+  for (int k = 0; k < 6; ++k)
+    EXPECT_EQ(unwrapper.unwrap(stamps[k], (100 * k) % 256), 100.0 * k) << k;
 }
 
 TEST(TickUnwrapper, AStopAndReverseIsNotAliasing)

@@ -3,13 +3,14 @@
 // P = 2^counter_bits ticks; each step is taken modulo P into [-P/2, P/2) (encoder.h's
 // wrappedDifference), which is only right while the wheel turns less than half a counter turn
 // between two messages. A faster wheel aliases: a step of +P/2 + e reads as -P/2 + e, a reversal
-// that never happened. The unwrapper predicts each step from the previous step's rate,
-// predicted_k = (c_{k-1} - c_{k-2}) * (t_k - t_{k-1}) / (t_{k-1} - t_{k-2}),
-// and refuses the reading when the wrapped step lies more than P/2 from that prediction: the
-// counter then turned more than half its period since the last message (or the speed changed
-// by as much), and no choice of wrap count can be trusted. After a refusal the wheel stays
-// refused (every later reading names the first cause): a count that skipped a wrap would be a
-// wrong number in every later pair.
+// that never happened. The unwrapper predicts each step by the previous one (a driver publishes
+// at its own rate; the times the messages carry here, receive or record times, bunch and stall
+// with the transport, so the prediction does not scale with them) and refuses a reading whose
+// wrapped step lies more than P/2 from it, |s_k - s_{k-1}| > P/2: the counter then turned more
+// than half its period since the last message, or its step changed by as much, and no choice of
+// wrap count can be trusted. (A message lost in transport is a step as large as two: caught when
+// it breaks the same limit.) After a refusal the wheel stays refused (every later reading names
+// the first cause): a count that skipped a wrap would be a wrong number in every later pair.
 #pragma once
 
 #include <cstdint>
@@ -40,7 +41,8 @@ public:
   double period() const { return period_; }
 
 private:
-  /// The aliasing check of a wrapped `step` taken over `spacing_s`; throws when it aliases.
+  /// The aliasing check of a wrapped `step`, `spacing_s` after the previous message (for the
+  /// message); throws when it aliases.
   void checkAliasing(double step, double spacing_s);
 
   double period_ = 0.0;
@@ -48,9 +50,9 @@ private:
   std::string key_, wheel_;
   bool has_previous_ = false;
   double previous_raw_ = 0.0, previous_stamp_s_ = 0.0, cumulative_ = 0.0;
-  bool has_rate_ = false;
-  double rate_per_s_ = 0.0;  ///< the previous step's rate [ticks/s]
-  std::string refused_;      ///< the aliasing that stopped the wheel ("" while it counts)
+  bool has_step_ = false;
+  double previous_step_ = 0.0;  ///< the previous message's step [ticks]
+  std::string refused_;         ///< the aliasing that stopped the wheel ("" while it counts)
 };
 
 }  // namespace odometry_calibration
