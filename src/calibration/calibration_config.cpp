@@ -383,6 +383,7 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
     resolveTricycle(c, given);
     resolveMecanum(c, given);
     resolveSkidSteer(c, given);
+    validateWheelInput(c);
     c.models.joints = jointLayout(c);
     return c;
   } catch (const std::runtime_error& error) {  // also YAML::Exception
@@ -456,10 +457,11 @@ std::vector<EncoderChannelOptions> encoderChannels(const CalibrationConfig& conf
   std::vector<EncoderChannelOptions> channels;
   for (const JointConfig& joint : config.joints) {
     const bool incremental = joint.kind == EncoderKind::kIncremental;
-    channels.push_back(
-        {joint.name, joint.kind,
-         incremental && joint.counter_bits > 0 ? std::ldexp(1.0, joint.counter_bits) : 0.0,
-         incremental ? 0.0 : joint.units_per_turn, joint.max_turns_per_s * joint.units_per_turn});
+    const bool wraps =
+        incremental && joint.counter_bits > 0 && config.wheels.source == WheelSource::kJointState;
+    channels.push_back({joint.name, joint.kind, wraps ? std::ldexp(1.0, joint.counter_bits) : 0.0,
+                        incremental ? 0.0 : joint.units_per_turn,
+                        joint.max_turns_per_s * joint.units_per_turn});
   }
   return channels;
 }

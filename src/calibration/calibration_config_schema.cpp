@@ -154,6 +154,51 @@ std::vector<Entry> topLevelEntries()
   };
 }
 
+/// The wheel sources' names, in WheelSource's order.
+const char* wheelSourceName(WheelSource source)
+{
+  const char* names[] = {"joint_state", "ticks", "joint_velocity"};
+  return names[static_cast<int>(source)];
+}
+
+std::vector<Entry> wheelEntries()
+{
+  ConfigKeySpec topics =
+      configKeySpec("wheels.topics", ConfigType::kStringList, "",
+                    "ticks: one std_msgs topic per joint, in the joints' order (the messages carry "
+                    "no stamp: the receive time live, the record time in a bag)");
+  topics.max_size = 16;
+  topics.default_value = std::vector<std::string>{};
+  return {
+      choice<CalibrationConfig>(
+          "wheels.source", "joint_state", {"joint_state", "ticks", "joint_velocity"},
+          "joint_state (JointState positions), ticks (a counter topic per joint) or "
+          "joint_velocity (JointState velocities only, integrated by the trapezoid rule)",
+          [](CalibrationConfig& c, const std::string& v) {
+            c.wheels.source = v == "ticks"            ? WheelSource::kTicks
+                              : v == "joint_velocity" ? WheelSource::kJointVelocity
+                                                      : WheelSource::kJointState;
+          },
+          [](const CalibrationConfig& c) { return wheelSourceName(c.wheels.source); }),
+      Entry{topics,
+            [](CalibrationConfig& c, const ConfigValue& v) {
+              c.wheels.topics = std::get<std::vector<std::string>>(v);
+            },
+            [](const CalibrationConfig& c) { return ConfigValue(c.wheels.topics); }},
+      choice<CalibrationConfig>(
+          "wheels.message_type", "std_msgs/Int32", wheelTickMessageTypes(),
+          "ticks: the topics' type; joints[].counter_bits gives the counter's width within it "
+          "(8 for an 8-bit counter carried in an Int16)",
+          [](CalibrationConfig& c, const std::string& v) { c.wheels.message_type = v; },
+          [](const CalibrationConfig& c) { return c.wheels.message_type; }),
+      number<CalibrationConfig>("wheels.max_gap_s", 0.5, "s", rangeClosed(0.01, 60.0),
+                                "ticks: an instant whose other wheel's samples lie further apart "
+                                "is dropped; joint_velocity: a longer silence restarts the "
+                                "integration",
+                                AT(wheels.max_gap_s)),
+  };
+}
+
 std::vector<Entry> egoMotionEntries()
 {
   return {
@@ -404,8 +449,9 @@ const std::vector<ConfigSchemaEntry<CalibrationConfig>>& calibrationConfigSchema
 {
   static const std::vector<Entry> entries = [] {
     std::vector<Entry> all;
-    for (auto section : {topLevelEntries, egoMotionEntries, cloudScanEntries, cloudFilterEntries,
-                         keyframeEntries, keyframeListEntries, scanMatchingEntries})
+    for (auto section :
+         {topLevelEntries, wheelEntries, egoMotionEntries, cloudScanEntries, cloudFilterEntries,
+          keyframeEntries, keyframeListEntries, scanMatchingEntries})
       appendEntries(all, section());
     appendEntries(all, modelConfigSchema());
     return all;

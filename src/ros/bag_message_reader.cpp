@@ -71,23 +71,34 @@ struct ReadTimers
   }
 };
 
-/// What the messages on one of the read topics are: the joint states, or source `source`'s
-/// ego-motion messages of `type`.
+/// What the messages on one of the read topics are: the joint states, joint `wheel`'s ticks of
+/// std_msgs type `tick_type` (non-empty), or source `source`'s ego-motion messages of `type`.
 struct Route
 {
   std::string topic;
   bool joints = false;
   std::size_t source = 0;
   EgoMotionSource type = EgoMotionSource::kScan;
+  std::string tick_type;
+  std::size_t wheel = 0;
 };
 
-/// The joint states' route, then each ego-motion source's.
+/// The wheels' routes (the joint states, or each joint's tick topic), then each ego-motion
+/// source's.
 std::vector<Route> routes(const CalibrationConfig& config)
 {
-  std::vector<Route> result = {{config.joint_state_topic, true, 0, EgoMotionSource::kScan}};
+  std::vector<Route> result;
+  if (config.wheels.source == WheelSource::kTicks) {
+    for (std::size_t j = 0; j < config.wheels.topics.size(); ++j) {
+      result.push_back({config.wheels.topics[j], true, 0, EgoMotionSource::kScan,
+                        config.wheels.message_type, j});
+    }
+  } else {
+    result.push_back({config.joint_state_topic, true, 0, EgoMotionSource::kScan, "", 0});
+  }
   const std::vector<EgoMotionSourceConfig> sources = egoMotionSources(config);
   for (std::size_t k = 0; k < sources.size(); ++k)
-    result.push_back({sources[k].topic, false, k, sources[k].type});
+    result.push_back({sources[k].topic, false, k, sources[k].type, "", 0});
   return result;
 }
 
@@ -126,11 +137,28 @@ bool readAs(RecordedMessages& messages, const MessageAdapter& adapter, std::size
   return true;
 }
 
+/// The current message as a wheel tick of `route` (its record time as its time: the message has
+/// no stamp), converted into `input`; false when it is of another type.
+bool readWheelTick(RecordedMessages& messages, const MessageAdapter& adapter, const Route& route,
+                   ReadTimers& timers, ConvertedInput& input)
+{
+  double value = 0.0;
+  if (!messages.readWheelTick(route.tick_type, value))
+    return false;
+  const auto converted = timers.endReading();
+  input =
+      adapter.convertWheelTick(value, route.wheel, messages.recordTime_s(), messages.publisher());
+  timers.endConverting(converted);
+  return true;
+}
+
 /// The current message, on `route`'s topic, converted into `input`; false when it is not of
 /// the topic's type (a pose source takes Odometry and PoseStamped alike).
 bool readCurrent(RecordedMessages& messages, const MessageAdapter& adapter, const Route& route,
                  MessageBuffers& buffers, ReadTimers& timers, ConvertedInput& input)
 {
+  if (!route.tick_type.empty())
+    return readWheelTick(messages, adapter, route, timers, input);
   if (route.joints)
     return readAs(messages, adapter, 0, buffers.joints, timers, input);
   switch (route.type) {
@@ -282,7 +310,11 @@ void BagMessageReader::read(RecordedMessages& messages, const CalibrationConfig&
 
 std::vector<std::string> readTopics(const CalibrationConfig& config)
 {
-  std::vector<std::string> topics = {config.joint_state_topic};
+  std::vector<std::string> topics;
+  if (config.wheels.source == WheelSource::kTicks)
+    topics = config.wheels.topics;
+  else
+    topics.push_back(config.joint_state_topic);
   for (const EgoMotionSourceConfig& source : egoMotionSources(config))
     topics.push_back(source.topic);
   return topics;

@@ -225,16 +225,19 @@ void requireUsableData(const SessionCounts& counts, const CalibrationConfig& con
 {
   const std::string ego_topic = egoMotionSources(config).front().topic;
   const std::string ego_type = egoMessageType(config.ego_motion);
-  requireChosenPublisher("joint_state_publisher", config.joint_state_publisher,
-                         "JointState on '" + config.joint_state_topic + "'",
+  const std::string wheel_input = wheelInputName(config.wheels, config.joint_state_topic);
+  requireChosenPublisher("joint_state_publisher", config.joint_state_publisher, wheel_input,
                          counts.encoder_publisher, counts.ignored_encoder_messages,
                          counts.ignored_encoder_publisher);
   requireChosenPublisher(config.ego_motion_publisher_key, config.ego_motion_publisher,
                          ego_type + " on '" + ego_topic + "'", counts.ego_publisher,
                          counts.ignored_ego_messages, counts.ignored_ego_publisher);
   if (counts.encoder_messages == 0) {
-    throw std::runtime_error("no sensor_msgs/JointState on '" + config.joint_state_topic +
-                             "' in the bags");
+    throw std::runtime_error(
+        "no " + wheel_input + " in the bags" +
+        (config.wheels.source == WheelSource::kTicks
+             ? " (or no instant where every wheel's topic had a sample around it)"
+             : ""));
   }
   if (counts.ego_messages == 0)
     throw std::runtime_error("no ego-motion message (" + ego_topic + ") in the bags");
@@ -243,7 +246,16 @@ void requireUsableData(const SessionCounts& counts, const CalibrationConfig& con
                              "': all were skipped, first: " + counts.first_bad_ego_message);
   }
   if (counts.bad_encoder_messages == counts.encoder_messages)
-    throw std::runtime_error("no usable JointState: " + counts.first_bad_encoder_message);
+    throw std::runtime_error("no usable " + wheel_input + ": " + counts.first_bad_encoder_message);
+  // Ticks and velocities are made positions from a wheel's whole history (a refused counter
+  // stays refused): most of them refused is a setting to fix, not data to fit around.
+  if (config.wheels.source != WheelSource::kJointState &&
+      2 * counts.bad_encoder_messages > counts.encoder_messages) {
+    throw std::runtime_error(
+        wheel_input + ": " + std::to_string(counts.bad_encoder_messages) + " of " +
+        std::to_string(counts.encoder_messages) +
+        " messages could not be used, first: " + counts.first_bad_encoder_message);
+  }
 }
 
 BagRunResult runBagsUnchecked(const std::vector<std::string>& bag_paths,

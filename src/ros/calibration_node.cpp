@@ -11,6 +11,7 @@
 
 #include "odometry_calibration/common/text_file.h"
 #include "odometry_calibration/ros/report_messages.h"
+#include "odometry_calibration/ros/wheel_tick_messages.h"
 #include "odometry_calibration/session/converted_input.h"
 
 namespace odometry_calibration {
@@ -55,8 +56,10 @@ CalibrationNode::CalibrationNode(ros::NodeHandle handle, ros::NodeHandle private
   session.base_frame = options_.base_frame;
   session.default_sensor_frame = options_.sensor_frame.empty() ? "laser" : options_.sensor_frame;
   const bool scan = config_.ego_motion == EgoMotionSource::kScan;
-  session.topics = {handle_.resolveName(config_.joint_state_topic),
-                    handle_.resolveName(scan ? config_.scan_topic : config_.ego_motion_topic)};
+  const bool ticks = config_.wheels.source == WheelSource::kTicks;
+  session.topics = {
+      handle_.resolveName(ticks ? config_.wheels.topics.front() : config_.joint_state_topic),
+      handle_.resolveName(scan ? config_.scan_topic : config_.ego_motion_topic)};
   session.wall_clock = [] { return ros::WallTime::now().toSec(); };
   session.log = rosLog;
   advertise();  // before the session: it publishes from its first moment
@@ -87,10 +90,11 @@ CalibrationNode::CalibrationNode(ros::NodeHandle handle, ros::NodeHandle private
       ego_topics += (k == 0 ? "" : ", ") + sessions_->sourceConfig(k).topic;
     ego_topics += " (fitted jointly)";
   }
+  const std::string wheel_input = wheelInputName(config_.wheels, config_.joint_state_topic);
   ROS_INFO(
-      "collecting pairs: JointState on %s, ego-motion on %s, keyframes every %.2f s, time "
+      "collecting pairs: %s, ego-motion on %s, keyframes every %.2f s, time "
       "offset %.3f s; output in %s",
-      session.topics[0].c_str(), ego_topics.c_str(), config_.collector.keyframe_interval_s,
+      wheel_input.c_str(), ego_topics.c_str(), config_.collector.keyframe_interval_s,
       session_->timeOffset(), session.output_directory.c_str());
 }
 
@@ -110,6 +114,8 @@ CalibrationNode::~CalibrationNode()
 std::size_t CalibrationNode::finish()
 {
   joint_subscriber_.shutdown();
+  for (ros::Subscriber& subscriber : tick_subscribers_)
+    subscriber.shutdown();
   for (ros::Subscriber& subscriber : ego_subscribers_)
     subscriber.shutdown();
   if (finished_)
@@ -144,10 +150,33 @@ void CalibrationNode::advertise()
 void CalibrationNode::subscribe()
 {
   const auto hints = ros::TransportHints().tcpNoDelay();
-  joint_subscriber_ = handle_.subscribe(config_.joint_state_topic, 2000,
-                                        &CalibrationNode::onJointState, this, hints);
+  if (config_.wheels.source == WheelSource::kTicks) {
+    for (std::size_t j = 0; j < config_.wheels.topics.size(); ++j)
+      subscribeWheelTicks(j);
+  } else {
+    joint_subscriber_ = handle_.subscribe(config_.joint_state_topic, 2000,
+                                          &CalibrationNode::onJointState, this, hints);
+  }
   for (std::size_t k = 0; k < sessions_->sourceCount(); ++k)
     subscribeSource(k);
+}
+
+void CalibrationNode::subscribeWheelTicks(std::size_t wheel)
+{
+  // The messages carry no stamp: each is taken at its receive time (the clock's, /clock's when
+  // a bag is played with use_sim_time).
+  const auto hints = ros::TransportHints().tcpNoDelay();
+  tick_subscribers_.push_back(visitWheelTickType(config_.wheels.message_type, [&](auto message) {
+    using M = decltype(message);
+    return subscribeEvents<M>(
+        handle_, config_.wheels.topics[wheel], 2000,
+        [this, wheel](const ros::MessageEvent<const M>& event) {
+          feedInput(*sessions_, adapter_->convertWheelTick(
+                                    static_cast<double>(event.getMessage()->data), wheel,
+                                    event.getReceiptTime().toSec(), event.getPublisherName()));
+        },
+        hints);
+  }));
 }
 
 void CalibrationNode::subscribeSource(std::size_t k)

@@ -45,13 +45,17 @@ geometry_msgs::Pose toPoseMsg(const Pose2& pose)
   return result;
 }
 
-Eigen::VectorXd rawJointPositions(const sensor_msgs::JointState& message,
-                                  const std::vector<EncoderChannelOptions>& channels)
+namespace {
+
+/// The configured channels' values from `values` (`what`: "position" or "velocity"), found by
+/// the message's names.
+Eigen::VectorXd namedJointValues(const sensor_msgs::JointState& message,
+                                 const std::vector<double>& values, const std::string& what,
+                                 const std::vector<EncoderChannelOptions>& channels)
 {
-  if (message.name.size() != message.position.size()) {
+  if (message.name.size() != values.size()) {
     throw std::invalid_argument("JointState has " + std::to_string(message.name.size()) +
-                                " names but " + std::to_string(message.position.size()) +
-                                " positions");
+                                " names but " + std::to_string(values.size()) + " " + what + "s");
   }
   Eigen::VectorXd raw(static_cast<Eigen::Index>(channels.size()));
   for (std::size_t c = 0; c < channels.size(); ++c) {
@@ -66,14 +70,33 @@ Eigen::VectorXd rawJointPositions(const sensor_msgs::JointState& message,
       throw std::invalid_argument("JointState lacks the configured joint '" + channels[c].name +
                                   "': it has " + quotedNames(message.name));
     }
-    const double value = message.position[found];
+    const double value = values[found];
     if (!std::isfinite(value)) {
-      throw std::invalid_argument("JointState position of joint '" + channels[c].name +
+      throw std::invalid_argument("JointState " + what + " of joint '" + channels[c].name +
                                   "' is not a finite number");
     }
     raw(static_cast<Eigen::Index>(c)) = value;
   }
   return raw;
+}
+
+}  // namespace
+
+Eigen::VectorXd rawJointPositions(const sensor_msgs::JointState& message,
+                                  const std::vector<EncoderChannelOptions>& channels)
+{
+  return namedJointValues(message, message.position, "position", channels);
+}
+
+Eigen::VectorXd rawJointVelocities(const sensor_msgs::JointState& message,
+                                   const std::vector<EncoderChannelOptions>& channels)
+{
+  if (!message.position.empty() && message.velocity.empty()) {
+    throw std::invalid_argument(
+        "JointState has positions but no velocities: wheels.source joint_velocity reads "
+        "`velocity`; set wheels.source joint_state to use the positions");
+  }
+  return namedJointValues(message, message.velocity, "velocity", channels);
 }
 
 Scan fromLaserScanMsg(const sensor_msgs::LaserScan& message)

@@ -1,6 +1,7 @@
 #include "odometry_calibration/ros/message_adapter.h"
 
 #include <chrono>
+#include <cmath>
 #include <stdexcept>
 #include <utility>
 
@@ -60,10 +61,34 @@ ConvertedInput MessageAdapter::convert(const sensor_msgs::JointState& message,
   ConvertedInput input =
       makeInput(ConvertedInput::Kind::kJoints, 0, message.header.stamp, std::move(publisher));
   try {
-    input.raw = applySigns(config_, ros_conversions::rawJointPositions(message, channels_));
+    if (config_.wheels.source == WheelSource::kJointVelocity) {
+      input.kind = ConvertedInput::Kind::kJointVelocities;
+      input.raw = ros_conversions::rawJointVelocities(message, channels_);
+    } else {
+      input.raw = applySigns(config_, ros_conversions::rawJointPositions(message, channels_));
+    }
   } catch (const std::invalid_argument& error) {
     input.kind = ConvertedInput::Kind::kBadJoints;
     input.problem = error.what();
+  }
+  return input;
+}
+
+ConvertedInput MessageAdapter::convertWheelTick(double value, std::size_t wheel, double time_s,
+                                                std::string publisher) const
+{
+  ConvertedInput input;
+  input.kind = ConvertedInput::Kind::kWheelTick;
+  input.wheel = wheel;
+  input.stamp_s = time_s;
+  input.publisher = std::move(publisher);
+  input.raw = Eigen::VectorXd::Constant(1, value);
+  if (!std::isfinite(value)) {
+    input.kind = ConvertedInput::Kind::kBadJoints;
+    const std::string topic = wheel < config_.wheels.topics.size()
+                                  ? " on '" + config_.wheels.topics[wheel] + "'"
+                                  : std::string();
+    input.problem = "a wheel tick" + topic + " that is not a finite number";
   }
   return input;
 }

@@ -13,6 +13,7 @@
 #include "odometry_calibration/ros/cdr_reader.h"
 #include "odometry_calibration/ros/rosbag2_metadata.h"
 #include "odometry_calibration/ros/sqlite_database.h"
+#include "odometry_calibration/ros/wheel_tick_messages.h"
 #include "odometry_calibration/ros/zstd_file.h"
 
 namespace odometry_calibration {
@@ -362,6 +363,16 @@ bool Rosbag2SqliteMessages::read(nav_msgs::Odometry& message)
 bool Rosbag2SqliteMessages::read(geometry_msgs::PoseStamped& message)
 {
   return readAs(message);
+}
+
+bool Rosbag2SqliteMessages::readWheelTick(const std::string& type, double& value)
+{
+  return visitWheelTickType(type, [&](auto message) {
+    if (!readAs(message))
+      return false;
+    value = static_cast<double>(message.data);
+    return true;
+  });
 }
 
 }  // namespace odometry_calibration

@@ -2,6 +2,8 @@
 
 #include <ros/serialization.h>
 
+#include "odometry_calibration/ros/wheel_tick_messages.h"
+
 namespace odometry_calibration {
 
 RosbagMessages::RosbagMessages(rosbag::View& view) : view_(view) {}
@@ -88,6 +90,31 @@ bool RosbagMessages::read(nav_msgs::Odometry& message)
 bool RosbagMessages::read(geometry_msgs::PoseStamped& message)
 {
   return deserialiseChecked(message, ros_conversions::WireMessage::kPoseStamped);
+}
+
+bool RosbagMessages::readWheelTick(const std::string& type, double& value)
+{
+  return visitWheelTickType(type, [&](auto message) {
+    using M = decltype(message);
+    const rosbag::MessageInstance& instance = *current_;
+    const std::string md5 = instance.getMD5Sum();
+    if (instance.getDataType() != ros::message_traits::datatype<M>() ||
+        (md5 != "*" && md5 != ros::message_traits::md5sum<M>()))
+      return false;
+    if (instance.size() != sizeof(message.data)) {  // a fixed size: no length to check
+      throw ros::Exception("a " + instance.getDataType() + " message on '" + instance.getTopic() +
+                           "' at " + std::to_string(instance.getTime().toSec()) + " s has " +
+                           std::to_string(instance.size()) + " bytes, not " +
+                           std::to_string(sizeof(message.data)));
+    }
+    bytes_.resize(instance.size());
+    ros::serialization::OStream out(bytes_.data(), static_cast<std::uint32_t>(bytes_.size()));
+    instance.write(out);
+    ros::serialization::IStream in(bytes_.data(), static_cast<std::uint32_t>(bytes_.size()));
+    ros::serialization::deserialize(in, message);
+    value = static_cast<double>(message.data);
+    return true;
+  });
 }
 
 }  // namespace odometry_calibration

@@ -3,7 +3,9 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <limits>
 #include <stdexcept>
+#include <type_traits>
 
 #include <geometry_msgs/PoseStamped.h>
 #include <geometry_msgs/TransformStamped.h>
@@ -18,11 +20,49 @@
 #include "odometry_calibration/common/staged_directory.h"
 #include "odometry_calibration/ros/conversions.h"
 #include "odometry_calibration/ros/rosbag2_sqlite_writer.h"
+#include "odometry_calibration/ros/wheel_tick_messages.h"
 #include "odometry_calibration/sim/tricycle_log_sink.h"
 #include "odometry_calibration/sim/world.h"
 
 namespace odometry_calibration {
 namespace {
+
+/// A counter reading [0, 2^bits) as a message field of type T: a value beyond a signed type's
+/// maximum is sent as the same bits (value - 2^digits), as a driver's wrapping counter would.
+template <typename T>
+T wheelTickValue(double value)
+{
+  if constexpr (std::is_integral_v<T>) {
+    const double max = static_cast<double>(std::numeric_limits<T>::max());
+    const double span = max - static_cast<double>(std::numeric_limits<T>::min()) + 1.0;
+    if (value > max)
+      value -= span;
+    return static_cast<T>(std::llround(value));
+  } else {
+    return static_cast<T>(value);
+  }
+}
+
+/// The tick topics of `scenario`'s joints: encoders.tick_topics, or "/<joint name>_ticks".
+std::vector<std::string> tickTopics(const sim::Scenario& scenario,
+                                    const std::vector<std::string>& joint_names)
+{
+  if (scenario.encoders.output != "ticks")
+    return {};
+  if (scenario.encoders.tick_topics.empty()) {
+    std::vector<std::string> topics;
+    for (const std::string& name : joint_names)
+      topics.push_back("/" + name + "_ticks");
+    return topics;
+  }
+  if (scenario.encoders.tick_topics.size() != joint_names.size()) {
+    throw std::invalid_argument("encoders.tick_topics lists " +
+                                std::to_string(scenario.encoders.tick_topics.size()) +
+                                " topics for " + std::to_string(joint_names.size()) + " joints");
+  }
+  visitWheelTickType(scenario.encoders.tick_type, [](auto) { return 0; });  // a known type
+  return scenario.encoders.tick_topics;
+}
 
 ros::Time rosTime(double start_time_s, double stamp_s)
 {
@@ -53,7 +93,8 @@ SimBagWriter::SimBagWriter(const std::string& bag_path, const sim::Scenario& sce
     : scenario_(scenario),
       lasers_(sim::allLasers(scenario)),
       scan_seqs_(lasers_.size(), 0),
-      joint_names_(std::move(joint_names))
+      joint_names_(std::move(joint_names)),
+      tick_topics_(tickTopics(scenario, joint_names_))
 {
   if (format != BagFormat::kRos1) {
     rosbag2_ =
@@ -82,12 +123,31 @@ void SimBagWriter::record(const std::string& topic, const ros::Time& time, const
 
 void SimBagWriter::onJointState(const sim::JointStateSample& sample)
 {
+  if (scenario_.encoders.output == "ticks")
+    return;  // each joint on its own topic (onWheelTick)
   sensor_msgs::JointState message;
   message.header.seq = joint_seq_++;
   message.header.stamp = rosTime(scenario_.start_time_s, sample.stamp_s);
   message.name = joint_names_;
-  message.position = sample.positions;
+  if (scenario_.encoders.output == "joint_velocity")
+    message.velocity = sample.velocities;
+  else
+    message.position = sample.positions;
   record(scenario_.encoders.topic, message.header.stamp, message);
+}
+
+void SimBagWriter::onWheelTick(const sim::WheelTickSample& sample)
+{
+  if (sample.joint >= tick_topics_.size())
+    throw std::invalid_argument("a tick of joint " + std::to_string(sample.joint) + ", " +
+                                std::to_string(tick_topics_.size()) + " tick topics");
+  // No stamp in the message: its record time is the reading's time.
+  const ros::Time time = rosTime(scenario_.start_time_s, sample.stamp_s);
+  visitWheelTickType(scenario_.encoders.tick_type, [&](auto message) {
+    message.data = wheelTickValue<decltype(message.data)>(sample.value);
+    record(tick_topics_[sample.joint], time, message);
+    return 0;
+  });
 }
 
 void SimBagWriter::onScan(const sim::ScanSample& sample)

@@ -33,7 +33,8 @@ std::vector<std::string> CalibrationSession::collectionNotes() const
   }
   if (c.bad_encoder_messages > 0) {
     notes.push_back("skipped " + std::to_string(c.bad_encoder_messages) +
-                    " JointState messages, first: " + c.first_bad_encoder_message);
+                    (config_.wheels.source == WheelSource::kTicks ? " wheel tick" : " JointState") +
+                    " messages, first: " + c.first_bad_encoder_message);
   }
   if (c.clouds_without_times > 0) {
     notes.push_back(std::to_string(c.clouds_without_times) +

@@ -27,6 +27,8 @@ void feedEgoMotion(CalibrationSession& session, const ConvertedInput& input)
       break;
     case ConvertedInput::Kind::kJoints:
     case ConvertedInput::Kind::kBadJoints:
+    case ConvertedInput::Kind::kWheelTick:
+    case ConvertedInput::Kind::kJointVelocities:
       break;
   }
 }
@@ -35,6 +37,11 @@ void feedEgoMotion(CalibrationSession& session, const ConvertedInput& input)
 
 void feedInput(CalibrationSession& session, const ConvertedInput& input)
 {
+  if (input.kind == ConvertedInput::Kind::kWheelTick ||
+      input.kind == ConvertedInput::Kind::kJointVelocities) {
+    throw std::invalid_argument(
+        "wheel ticks and joint velocities go to a JointCalibrationSession (its wheel signals)");
+  }
   if (input.kind == ConvertedInput::Kind::kJoints) {
     session.addJointPositions(input.stamp_s, input.raw, input.publisher);
   } else if (input.kind == ConvertedInput::Kind::kBadJoints) {
@@ -53,6 +60,10 @@ void feedInput(JointCalibrationSession& sessions, const ConvertedInput& input)
     sessions.addJointPositions(input.stamp_s, input.raw, input.publisher);
   else if (input.kind == ConvertedInput::Kind::kBadJoints)
     sessions.skipJointState(input.problem, input.publisher);
+  else if (input.kind == ConvertedInput::Kind::kWheelTick)
+    sessions.addWheelTick(input.wheel, input.stamp_s, input.raw(0), input.publisher);
+  else if (input.kind == ConvertedInput::Kind::kJointVelocities)
+    sessions.addJointVelocities(input.stamp_s, input.raw, input.publisher);
   else
     feedEgoMotion(sessions.source(input.source), input);
 }

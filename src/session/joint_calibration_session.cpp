@@ -93,6 +93,7 @@ JointCalibrationSession::JointCalibrationSession(
     : config_(config),
       config_text_(config_text),
       config_source_(config_source),
+      wheel_signals_(std::make_unique<WheelSignals>(config)),
       options_(options),
       sources_(egoMotionSources(config)),
       fit_jointly_(std::move(fit_jointly))
@@ -141,6 +142,32 @@ void JointCalibrationSession::skipJointState(const std::string& problem,
 {
   for (const auto& session : sessions_)
     session->skipJointState(problem, publisher);
+}
+
+void JointCalibrationSession::feedWheelOutput(const WheelSignalOutput& output,
+                                              const std::string& publisher)
+{
+  for (const EncoderSample& sample : output.samples)
+    addJointPositions(sample.stamp_s, sample.values, publisher);
+  if (!output.problem.empty())
+    skipJointState(output.problem, publisher);
+}
+
+void JointCalibrationSession::addWheelTick(std::size_t wheel, double stamp_s, double raw,
+                                           const std::string& publisher)
+{
+  // Held while feeding too: the joint samples reach the sessions in the order they were made.
+  std::lock_guard<std::mutex> lock(wheel_mutex_);
+  if (wheel == 0)
+    wheel_publisher_ = publisher;
+  feedWheelOutput(wheel_signals_->addTick(wheel, stamp_s, raw), wheel_publisher_);
+}
+
+void JointCalibrationSession::addJointVelocities(double stamp_s, const Eigen::VectorXd& velocity,
+                                                 const std::string& publisher)
+{
+  std::lock_guard<std::mutex> lock(wheel_mutex_);
+  feedWheelOutput(wheel_signals_->addVelocities(stamp_s, velocity), publisher);
 }
 
 void JointCalibrationSession::flush()

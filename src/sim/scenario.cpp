@@ -147,6 +147,11 @@ void validate(const Scenario& s)
           "encoders.counter_bits must be in [0, 52]");
   require(std::abs(s.encoders.time_offset_s) < 10.0, "encoders.time_offset_s must be within 10 s");
   require(s.encoders.initial_ticks >= 0.0, "encoders.initial_ticks must be >= 0");
+  require(s.encoders.output == "joint_state" || s.encoders.output == "ticks" ||
+              s.encoders.output == "joint_velocity",
+          "encoders.output must be joint_state, ticks or joint_velocity");
+  require(s.encoders.tick_stagger_s >= 0.0 && s.encoders.tick_stagger_s < 0.5 / s.encoders.rate_hz,
+          "encoders.tick_stagger_s must be in [0, half the period 1 / rate_hz)");
   require(s.tracker.translation_noise_m >= 0.0 && s.tracker.rotation_noise_rad >= 0.0,
           "tracker noise must be >= 0");
   validate(s.motion);
@@ -297,10 +302,11 @@ void readLasersYaml(const YAML::Node& root, const std::string& path, std::string
 /// encoders: rate, topic, joints, units, counter width, start and time offset.
 void readEncodersYaml(const YAML::Node& encoders, const std::string& where, EncoderOptions& options)
 {
-  checkYamlKeys(encoders,
-                {"rate_hz", "rate_jitter_s", "topic", "joint_names", "units", "counter_bits",
-                 "initial_ticks", "time_offset_s"},
-                where);
+  checkYamlKeys(
+      encoders,
+      {"rate_hz", "rate_jitter_s", "topic", "joint_names", "units", "counter_bits", "initial_ticks",
+       "time_offset_s", "output", "tick_topics", "tick_type", "tick_stagger_s"},
+      where);
   readYaml(encoders, "rate_hz", &options.rate_hz);
   readYaml(encoders, "rate_jitter_s", &options.rate_jitter_s);
   readYaml(encoders, "topic", &options.topic);
@@ -314,6 +320,10 @@ void readEncodersYaml(const YAML::Node& encoders, const std::string& where, Enco
   readYaml(encoders, "counter_bits", &options.counter_bits);
   readYaml(encoders, "initial_ticks", &options.initial_ticks);
   readYaml(encoders, "time_offset_s", &options.time_offset_s);
+  readYaml(encoders, "output", &options.output);
+  readYaml(encoders, "tick_topics", &options.tick_topics);
+  readYaml(encoders, "tick_type", &options.tick_type);
+  readYaml(encoders, "tick_stagger_s", &options.tick_stagger_s);
 }
 
 /// tracker: whether a pose tracker publishes, its noise, topic and frame.
@@ -453,6 +463,16 @@ Scenario loadScenarioYaml(const std::string& path, const std::string& worlds_dir
     scenario.seed = static_cast<unsigned>(overrides.seed);
   if (overrides.duration_s > 0.0)
     scenario.duration_s = overrides.duration_s;
+  EncoderOptions& encoders = scenario.encoders;
+  if (!overrides.wheel_output.empty())
+    encoders.output = overrides.wheel_output;
+  if (overrides.counter_bits >= 0)
+    encoders.counter_bits = overrides.counter_bits;
+  if (!overrides.tick_type.empty())
+    encoders.tick_type = overrides.tick_type;
+  if (overrides.tick_stagger_s >= 0.0)
+    encoders.tick_stagger_s = overrides.tick_stagger_s;
+  validate(scenario);
   return scenario;
 }
 

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <deque>
 #include <limits>
+#include <map>
 #include <memory>
 #include <random>
 #include <stdexcept>
@@ -314,7 +315,11 @@ public:
         multibeam_(laser_.type == "multibeam"),
         sweep_ns_(multibeam_ ? 0 : std::llround(laser_model_.sweepDuration() * 1e9)),
         extra_lasers_(extraLasers(scenario)),
-        longest_sweep_ns_(longestSweep(sweep_ns_, extra_lasers_))
+        longest_sweep_ns_(longestSweep(sweep_ns_, extra_lasers_)),
+        ticks_(scenario.encoders.output == "ticks"),
+        tick_stagger_ns_(std::llround(scenario.encoders.tick_stagger_s * 1e9)),
+        velocities_(scenario.encoders.output == "joint_velocity"),
+        shaft_rate_(Eigen::VectorXd::Zero(static_cast<Eigen::Index>(specs_.size())))
   {
     if (multibeam_)
       history_.add(0, T_world_base_, 2 * scan_period_);
@@ -324,7 +329,7 @@ public:
   {
     while (true) {
       const std::int64_t next_event =
-          std::min({next_encoder_, next_scan_, next_control_, nextExtraScan()});
+          std::min({next_encoder_, next_scan_, next_control_, nextExtraScan(), nextTick()});
       if (next_event > end_ns_)
         break;
       integrateTo(next_event);
@@ -338,6 +343,7 @@ public:
         publishEncoderInstant(t);
         next_encoder_ += nextEncoderSpacing();
       }
+      publishDueTicks(t);
       if (now_ == next_scan_ && multibeam_) {
         if (now_ >= scan_period_) {  // a sweep that began at the start or later
           CloudSample cloud = castSweep(laser_, T_base_laser_, world_, history_, now_, scan_period_,
@@ -365,6 +371,25 @@ private:
       return encoder_period_;
     std::uniform_real_distribution<double> draw(-jitter_s, jitter_s);
     return encoder_period_ + std::llround(draw(encoder_clock_rng_) * 1e9);
+  }
+
+  /// When the next joint's tick reading is due [ns] (never but with encoders.output ticks).
+  std::int64_t nextTick() const
+  {
+    return pending_ticks_.empty() ? std::numeric_limits<std::int64_t>::max()
+                                  : pending_ticks_.begin()->first;
+  }
+
+  /// The tick readings due now: each joint's counter on its own topic, at time t [s].
+  void publishDueTicks(double t)
+  {
+    while (!pending_ticks_.empty() && pending_ticks_.begin()->first == now_) {
+      const std::size_t j = pending_ticks_.begin()->second;
+      pending_ticks_.erase(pending_ticks_.begin());
+      const Eigen::VectorXd shaft = current_robot_->encoderAngles(joints_);
+      sink_.onWheelTick(
+          {t + encoder_time_offset_s_, j, encoderReading(specs_[j], scenario_.encoders, shaft(j))});
+    }
   }
 
   /// When the next scan of an extra laser is due [ns] (never without one).
@@ -415,7 +440,11 @@ private:
       const double dt = static_cast<double>(step) / kNanoseconds;
       applyChanges();
       rampCommand(target_, scenario_.motion, dt, command_);
+      const Eigen::VectorXd shaft_before =
+          velocities_ ? current_robot_->encoderAngles(joints_) : Eigen::VectorXd();
       realised_ = current_robot_->step(command_, dt, &joints_);
+      if (velocities_)
+        shaft_rate_ = (current_robot_->encoderAngles(joints_) - shaft_before) / dt;
       if (longest_sweep_ns_ > 0) {
         recent_steps_.push_back({now_, T_world_base_, realised_});
         while (recent_steps_.size() > 1 && recent_steps_[1].start_ns <= now_ - longest_sweep_ns_)
@@ -446,6 +475,14 @@ private:
       }
       previous_reading_[j] = reading;
       sample.positions.push_back(reading);
+      if (velocities_) {
+        const double per_rad =
+            scenario_.encoders.output_ticks ? specs_[j].ticks_per_rev / (2.0 * M_PI) : 1.0;
+        sample.velocities.push_back(shaft_rate_(static_cast<Eigen::Index>(j)) * per_rad);
+      }
+      if (ticks_) {
+        pending_ticks_.emplace(now_ + static_cast<std::int64_t>(j) * tick_stagger_ns_, j);
+      }
     }
     sink_.onJointState(sample);
     ++summary_.joint_states;
@@ -522,6 +559,11 @@ private:
   const std::int64_t sweep_ns_;
   std::vector<ExtraLaser> extra_lasers_;
   const std::int64_t longest_sweep_ns_;  // of every planar laser: the motion steps kept
+  const bool ticks_;                     // encoders.output ticks: each joint on its own topic
+  const std::int64_t tick_stagger_ns_;   // joint j read j * this after the instant
+  std::multimap<std::int64_t, std::size_t> pending_ticks_;  // due time [ns] -> joint
+  const bool velocities_;                                   // encoders.output joint_velocity
+  Eigen::VectorXd shaft_rate_;  // over the last integration step [rad/s]
 };
 
 }  // namespace

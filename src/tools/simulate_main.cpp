@@ -27,6 +27,14 @@ const char* kUsage =
     "  --seed N          override the scenario's seed\n"
     "  --duration S      override the scenario's duration [s]\n"
     "  --worlds DIR      folder of the shipped worlds (default: the package's config/sim/worlds)\n"
+    "  --wheels W        what the wheels publish: joint_state (JointState positions, default),\n"
+    "                    ticks (one std_msgs topic per joint, /<joint>_ticks unless the\n"
+    "                    scenario's encoders.tick_topics say otherwise) or joint_velocity\n"
+    "                    (JointState velocities only, position empty)\n"
+    "  --counter-bits N  the counters' width (8: an 8-bit counter wrapping at 256)\n"
+    "  --tick-type T     the tick topics' std_msgs type (std_msgs/Int16, Int32, Int64, UInt16,\n"
+    "                    UInt32, Float32, Float64; default std_msgs/Int32)\n"
+    "  --tick-stagger S  joint j's tick read j * S seconds after each encoder instant\n"
     "  --tricycle-log F  also write the run in the tricycle dataset's text format (tricycle\n"
     "                    robot with the tracker enabled); its header carries the real log's\n"
     "                    nominal values (Ksteer 0.1, Ktraction 0.0106141, axis 1.4, offset 0,\n"
@@ -44,6 +52,7 @@ int main(int argc, char** argv)
   long long seed = -1;
   std::string format = "bag";
   sim::ScenarioOverrides overrides;
+  long long counter_bits = -1;
   try {
     ArgumentParser parser;
     parser.option("--output", &files.bag_path)
@@ -53,6 +62,10 @@ int main(int argc, char** argv)
         .option("--format", &format)
         .wholeNumber("--seed", &seed, 0)
         .positiveNumber("--duration", &overrides.duration_s)
+        .option("--wheels", &overrides.wheel_output)
+        .wholeNumber("--counter-bits", &counter_bits, 0, 52)
+        .option("--tick-type", &overrides.tick_type)
+        .number("--tick-stagger", &overrides.tick_stagger_s, 0.0)
         .positionals(&scenario_paths, 1);
     if (!parser.parse(argc, argv)) {
       std::cout << kUsage;
@@ -61,6 +74,7 @@ int main(int argc, char** argv)
     if (scenario_paths.empty())
       throw ArgumentError("missing the scenario file");
     overrides.seed = static_cast<double>(seed);
+    overrides.counter_bits = static_cast<int>(counter_bits);
     files.format = bagFormatFromName(format);
   } catch (const std::exception& error) {
     std::cerr << "error: " << error.what() << "\n\n" << kUsage;

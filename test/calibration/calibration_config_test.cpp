@@ -39,6 +39,74 @@ TEST(CalibrationConfig, ShippedConfigParses)
   EXPECT_DOUBLE_EQ(tuned.collector.plicp.line_fit.veiling_min_angle_rad, 0.17);
 }
 
+/// The text of the error parsing `text` throws, or "" when it parses.
+std::string parseError(const std::string& text)
+{
+  try {
+    parseCalibrationConfig(text, "w.yaml");
+  } catch (const std::runtime_error& error) {
+    return error.what();
+  }
+  return "";
+}
+
+TEST(CalibrationConfig, WheelsSectionChoosesTheWheelInput)
+{
+  // The default: JointState positions, the counters wrapping in the session.
+  const CalibrationConfig shipped = loadCalibrationConfig(kConfig + "/diff_drive.yaml");
+  EXPECT_EQ(shipped.wheels.source, WheelSource::kJointState);
+  EXPECT_EQ(wheelInputName(shipped.wheels, shipped.joint_state_topic),
+            "JointState on '/joint_states'");
+  const std::string joints =
+      "joints: [{name: l, units_per_turn: 360, counter_bits: 8}, "
+      "{name: r, units_per_turn: 360, counter_bits: 8}]\n";
+  const CalibrationConfig ticks = parseCalibrationConfig(
+      joints +
+          "wheels: {source: ticks, topics: [/makeblock/lwheel, /makeblock/rwheel], "
+          "message_type: std_msgs/Int16, max_gap_s: 0.3}\n",
+      "w.yaml");
+  EXPECT_EQ(ticks.wheels.source, WheelSource::kTicks);
+  EXPECT_EQ(ticks.wheels.topics[1], "/makeblock/rwheel");
+  EXPECT_DOUBLE_EQ(ticks.wheels.max_gap_s, 0.3);
+  EXPECT_EQ(wheelInputName(ticks.wheels, ticks.joint_state_topic),
+            "std_msgs/Int16 ticks on '/makeblock/lwheel', '/makeblock/rwheel'");
+  // Unwrapped before the session: no channel wraps (the 8-bit counter is unwrapped per topic).
+  EXPECT_EQ(encoderChannels(ticks)[0].wrap_period, 0.0);
+  const CalibrationConfig velocity =
+      parseCalibrationConfig(joints + "wheels: {source: joint_velocity}\n", "w.yaml");
+  EXPECT_EQ(velocity.wheels.source, WheelSource::kJointVelocity);
+  EXPECT_EQ(encoderChannels(velocity)[1].wrap_period, 0.0);
+  EXPECT_EQ(encoderChannels(parseCalibrationConfig(joints, "w.yaml"))[1].wrap_period, 256.0);
+}
+
+TEST(CalibrationConfig, WheelsMistakesAreNamed)
+{
+  const std::string joints =
+      "joints: [{name: l, units_per_turn: 360, counter_bits: 32}, "
+      "{name: r, units_per_turn: 360}]\n";
+  EXPECT_NE(parseError(joints + "wheels: {source: ticks, topics: [/l]}\n")
+                .find("wheels.topics: 1 topics for 2 joints"),
+            std::string::npos);
+  EXPECT_NE(parseError(joints + "wheels: {source: ticks, topics: [/l, /l]}\n")
+                .find("'/l' is listed twice"),
+            std::string::npos);
+  EXPECT_NE(parseError(joints +
+                       "wheels: {source: ticks, topics: [/l, /r], message_type: std_msgs/Int16}\n")
+                .find("joints[0].counter_bits 32 does not fit std_msgs/Int16 (16 bits)"),
+            std::string::npos);
+  EXPECT_NE(parseError(joints + "wheels: {topics: [/l, /r]}\n")
+                .find("only wheels.source ticks reads per-wheel topics"),
+            std::string::npos);
+  EXPECT_NE(parseError(joints + "wheels: {source: odometer}\n").find("wheels.source"),
+            std::string::npos);
+  EXPECT_NE(parseError(joints + "wheels: {source: ticks, topics: [/l, /r], message_type: Int8}\n")
+                .find("wheels.message_type"),
+            std::string::npos);
+  EXPECT_NE(parseError(joints + "wheels: {source: joint_velocity, max_gap_s: 1e308}\n")
+                .find("wheels.max_gap_s"),
+            std::string::npos);
+}
+
 TEST(CalibrationConfig, EgoMotionSourcesListSeveralSensors)
 {
   const std::string joints =

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
+#include <memory>
 #include <string>
 #include <type_traits>
 #include <variant>
@@ -274,6 +275,85 @@ TEST_F(MessageAdapterParity, ZeroQuaternionPoseSkippedAndCountedInBothPaths)
       bothPaths(config, recording("/tracker/pose", poseStamped(pose(0, 1)), bad));
   EXPECT_EQ(counts.bad_ego_messages, 2u);
   EXPECT_EQ(counts.first_bad_ego_message, "transform rotation is not a valid quaternion");
+}
+
+/// A session for `config` as feedAsTheNode makes it.
+std::unique_ptr<JointCalibrationSession> quietSession(const CalibrationConfig& config)
+{
+  SessionOptions options;
+  options.load_saved_calibration = false;
+  options.resume_pairs = false;
+  options.assistant = false;
+  options.keep_encoder_history = true;
+  return std::make_unique<JointCalibrationSession>(config, "", "test", options,
+                                                   [](std::size_t) { return SessionListener{}; });
+}
+
+TEST(MessageAdapterWheels, VelocityOnlyJointStatesAreIntegratedAndPositionsOnlyOnesNamed)
+{
+  CalibrationConfig config = loadCalibrationConfig(kConfig + "/diff_drive.yaml");
+  config.wheels.source = WheelSource::kJointVelocity;
+  config.joints[1].sign = -1.0;
+  const MessageAdapter adapter(config);
+  sensor_msgs::JointState message;
+  message.name = {"right_wheel", "left_wheel"};
+  message.velocity = {-200.0, 100.0};  // ticks/s
+  const ConvertedInput input = adapter.convert(message, "");
+  ASSERT_EQ(input.kind, ConvertedInput::Kind::kJointVelocities) << input.problem;
+  EXPECT_EQ(input.raw(0), 100.0);  // the joints' order, no signs yet
+  EXPECT_EQ(input.raw(1), -200.0);
+  const ConvertedInput positions =
+      adapter.convert(joints({"left_wheel", "right_wheel"}, {1, 2}), "");
+  EXPECT_EQ(positions.kind, ConvertedInput::Kind::kBadJoints);
+  EXPECT_NE(positions.problem.find("set wheels.source joint_state"), std::string::npos)
+      << positions.problem;
+  // Through the session: 0.5 s at these speeds, the sign applied after the integration.
+  const auto sessions = quietSession(config);
+  for (int k = 0; k <= 25; ++k) {
+    message.header.stamp = ros::Time(kStart_s + 0.02 * k);
+    feedInput(*sessions, adapter.convert(message, ""));
+  }
+  feedInput(*sessions, positions);
+  sessions->flush();
+  const SessionCounts counts = sessions->source(0).counts();
+  EXPECT_EQ(counts.encoder_messages, 27u);
+  EXPECT_EQ(counts.bad_encoder_messages, 1u);
+  const Eigen::VectorXd last = sessions->source(0).encoderHistory().back().values;
+  EXPECT_NEAR(last(0), 50.0, 1e-9);   // 100 ticks/s for 0.5 s
+  EXPECT_NEAR(last(1), 100.0, 1e-9);  // -200 ticks/s, sign -1
+}
+
+TEST(MessageAdapterWheels, TicksOfTwoTopicsBecomeJointSamplesAndAliasingIsCounted)
+{
+  CalibrationConfig config = loadCalibrationConfig(kConfig + "/diff_drive.yaml");
+  config.wheels.source = WheelSource::kTicks;
+  config.wheels.topics = {"/lwheel", "/rwheel"};
+  config.wheels.message_type = "std_msgs/Int16";
+  config.joints[0].counter_bits = config.joints[1].counter_bits = 8;
+  const MessageAdapter adapter(config);
+  EXPECT_EQ(adapter.convertWheelTick(std::nan(""), 1, kStart_s, "").kind,
+            ConvertedInput::Kind::kBadJoints);
+  const auto sessions = quietSession(config);
+  for (int k = 0; k < 50; ++k) {  // 50 ticks per 31.25 ms on both wheels, right 7 ms later
+    const double t = kStart_s + 0.03125 * k;
+    feedInput(*sessions, adapter.convertWheelTick((50 * k) % 256, 0, t, ""));
+    feedInput(*sessions, adapter.convertWheelTick((50 * k + 11) % 256 - 128, 1, t + 0.007, ""));
+  }
+  sessions->flush();
+  SessionCounts counts = sessions->source(0).counts();
+  EXPECT_EQ(counts.bad_encoder_messages, 0u) << counts.first_bad_encoder_message;
+  EXPECT_EQ(counts.encoder_messages, 49u);  // the first left instant precedes the right wheel
+  // Counted from the first joint sample (k = 1), taken at the left wheel's instants.
+  const EncoderSample last = sessions->source(0).encoderHistory().back();
+  EXPECT_DOUBLE_EQ(last.stamp_s, kStart_s + 0.03125 * 49);
+  EXPECT_NEAR(last.values(0), 50.0 * 48, 1e-9);  // across 9 wraps of the 8-bit counter
+  EXPECT_NEAR(last.values(1), 50.0 * 48, 1e-9);
+  // A jump of 150 ticks in one message (more than half of 256): refused, named, counted.
+  feedInput(*sessions, adapter.convertWheelTick((50 * 49 + 150) % 256, 0, kStart_s + 1.6, ""));
+  counts = sessions->source(0).counts();
+  EXPECT_EQ(counts.bad_encoder_messages, 1u);
+  EXPECT_NE(counts.first_bad_encoder_message.find("joints[0].counter_bits 8"), std::string::npos)
+      << counts.first_bad_encoder_message;
 }
 
 }  // namespace

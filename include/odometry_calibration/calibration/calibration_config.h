@@ -34,6 +34,38 @@ struct JointConfig
   double sign = 1.0;
 };
 
+/// What the wheels publish (`wheels.source`).
+enum class WheelSource
+{
+  kJointState,     ///< sensor_msgs/JointState positions on joint_state_topic
+  kTicks,          ///< one std_msgs number topic per joint (wheels.topics), no stamp
+  kJointVelocity,  ///< sensor_msgs/JointState velocities only, integrated into positions
+};
+
+/// The std_msgs types a per-wheel tick topic may carry (`wheels.message_type`).
+const std::vector<std::string>& wheelTickMessageTypes();
+
+/// The value bits of a wheel tick type (16 for std_msgs/Int16, 53 for the floating types: their
+/// exact integers), or 0 for a name not in wheelTickMessageTypes().
+int wheelTickMessageBits(const std::string& type);
+
+/// The `wheels` section: where the joints' positions come from.
+struct WheelInputConfig
+{
+  WheelSource source = WheelSource::kJointState;
+  /// ticks: one topic per joint, in the joints' order.
+  std::vector<std::string> topics;
+  /// ticks: the topics' std_msgs type.
+  std::string message_type = "std_msgs/Int32";
+  /// ticks: an instant whose other wheel's samples lie further apart is dropped; joint_velocity:
+  /// a longer silence restarts the integration [s].
+  double max_gap_s = 0.5;
+};
+
+/// The wheel input in words for messages: "JointState on '/joint_states'", "ticks on
+/// '/lwheel', '/rwheel'", "JointState velocities on '/joint_states'".
+std::string wheelInputName(const WheelInputConfig& wheels, const std::string& joint_state_topic);
+
 /// Where the sensor's ego-motion comes from.
 enum class EgoMotionSource
 {
@@ -71,6 +103,7 @@ struct EgoMotionSourceConfig
 struct CalibrationConfig
 {
   std::vector<JointConfig> joints;
+  WheelInputConfig wheels;  ///< where the joints' positions come from
   std::string joint_state_topic = "/joint_states";
   /// The node whose JointState messages carry the wheel joints (empty: whichever single one
   /// does; a second is refused). Others' messages are ignored and counted.
@@ -144,7 +177,12 @@ CalibrationConfig overrideModelOptions(const std::string& config_text,
 CalibrationConfig configForModel(const std::string& config_text, const std::string& model,
                                  const std::string& override_yaml, const std::string& source);
 
-/// The encoder channels of the joints (scale-free: in the message's units).
+/// The checks of the `wheels` section against the joints: one topic per joint for ticks, each
+/// joint's counter_bits within the message type's bits. Throws std::runtime_error naming the key.
+void validateWheelInput(const CalibrationConfig& config);
+
+/// The encoder channels of the joints (scale-free: in the message's units). With wheels.source
+/// ticks or joint_velocity the positions reach the session unwrapped: no channel wraps.
 std::vector<EncoderChannelOptions> encoderChannels(const CalibrationConfig& config);
 
 /// Raw message positions in the joints' order, signs applied.

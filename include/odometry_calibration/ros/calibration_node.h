@@ -67,6 +67,8 @@ private:
   void advertise();
   // Message events: the session checks who published each message (input_publishers.h).
   void onJointState(const ros::MessageEvent<const sensor_msgs::JointState>& event);
+  /// wheels.source ticks: joint `wheel`'s topic of wheels.message_type.
+  void subscribeWheelTicks(std::size_t wheel);
   // Source `k`'s messages (ego_motion.sources order; 0 with one source).
   void subscribeSource(std::size_t k);
   void onScan(std::size_t k, const ros::MessageEvent<const sensor_msgs::LaserScan>& event);
@@ -108,7 +110,8 @@ private:
   std::vector<std::string> sensor_frames_;
 
   ros::Subscriber joint_subscriber_;
-  std::vector<ros::Subscriber> ego_subscribers_;  ///< one per source
+  std::vector<ros::Subscriber> tick_subscribers_;  ///< wheels.source ticks: one per joint
+  std::vector<ros::Subscriber> ego_subscribers_;   ///< one per source
   ros::Publisher odom_publisher_, nominal_path_publisher_, corrected_path_publisher_,
       scan_path_publisher_, pairs_publisher_, report_publisher_, diagnostics_publisher_,
       guidance_marker_publisher_, health_statistic_publisher_;

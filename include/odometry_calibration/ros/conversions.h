@@ -39,6 +39,11 @@ geometry_msgs::PoseStamped toPoseStampedMsg(const Pose2& pose, double stamp_s,
 Eigen::VectorXd rawJointPositions(const sensor_msgs::JointState& message,
                                   const std::vector<EncoderChannelOptions>& channels);
 
+/// The same from the `velocity` array (wheels.source joint_velocity) [position units/s]; also
+/// refuses a message with positions but no velocities, saying which source reads those.
+Eigen::VectorXd rawJointVelocities(const sensor_msgs::JointState& message,
+                                   const std::vector<EncoderChannelOptions>& channels);
+
 /// The core's scan from a LaserScan (ranges copied as they are: the core drops NaN, inf and
 /// out-of-range readings). Throws std::invalid_argument for an unusable geometry
 /// (angle_increment zero or not finite, range limits not 0 <= min < max).

@@ -31,8 +31,14 @@ public:
   explicit MessageAdapter(const CalibrationConfig& config);
 
   /// The configured joints' raw positions with their signs, or kBadJoints naming the problem
-  /// (mismatched name and position arrays, a missing joint, a value that is not finite).
+  /// (mismatched name and position arrays, a missing joint, a value that is not finite). With
+  /// wheels.source joint_velocity: their velocities (kJointVelocities, no signs), or kBadJoints.
   ConvertedInput convert(const sensor_msgs::JointState& message, std::string publisher) const;
+  /// wheels.source ticks: joint `wheel`'s raw reading `value` from its std_msgs topic, which
+  /// carries no stamp: `time_s` is the receive time (live) or the record time (bag) [s].
+  /// kWheelTick, or kBadJoints for a value that is not finite (the unwrapper checks the rest).
+  ConvertedInput convertWheelTick(double value, std::size_t wheel, double time_s,
+                                  std::string publisher) const;
   /// Source `source`'s scan, or kBadEgoMessage: more rays than ego_motion.max_scan_rays
   /// (refused before the ranges are copied), an impossible geometry.
   ConvertedInput convert(const sensor_msgs::LaserScan& message, std::size_t source,

@@ -53,6 +53,9 @@ public:
   virtual bool read(sensor_msgs::PointCloud2& message) = 0;
   virtual bool read(nav_msgs::Odometry& message) = 0;
   virtual bool read(geometry_msgs::PoseStamped& message) = 0;
+  /// The current message's number when it is a wheel tick of std_msgs type `type`
+  /// (wheel_tick_messages.h); false when it is of another type. Throws as read.
+  virtual bool readWheelTick(const std::string& type, double& value) = 0;
 };
 
 }  // namespace odometry_calibration

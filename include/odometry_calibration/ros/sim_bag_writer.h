@@ -1,4 +1,6 @@
-// Writes the simulator's streams into a rosbag: sensor_msgs/JointState, sensor_msgs/LaserScan
+// Writes the simulator's streams into a rosbag: sensor_msgs/JointState (positions, or velocities
+// only with encoders.output joint_velocity; with encoders.output ticks instead one std_msgs
+// number topic per joint, recorded at each reading's time), sensor_msgs/LaserScan
 // (each laser of the scenario on its own topic and frame)
 // (or sensor_msgs/PointCloud2 of the multi-beam lidar: x, y, z, intensity, ring, time),
 // and the ground truth as nav_msgs/Odometry plus its own tf tree (sim_world -> sim_base_link
@@ -58,6 +60,8 @@ public:
   void onTruth(const sim::TruthSample& sample) override;
   void onTracker(const sim::TrackerSample& sample) override;
   void onCloud(const sim::CloudSample& sample) override;
+  /// encoders.output ticks: the joint's reading on its tick topic as encoders.tick_type.
+  void onWheelTick(const sim::WheelTickSample& sample) override;
 
   /// Writes the index and closes the file.
   void close();
@@ -73,6 +77,7 @@ private:
   std::vector<sim::LaserOptions> lasers_;  ///< every laser, in ScanSample::laser_index order
   std::vector<std::uint32_t> scan_seqs_;   ///< the extra lasers' header seq (the first's below)
   std::vector<std::string> joint_names_;
+  std::vector<std::string> tick_topics_;  ///< encoders.output ticks: each joint's topic
   std::uint32_t joint_seq_ = 0, scan_seq_ = 0, truth_seq_ = 0, tracker_seq_ = 0;
   bool wrote_static_tf_ = false;
 };

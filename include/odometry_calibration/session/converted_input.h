@@ -25,20 +25,25 @@ struct ConvertedInput
 {
   enum class Kind
   {
-    kJoints,         ///< `raw`: the configured joints' positions (encoderChannels order, signs
-                     ///< applied)
-    kBadJoints,      ///< an encoder message that could not be used (`problem` says why)
-    kScan,           ///< `scan` from a laser scan in `frame` (empty: unnamed)
-    kCloudScan,      ///< `scan` from a 3D lidar's cloud in `frame`; `problem` non-empty: the
-                     ///< cloud's per-point times were not used, and why
-    kBadEgoMessage,  ///< an ego-motion message that gave nothing: `message_type`, `problem`
-    kSensorPose,     ///< `pose`: the sensor's pose in the world; `frame` its child frame (or "")
+    kJoints,           ///< `raw`: the configured joints' positions (encoderChannels order, signs
+                       ///< applied)
+    kBadJoints,        ///< an encoder message that could not be used (`problem` says why)
+    kScan,             ///< `scan` from a laser scan in `frame` (empty: unnamed)
+    kCloudScan,        ///< `scan` from a 3D lidar's cloud in `frame`; `problem` non-empty: the
+                       ///< cloud's per-point times were not used, and why
+    kBadEgoMessage,    ///< an ego-motion message that gave nothing: `message_type`, `problem`
+    kSensorPose,       ///< `pose`: the sensor's pose in the world; `frame` its child frame (or "")
+    kWheelTick,        ///< `raw(0)`: joint `wheel`'s raw tick reading (wheels.source ticks)
+    kJointVelocities,  ///< `raw`: the joints' velocities (encoderChannels order, no signs)
   };
   Kind kind = Kind::kJoints;
   /// The ego-motion source the message came from (egoMotionSources order; 0 with one source
   /// and for encoder messages, which go to every source).
   std::size_t source = 0;
-  double stamp_s = 0.0;  ///< the message's stamp [s]
+  std::size_t wheel = 0;  ///< kWheelTick: the joint whose topic it came on (joints' order)
+  /// The message's stamp [s]; a tick topic's messages have none: the receive time (live) or
+  /// the record time (bag).
+  double stamp_s = 0.0;
   Eigen::VectorXd raw;
   Scan scan;
   Pose2 pose;

@@ -21,6 +21,7 @@
 
 #include "odometry_calibration/calibration/joint_source_fit.h"
 #include "odometry_calibration/session/calibration_session.h"
+#include "odometry_calibration/session/wheel_signals.h"
 
 namespace odometry_calibration {
 
@@ -75,6 +76,14 @@ public:
   void addJointPositions(double stamp_s, const Eigen::VectorXd& raw,
                          const std::string& publisher = "");
   void skipJointState(const std::string& problem, const std::string& publisher = "");
+  /// wheels.source ticks: joint `wheel`'s raw reading at `stamp_s` (wheel_signals.h); the
+  /// joint samples it completes go to addJointPositions with the first joint's publisher, a
+  /// reading that cannot be used to skipJointState with the reason.
+  void addWheelTick(std::size_t wheel, double stamp_s, double raw,
+                    const std::string& publisher = "");
+  /// wheels.source joint_velocity: the joints' velocities at `stamp_s`, integrated (as above).
+  void addJointVelocities(double stamp_s, const Eigen::VectorXd& velocity,
+                          const std::string& publisher = "");
   void flush();
   void tick();
   /// Every source's pairs not yet written; returns how many still are not, in all.
@@ -134,8 +143,14 @@ private:
   /// The joint monitor watches the sources' saved calibrations when every source loaded one.
   void watchSavedCalibrations();
 
+  /// A wheel message's output into the sessions (its samples, then its problem, if any).
+  void feedWheelOutput(const WheelSignalOutput& output, const std::string& publisher);
+
   CalibrationConfig config_;
   std::string config_text_, config_source_;
+  std::unique_ptr<WheelSignals> wheel_signals_;
+  std::mutex wheel_mutex_;       ///< guards wheel_signals_ and the order its samples are fed in
+  std::string wheel_publisher_;  ///< the first joint's topic's publisher (ticks)
   SessionOptions options_;
   std::vector<EgoMotionSourceConfig> sources_;
   /// Several sources: the health monitor of the joint calibration (no guidance: the sources'

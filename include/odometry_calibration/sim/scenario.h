@@ -85,6 +85,14 @@ struct EncoderOptions
   /// JointState stamps = true sample time + offset [s]. Negative: the encoder values are
   /// stamped earlier than they were measured (they run ahead of the laser).
   double time_offset_s = 0.0;
+  /// What the wheels publish: "joint_state" (JointState positions), "ticks" (one std_msgs
+  /// topic per joint: tick_topics, tick_type; no stamp, recorded at the reading's time) or
+  /// "joint_velocity" (JointState with velocities only, `position` empty).
+  std::string output = "joint_state";
+  std::vector<std::string> tick_topics;      ///< ticks: one per joint; empty: "/<joint>_ticks"
+  std::string tick_type = "std_msgs/Int32";  ///< ticks: the std_msgs type
+  /// ticks: joint j is read j * this after each encoder instant (the wheels' messages apart) [s].
+  double tick_stagger_s = 0.0;
 };
 
 /// An external tracker (motion capture) measuring the laser's world pose at every encoder
@@ -158,11 +166,15 @@ Scenario loadScenarioYaml(const std::string& path, const std::string& worlds_dir
 /// What a command line may change in a scenario file.
 struct ScenarioOverrides
 {
-  double seed = -1.0;        ///< >= 0: replaces the scenario's seed (as an unsigned)
-  double duration_s = -1.0;  ///< > 0: replaces the scenario's duration [s]
+  double seed = -1.0;            ///< >= 0: replaces the scenario's seed (as an unsigned)
+  double duration_s = -1.0;      ///< > 0: replaces the scenario's duration [s]
+  std::string wheel_output;      ///< non-empty: replaces encoders.output
+  int counter_bits = -1;         ///< >= 0: replaces encoders.counter_bits
+  std::string tick_type;         ///< non-empty: replaces encoders.tick_type
+  double tick_stagger_s = -1.0;  ///< >= 0: replaces encoders.tick_stagger_s [s]
 };
 
-/// loadScenarioYaml, then the overrides.
+/// loadScenarioYaml, then the overrides (the result validated again).
 Scenario loadScenarioYaml(const std::string& path, const std::string& worlds_directory,
                           const ScenarioOverrides& overrides);
 

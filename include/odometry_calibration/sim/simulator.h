@@ -19,6 +19,18 @@ struct JointStateSample
 {
   double stamp_s = 0.0;           ///< true time + encoders.time_offset_s [s since start]
   std::vector<double> positions;  ///< ticks (or radians), in joint order
+  /// The joints' shaft rates over the last integration step (at most 2 ms) [ticks/s, or rad/s],
+  /// for encoders.output joint_velocity.
+  std::vector<double> velocities;
+};
+
+/// One joint's reading on its own tick topic (encoders.output ticks): the counter as
+/// encoderReading gives it, joint j read encoders.tick_stagger_s * j after the instant.
+struct WheelTickSample
+{
+  double stamp_s = 0.0;  ///< true time + encoders.time_offset_s [s since start]
+  std::size_t joint = 0;
+  double value = 0.0;  ///< ticks (or radians)
 };
 
 /// One laser scan in the sensor's frame (angles counter-clockwise from its x axis).
@@ -81,6 +93,7 @@ public:
   virtual void onTruth(const TruthSample& sample) = 0;
   virtual void onTracker(const TrackerSample& /*sample*/) {}
   virtual void onCloud(const CloudSample& /*sample*/) {}
+  virtual void onWheelTick(const WheelTickSample& /*sample*/) {}
 };
 
 /// Forwards every sample to several sinks, in order.
@@ -96,6 +109,7 @@ public:
   void onTruth(const TruthSample& s) override { forward(&SimulationSink::onTruth, s); }
   void onTracker(const TrackerSample& s) override { forward(&SimulationSink::onTracker, s); }
   void onCloud(const CloudSample& s) override { forward(&SimulationSink::onCloud, s); }
+  void onWheelTick(const WheelTickSample& s) override { forward(&SimulationSink::onWheelTick, s); }
 
 private:
   /// Calls `receive` (one of the SimulationSink callbacks) with `sample` on every sink, in order.
