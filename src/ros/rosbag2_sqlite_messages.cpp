@@ -150,8 +150,8 @@ std::vector<std::string> folderFiles(const std::string& folder)
   if (metadata.storage_identifier != "sqlite3" && !metadata.storage_identifier.empty()) {
     throw std::runtime_error("the bag '" + folder + "' is stored as '" +
                              metadata.storage_identifier +
-                             "'; only SQLite storage (sqlite3) is read so far (convert it with "
-                             "'ros2 bag convert' to storage sqlite3)");
+                             "'; SQLite (sqlite3) and MCAP (mcap) storage are read (convert it "
+                             "with 'ros2 bag convert' to one of them)");
   }
   if (metadata.compression_mode == "MESSAGE" ||
       (!metadata.compression_format.empty() && metadata.compression_format != "zstd")) {
@@ -212,11 +212,6 @@ Rosbag2SqliteMessages::Rosbag2SqliteMessages(const std::vector<std::string>& pat
 {
   for (const std::string& path : paths) {
     std::error_code error;
-    if (endsWith(path, ".mcap")) {
-      throw std::runtime_error("'" + path +
-                               "' is an MCAP file; only rosbag2's SQLite storage "
-                               "(.db3, .db3.zstd) is read so far");
-    }
     const std::vector<std::string> files =
         fs::is_directory(path, error) ? folderFiles(path) : std::vector<std::string>{path};
     for (const std::string& file : files)
