@@ -244,6 +244,8 @@ void File::scan(std::uint64_t from, std::uint64_t limit, bool whole)
     cutAt(at, std::string(error.what()) + " (at byte " + std::to_string(error.offset()) + ")");
     return;
   }
+  if (whole && !data_end)
+    throw FormatError(at, "the data section ends without its Data End record");
   if (!whole && !data_end)
     cutAt(at, "the file ends without the records that close a recording");
 }

@@ -14,11 +14,13 @@ namespace odometry_calibration {
 using mcap::Appender;
 
 Rosbag2McapWriter::Rosbag2McapWriter(const std::string& folder, const std::string& name,
-                                     const std::string& compression)
+                                     const std::string& compression,
+                                     std::size_t chunk_size_bytes)
     : folder_(folder),
       file_name_(name + "_0.mcap"),
       path_((std::filesystem::path(folder) / file_name_).string()),
-      compression_(compression == "none" ? "" : compression)
+      compression_(compression == "none" ? "" : compression),
+      chunk_size_bytes_(chunk_size_bytes)
 {
   if (compression_ != "" && compression_ != "zstd" && compression_ != "lz4") {
     throw std::invalid_argument("unknown chunk compression '" + compression +
@@ -105,7 +107,7 @@ void Rosbag2McapWriter::writeSerialized(const std::string& topic, const std::str
   if (metadata_.message_count++ == 0 || time_ns < metadata_.starting_time_ns)
     metadata_.starting_time_ns = time_ns;
   last_ns_ = std::max(last_ns_, time_ns);
-  if (chunk_.size() >= kChunkSize_bytes)
+  if (chunk_.size() >= chunk_size_bytes_)
     flushChunk();
 }
 

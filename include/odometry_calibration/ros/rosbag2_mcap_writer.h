@@ -26,12 +26,16 @@ namespace odometry_calibration {
 class Rosbag2McapWriter
 {
 public:
+  /// The uncompressed size at which a chunk is closed unless told otherwise [bytes].
+  static constexpr std::size_t kDefaultChunkSize_bytes = 1 << 20;
+
   /// Starts writing into the existing folder `folder` the bag named `name` (its file
-  /// "<name>_0.mcap"), chunks compressed with `compression`: "zstd", "lz4" or "none". Throws
-  /// std::runtime_error naming the file that cannot be created, std::invalid_argument for
-  /// another compression.
+  /// "<name>_0.mcap"), chunks compressed with `compression`: "zstd", "lz4" or "none", each
+  /// closed once its records reach `chunk_size_bytes` uncompressed. Throws std::runtime_error
+  /// naming the file that cannot be created, std::invalid_argument for another compression.
   Rosbag2McapWriter(const std::string& folder, const std::string& name,
-                    const std::string& compression = "zstd");
+                    const std::string& compression = "zstd",
+                    std::size_t chunk_size_bytes = kDefaultChunkSize_bytes);
   ~Rosbag2McapWriter();
   Rosbag2McapWriter(const Rosbag2McapWriter&) = delete;
   Rosbag2McapWriter& operator=(const Rosbag2McapWriter&) = delete;
@@ -51,8 +55,6 @@ public:
   /// metadata.yaml. Throws std::runtime_error when a write fails (a full disk).
   void close();
 
-  /// The uncompressed size at which a chunk is closed [bytes].
-  static constexpr std::size_t kChunkSize_bytes = 1 << 20;
 
 private:
   /// Appends `bytes` to the file (and to the running CRC of its data section).
@@ -64,6 +66,7 @@ private:
   std::uint64_t writeSummary();
 
   std::string folder_, file_name_, path_, compression_;
+  std::size_t chunk_size_bytes_;
   std::FILE* file_ = nullptr;
   std::uint64_t position_ = 0;  ///< bytes written so far
   std::uint32_t crc_ = 0;       ///< of every byte written so far
