@@ -193,9 +193,10 @@ OpenRecording openRecording(const std::vector<std::string>& bag_paths,
   if (mcap == bag_paths.size())
     return openRosbag2<McapMessages>(bag_paths, config, start_offset_s, end_offset_s);
   if (mcap > 0) {
-    throw std::runtime_error("rosbag2 recordings in SQLite and in MCAP storage cannot be read in "
-                             "one run (" + bagNames(bag_paths) +
-                             "): convert them to one storage with 'ros2 bag convert'");
+    throw std::runtime_error(
+        "rosbag2 recordings in SQLite and in MCAP storage cannot be read in "
+        "one run (" +
+        bagNames(bag_paths) + "): convert them to one storage with 'ros2 bag convert'");
   }
   return openRosbag2<Rosbag2SqliteMessages>(bag_paths, config, start_offset_s, end_offset_s);
 }

@@ -71,8 +71,7 @@ ChunkFields parseChunk(const std::uint8_t* content, std::size_t size, std::uint6
 /// Calls `record(opcode, content, size, offset)` for each record of `size` bytes at `records`
 /// (at file byte `base`). Throws FormatError for a record that runs past the end.
 template <typename Function>
-void walkRecords(const std::uint8_t* records, std::size_t size, std::uint64_t base,
-                 Function record)
+void walkRecords(const std::uint8_t* records, std::size_t size, std::uint64_t base, Function record)
 {
   std::size_t at = 0;
   while (at < size) {
@@ -185,7 +184,8 @@ bool File::readFooter(std::uint64_t& data_end)
   const std::uint32_t crc = cursor.u32("summary_crc");
   if (summary > footer || offsets > footer || (offsets != 0 && offsets < summary) ||
       (summary != 0 && summary < kMagicSize + kRecordPrefixSize))
-    throw FormatError(footer + kRecordPrefixSize, "the footer's summary offsets lie outside the file");
+    throw FormatError(footer + kRecordPrefixSize,
+                      "the footer's summary offsets lie outside the file");
   if (summary != 0 && crc != 0) {
     const std::uint64_t covered = footer + kRecordPrefixSize + 16 - summary;
     const std::uint32_t computed = crc32(data_ + summary, covered);
@@ -224,16 +224,15 @@ void File::scan(std::uint64_t from, std::uint64_t limit, bool whole)
       const std::uint8_t opcode = prefix.u8("the opcode");
       const std::uint64_t length = prefix.u64("the record length");
       if (length > limit - at - kRecordPrefixSize) {
-        throw FormatError(at + 1, "a record of " + std::to_string(length) +
-                                      " bytes runs past the end of the " +
-                                      (whole ? "data section" : "file") + " at byte " +
-                                      std::to_string(limit));
+        throw FormatError(
+            at + 1, "a record of " + std::to_string(length) + " bytes runs past the end of the " +
+                        (whole ? "data section" : "file") + " at byte " + std::to_string(limit));
       }
       if (opcode == 0)
         throw FormatError(at, "opcode 0 is no record (zeroed or overwritten bytes)");
       const std::uint64_t end = at + kRecordPrefixSize + length;
-      scanRecord(opcode, data_ + at + kRecordPrefixSize, static_cast<std::size_t>(length),
-                 at, end, data_end);
+      scanRecord(opcode, data_ + at + kRecordPrefixSize, static_cast<std::size_t>(length), at, end,
+                 data_end);
       at = end;
     }
   } catch (const FormatError& error) {
@@ -244,7 +243,9 @@ void File::scan(std::uint64_t from, std::uint64_t limit, bool whole)
     cutAt(at, std::string(error.what()) + " (at byte " + std::to_string(error.offset()) + ")");
     return;
   }
-  if (whole && !data_end)
+  // A Data End record closes the data section before a summary (without a summary the
+  // format lets the footer follow the data directly).
+  if (whole && !data_end && limit < size_ - kMagicSize - kFooterRecordSize)
     throw FormatError(at, "the data section ends without its Data End record");
   if (!whole && !data_end)
     cutAt(at, "the file ends without the records that close a recording");
@@ -259,8 +260,8 @@ void File::scanRecord(std::uint8_t opcode, const std::uint8_t* content, std::siz
     const std::uint32_t computed = crc == 0 ? 0 : crc32(data_, offset);
     if (computed != crc) {
       throw FormatError(offset, "the data section's CRC does not match (the Data End record says " +
-                                    hex(crc) + ", its " + std::to_string(offset) +
-                                    " bytes give " + hex(computed) + ")");
+                                    hex(crc) + ", its " + std::to_string(offset) + " bytes give " +
+                                    hex(computed) + ")");
     }
     data_end = true;
   } else if (opcode == kFooter) {
@@ -324,8 +325,7 @@ void File::registerRecord(std::uint8_t opcode, const std::uint8_t* content, std:
     if (const auto known = schemas_.find(schema); known != schemas_.end())
       channel.recorded_type = known->second;
     channel.type = ros1TypeName(channel.recorded_type);
-    channel.wanted =
-        std::find(topics_.begin(), topics_.end(), channel.topic) != topics_.end();
+    channel.wanted = std::find(topics_.begin(), topics_.end(), channel.topic) != topics_.end();
     channels_.emplace(channel.id, std::move(channel));  // a repeated channel kept as first seen
   }
 }
@@ -345,18 +345,18 @@ void File::indexBlocks(bool whole)
       std::size_t size = 0;
       chunkRecords(blocks_[k], buffer, records, size);
       spans_[k].clear();
-      walkRecords(records, size, 0,
-                  [&](std::uint8_t opcode, const std::uint8_t* content, std::size_t length,
-                      std::uint64_t) {
-                    if (opcode == kMessage && length >= kMessageFieldsSize) {
-                      Cursor cursor(content, length, blocks_[k].offset);
-                      const std::uint16_t channel = cursor.u16("channel_id");
-                      cursor.u32("sequence");
-                      spans_[k][channel].add(static_cast<std::int64_t>(cursor.u64("log_time")));
-                    } else {
-                      registerRecord(opcode, content, length, blocks_[k].offset);
-                    }
-                  });
+      walkRecords(
+          records, size, 0,
+          [&](std::uint8_t opcode, const std::uint8_t* content, std::size_t length, std::uint64_t) {
+            if (opcode == kMessage && length >= kMessageFieldsSize) {
+              Cursor cursor(content, length, blocks_[k].offset);
+              const std::uint16_t channel = cursor.u16("channel_id");
+              cursor.u32("sequence");
+              spans_[k][channel].add(static_cast<std::int64_t>(cursor.u64("log_time")));
+            } else {
+              registerRecord(opcode, content, length, blocks_[k].offset);
+            }
+          });
     } catch (const FormatError& error) {
       if (whole)
         throw FormatError(blocks_[k].offset, error.what());
@@ -399,7 +399,8 @@ void File::chunkRecords(const Block& block, std::vector<std::uint8_t>& buffer,
       decompressChunk(chunk.compression, chunk.records, static_cast<std::size_t>(chunk.size),
                       chunk.uncompressed_size, buffer);
     } catch (const std::runtime_error& error) {
-      throw FormatError(block.offset, std::string("its chunk does not decompress: ") + error.what());
+      throw FormatError(block.offset,
+                        std::string("its chunk does not decompress: ") + error.what());
     }
     records = buffer.data();
     size = buffer.size();
@@ -425,21 +426,21 @@ void File::read(const Block& block, std::int64_t begin_ns, std::int64_t end_ns,
     if (block.chunk)
       chunkRecords(block, buffer, records, size);
     const std::uint64_t base = block.chunk ? 0 : block.offset;
-    walkRecords(records, size, base,
-                [&](std::uint8_t opcode, const std::uint8_t* content, std::size_t length,
-                    std::uint64_t) {
-                  if (opcode != kMessage || length < kMessageFieldsSize)
-                    return;
-                  Cursor cursor(content, length, 0);
-                  const auto channel = channels_.find(cursor.u16("channel_id"));
-                  cursor.u32("sequence");
-                  const auto time_ns = static_cast<std::int64_t>(cursor.u64("log_time"));
-                  if (channel == channels_.end() || !channel->second.wanted ||
-                      time_ns < begin_ns || time_ns > end_ns)
-                    return;
-                  entries.push_back({time_ns, content + kMessageFieldsSize,
-                                     length - kMessageFieldsSize, &channel->second});
-                });
+    walkRecords(
+        records, size, base,
+        [&](std::uint8_t opcode, const std::uint8_t* content, std::size_t length, std::uint64_t) {
+          if (opcode != kMessage || length < kMessageFieldsSize)
+            return;
+          Cursor cursor(content, length, 0);
+          const auto channel = channels_.find(cursor.u16("channel_id"));
+          cursor.u32("sequence");
+          const auto time_ns = static_cast<std::int64_t>(cursor.u64("log_time"));
+          if (channel == channels_.end() || !channel->second.wanted || time_ns < begin_ns ||
+              time_ns > end_ns)
+            return;
+          entries.push_back({time_ns, content + kMessageFieldsSize, length - kMessageFieldsSize,
+                             &channel->second});
+        });
   } catch (const FormatError& error) {
     fail(block.chunk ? block.offset : error.offset(), error.what());
   }

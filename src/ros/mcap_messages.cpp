@@ -113,12 +113,13 @@ std::string McapMessages::describeTopics() const
     for (const auto& [id, channel] : file->channels())
       channels.push_back(&channel);
   }
-  std::stable_sort(channels.begin(), channels.end(),
-                   [](const mcap::Channel* a, const mcap::Channel* b) { return a->topic < b->topic; });
+  std::stable_sort(
+      channels.begin(), channels.end(),
+      [](const mcap::Channel* a, const mcap::Channel* b) { return a->topic < b->topic; });
   std::string text;
   for (const mcap::Channel* channel : channels) {
-    text += (text.empty() ? "'" : ", '") + channel->topic + "' (" + channel->recorded_type +
-            ", " + std::to_string(channel->count) + " messages)";
+    text += (text.empty() ? "'" : ", '") + channel->topic + "' (" + channel->recorded_type + ", " +
+            std::to_string(channel->count) + " messages)";
   }
   return text.empty() ? "none" : text;
 }
@@ -198,8 +199,9 @@ bool McapMessages::next()
                                       : std::tie(a.file, a.block) > std::tie(b.file, b.block);
     });
   } else if (current_ && ++current_->at == current_->entries.size()) {
-    open_.erase(std::find_if(open_.begin(), open_.end(),
-                             [&](const std::unique_ptr<Open>& open) { return open.get() == current_; }));
+    open_.erase(std::find_if(open_.begin(), open_.end(), [&](const std::unique_ptr<Open>& open) {
+      return open.get() == current_;
+    }));
   }
   openPending();
   // The earliest current message of the open blocks (the earlier block's on a tie).

@@ -128,8 +128,8 @@ void decompressLz4(const std::uint8_t* compressed, std::size_t size, std::vector
   std::size_t status = 1;
   while (status != 0 && read < size && written <= out.size()) {
     std::size_t out_size = out.size() - written, in_size = size - read;
-    status = LZ4F_decompress(context, out.data() + written, &out_size, compressed + read,
-                             &in_size, nullptr);
+    status = LZ4F_decompress(context, out.data() + written, &out_size, compressed + read, &in_size,
+                             nullptr);
     if (LZ4F_isError(status)) {
       const std::string name = LZ4F_getErrorName(status);
       LZ4F_freeDecompressionContext(context);
@@ -157,14 +157,14 @@ void decompressChunk(const std::string& compression, const std::uint8_t* compres
 {
   if (uncompressed_size > kMaxChunkSize) {
     throw std::runtime_error("the chunk claims " + std::to_string(uncompressed_size) +
-                             " bytes uncompressed, more than the " +
-                             std::to_string(kMaxChunkSize) + " this reader takes");
+                             " bytes uncompressed, more than the " + std::to_string(kMaxChunkSize) +
+                             " this reader takes");
   }
   if (compression != "" && compression != "zstd" && compression != "lz4")
     throw std::runtime_error("unknown chunk compression '" + compression + "'");
   if (compression.empty() && uncompressed_size != size) {
-    throw std::runtime_error("an uncompressed chunk of " + std::to_string(size) +
-                             " bytes claims " + std::to_string(uncompressed_size));
+    throw std::runtime_error("an uncompressed chunk of " + std::to_string(size) + " bytes claims " +
+                             std::to_string(uncompressed_size));
   }
   out.resize(static_cast<std::size_t>(uncompressed_size));
   if (compression.empty()) {
@@ -175,8 +175,8 @@ void decompressChunk(const std::string& compression, const std::uint8_t* compres
     if (ZSTD_isError(result))
       throw std::runtime_error(std::string("zstd: ") + ZSTD_getErrorName(result));
     if (result != out.size()) {
-      throw std::runtime_error("zstd gave " + std::to_string(result) +
-                               " bytes, the chunk says " + std::to_string(out.size()));
+      throw std::runtime_error("zstd gave " + std::to_string(result) + " bytes, the chunk says " +
+                               std::to_string(out.size()));
     }
   } else {
     decompressLz4(compressed, size, out);
@@ -191,7 +191,8 @@ std::vector<std::uint8_t> compressChunk(const std::string& compression,
     return records;
   if (compression == "zstd") {
     out.resize(ZSTD_compressBound(records.size()));
-    const std::size_t size = ZSTD_compress(out.data(), out.size(), records.data(), records.size(), 3);
+    const std::size_t size =
+        ZSTD_compress(out.data(), out.size(), records.data(), records.size(), 3);
     if (ZSTD_isError(size))
       throw std::runtime_error(std::string("zstd: ") + ZSTD_getErrorName(size));
     out.resize(size);

@@ -14,8 +14,7 @@ namespace odometry_calibration {
 using mcap::Appender;
 
 Rosbag2McapWriter::Rosbag2McapWriter(const std::string& folder, const std::string& name,
-                                     const std::string& compression,
-                                     std::size_t chunk_size_bytes)
+                                     const std::string& compression, std::size_t chunk_size_bytes)
     : folder_(folder),
       file_name_(name + "_0.mcap"),
       path_((std::filesystem::path(folder) / file_name_).string()),
@@ -55,8 +54,7 @@ void Rosbag2McapWriter::put(const std::vector<std::uint8_t>& bytes)
 }
 
 void Rosbag2McapWriter::writeSerialized(const std::string& topic, const std::string& type,
-                                        std::int64_t time_ns,
-                                        const std::vector<std::uint8_t>& cdr)
+                                        std::int64_t time_ns, const std::vector<std::uint8_t>& cdr)
 {
   auto known = std::find_if(metadata_.topics.begin(), metadata_.topics.end(),
                             [&](const Rosbag2Topic& t) { return t.name == topic; });

@@ -145,7 +145,8 @@ TEST_F(CalibrateBagRosbag2, AnMcapFileCutOffWhileRecordingIsCalibratedFromItsPar
   // Fewer pairs than the whole drive gave.
   const std::string pairs = readFile(output + "/pairs.csv");
   const std::string whole = readFile(directory_ + "/out_bag/pairs.csv");
-  EXPECT_LT(std::count(pairs.begin(), pairs.end(), '\n'), std::count(whole.begin(), whole.end(), '\n'));
+  EXPECT_LT(std::count(pairs.begin(), pairs.end(), '\n'),
+            std::count(whole.begin(), whole.end(), '\n'));
   EXPECT_GT(std::count(pairs.begin(), pairs.end(), '\n'), 5);
 }
 

@@ -1,9 +1,9 @@
 // Damaged rosbag2 storage files, .db3 (SQLite) and .mcap, read in-process by the readers
 // calibrate_bag uses (every message deserialised): truncations at 50 points, 200 flipped bytes,
 // zeroed blocks, forged lengths, a chunk that does not decompress, a CRC that does not match
-// (a fixed seed, so that a failure replays); the MCAP file holds the .db3's messages. Never a crash and never longer than 10 s a file;
-// each refusal names the file and the cause; an MCAP file that lost messages says it was read
-// only in part; damage an MCAP file's CRCs cover is refused.
+// (a fixed seed, so that a failure replays); the MCAP file holds the .db3's messages. Never a crash
+// and never longer than 10 s a file; each refusal names the file and the cause; an MCAP file that
+// lost messages says it was read only in part; damage an MCAP file's CRCs cover is refused.
 #include <stdlib.h>
 
 #include <chrono>
@@ -39,9 +39,9 @@ using test_support::readFile;
 struct Outcome
 {
   bool refused = false;
-  std::string error;              ///< the refusal's text
-  std::size_t messages = 0;       ///< read (skipped ones included)
-  std::size_t skipped = 0;        ///< UnreadableMessage
+  std::string error;                 ///< the refusal's text
+  std::size_t messages = 0;          ///< read (skipped ones included)
+  std::size_t skipped = 0;           ///< UnreadableMessage
   std::vector<std::string> partial;  ///< McapMessages::partialReads
   double seconds = 0.0;
 };
@@ -107,8 +107,8 @@ protected:
           << outcome.error;
       EXPECT_GT(outcome.error.size(), directory_.size() + name.size() + 20) << outcome.error;
     } else if (name.find(".mcap") != std::string::npos && outcome.messages < whole) {
-      ASSERT_EQ(outcome.partial.size(), 1u) << name << ": " << outcome.messages << " of "
-                                            << whole << " read without saying so";
+      ASSERT_EQ(outcome.partial.size(), 1u)
+          << name << ": " << outcome.messages << " of " << whole << " read without saying so";
       EXPECT_NE(outcome.partial[0].find(name), std::string::npos) << outcome.partial[0];
     }
   }
@@ -187,8 +187,7 @@ TEST_F(CorruptedRosbag2, TruncationsAt50PointsAreRefusedOrReadInPartSayingSo)
       }
       // No footer: read up to the cut (more the later the cut) and said, or refused; a cut in
       // the summary loses no message.
-      EXPECT_TRUE(outcome.refused || !outcome.partial.empty() || outcome.messages == whole)
-          << name;
+      EXPECT_TRUE(outcome.refused || !outcome.partial.empty() || outcome.messages == whole) << name;
       EXPECT_GE(outcome.messages, previous) << name;
       previous = std::max(previous, outcome.messages);
     }
@@ -250,8 +249,8 @@ TEST_F(CorruptedRosbag2, ForgedLengthsAreRefusedNamingTheByte)
   for (std::size_t at = mcap::kMagicSize; at + mcap::kRecordPrefixSize <= mcap_.size() - 8;) {
     std::uint64_t length = 0;
     std::memcpy(&length, mcap_.data() + at + 1, 8);
-    for (const std::uint64_t wrong : {std::uint64_t{1} << 62, std::uint64_t{mcap_.size()},
-                                      length - 1}) {
+    for (const std::uint64_t wrong :
+         {std::uint64_t{1} << 62, std::uint64_t{mcap_.size()}, length - 1}) {
       std::string bytes = mcap_;
       std::memcpy(&bytes[at + 1], &wrong, 8);
       const std::string name = "forged" + std::to_string(forged++) + ".mcap";
@@ -268,9 +267,10 @@ TEST_F(CorruptedRosbag2, ForgedLengthsAreRefusedNamingTheByte)
   }
   EXPECT_GE(forged, 30);
   // SQLite: the header's page size and count, the first page's cell count.
-  const std::pair<std::size_t, std::string> fields[] = {
-      {16, std::string("\x02\x00", 2)}, {16, "\xff\xff"}, {28, "\x7f\xff\xff\xff"},
-      {103, "\xff\xff"}};
+  const std::pair<std::size_t, std::string> fields[] = {{16, std::string("\x02\x00", 2)},
+                                                        {16, "\xff\xff"},
+                                                        {28, "\x7f\xff\xff\xff"},
+                                                        {103, "\xff\xff"}};
   for (const auto& [offset, value] : fields) {
     std::string bytes = db3_;
     bytes.replace(offset, value.size(), value);

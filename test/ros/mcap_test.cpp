@@ -274,12 +274,12 @@ TEST(McapRecords, ChunksRoundTripAndBadOnesAreRefused)
       continue;
     EXPECT_LT(packed.size(), records.size()) << compression;
     // A wrong size is refused, not truncated or padded.
-    EXPECT_THROW(mcap::decompressChunk(compression, packed.data(), packed.size(),
-                                       records.size() + 1, out),
-                 std::runtime_error);
-    EXPECT_THROW(mcap::decompressChunk(compression, packed.data(), packed.size() / 2,
-                                       records.size(), out),
-                 std::runtime_error);
+    EXPECT_THROW(
+        mcap::decompressChunk(compression, packed.data(), packed.size(), records.size() + 1, out),
+        std::runtime_error);
+    EXPECT_THROW(
+        mcap::decompressChunk(compression, packed.data(), packed.size() / 2, records.size(), out),
+        std::runtime_error);
   }
   std::vector<std::uint8_t> out;
   EXPECT_THROW(mcap::decompressChunk("zstd", records.data(), 10, mcap::kMaxChunkSize + 1, out),

@@ -62,9 +62,9 @@ BagRunResult runBags(const std::vector<std::string>& bag_paths, const Calibratio
                      const JointFitFunction& fit_jointly = fitSourcesJointly);
 
 /// A source's part of the run in a few lines: the run's data span and speed (reading,
-/// conversion, pairing times), a warning per file read only in part, then from the source's `counts`: pairs, scans and keyframes,
-/// consecutive-match failures, rejections by reason; then `notes`, what went wrong
-/// (CalibrationSession::collectionNotes).
+/// conversion, pairing times), a warning per file read only in part, then from the source's
+/// `counts`: pairs, scans and keyframes, consecutive-match failures, rejections by reason; then
+/// `notes`, what went wrong (CalibrationSession::collectionNotes).
 std::string formatBagRunSummary(const BagRunResult& run, const SessionCounts& counts,
                                 const std::vector<std::string>& notes);
 

@@ -55,7 +55,6 @@ public:
   /// metadata.yaml. Throws std::runtime_error when a write fails (a full disk).
   void close();
 
-
 private:
   /// Appends `bytes` to the file (and to the running CRC of its data section).
   void put(const std::vector<std::uint8_t>& bytes);
@@ -68,8 +67,8 @@ private:
   std::string folder_, file_name_, path_, compression_;
   std::size_t chunk_size_bytes_;
   std::FILE* file_ = nullptr;
-  std::uint64_t position_ = 0;  ///< bytes written so far
-  std::uint32_t crc_ = 0;       ///< of every byte written so far
+  std::uint64_t position_ = 0;                    ///< bytes written so far
+  std::uint32_t crc_ = 0;                         ///< of every byte written so far
   std::vector<std::uint8_t> schemas_, channels_;  ///< their records, for the summary
   std::vector<std::uint8_t> chunk_;               ///< the open chunk's records
   std::int64_t chunk_start_ns_ = 0, chunk_end_ns_ = 0;

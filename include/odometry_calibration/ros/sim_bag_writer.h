@@ -43,8 +43,7 @@ enum class BagFormat
 /// "bag", "db3", "db3.zstd" or "mcap" (simulate's --format) as a BagFormat, MCAP's chunks
 /// compressed with `chunk_compression` ("zstd", "lz4" or "none"; simulate's
 /// --chunk-compression). Throws std::invalid_argument for another name.
-BagFormat bagFormatFromName(const std::string& name,
-                            const std::string& chunk_compression = "zstd");
+BagFormat bagFormatFromName(const std::string& name, const std::string& chunk_compression = "zstd");
 
 /// A SimulationSink that writes a bag. Messages are written with their header stamps as bag
 /// times; the bag is uncompressed so a fixed seed gives a byte-identical file.
