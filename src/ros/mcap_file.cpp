@@ -334,6 +334,8 @@ void File::indexBlocks(bool whole)
 {
   std::vector<std::uint8_t> buffer;
   for (std::size_t k = 0; k < blocks_.size(); ++k) {
+    if (!blocks_[k].chunk)
+      continue;  // messages outside chunks: counted in the scan
     bool known = indexed_[k];
     for (const auto& [channel, span] : spans_[k])
       known = known && channels_.count(channel) > 0;

@@ -9,6 +9,7 @@
 #include <tuple>
 
 #include "odometry_calibration/ros/cdr_reader.h"
+#include "odometry_calibration/ros/mcap_block_loader.h"
 #include "odometry_calibration/ros/mcap_file.h"
 #include "odometry_calibration/ros/rosbag2_metadata.h"
 
@@ -19,11 +20,11 @@ namespace fs = std::filesystem;
 /// A block being read: its messages on the topics asked for, and the next one.
 struct McapMessages::Open
 {
-  std::size_t file = 0, block = 0;
-  std::vector<std::uint8_t> buffer;  ///< the chunk's decompressed records
-  std::vector<mcap::Entry> entries;
+  std::unique_ptr<mcap::LoadedBlock> loaded;
   std::size_t at = 0;
-  const mcap::Entry& entry() const { return entries[at]; }
+  const mcap::Entry& entry() const { return loaded->entries[at]; }
+  std::size_t file() const { return loaded->file; }
+  std::size_t block() const { return loaded->block; }
 };
 
 namespace {
@@ -98,7 +99,10 @@ McapMessages::McapMessages(const std::vector<std::string>& paths,
   end_ns_ = last_ns_;
 }
 
-McapMessages::~McapMessages() = default;
+McapMessages::~McapMessages()
+{
+  loader_.reset();  // its thread stopped before the files it reads go
+}
 
 void McapMessages::restrictTo(std::int64_t begin_ns, std::int64_t end_ns)
 {
@@ -170,16 +174,25 @@ void McapMessages::openPending()
   // A block not opened yet holds no message before its first: those up to the earliest open
   // message are opened, so that the next message is among the open ones.
   while (!pending_.empty() && (open_.empty() || pending_.back().first_ns <= earliestOpen())) {
-    const Pending pending = pending_.back();
     pending_.pop_back();
     auto open = std::make_unique<Open>();
-    open->file = pending.file;
-    open->block = pending.block;
-    const mcap::File& file = *files_[pending.file];
-    file.read(file.blocks()[pending.block], begin_ns_, end_ns_, open->buffer, open->entries);
-    if (!open->entries.empty())
+    open->loaded = loader_->take();
+    if (!open->loaded->entries.empty())
       open_.push_back(std::move(open));
+    else
+      loader_->recycle(std::move(open->loaded));
   }
+}
+
+void McapMessages::startLoading()
+{
+  std::vector<const mcap::File*> files;
+  for (const auto& file : files_)
+    files.push_back(file.get());
+  std::vector<std::pair<std::size_t, std::size_t>> order;  // as openPending takes them
+  for (auto pending = pending_.rbegin(); pending != pending_.rend(); ++pending)
+    order.emplace_back(pending->file, pending->block);
+  loader_ = std::make_unique<mcap::BlockLoader>(files, order, begin_ns_, end_ns_);
 }
 
 bool McapMessages::next()
@@ -198,10 +211,13 @@ bool McapMessages::next()
       return a.first_ns != b.first_ns ? a.first_ns > b.first_ns
                                       : std::tie(a.file, a.block) > std::tie(b.file, b.block);
     });
-  } else if (current_ && ++current_->at == current_->entries.size()) {
-    open_.erase(std::find_if(open_.begin(), open_.end(), [&](const std::unique_ptr<Open>& open) {
-      return open.get() == current_;
-    }));
+    startLoading();
+  } else if (current_ && ++current_->at == current_->loaded->entries.size()) {
+    const auto done =
+        std::find_if(open_.begin(), open_.end(),
+                     [&](const std::unique_ptr<Open>& open) { return open.get() == current_; });
+    loader_->recycle(std::move((*done)->loaded));
+    open_.erase(done);
   }
   openPending();
   // The earliest current message of the open blocks (the earlier block's on a tie).
@@ -209,7 +225,8 @@ bool McapMessages::next()
   for (const auto& open : open_) {
     if (!current_ || open->entry().time_ns < current_->entry().time_ns ||
         (open->entry().time_ns == current_->entry().time_ns &&
-         std::tie(open->file, open->block) < std::tie(current_->file, current_->block)))
+         std::make_pair(open->file(), open->block()) <
+             std::make_pair(current_->file(), current_->block())))
       current_ = open.get();
   }
   return current_ != nullptr;
@@ -241,7 +258,7 @@ bool McapMessages::readAs(M& message)
   } catch (const CdrError& error) {
     throw UnreadableMessage("a message on '" + entry.channel->topic + "' recorded at " +
                             std::to_string(recordTime_s()) + " s in '" +
-                            files_[current_->file]->path() + "' is skipped: " + error.what());
+                            files_[current_->file()]->path() + "' is skipped: " + error.what());
   }
   return true;
 }

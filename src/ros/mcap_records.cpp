@@ -2,8 +2,8 @@
 
 #include <cstring>
 
+#include <libdeflate.h>
 #include <lz4frame.h>
-#include <zlib.h>
 #include <zstd.h>
 
 namespace odometry_calibration {
@@ -28,7 +28,9 @@ std::uint8_t Cursor::u8(const char* what)
 
 std::uint16_t Cursor::u16(const char* what)
 {
-  return static_cast<std::uint16_t>(u8(what) | (u8(what) << 8));
+  const std::uint8_t low = u8(what);  // (the operands of | have no order of evaluation)
+  const std::uint8_t high = u8(what);
+  return static_cast<std::uint16_t>(low | high << 8);
 }
 
 std::uint32_t Cursor::u32(const char* what)
@@ -107,14 +109,7 @@ void Appender::little(std::uint64_t v, int n)
 
 std::uint32_t crc32(const std::uint8_t* data, std::size_t size, std::uint32_t crc)
 {
-  // zlib takes lengths as uInt: long buffers in pieces.
-  while (size > 0) {
-    const std::size_t piece = std::min<std::size_t>(size, 1u << 30);
-    crc = static_cast<std::uint32_t>(::crc32(crc, data, static_cast<uInt>(piece)));
-    data += piece;
-    size -= piece;
-  }
-  return crc;
+  return libdeflate_crc32(crc, data, size);
 }
 
 namespace {

@@ -11,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include "odometry_calibration/ros/cdr_writer.h"
 #include "odometry_calibration/ros/mcap_messages.h"
 #include "odometry_calibration/ros/mcap_records.h"
 #include "odometry_calibration/ros/rosbag2_mcap_writer.h"
@@ -258,6 +259,63 @@ TEST_F(Mcap, DamageIsRefusedNamingTheFileTheByteAndTheCause)
   const std::string text = readingError(directory_ + "/json.mcap");
   EXPECT_NE(text.find("'/scan' is serialised as 'jsn'; only 'cdr' is read"), std::string::npos)
       << text;
+}
+
+TEST_F(Mcap, MessagesOutsideChunksWithoutSummaryAreRead)
+{
+  // As the format allows: schema, channel and messages in the data section, no chunk, no Data
+  // End, a footer without summary; the scans written later in time first.
+  std::vector<std::uint8_t> bytes(mcap::kMagic, mcap::kMagic + mcap::kMagicSize);
+  mcap::Appender out(bytes);
+  std::size_t record = out.beginRecord(mcap::kHeader);
+  out.text("ros2");
+  out.text("hand");
+  out.finishRecord(record);
+  record = out.beginRecord(mcap::kSchema);
+  out.u16(7);
+  out.text("sensor_msgs/msg/LaserScan");
+  out.text("ros2msg");
+  out.u32(0);
+  out.finishRecord(record);
+  record = out.beginRecord(mcap::kChannel);
+  out.u16(3);
+  out.u16(7);
+  out.text("/scan");
+  out.text("cdr");
+  out.u32(0);
+  out.finishRecord(record);
+  for (const int k : {2, 1, 3}) {
+    sensor_msgs::LaserScan scan;
+    scan.ranges.assign(3, static_cast<float>(k));
+    const std::vector<std::uint8_t> cdr = writeCdr(scan);
+    record = out.beginRecord(mcap::kMessage);
+    out.u16(3);
+    out.u32(static_cast<std::uint32_t>(k));
+    out.u64(1000u * static_cast<std::uint64_t>(k));
+    out.u64(1000u * static_cast<std::uint64_t>(k));
+    out.bytes(cdr.data(), cdr.size());
+    out.finishRecord(record);
+  }
+  out.u8(mcap::kFooter);
+  out.u64(20);
+  out.u64(0);
+  out.u64(0);
+  out.u32(0);
+  out.bytes(mcap::kMagic, mcap::kMagicSize);
+  const std::string path = directory_ + "/loose.mcap";
+  writeBytes(path, std::string(bytes.begin(), bytes.end()));
+  McapMessages messages({path}, {"/scan"});
+  EXPECT_EQ(messages.firstTime_ns(), 1000);
+  EXPECT_EQ(messages.lastTime_ns(), 3000);
+  for (const int k : {1, 2, 3}) {
+    ASSERT_TRUE(messages.next());
+    sensor_msgs::LaserScan scan;
+    ASSERT_TRUE(messages.read(scan));
+    EXPECT_EQ(scan.ranges, std::vector<float>(3, static_cast<float>(k)));
+    EXPECT_NEAR(messages.recordTime_s(), 1e-6 * k, 1e-12);
+  }
+  EXPECT_FALSE(messages.next());
+  EXPECT_TRUE(messages.partialReads().empty());
 }
 
 TEST(McapRecords, ChunksRoundTripAndBadOnesAreRefused)

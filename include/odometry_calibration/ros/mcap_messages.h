@@ -1,7 +1,8 @@
 // The recorded messages of rosbag2 recordings in MCAP storage (recorded_messages.h), read
 // without ROS 2: a bag folder whose metadata.yaml says storage_identifier mcap, or an .mcap file
 // itself (mcap_file.h). Only the topics asked for are read, in record-time order, each
-// message's CDR bytes deserialised (cdr_reader.h) straight from its chunk's buffer.
+// message's CDR bytes deserialised (cdr_reader.h) straight from its chunk's buffer; the chunks
+// are decompressed and checked a few ahead on a thread of their own (mcap_block_loader.h).
 #pragma once
 
 #include <cstdint>
@@ -14,6 +15,7 @@
 namespace odometry_calibration {
 
 namespace mcap {
+class BlockLoader;
 class File;
 struct Entry;
 }  // namespace mcap
@@ -70,6 +72,8 @@ private:
   bool readAs(M& message);
   /// Opens the pending blocks that may hold the next message.
   void openPending();
+  /// Starts loading the pending blocks in the order openPending takes them.
+  void startLoading();
 
   std::vector<std::string> topics_;
   std::vector<std::unique_ptr<mcap::File>> files_;
@@ -79,7 +83,8 @@ private:
     std::size_t file = 0, block = 0;
     std::int64_t first_ns = 0;
   };
-  std::vector<Pending> pending_;  ///< latest first
+  std::vector<Pending> pending_;               ///< latest first
+  std::unique_ptr<mcap::BlockLoader> loader_;  ///< loads pending_ from its back
   std::vector<std::unique_ptr<Open>> open_;
   Open* current_ = nullptr;
   bool started_ = false;
