@@ -227,6 +227,14 @@ std::string describeSource(const CalibrationConfig& config, const BagRunResult& 
          "\n" + formatModelReport(job.report);
 }
 
+/// Each file the run read only in part named on stderr (the text report says it too), so that
+/// no result from part of a recording goes unnoticed.
+void warnOfPartialReads(const BagRunResult& run)
+{
+  for (const std::string& partial : run.partial_reads)
+    std::fprintf(stderr, "warning: %s\n", partial.c_str());
+}
+
 /// calibrateBags with one ego-motion source.
 int calibrateOneSource(const BagCalibrationOptions& options, CalibrationConfig config,
                        std::ostream& out)
@@ -238,6 +246,7 @@ int calibrateOneSource(const BagCalibrationOptions& options, CalibrationConfig c
       runBags(options.bags, config, options.start_s, options.end_s,
               options.quiet ? nullptr : std::function<void(const BagProgress&)>(showProgress),
               plan.candidates_s);
+  warnOfPartialReads(run);
   // Fitted at the estimated time offset (paired again when the configured one is off).
   const SessionFit fit = fitRun(&run, plan, options.holdout);
   if (fit.offset_pairing.paired_again)
@@ -279,6 +288,7 @@ int calibrateSeveralSources(const BagCalibrationOptions& options, const Calibrat
       options.output_dir.empty() ? config.output_directory : options.output_dir;
   const BagRunResult run = runBags(options.bags, config, options.start_s, options.end_s, nullptr,
                                    config.fit_intervals_s, fit_jointly);
+  warnOfPartialReads(run);
   const JointCalibrateOutcome outcome = run.session->calibrate({});
   if (outcome.alone.size() != run.session->sourceCount())  // a source could not be fitted alone
     throw std::runtime_error(outcome.outcome.message);

@@ -15,6 +15,7 @@
 
 #include "odometry_calibration/ros/bag_message_reader.h"
 #include "odometry_calibration/ros/bag_record_check.h"
+#include "odometry_calibration/ros/mcap_messages.h"
 #include "odometry_calibration/ros/rosbag2_sqlite_messages.h"
 #include "odometry_calibration/ros/rosbag_messages.h"
 
@@ -140,11 +141,14 @@ OpenRecording openRosbag1(const std::vector<std::string>& bag_paths,
   return recording;
 }
 
+/// The rosbag2 recordings (`Messages`: Rosbag2SqliteMessages or McapMessages) opened for the
+/// configured topics within the time window.
+template <typename Messages>
 OpenRecording openRosbag2(const std::vector<std::string>& bag_paths,
                           const CalibrationConfig& config, double start_offset_s,
                           double end_offset_s)
 {
-  auto messages = std::make_unique<Rosbag2SqliteMessages>(bag_paths, readTopics(config));
+  auto messages = std::make_unique<Messages>(bag_paths, readTopics(config));
   if (const std::vector<std::string> missing = messages->missingTopics(); !missing.empty()) {
     throw std::runtime_error("the bags record no topic " + topicList(missing) +
                              " (set the topic names in the config); they record " +
@@ -168,22 +172,33 @@ OpenRecording openRosbag2(const std::vector<std::string>& bag_paths,
   return recording;
 }
 
-/// The bags opened by their format: all ROS 1 bags, or all rosbag2 recordings (bag folders,
-/// .db3 or .db3.zstd files). A mix is refused.
+/// The bags opened by their format: all ROS 1 bags, all rosbag2 recordings in SQLite storage
+/// (bag folders, .db3 or .db3.zstd files) or all in MCAP storage (bag folders, .mcap files). A
+/// mix is refused.
 OpenRecording openRecording(const std::vector<std::string>& bag_paths,
                             const CalibrationConfig& config, double start_offset_s,
                             double end_offset_s)
 {
-  std::size_t rosbag2 = 0;
-  for (const std::string& path : bag_paths)
+  std::size_t rosbag2 = 0, mcap = 0;
+  for (const std::string& path : bag_paths) {
     rosbag2 += isRosbag2Path(path) ? 1 : 0;
+    mcap += isMcapPath(path) ? 1 : 0;
+  }
   if (rosbag2 == 0)
     return openRosbag1(bag_paths, config, start_offset_s, end_offset_s);
   if (rosbag2 < bag_paths.size()) {
     throw std::runtime_error("ROS 1 bags and rosbag2 recordings cannot be read in one run (" +
                              bagNames(bag_paths) + "): convert them to one format");
   }
-  return openRosbag2(bag_paths, config, start_offset_s, end_offset_s);
+  if (mcap == bag_paths.size())
+    return openRosbag2<McapMessages>(bag_paths, config, start_offset_s, end_offset_s);
+  if (mcap > 0) {
+    throw std::runtime_error(
+        "rosbag2 recordings in SQLite and in MCAP storage cannot be read in "
+        "one run (" +
+        bagNames(bag_paths) + "): convert them to one storage with 'ros2 bag convert'");
+  }
+  return openRosbag2<Rosbag2SqliteMessages>(bag_paths, config, start_offset_s, end_offset_s);
 }
 
 /// A session as calibrate_bag uses it: no files, no odometry, no assistant (the report says
@@ -307,6 +322,7 @@ BagRunResult runBagsUnchecked(const std::vector<std::string>& bag_paths,
   result.conversion_time_s = reader.conversionTime();
   result.filtering_time_s = reader.filteringTime();
   result.read_time_s = reader.readTime();
+  result.partial_reads = recording.messages->partialReads();
   return result;
 }
 
@@ -360,6 +376,8 @@ std::string formatBagRunSummary(const BagRunResult& run, const SessionCounts& co
   if (run.filtering_time_s > 0.0)
     text << "cloud filtering " << run.filtering_time_s << " s, ";
   text << "pairing " << run.pairing_time_s << " s)\n";
+  for (const std::string& partial : run.partial_reads)
+    text << "warning: " << partial << "\n";
   const CollectorStatistics& s = counts.statistics;
   text << "keyframe pairs: " << s.pairs << " from " << s.scans << " scans, " << s.keyframes
        << " keyframes";

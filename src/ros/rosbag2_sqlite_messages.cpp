@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -100,6 +101,36 @@ std::string decompressed(const std::string& path)
   return temporary;
 }
 
+/// Refuses an SQLite file `file` (named `name`) shorter than its header says: a copy cut short
+/// would otherwise read as a database with fewer rows. (The header's page count is valid only
+/// when its version-valid-for number equals its change counter; else SQLite goes by the file.)
+void requireWholeFile(const std::string& file, const std::string& name)
+{
+  std::ifstream in(file, std::ios::binary);
+  unsigned char header[100] = {};
+  if (!in.read(reinterpret_cast<char*>(header), sizeof(header)) ||
+      std::memcmp(header, "SQLite format 3", 16) != 0)
+    return;  // SQLite names what is wrong
+  auto be32 = [&](int at) {
+    return static_cast<std::uint32_t>(header[at]) << 24 | header[at + 1] << 16 |
+           header[at + 2] << 8 | header[at + 3];
+  };
+  const std::uint32_t page_size = header[16] == 0 && header[17] == 1
+                                      ? 65536u
+                                      : static_cast<std::uint32_t>(header[16] << 8 | header[17]);
+  const std::uint64_t pages = be32(28);
+  if (pages == 0 || be32(92) != be32(24))
+    return;
+  const std::uint64_t expected = pages * page_size;
+  const std::uint64_t size = fs::file_size(file);
+  if (size < expected) {
+    throw std::runtime_error("rosbag2 file '" + name + "' is cut off: its header says " +
+                             std::to_string(pages) + " pages of " + std::to_string(page_size) +
+                             " bytes (" + std::to_string(expected) + " bytes), it holds " +
+                             std::to_string(size));
+  }
+}
+
 /// Opens the storage file `path` (.db3, or .db3.zstd decompressed first) for `topics`.
 std::unique_ptr<Storage> openStorage(const std::string& path,
                                      const std::vector<std::string>& topics)
@@ -112,6 +143,7 @@ std::unique_ptr<Storage> openStorage(const std::string& path,
   if (endsWith(path, ".zstd")) {
     const std::string temporary = decompressed(path);
     try {
+      requireWholeFile(temporary, path);
       storage->database = std::make_unique<SqliteDatabase>(temporary, SqliteDatabase::Mode::kRead);
     } catch (...) {
       std::remove(temporary.c_str());
@@ -120,6 +152,7 @@ std::unique_ptr<Storage> openStorage(const std::string& path,
     // Opened immutable (no locks, no journal): the open descriptor keeps the data readable.
     std::remove(temporary.c_str());
   } else {
+    requireWholeFile(path, path);
     storage->database = std::make_unique<SqliteDatabase>(path, SqliteDatabase::Mode::kRead);
   }
   try {
@@ -151,8 +184,8 @@ std::vector<std::string> folderFiles(const std::string& folder)
   if (metadata.storage_identifier != "sqlite3" && !metadata.storage_identifier.empty()) {
     throw std::runtime_error("the bag '" + folder + "' is stored as '" +
                              metadata.storage_identifier +
-                             "'; only SQLite storage (sqlite3) is read so far (convert it with "
-                             "'ros2 bag convert' to storage sqlite3)");
+                             "'; SQLite (sqlite3) and MCAP (mcap) storage are read (convert it "
+                             "with 'ros2 bag convert' to one of them)");
   }
   if (metadata.compression_mode == "MESSAGE" ||
       (!metadata.compression_format.empty() && metadata.compression_format != "zstd")) {
@@ -213,11 +246,6 @@ Rosbag2SqliteMessages::Rosbag2SqliteMessages(const std::vector<std::string>& pat
 {
   for (const std::string& path : paths) {
     std::error_code error;
-    if (endsWith(path, ".mcap")) {
-      throw std::runtime_error("'" + path +
-                               "' is an MCAP file; only rosbag2's SQLite storage "
-                               "(.db3, .db3.zstd) is read so far");
-    }
     const std::vector<std::string> files =
         fs::is_directory(path, error) ? folderFiles(path) : std::vector<std::string>{path};
     for (const std::string& file : files)

@@ -19,6 +19,7 @@
 #include "odometry_calibration/common/atomic_file.h"
 #include "odometry_calibration/common/staged_directory.h"
 #include "odometry_calibration/ros/conversions.h"
+#include "odometry_calibration/ros/rosbag2_mcap_writer.h"
 #include "odometry_calibration/ros/rosbag2_sqlite_writer.h"
 #include "odometry_calibration/ros/wheel_tick_messages.h"
 #include "odometry_calibration/sim/tricycle_log_sink.h"
@@ -76,15 +77,24 @@ ros::Time rosTime(double start_time_s, double stamp_s)
 
 }  // namespace
 
-BagFormat bagFormatFromName(const std::string& name)
+BagFormat bagFormatFromName(const std::string& name, const std::string& chunk_compression)
 {
+  if (chunk_compression != "zstd" && chunk_compression != "lz4" && chunk_compression != "none") {
+    throw std::invalid_argument("unknown chunk compression '" + chunk_compression +
+                                "' (zstd, lz4 or none)");
+  }
   if (name == "bag")
     return BagFormat::kRos1;
   if (name == "db3")
     return BagFormat::kDb3;
   if (name == "db3.zstd")
     return BagFormat::kDb3Zstd;
-  throw std::invalid_argument("unknown bag format '" + name + "' (bag, db3 or db3.zstd)");
+  if (name == "mcap") {
+    return chunk_compression == "zstd"  ? BagFormat::kMcapZstd
+           : chunk_compression == "lz4" ? BagFormat::kMcapLz4
+                                        : BagFormat::kMcap;
+  }
+  throw std::invalid_argument("unknown bag format '" + name + "' (bag, db3, db3.zstd or mcap)");
 }
 
 SimBagWriter::SimBagWriter(const std::string& bag_path, const sim::Scenario& scenario,
@@ -96,6 +106,14 @@ SimBagWriter::SimBagWriter(const std::string& bag_path, const sim::Scenario& sce
       joint_names_(std::move(joint_names)),
       tick_topics_(tickTopics(scenario, joint_names_))
 {
+  if (format == BagFormat::kMcapZstd || format == BagFormat::kMcapLz4 ||
+      format == BagFormat::kMcap) {
+    const char* compression = format == BagFormat::kMcapZstd  ? "zstd"
+                              : format == BagFormat::kMcapLz4 ? "lz4"
+                                                              : "none";
+    mcap_ = std::make_unique<Rosbag2McapWriter>(bag_path, bag_name, compression);
+    return;
+  }
   if (format != BagFormat::kRos1) {
     rosbag2_ =
         std::make_unique<Rosbag2SqliteWriter>(bag_path, bag_name, format == BagFormat::kDb3Zstd);
@@ -117,6 +135,8 @@ void SimBagWriter::record(const std::string& topic, const ros::Time& time, const
 {
   if (rosbag2_)
     rosbag2_->write(topic, time, message);
+  else if (mcap_)
+    mcap_->write(topic, time, message);
   else
     bag_->write(topic, time, message);
 }
@@ -282,6 +302,8 @@ void SimBagWriter::close()
 {
   if (rosbag2_)
     rosbag2_->close();
+  else if (mcap_)
+    mcap_->close();
   else
     bag_->close();
 }

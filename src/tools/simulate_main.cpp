@@ -22,7 +22,11 @@ const char* kUsage =
     "                    <scenario name>)\n"
     "  --format F        bag: a ROS 1 bag (default); db3: a rosbag2 bag folder in SQLite\n"
     "                    storage (CDR messages, metadata.yaml); db3.zstd: the same with its\n"
-    "                    storage file compressed with zstd (compression_mode FILE)\n"
+    "                    storage file compressed with zstd (compression_mode FILE); mcap: a\n"
+    "                    rosbag2 bag folder in MCAP storage (CDR messages in chunks, message\n"
+    "                    indexes, summary, CRCs)\n"
+    "  --chunk-compression C\n"
+    "                    the MCAP chunks' compression: zstd (default), lz4 or none\n"
     "  --truth YAML      truth file (default: the bag's name with _truth.yaml)\n"
     "  --seed N          override the scenario's seed\n"
     "  --duration S      override the scenario's duration [s]\n"
@@ -51,6 +55,7 @@ int main(int argc, char** argv)
   std::vector<std::string> scenario_paths;
   long long seed = -1;
   std::string format = "bag";
+  std::string chunk_compression = "zstd";
   sim::ScenarioOverrides overrides;
   long long counter_bits = -1;
   try {
@@ -60,6 +65,7 @@ int main(int argc, char** argv)
         .option("--tricycle-log", &files.tricycle_log_path)
         .option("--worlds", &worlds)
         .option("--format", &format)
+        .option("--chunk-compression", &chunk_compression)
         .wholeNumber("--seed", &seed, 0)
         .positiveNumber("--duration", &overrides.duration_s)
         .option("--wheels", &overrides.wheel_output)
@@ -75,7 +81,7 @@ int main(int argc, char** argv)
       throw ArgumentError("missing the scenario file");
     overrides.seed = static_cast<double>(seed);
     overrides.counter_bits = static_cast<int>(counter_bits);
-    files.format = bagFormatFromName(format);
+    files.format = bagFormatFromName(format, chunk_compression);
   } catch (const std::exception& error) {
     std::cerr << "error: " << error.what() << "\n\n" << kUsage;
     return 2;

@@ -1,11 +1,14 @@
 // End-to-end: one simulated drive written as a ROS 1 bag and as rosbag2 bag folders (SQLite,
-// plain and zstd-compressed): calibrate_bag reads each and gives the same pairs and the same
-// result (only the source path differs); a cut message in a rosbag2 bag is skipped and counted.
+// plain and zstd-compressed; MCAP with zstd, lz4 and uncompressed chunks): calibrate_bag reads
+// each and gives the same pairs and the same result (only the source path differs); a cut
+// message in a rosbag2 bag is skipped and counted; an MCAP file cut off while recording is
+// calibrated from its part, saying so on stderr and in the report.
 #include <sys/wait.h>
 
 #include <algorithm>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <sstream>
 
 #include <gtest/gtest.h>
@@ -38,6 +41,9 @@ protected:
     simulateToBag(scenario, directory_ + "/drive.bag", "");
     simulateToBag(scenario, directory_ + "/drive_db3", "", nullptr, BagFormat::kDb3);
     simulateToBag(scenario, directory_ + "/drive_zstd", "", nullptr, BagFormat::kDb3Zstd);
+    simulateToBag(scenario, directory_ + "/drive_mcap", "", nullptr, BagFormat::kMcapZstd);
+    simulateToBag(scenario, directory_ + "/drive_lz4", "", nullptr, BagFormat::kMcapLz4);
+    simulateToBag(scenario, directory_ + "/drive_plain", "", nullptr, BagFormat::kMcap);
   }
   static void TearDownTestSuite() { fs::remove_all(directory_); }
 
@@ -80,9 +86,14 @@ TEST_F(CalibrateBagRosbag2, Rosbag2GivesTheSamePairsAndResultAsTheRos1Bag)
   const std::string result = resultWithoutSource(directory_ + "/out_bag");
   ASSERT_GT(std::count(pairs.begin(), pairs.end(), '\n'), 10) << pairs;
   EXPECT_NE(result.find("wheel_radius"), std::string::npos) << result;
-  const std::pair<const char*, const char*> runs[] = {{"drive_db3", "out_db3"},
-                                                      {"drive_zstd", "out_zstd"},
-                                                      {"drive_db3/drive_db3_0.db3", "out_file"}};
+  const std::pair<const char*, const char*> runs[] = {
+      {"drive_db3", "out_db3"},
+      {"drive_zstd", "out_zstd"},
+      {"drive_db3/drive_db3_0.db3", "out_file"},
+      {"drive_mcap", "out_mcap"},
+      {"drive_lz4", "out_lz4"},
+      {"drive_plain", "out_plain"},
+      {"drive_mcap/drive_mcap_0.mcap", "out_mcap_file"}};
   for (const auto& [bag, name] : runs) {
     SCOPED_TRACE(bag);
     const std::string output = directory_ + "/" + name;
@@ -116,12 +127,40 @@ TEST_F(CalibrateBagRosbag2, ACutScanIsSkippedAndCounted)
   EXPECT_NE(text.find(" at byte "), std::string::npos) << text;
 }
 
+TEST_F(CalibrateBagRosbag2, AnMcapFileCutOffWhileRecordingIsCalibratedFromItsPartSayingSo)
+{
+  const std::string bytes = readFile(directory_ + "/drive_mcap/drive_mcap_0.mcap");
+  const std::string cut = directory_ + "/cut.mcap";
+  std::ofstream(cut, std::ios::binary) << bytes.substr(0, bytes.size() * 3 / 4);
+  const std::string output = directory_ + "/out_cut_mcap";
+  const int status = run(cut, output);
+  ASSERT_TRUE(status == 0 || status == 4) << printed("out_cut_mcap");
+  const std::string warning = "warning: MCAP file '" + cut +
+                              "' has no intact footer (a recording cut off or damaged) and is "
+                              "read only up to byte ";
+  const std::string text = printed("out_cut_mcap");
+  // On stderr before the files are written, and in the text report.
+  EXPECT_NE(text.find(warning), std::string::npos) << text;
+  EXPECT_NE(readFile(output + "/report.txt").find(warning), std::string::npos);
+  // Fewer pairs than the whole drive gave.
+  const std::string pairs = readFile(output + "/pairs.csv");
+  const std::string whole = readFile(directory_ + "/out_bag/pairs.csv");
+  EXPECT_LT(std::count(pairs.begin(), pairs.end(), '\n'),
+            std::count(whole.begin(), whole.end(), '\n'));
+  EXPECT_GT(std::count(pairs.begin(), pairs.end(), '\n'), 5);
+}
+
 TEST_F(CalibrateBagRosbag2, MixedFormatsAndMissingTopicsAreRefusedClearly)
 {
   EXPECT_EQ(run(directory_ + "/drive.bag " + directory_ + "/drive_db3", directory_ + "/out_mix"),
             1);
   EXPECT_NE(printed("out_mix").find("cannot be read in one run"), std::string::npos)
       << printed("out_mix");
+  EXPECT_EQ(run(directory_ + "/drive_mcap " + directory_ + "/drive_db3", directory_ + "/out_mix2"),
+            1);
+  EXPECT_NE(printed("out_mix2").find("SQLite and in MCAP storage cannot be read in one run"),
+            std::string::npos)
+      << printed("out_mix2");
   // A topic the recording lacks: the error lists the topics it records.
   const std::string config = directory_ + "/other_topics.yaml";
   std::system(("sed 's|^\\(\\s*joint_state_topic:\\).*|\\1 /wheels|' " + kConfig +

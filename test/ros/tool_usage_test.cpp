@@ -132,8 +132,10 @@ TEST(ToolUsage, Simulate)
   expectBadUsage("simulate", "s.yaml --duration 0",
                  "option --duration: expected a number > 0, got '0'");
   expectBadUsage("simulate", "a.yaml b.yaml", "unexpected argument 'b.yaml'");
-  expectBadUsage("simulate", "s.yaml --format mcap",
-                 "unknown bag format 'mcap' (bag, db3 or db3.zstd)");
+  expectBadUsage("simulate", "s.yaml --format mcap2",
+                 "unknown bag format 'mcap2' (bag, db3, db3.zstd or mcap)");
+  expectBadUsage("simulate", "s.yaml --format mcap --chunk-compression lzma",
+                 "unknown chunk compression 'lzma' (zstd, lz4 or none)");
 }
 
 TEST(ToolUsage, ScoreCalibration)

@@ -40,6 +40,9 @@ struct BagRunResult
   double conversion_time_s = 0.0;  ///< messages to the core's types (reading thread) [s]
   double filtering_time_s = 0.0;   ///< clouds to scans: band, voxels, binning (reading thread) [s]
   double pairing_time_s = 0.0;     ///< scan preparation, matching, pairing [s]
+  /// The files read only in part (an MCAP recording cut off while recording), each in words
+  /// naming the file, the byte where reading stopped and why; empty when all were read whole.
+  std::vector<std::string> partial_reads;
 };
 
 /// Runs the bags once through a JointCalibrationSession (calibrate_bag's: no files, odometry or
@@ -59,9 +62,9 @@ BagRunResult runBags(const std::vector<std::string>& bag_paths, const Calibratio
                      const JointFitFunction& fit_jointly = fitSourcesJointly);
 
 /// A source's part of the run in a few lines: the run's data span and speed (reading,
-/// conversion, pairing times), then from the source's `counts`: pairs, scans and keyframes,
-/// consecutive-match failures, rejections by reason; then `notes`, what went wrong
-/// (CalibrationSession::collectionNotes).
+/// conversion, pairing times), a warning per file read only in part, then from the source's
+/// `counts`: pairs, scans and keyframes, consecutive-match failures, rejections by reason; then
+/// `notes`, what went wrong (CalibrationSession::collectionNotes).
 std::string formatBagRunSummary(const BagRunResult& run, const SessionCounts& counts,
                                 const std::vector<std::string>& notes);
 

@@ -1,11 +1,12 @@
 // Recorded messages as the bag reader takes them, whatever holds them: a ROS 1 bag
-// (rosbag_messages.h) today, another bag format (rosbag2's SQLite or MCAP) behind the same
-// interface later. A source walks its messages once, in record-time order, and deserialises the
+// (rosbag_messages.h), rosbag2's SQLite storage (rosbag2_sqlite_messages.h) or MCAP files
+// (mcap_messages.h). A source walks its messages once, in record-time order, and deserialises the
 // current one into the ROS 1 message types the input adapter converts (message_adapter.h).
 #pragma once
 
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <geometry_msgs/PoseStamped.h>
 #include <nav_msgs/Odometry.h>
@@ -56,6 +57,11 @@ public:
   /// The current message's number when it is a wheel tick of std_msgs type `type`
   /// (wheel_tick_messages.h); false when it is of another type. Throws as read.
   virtual bool readWheelTick(const std::string& type, double& value) = 0;
+
+  /// The files read only in part, each in words naming the file, the byte where reading
+  /// stopped and why (a recording cut off while recording); empty when every file was read
+  /// whole. Known once the source is open.
+  virtual std::vector<std::string> partialReads() const { return {}; }
 };
 
 }  // namespace odometry_calibration

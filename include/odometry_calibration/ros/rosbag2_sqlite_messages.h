@@ -15,8 +15,8 @@
 namespace odometry_calibration {
 
 /// Whether `path` is to be read as a rosbag2 recording: a folder (a bag folder holds
-/// metadata.yaml), or a file ending in .db3, .db3.zstd or .mcap (refused when opened: MCAP is not
-/// read yet).
+/// metadata.yaml), or a file ending in .db3, .db3.zstd or .mcap (MCAP storage is read by
+/// mcap_messages.h).
 bool isRosbag2Path(const std::string& path);
 
 /// The messages of one or more rosbag2 recordings, their storage files merged in record-time

@@ -6,7 +6,8 @@
 // and the ground truth as nav_msgs/Odometry plus its own tf tree (sim_world -> sim_base_link
 // -> sim_<laser frame>), kept apart from the frames a calibration uses (odom, base_link,
 // laser) so that it never leaks into calibration inputs. The same messages at the same record
-// times go into a ROS 1 bag or a rosbag2 bag folder (SQLite storage, CDR; optionally zstd).
+// times go into a ROS 1 bag or a rosbag2 bag folder (SQLite storage, CDR, optionally zstd; or
+// MCAP storage, its chunks compressed with zstd, lz4 or not at all).
 #pragma once
 
 #include <memory>
@@ -25,20 +26,26 @@ class Bag;
 
 namespace odometry_calibration {
 
+class Rosbag2McapWriter;
 class Rosbag2SqliteWriter;
 
 /// What a simulation writes: a ROS 1 bag, or a rosbag2 bag folder in SQLite storage (its
-/// storage file as it is, or compressed with zstd).
+/// storage file as it is, or compressed with zstd) or in MCAP storage (its chunks compressed
+/// with zstd, lz4, or not at all).
 enum class BagFormat
 {
   kRos1,
   kDb3,
   kDb3Zstd,
+  kMcapZstd,
+  kMcapLz4,
+  kMcap,
 };
 
-/// "bag", "db3" or "db3.zstd" (simulate's --format) as a BagFormat. Throws
-/// std::invalid_argument for another name.
-BagFormat bagFormatFromName(const std::string& name);
+/// "bag", "db3", "db3.zstd" or "mcap" (simulate's --format) as a BagFormat, MCAP's chunks
+/// compressed with `chunk_compression` ("zstd", "lz4" or "none"; simulate's
+/// --chunk-compression). Throws std::invalid_argument for another name.
+BagFormat bagFormatFromName(const std::string& name, const std::string& chunk_compression = "zstd");
 
 /// A SimulationSink that writes a bag. Messages are written with their header stamps as bag
 /// times; the bag is uncompressed so a fixed seed gives a byte-identical file.
@@ -47,7 +54,7 @@ class SimBagWriter : public sim::SimulationSink
 public:
   /// Opens `bag_path` for writing (truncates). Throws std::runtime_error if it cannot. A
   /// rosbag2 `format` writes into the existing folder `bag_path` the bag named `bag_name`
-  /// (the folder's final name: its storage file is "<bag_name>_0.db3").
+  /// (the folder's final name: its storage file is "<bag_name>_0.db3" or "<bag_name>_0.mcap").
   SimBagWriter(const std::string& bag_path, const sim::Scenario& scenario,
                std::vector<std::string> joint_names, BagFormat format = BagFormat::kRos1,
                const std::string& bag_name = "");
@@ -73,6 +80,7 @@ private:
 
   std::unique_ptr<rosbag::Bag> bag_;
   std::unique_ptr<Rosbag2SqliteWriter> rosbag2_;
+  std::unique_ptr<Rosbag2McapWriter> mcap_;
   sim::Scenario scenario_;
   std::vector<sim::LaserOptions> lasers_;  ///< every laser, in ScanSample::laser_index order
   std::vector<std::uint32_t> scan_seqs_;   ///< the extra lasers' header seq (the first's below)
