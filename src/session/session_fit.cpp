@@ -86,7 +86,7 @@ std::string dropCandidatesBelowEncoderRate(const std::vector<EncoderSample>& his
   }
   if (dropped.empty())
     return "";
-  char text[200];
+  char text[320];  // up to 20 candidates (keyframes.fit_intervals_s)
   std::snprintf(text, sizeof(text),
                 "; left out T = %s s: shorter than %.0f encoder spacings (readings every %.3g s)",
                 dropped.c_str(), kMinSpacingsPerCandidate, spacing.median_s());
