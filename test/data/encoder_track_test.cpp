@@ -100,8 +100,9 @@ TEST(EncoderTrack, CubicFollowsAJerkingWheelBetweenUnevenReadings)
   auto ticks_since_first = [](double t) { return 100.0 * (t * t * t - 1.0); };
   for (double t : {1.5, 1.75, 2.0, 2.2})
     EXPECT_NEAR(wheel.at(t).values(0), ticks_since_first(t), 1e-9) << t;
-  EXPECT_GT(std::abs(wheel.at(2.0, EncoderInterpolation::kLinear).values(0) - ticks_since_first(2.0)),
-            1.0);
+  EXPECT_GT(
+      std::abs(wheel.at(2.0, EncoderInterpolation::kLinear).values(0) - ticks_since_first(2.0)),
+      1.0);
 }
 
 TEST(EncoderTrack, CubicInventsNoMotionAtRestOrAcrossGaps)

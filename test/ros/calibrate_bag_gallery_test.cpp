@@ -129,14 +129,13 @@ TEST(CalibrateBagGalleryRefusal, AGapLimitTheEncodersContradictIsRefusedByName)
 
 // Every robot is held to the targets: radii 0.3 %, separation 0.5 %, sensor 5 mm / 0.3 deg and
 // tau 5 ms (the hobby base's seed 3 gives tau 4.2 ms late; README, "What the defaults assume").
-INSTANTIATE_TEST_SUITE_P(
-    Robots, CalibrateBagGallery,
-    ::testing::Values(GalleryRobot{"hobby", {}},
-                      GalleryRobot{"fast", {}}, GalleryRobot{"warehouse", {}},
-                      GalleryRobot{"late_laser", {}}),
-    [](const ::testing::TestParamInfo<GalleryRobot>& info) {
-      return std::string(info.param.name);
-    });
+INSTANTIATE_TEST_SUITE_P(Robots, CalibrateBagGallery,
+                         ::testing::Values(GalleryRobot{"hobby", {}}, GalleryRobot{"fast", {}},
+                                           GalleryRobot{"warehouse", {}},
+                                           GalleryRobot{"late_laser", {}}),
+                         [](const ::testing::TestParamInfo<GalleryRobot>& info) {
+                           return std::string(info.param.name);
+                         });
 
 }  // namespace
 }  // namespace odometry_calibration
