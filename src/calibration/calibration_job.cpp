@@ -114,11 +114,11 @@ void estimateJobTimeOffset(const CalibrationConfig& config, const std::vector<Mo
                           " s lies at the edge of time_offset_search_s: widen it");
     }
   }
-  // At the offset they were made at, the pairs stay as made (a re-cut would drop those whose
-  // windows the history does not cover to the end).
+  // At the offset they were made at, the pairs stay as made; at another, a pair whose window
+  // the history does not cover to the end (the last, a few ms short) stays as made too.
   if (job->time_offset_s != config.collector.time_offset_s)
     job->pairs = rewindowPairs(pairs, encoder_history, job->time_offset_s,
-                               config.collector.encoder_interpolation);
+                               config.collector.encoder_interpolation, UncoveredPairs::kKeptAsMade);
 }
 
 /// The evidence: the calibrated model against the scan matches, and the nominal robot (the

@@ -13,7 +13,7 @@ namespace odometry_calibration {
 
 std::vector<MotionPair> rewindowPairs(const std::vector<MotionPair>& pairs,
                                       const std::vector<EncoderSample>& history, double tau_s,
-                                      EncoderInterpolation interpolation)
+                                      EncoderInterpolation interpolation, UncoveredPairs uncovered)
 {
   std::vector<MotionPair> result;
   result.reserve(pairs.size());
@@ -23,6 +23,8 @@ std::vector<MotionPair> rewindowPairs(const std::vector<MotionPair>& pairs,
                                              pair.end_stamp_s + tau_s, interpolation);
     if (moved.encoder_samples.size() >= 2)
       result.push_back(std::move(moved));
+    else if (uncovered == UncoveredPairs::kKeptAsMade)
+      result.push_back(pair);
   }
   return result;
 }

@@ -104,6 +104,25 @@ TEST(CalibrationJob, WithoutTrajectoriesOrHistoryThereIsNoNominalLine)
   EXPECT_EQ(formatNominalComparison(job), "");
 }
 
+TEST(CalibrationJob, ACutAtAnotherOffsetKeepsThePairsTheEncodersDoNotCover)
+{
+  // Cut 0.1 s late, the last pair's window runs past the last encoder reading: a search
+  // leaves it out, a fit keeps it as it was made.
+  const sim::GeneratedPairs data = simulatedPairs();
+  const std::vector<EncoderSample> history = encoderHistory(data.pairs);
+  const std::vector<MotionPair> left_out = rewindowPairs(data.pairs, history, 0.1);
+  const std::vector<MotionPair> kept = rewindowPairs(
+      data.pairs, history, 0.1, EncoderInterpolation::kCubic, UncoveredPairs::kKeptAsMade);
+  ASSERT_EQ(kept.size(), data.pairs.size());
+  ASSERT_LT(left_out.size(), data.pairs.size());
+  const MotionPair& last = kept.back();
+  ASSERT_EQ(last.encoder_samples.size(), data.pairs.back().encoder_samples.size());
+  EXPECT_EQ(last.encoder_samples.front().stamp_s,
+            data.pairs.back().encoder_samples.front().stamp_s);
+  EXPECT_NE(kept.front().encoder_samples.front().stamp_s,
+            data.pairs.front().encoder_samples.front().stamp_s);  // the others are cut again
+}
+
 TEST(CalibrationJob, EstimatesTheTimeOffsetAndFitsThePairsCutThere)
 {
   const sim::GeneratedPairs data = simulatedPairs();

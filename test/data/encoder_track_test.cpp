@@ -86,25 +86,6 @@ TEST(EncoderTrack, CubicFollowsAnAcceleratingWheelBetweenSlowReadings)
   EXPECT_NEAR(window.back().values(0) - window.front().values(0), 270.0, 1e-9);
 }
 
-TEST(EncoderTrack, CubicFollowsAJerkingWheelBetweenUnevenReadings)
-{
-  // A wheel at 100 t^3 ticks read at uneven spacings (0.17-0.27 s, as a 4.5 Hz loop reads):
-  // with two readings on each side the knot slopes are its exact speeds (the fourth-order
-  // stencil), and the Hermite cubic through exact slopes is the wheel itself (slopes from one
-  // reading on each side are not: they are exact for a parabola only).
-  std::vector<std::pair<double, double>> readings;
-  const std::vector<double> stamps_s = {1.0, 1.22, 1.39, 1.66, 1.88, 2.12, 2.31, 2.55, 2.78};
-  for (double t : stamps_s)
-    readings.emplace_back(t, 100.0 * t * t * t);
-  const EncoderTrack wheel = wheelTrack(readings);
-  auto ticks_since_first = [](double t) { return 100.0 * (t * t * t - 1.0); };
-  for (double t : {1.5, 1.75, 2.0, 2.2})
-    EXPECT_NEAR(wheel.at(t).values(0), ticks_since_first(t), 1e-9) << t;
-  EXPECT_GT(
-      std::abs(wheel.at(2.0, EncoderInterpolation::kLinear).values(0) - ticks_since_first(2.0)),
-      1.0);
-}
-
 TEST(EncoderTrack, CubicInventsNoMotionAtRestOrAcrossGaps)
 {
   // The wheel stops at 2 s: between equal readings it stays put (no overshoot), and the

@@ -45,10 +45,19 @@ TimeOffsetResult estimateTimeOffset(const std::vector<MotionPair>& pairs,
                                     const std::function<std::unique_ptr<MotionModel>()>& make_model,
                                     const TimeOffsetOptions& options);
 
-/// The pairs with their encoder windows cut at offset `tau_s` (pairs the history does not
-/// cover are left out), end values taken as `interpolation` says.
+/// What rewindowPairs does with a pair whose window at the new offset the history does not
+/// cover (at its ends).
+enum class UncoveredPairs
+{
+  kLeftOut,     ///< left out (a search comparing offsets on the pairs each covers)
+  kKeptAsMade,  ///< kept with the window it was made with (a fit that loses no pair)
+};
+
+/// The pairs with their encoder windows cut at offset `tau_s`, end values taken as
+/// `interpolation` says; pairs the history does not cover as `uncovered` says.
 std::vector<MotionPair> rewindowPairs(
     const std::vector<MotionPair>& pairs, const std::vector<EncoderSample>& history, double tau_s,
-    EncoderInterpolation interpolation = EncoderInterpolation::kCubic);
+    EncoderInterpolation interpolation = EncoderInterpolation::kCubic,
+    UncoveredPairs uncovered = UncoveredPairs::kLeftOut);
 
 }  // namespace odometry_calibration

@@ -27,75 +27,32 @@ enum class EncoderInterpolation
 /// lengths does not shape the slope there (a gap: the chord is used instead).
 constexpr double kCubicNeighbourSpan = 2.0;
 
-/// The derivative at t_i of the Lagrange polynomial through the readings `first` .. `last`
-/// (t_i the stamp of `at`, one of them): sum over k of v_k L_k'(t_i), with
-/// L_i'(t_i) = sum_{m != i} 1 / (t_i - t_m) and, for k != i,
-/// L_k'(t_i) = prod_{m != k, i} (t_i - t_m) / prod_{m != k} (t_k - t_m).
-template <class Iterator>
-Eigen::VectorXd lagrangeDerivativeAt(Iterator first, Iterator last, Iterator at)
+/// The slopes of channel values at the readings `before` (time t0) and `after` (t1) for a cubic
+/// Hermite interpolant: centred differences (v_after - v_prev) / (t_after - t_prev) and
+/// (v_next - v_before) / (t_next - t_before), with `prev` / `next` null (or beyond
+/// kCubicNeighbourSpan intervals) giving the chord d = (v1 - v0) / (t1 - t0). Limited as in
+/// Fritsch and Carlson (1980), "Monotone piecewise cubic interpolation": a slope of the
+/// chord's opposite sign (or any slope on a flat chord: a wheel at rest) is 0, and each is at
+/// most 3 d, so that the cubic stays between the two readings and does not invent motion.
+inline void monotoneHermiteSlopes(const EncoderSample* prev, const EncoderSample& before,
+                                  const EncoderSample& after, const EncoderSample* next,
+                                  Eigen::VectorXd* slope_before, Eigen::VectorXd* slope_after)
 {
-  Eigen::VectorXd slope = Eigen::VectorXd::Zero(at->values.size());
-  const double t_i = at->stamp_s;
-  for (Iterator k = first; k != std::next(last); ++k) {
-    double weight = 0.0;
-    if (k == at) {
-      for (Iterator m = first; m != std::next(last); ++m)
-        if (m != at)
-          weight += 1.0 / (t_i - m->stamp_s);
-    } else {
-      double numerator = 1.0, denominator = 1.0;
-      for (Iterator m = first; m != std::next(last); ++m) {
-        if (m != k && m != at)
-          numerator *= t_i - m->stamp_s;
-        if (m != k)
-          denominator *= k->stamp_s - m->stamp_s;
-      }
-      weight = numerator / denominator;
-    }
-    slope += weight * k->values;
-  }
-  return slope;
-}
-
-/// The slope of channel values at the reading `knot` of time-ordered `samples` for a cubic
-/// Hermite interpolant on an interval of length h: the derivative of the polynomial through the
-/// readings centred on it, two on each side (fourth order) where both are there, else one on
-/// each side (exact for a quadratic), a neighbour further than kCubicNeighbourSpan h from the
-/// next reading inwards ending the stencil (a gap). `fallback` (the interval's chord) where no
-/// reading on one side is close enough.
-template <class Samples>
-Eigen::VectorXd centredKnotSlope(const Samples& samples, typename Samples::const_iterator knot,
-                                 double h, const Eigen::VectorXd& fallback)
-{
-  int reach = 0;  // readings on each side that the stencil takes
-  for (int side = 1; side <= 2; ++side) {
-    const auto offset = static_cast<std::ptrdiff_t>(side);
-    if (std::distance(samples.begin(), knot) < offset ||
-        std::distance(knot, samples.end()) <= offset)
-      break;
-    const auto left = std::prev(knot, offset), right = std::next(knot, offset);
-    if (std::next(left)->stamp_s - left->stamp_s > kCubicNeighbourSpan * h ||
-        right->stamp_s - std::prev(right)->stamp_s > kCubicNeighbourSpan * h)
-      break;
-    reach = side;
-  }
-  if (reach == 0)
-    return fallback;
-  return lagrangeDerivativeAt(std::prev(knot, reach), std::next(knot, reach), knot);
-}
-
-/// Fritsch and Carlson's (1980) limit of a Hermite slope on an interval with the given chord
-/// d, per channel: a slope of the chord's opposite sign (or any slope on a flat chord: a wheel
-/// at rest) is 0, and each is at most 3 d, so that the cubic stays between the two readings and
-/// does not invent motion.
-inline void limitToMonotone(const Eigen::VectorXd& chord, Eigen::VectorXd* slope)
-{
+  const double h = after.stamp_s - before.stamp_s;
+  const Eigen::VectorXd chord = (after.values - before.values) / h;
+  *slope_before = chord;
+  *slope_after = chord;
+  if (prev && before.stamp_s - prev->stamp_s <= kCubicNeighbourSpan * h)
+    *slope_before = (after.values - prev->values) / (after.stamp_s - prev->stamp_s);
+  if (next && next->stamp_s - after.stamp_s <= kCubicNeighbourSpan * h)
+    *slope_after = (next->values - before.values) / (next->stamp_s - before.stamp_s);
   for (Eigen::Index k = 0; k < chord.size(); ++k) {
-    double& value = (*slope)(k);
-    if (chord(k) == 0.0 || value * chord(k) <= 0.0)
-      value = 0.0;
-    else if (std::abs(value) > 3.0 * std::abs(chord(k)))
-      value = 3.0 * chord(k);
+    for (double* slope : {&(*slope_before)(k), &(*slope_after)(k)}) {
+      if (chord(k) == 0.0 || *slope * chord(k) <= 0.0)
+        *slope = 0.0;
+      else if (std::abs(*slope) > 3.0 * std::abs(chord(k)))
+        *slope = 3.0 * chord(k);
+    }
   }
 }
 
@@ -122,11 +79,10 @@ EncoderSample interpolateEncoderSample(const Samples& samples, double stamp_s,
   const double u = (stamp_s - before->stamp_s) / h;
   if (mode == EncoderInterpolation::kLinear)
     return {stamp_s, before->values + u * (after->values - before->values)};
-  const Eigen::VectorXd chord = (after->values - before->values) / h;
-  Eigen::VectorXd m0 = centredKnotSlope(samples, before, h, chord);
-  Eigen::VectorXd m1 = centredKnotSlope(samples, after, h, chord);
-  limitToMonotone(chord, &m0);
-  limitToMonotone(chord, &m1);
+  const EncoderSample* prev = before == samples.begin() ? nullptr : &*std::prev(before);
+  const EncoderSample* next = std::next(after) == samples.end() ? nullptr : &*std::next(after);
+  Eigen::VectorXd m0, m1;
+  monotoneHermiteSlopes(prev, *before, *after, next, &m0, &m1);
   const double u2 = u * u, u3 = u2 * u;
   return {stamp_s, (2.0 * u3 - 3.0 * u2 + 1.0) * before->values + (u3 - 2.0 * u2 + u) * h * m0 +
                        (3.0 * u2 - 2.0 * u3) * after->values + (u3 - u2) * h * m1};
