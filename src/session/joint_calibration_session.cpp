@@ -170,6 +170,13 @@ void JointCalibrationSession::addJointVelocities(double stamp_s, const Eigen::Ve
   feedWheelOutput(wheel_signals_->addVelocities(stamp_s, velocity), publisher);
 }
 
+void JointCalibrationSession::addBaseOdometry(double stamp_s, const Pose2& T_odom_base,
+                                              const std::string& publisher)
+{
+  std::lock_guard<std::mutex> lock(wheel_mutex_);
+  feedWheelOutput(wheel_signals_->addBaseOdometry(stamp_s, T_odom_base), publisher);
+}
+
 void JointCalibrationSession::flush()
 {
   for (const auto& session : sessions_)

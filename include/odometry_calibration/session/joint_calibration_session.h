@@ -84,6 +84,9 @@ public:
   /// wheels.source joint_velocity: the joints' velocities at `stamp_s`, integrated (as above).
   void addJointVelocities(double stamp_s, const Eigen::VectorXd& velocity,
                           const std::string& publisher = "");
+  /// wheels.source odometry: the base's own pose `T_odom_base` at `stamp_s`, made its path and
+  /// heading joints (as above).
+  void addBaseOdometry(double stamp_s, const Pose2& T_odom_base, const std::string& publisher = "");
   void flush();
   void tick();
   /// Every source's pairs not yet written; returns how many still are not, in all.
