@@ -407,13 +407,13 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
       c.ego_motion_sources = listed;
     }
     resolveModelChoices(c, given);
+    validateWheelInput(c);  // before the models' joints: a model that needs wheels is named
     resolveSensor(c);
     resolveDiffDrive(c, given);
     resolveTricycle(c, given);
     resolveMecanum(c, given);
     resolveSkidSteer(c, given);
     resolveBaseOdometry(c);
-    validateWheelInput(c);
     c.models.joints = jointLayout(c);
     return c;
   } catch (const std::runtime_error& error) {  // also YAML::Exception

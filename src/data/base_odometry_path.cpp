@@ -5,6 +5,13 @@
 #include <stdexcept>
 
 namespace odometry_calibration {
+namespace {
+
+/// Positions farther from the odom origin are refused: summed into the path, increments of
+/// that size would leave it no precision for the real ones (a double keeps 1e-9 m at 1e7 m).
+constexpr double kMaxPosition_m = 1e7;
+
+}  // namespace
 
 std::optional<Eigen::Vector3d> BaseOdometryPath::add(double stamp_s, const Pose2& T_odom_base,
                                                      std::string* note)
@@ -16,6 +23,13 @@ std::optional<Eigen::Vector3d> BaseOdometryPath::add(double stamp_s, const Pose2
     text << "a base odometry message at " << stamp_s << " s with pose (" << T_odom_base.x()
          << " m, " << T_odom_base.y() << " m, " << T_odom_base.theta()
          << " rad): not finite, not used";
+    throw std::invalid_argument(text.str());
+  }
+  if (std::abs(T_odom_base.x()) > kMaxPosition_m || std::abs(T_odom_base.y()) > kMaxPosition_m) {
+    std::ostringstream text;
+    text << "a base odometry message at " << stamp_s << " s with position (" << T_odom_base.x()
+         << ", " << T_odom_base.y() << ") m: beyond " << kMaxPosition_m
+         << " m from the odom origin, not a pose; not used";
     throw std::invalid_argument(text.str());
   }
   if (has_previous_ && stamp_s == previous_stamp_s_)
@@ -30,15 +44,7 @@ std::optional<Eigen::Vector3d> BaseOdometryPath::add(double stamp_s, const Pose2
     has_previous_ = false;
   }
   if (has_previous_) {
-    const Pose2 step = previous_pose_.inverse() * T_odom_base;
-    if (!step.vector().allFinite()) {
-      std::ostringstream text;
-      text << "a base odometry message at " << stamp_s << " s: the increment from ("
-           << previous_pose_.x() << ", " << previous_pose_.y() << ") m to (" << T_odom_base.x()
-           << ", " << T_odom_base.y() << ") m is not finite, not used";
-      throw std::invalid_argument(text.str());
-    }
-    path_ += step.vector();
+    path_ += (previous_pose_.inverse() * T_odom_base).vector();
   }
   has_previous_ = true;
   previous_stamp_s_ = stamp_s;

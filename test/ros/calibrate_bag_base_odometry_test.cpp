@@ -41,13 +41,13 @@ std::vector<double> row(const std::string& table, const std::string& model)
 }
 
 /// calibrate_bag's exit status and text.
-struct Run
+struct ToolRun
 {
   int status = -1;
   std::string text;
 };
 
-Run calibrate(const std::string& config_path, const std::string& bag, const std::string& test_bag,
+ToolRun calibrate(const std::string& config_path, const std::string& bag, const std::string& test_bag,
               const std::string& output_dir)
 {
   BagCalibrationOptions options;
@@ -57,7 +57,7 @@ Run calibrate(const std::string& config_path, const std::string& bag, const std:
   options.output_dir = output_dir;
   options.quiet = true;
   std::ostringstream out;
-  Run run;
+  ToolRun run;
   try {
     run.status = calibrateBags(options, out);
     run.text = out.str();
@@ -93,7 +93,7 @@ TEST(CalibrateBagBaseOdometry, ScalesSensorPoseAndAteAgainstTheJointStateFit)
 
   const std::string odometry_config = directory + "/base_odometry.yaml";
   std::ofstream(odometry_config) << readTextFile(kConfig + "/base_odometry.yaml", "config");
-  const Run odometry = calibrate(odometry_config, directory + "/train.bag",
+  const ToolRun odometry = calibrate(odometry_config, directory + "/train.bag",
                                  directory + "/test.bag", directory + "/odometry_out");
   ASSERT_TRUE(odometry.status == 0 || odometry.status == 4) << odometry.text;
   const YAML::Node result = YAML::LoadFile(directory + "/odometry_out/result.yaml");
@@ -120,7 +120,7 @@ TEST(CalibrateBagBaseOdometry, ScalesSensorPoseAndAteAgainstTheJointStateFit)
   wheels = replaced(wheels, "compare_models: [linear, gp]", "compare_models: []");
   const std::string wheel_config = directory + "/diff_drive.yaml";
   std::ofstream(wheel_config) << wheels;
-  const Run joint_state = calibrate(wheel_config, directory + "/train.bag",
+  const ToolRun joint_state = calibrate(wheel_config, directory + "/train.bag",
                                     directory + "/test.bag", directory + "/wheels_out");
   ASSERT_TRUE(joint_state.status == 0 || joint_state.status == 4) << joint_state.text;
   const std::vector<double> corrected = row(odometry.text, "base_odometry");

@@ -23,8 +23,10 @@ public:
   /// [s], or nothing for a stamp equal to the last one. The first message starts at (0, 0, 0).
   /// Time going backwards (a looped bag, a restarted clock) restarts the increments at this
   /// message (the path is held) and sets `note` (when given) to why; otherwise `note` is
-  /// cleared. Throws std::invalid_argument for a stamp or pose that is not finite, or an
-  /// increment that is not (a position near 1e308), naming the values: the message is not used.
+  /// cleared. Throws std::invalid_argument for a stamp or pose that is not finite, or a position
+  /// more than 1e7 m from the odom origin (1e308: increments that size would leave the path no
+  /// precision), naming the values: the message is not used, the next is taken from the last
+  /// one used.
   std::optional<Eigen::Vector3d> add(double stamp_s, const Pose2& T_odom_base,
                                      std::string* note = nullptr);
 
