@@ -142,8 +142,9 @@ std::vector<JointConfig> readJointsFor(const YAML::Node& root, WheelSource sourc
   if (source != WheelSource::kOdometry)
     return readJoints(root);
   if (root["joints"]) {
-    throw std::runtime_error("joints: wheels.source odometry makes its own joints (base_forward, "
-                             "base_lateral, base_yaw from the base's odometry): leave joints out");
+    throw std::runtime_error(
+        "joints: wheels.source odometry makes its own joints (base_forward, "
+        "base_lateral, base_yaw from the base's odometry): leave joints out");
   }
   return baseOdometryJoints();
 }
@@ -356,8 +357,9 @@ void resolveBaseOdometry(CalibrationConfig& c)
   if (!uses(c, "base_odometry"))
     return;
   if (c.wheels.source != WheelSource::kOdometry) {
-    throw std::runtime_error("model base_odometry takes a base's own odometry: set wheels.source "
-                             "to odometry and wheels.topics to its nav_msgs/Odometry topic");
+    throw std::runtime_error(
+        "model base_odometry takes a base's own odometry: set wheels.source "
+        "to odometry and wheels.topics to its nav_msgs/Odometry topic");
   }
   BaseOdometryOptions& b = c.models.base_odometry;
   b.layout = baseOdometryLayoutForJoints(jointLayout(c));
@@ -370,8 +372,8 @@ void resolveModelChoices(CalibrationConfig& c, const GivenValues& given)
 {
   const bool has_start_values = c.model == "tricycle" || c.model == "mecanum" ||
                                 c.model == "skid_steer" || c.model == "base_odometry";
-  const std::string fallback = c.wheels.source == WheelSource::kOdometry ? "base_odometry"
-                                                                         : "diff_drive";
+  const std::string fallback =
+      c.wheels.source == WheelSource::kOdometry ? "base_odometry" : "diff_drive";
   c.prior_model = givenString(given, "prior_model", has_start_values ? c.model : fallback);
   const LinearModelOptions& linear = c.models.linear;
   if (!(linear.outlier_threshold > linear.huber_threshold)) {

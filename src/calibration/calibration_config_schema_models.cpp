@@ -1,5 +1,6 @@
 // The models' keys of calibration_config_schema.h: start values and fit options of diff_drive,
-// tricycle, mecanum, skid_steer and base_odometry, the linear model's and the Gaussian process's options.
+// tricycle, mecanum, skid_steer and base_odometry, the linear model's and the Gaussian process's
+// options.
 #include <cmath>
 
 #include "odometry_calibration/calibration/calibration_config_schema.h"
@@ -240,7 +241,8 @@ std::vector<Entry> skidSteerEntries()
 std::vector<Entry> baseOdometryEntries()
 {
   std::vector<Entry> entries = {
-      number<CalibrationConfig>("base_odometry.translation_scale", 1.0, "", rangeClosed(0.01, 100.0),
+      number<CalibrationConfig>("base_odometry.translation_scale", 1.0, "",
+                                rangeClosed(0.01, 100.0),
                                 "k_t: true translation per reported one (start value)",
                                 AT(models.base_odometry.initial_translation_scale)),
       number<CalibrationConfig>("base_odometry.rotation_scale", 1.0, "", rangeClosed(0.01, 100.0),

@@ -60,9 +60,10 @@ namespace {
 void validateOdometryInput(const CalibrationConfig& config)
 {
   if (config.wheels.topics.size() != 1 || config.wheels.topics[0].empty()) {
-    throw std::runtime_error("wheels.topics: wheels.source odometry reads one nav_msgs/Odometry "
-                             "topic (the base's own odometry, e.g. [/odom]); " +
-                             std::to_string(config.wheels.topics.size()) + " given");
+    throw std::runtime_error(
+        "wheels.topics: wheels.source odometry reads one nav_msgs/Odometry "
+        "topic (the base's own odometry, e.g. [/odom]); " +
+        std::to_string(config.wheels.topics.size()) + " given");
   }
   std::vector<std::pair<std::string, std::string>> models = {{"model", config.model},
                                                              {"prior_model", config.prior_model}};

@@ -50,7 +50,8 @@ ObservabilityHints baseOdometryObservabilityHints()
 {
   ObservabilityHints hints;
   hints.unobservable_without_turning = "rotation_scale, sensor_x and sensor_y";
-  hints.confused_by_one_way_turns = "the rotation scale is poorly separated from the sensor's position";
+  hints.confused_by_one_way_turns =
+      "the rotation scale is poorly separated from the sensor's position";
   hints.relative_parameters = baseOdometryParameters().relative;
   return hints;
 }
@@ -95,9 +96,9 @@ ModelReport BaseOdometryModel::fit(const std::vector<MotionPair>& pairs)
                                                      baseOdometryParameters(), never, &state_);
     fit.report.before = before;
     for (std::size_t k = 0; k < fit.report.parameters.size(); ++k)
-      fit.report.parameters[k].initial = k < 2 ? start.intrinsics(static_cast<Eigen::Index>(k))
-                                               : start.T_base_sensor.vector()(
-                                                     static_cast<Eigen::Index>(k - 2));
+      fit.report.parameters[k].initial =
+          k < 2 ? start.intrinsics(static_cast<Eigen::Index>(k))
+                : start.T_base_sensor.vector()(static_cast<Eigen::Index>(k - 2));
   }
   fit.report.warnings = observabilityWarnings(pairs, fit.report.parameters, state_.covariance,
                                               fit.covariance_available,

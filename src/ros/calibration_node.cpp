@@ -59,8 +59,7 @@ CalibrationNode::CalibrationNode(ros::NodeHandle handle, ros::NodeHandle private
   // Ticks and the base's odometry come on wheels.topics, JointState on joint_state_topic.
   const bool wheel_topics = !config_.wheels.topics.empty();
   session.topics = {
-      handle_.resolveName(wheel_topics ? config_.wheels.topics.front()
-                                       : config_.joint_state_topic),
+      handle_.resolveName(wheel_topics ? config_.wheels.topics.front() : config_.joint_state_topic),
       handle_.resolveName(scan ? config_.scan_topic : config_.ego_motion_topic)};
   session.wall_clock = [] { return ros::WallTime::now().toSec(); };
   session.log = rosLog;
@@ -159,8 +158,8 @@ void CalibrationNode::subscribe()
     tick_subscribers_.push_back(subscribeEvents<nav_msgs::Odometry>(
         handle_, config_.wheels.topics.front(), 2000,
         [this](const ros::MessageEvent<const nav_msgs::Odometry>& event) {
-          feedInput(*sessions_, adapter_->convertBaseOdometry(*event.getMessage(),
-                                                              event.getPublisherName()));
+          feedInput(*sessions_,
+                    adapter_->convertBaseOdometry(*event.getMessage(), event.getPublisherName()));
         },
         hints));
   } else {

@@ -96,8 +96,8 @@ ConvertedInput MessageAdapter::convertWheelTick(double value, std::size_t wheel,
 ConvertedInput MessageAdapter::convertBaseOdometry(const nav_msgs::Odometry& message,
                                                    std::string publisher) const
 {
-  ConvertedInput input = makeInput(ConvertedInput::Kind::kBaseOdometry, 0, message.header.stamp,
-                                   std::move(publisher));
+  ConvertedInput input =
+      makeInput(ConvertedInput::Kind::kBaseOdometry, 0, message.header.stamp, std::move(publisher));
   try {
     input.pose = ros_conversions::fromPoseMsg(message.pose.pose);
   } catch (const std::invalid_argument& error) {

@@ -41,8 +41,9 @@ void feedInput(CalibrationSession& session, const ConvertedInput& input)
   if (input.kind == ConvertedInput::Kind::kWheelTick ||
       input.kind == ConvertedInput::Kind::kJointVelocities ||
       input.kind == ConvertedInput::Kind::kBaseOdometry) {
-    throw std::invalid_argument("wheel ticks, joint velocities and base odometry go to a "
-                                "JointCalibrationSession (its wheel signals)");
+    throw std::invalid_argument(
+        "wheel ticks, joint velocities and base odometry go to a "
+        "JointCalibrationSession (its wheel signals)");
   }
   if (input.kind == ConvertedInput::Kind::kJoints) {
     session.addJointPositions(input.stamp_s, input.raw, input.publisher);

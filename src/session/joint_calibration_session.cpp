@@ -211,8 +211,7 @@ double JointCalibrationSession::wallNow() const
 {
   if (options_.wall_clock)
     return options_.wall_clock();
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())
-      .count();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
 std::size_t JointCalibrationSession::writePendingPairs()

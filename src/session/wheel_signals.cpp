@@ -93,7 +93,8 @@ WheelSignalOutput WheelSignals::addBaseOdometry(double stamp_s, const Pose2& T_o
 {
   WheelSignalOutput output;
   try {
-    const std::optional<Eigen::Vector3d> path = base_path_.add(stamp_s, T_odom_base, &output.problem);
+    const std::optional<Eigen::Vector3d> path =
+        base_path_.add(stamp_s, T_odom_base, &output.problem);
     if (path && static_cast<Eigen::Index>(signs_.size()) == path->size())
       output.samples = signed_({{stamp_s, *path}});
     else if (path)

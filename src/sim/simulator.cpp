@@ -588,7 +588,7 @@ private:
   const bool base_odometry_;                                // encoders.output odometry
   Pose2 previous_T_world_base_;  // the truth at the last encoder instant (odometry)
   Pose2 T_odom_base_;            // the base's reported odometry pose (odometry)
-  Eigen::VectorXd shaft_rate_;  // over the last integration step [rad/s]
+  Eigen::VectorXd shaft_rate_;   // over the last integration step [rad/s]
 };
 
 }  // namespace

@@ -46,8 +46,8 @@ std::vector<MotionPair> drive(double duration_s, unsigned seed)
       pair.start_stamp_s = pair.encoder_samples.front().stamp_s;
       pair.end_stamp_s = t;
       const Pose2 motion = kTrueSensor.inverse() * pair_start.inverse() * truth * kTrueSensor;
-      pair.sensor_motion = motion * Pose2(0.001 * noise(rng), 0.001 * noise(rng),
-                                          0.0005 * noise(rng));
+      pair.sensor_motion =
+          motion * Pose2(0.001 * noise(rng), 0.001 * noise(rng), 0.0005 * noise(rng));
       pair.covariance = Eigen::Vector3d(1e-6, 1e-6, 0.25e-6).asDiagonal();
       pairs.push_back(pair);
       pair.encoder_samples = {sample};

@@ -21,24 +21,15 @@
 #include "odometry_calibration/ros/sim_bag_writer.h"
 #include "odometry_calibration/sim/scenario.h"
 
+#include "support/score_table.h"
+
 namespace odometry_calibration {
 namespace {
 
 const std::string kConfig = ODOMETRY_CALIBRATION_CONFIG_DIR;
 constexpr double kTranslationError = 0.03, kRotationError = 0.02;
 
-/// ATE, RPE, RMSE x, y, theta of a --test table row (empty: no such row).
-std::vector<double> row(const std::string& table, const std::string& model)
-{
-  const std::size_t at = table.find("\n" + model + " ");
-  if (at == std::string::npos)
-    return {};
-  std::istringstream line(table.substr(at + 1 + model.size()));
-  std::vector<double> values(5);
-  for (double& value : values)
-    line >> value;
-  return values;
-}
+using test_support::scoreTableRow;
 
 /// calibrate_bag's exit status and text.
 struct ToolRun
@@ -47,8 +38,8 @@ struct ToolRun
   std::string text;
 };
 
-ToolRun calibrate(const std::string& config_path, const std::string& bag, const std::string& test_bag,
-              const std::string& output_dir)
+ToolRun calibrate(const std::string& config_path, const std::string& bag,
+                  const std::string& test_bag, const std::string& output_dir)
 {
   BagCalibrationOptions options;
   options.config_path = config_path;
@@ -80,8 +71,8 @@ TEST(CalibrateBagBaseOdometry, ScalesSensorPoseAndAteAgainstTheJointStateFit)
 {
   char pattern[] = "/tmp/calibrate_bag_base_odometry_test.XXXXXX";
   const std::string directory = mkdtemp(pattern);
-  sim::Scenario scenario = sim::loadScenarioYaml(
-      kConfig + "/sim/scenarios/diff_drive_office.yaml", kConfig + "/sim/worlds");
+  sim::Scenario scenario = sim::loadScenarioYaml(kConfig + "/sim/scenarios/diff_drive_office.yaml",
+                                                 kConfig + "/sim/worlds");
   scenario.duration_s = 60.0;
   scenario.seed = 46;
   scenario.encoders.output = "odometry";  // the JointState and the base's own odometry
@@ -94,7 +85,7 @@ TEST(CalibrateBagBaseOdometry, ScalesSensorPoseAndAteAgainstTheJointStateFit)
   const std::string odometry_config = directory + "/base_odometry.yaml";
   std::ofstream(odometry_config) << readTextFile(kConfig + "/base_odometry.yaml", "config");
   const ToolRun odometry = calibrate(odometry_config, directory + "/train.bag",
-                                 directory + "/test.bag", directory + "/odometry_out");
+                                     directory + "/test.bag", directory + "/odometry_out");
   ASSERT_TRUE(odometry.status == 0 || odometry.status == 4) << odometry.text;
   const YAML::Node result = YAML::LoadFile(directory + "/odometry_out/result.yaml");
   const YAML::Node parameters = result["parameters"];
@@ -104,10 +95,10 @@ TEST(CalibrateBagBaseOdometry, ScalesSensorPoseAndAteAgainstTheJointStateFit)
   const double dx = parameters["sensor_x"]["value"].as<double>() - truth.x();
   const double dy = parameters["sensor_y"]["value"].as<double>() - truth.y();
   const double dtheta = parameters["sensor_theta"]["value"].as<double>() - truth.theta();
-  std::cout << "translation_scale " << k_t << " (truth " << 1.0 / (1.0 + kTranslationError)
-            << ", " << 100.0 * std::abs(k_t * (1.0 + kTranslationError) - 1.0)
-            << " % off), rotation_scale " << k_r << " (truth " << 1.0 / (1.0 + kRotationError)
-            << ", " << 100.0 * std::abs(k_r * (1.0 + kRotationError) - 1.0)
+  std::cout << "translation_scale " << k_t << " (truth " << 1.0 / (1.0 + kTranslationError) << ", "
+            << 100.0 * std::abs(k_t * (1.0 + kTranslationError) - 1.0) << " % off), rotation_scale "
+            << k_r << " (truth " << 1.0 / (1.0 + kRotationError) << ", "
+            << 100.0 * std::abs(k_r * (1.0 + kRotationError) - 1.0)
             << " % off), sensor pose off by " << 1000.0 * std::hypot(dx, dy) << " mm, "
             << dtheta * 180.0 / M_PI << " deg\n";
   EXPECT_LT(std::abs(k_t * (1.0 + kTranslationError) - 1.0), 1e-3);
@@ -121,22 +112,22 @@ TEST(CalibrateBagBaseOdometry, ScalesSensorPoseAndAteAgainstTheJointStateFit)
   const std::string wheel_config = directory + "/diff_drive.yaml";
   std::ofstream(wheel_config) << wheels;
   const ToolRun joint_state = calibrate(wheel_config, directory + "/train.bag",
-                                    directory + "/test.bag", directory + "/wheels_out");
+                                        directory + "/test.bag", directory + "/wheels_out");
   ASSERT_TRUE(joint_state.status == 0 || joint_state.status == 4) << joint_state.text;
-  const std::vector<double> corrected = row(odometry.text, "base_odometry");
-  const std::vector<double> uncorrected = row(odometry.text, "nominal");
-  const std::vector<double> wheel_fit = row(joint_state.text, "diff_drive");
+  const std::vector<double> corrected = scoreTableRow(odometry.text, "base_odometry");
+  const std::vector<double> uncorrected = scoreTableRow(odometry.text, "nominal");
+  const std::vector<double> wheel_fit = scoreTableRow(joint_state.text, "diff_drive");
   ASSERT_EQ(corrected.size(), 5u) << odometry.text;
   ASSERT_EQ(uncorrected.size(), 5u) << odometry.text;
   ASSERT_EQ(wheel_fit.size(), 5u) << joint_state.text;
   std::cout << "test-drive ATE: base_odometry " << corrected[0] << " m, the base's own odometry "
-            << uncorrected[0] << " m, diff_drive on the JointState " << wheel_fit[0]
-            << " m (ratio " << corrected[0] / wheel_fit[0] << ")\n";
+            << uncorrected[0] << " m, diff_drive on the JointState " << wheel_fit[0] << " m (ratio "
+            << corrected[0] / wheel_fit[0] << ")\n";
   EXPECT_LT(corrected[0], 1.2 * wheel_fit[0]) << odometry.text << joint_state.text;
   EXPECT_GT(uncorrected[0], 3.0 * corrected[0]) << odometry.text;  // the scales mattered
   // The model-free fits take the base's increments too.
-  EXPECT_EQ(row(odometry.text, "linear").size(), 5u) << odometry.text;
-  EXPECT_EQ(row(odometry.text, "gp").size(), 5u) << odometry.text;
+  EXPECT_EQ(scoreTableRow(odometry.text, "linear").size(), 5u) << odometry.text;
+  EXPECT_EQ(scoreTableRow(odometry.text, "gp").size(), 5u) << odometry.text;
 }
 
 }  // namespace

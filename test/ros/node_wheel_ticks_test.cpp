@@ -36,9 +36,9 @@ TEST(NodeWheelTicks, NodeAndCalibrateBagGiveTheSameWheels)
   const double tolerance = private_handle.param("tolerance", 1e-3);
   const bool same_pairs = private_handle.param("same_pairs", false);
   ASSERT_TRUE(ros::service::waitForService("/" + node + "/calibrate", ros::Duration(60)));
-  const std::string play = "rosbag play --clock --hz 1000 --quiet -d 2 -r " +
-                           std::to_string(rate) + " " + bag + " --wait-for-subscribers --topics " +
-                           topics + " > " + output_directory + "/play.log 2>&1";
+  const std::string play = "rosbag play --clock --hz 1000 --quiet -d 2 -r " + std::to_string(rate) +
+                           " " + bag + " --wait-for-subscribers --topics " + topics + " > " +
+                           output_directory + "/play.log 2>&1";
   ASSERT_EQ(std::system(play.c_str()), 0) << play;
   const std::string pairs = output_directory + "/" + node + "/pairs.csv";
   test::waitUntilSettled<std::size_t>([&] { return test::fileLines(pairs); }, 5, 60);

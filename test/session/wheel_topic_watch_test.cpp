@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include "odometry_calibration/calibration/calibration_config.h"
+#include "odometry_calibration/session/joint_calibration_session.h"
 #include "odometry_calibration/session/wheel_topic_watch.h"
 
 namespace odometry_calibration {
@@ -45,6 +47,40 @@ TEST(WheelTopicWatch, AllSilentOrNeverPublishing)
       << warnings[0];
   EXPECT_TRUE(watch.silentWarnings(130.0).empty());  // both silent now: the input monitor's
   watch.received(7, 131.0);                          // a wheel beyond the topics: ignored
+}
+
+TEST(WheelTopicWatch, TheJointSessionSaysItOnItsTick)
+{
+  const std::string text =
+      "joints: [{name: left_wheel, units_per_turn: 256, counter_bits: 8},\n"
+      "         {name: right_wheel, units_per_turn: 256, counter_bits: 8}]\n"
+      "wheels: {source: ticks, topics: [/lwheel, /rwheel], message_type: std_msgs/Int16}\n";
+  SessionOptions options;
+  options.load_saved_calibration = options.resume_pairs = options.assistant = false;
+  double clock_s = 0.0;
+  options.wall_clock = [&] { return clock_s; };
+  std::vector<std::string> said;
+  options.log = [&](SessionLogLevel level, const std::string& line) {
+    if (level == SessionLogLevel::kWarn)
+      said.push_back(line);
+  };
+  JointCalibrationSession session(parseCalibrationConfig(text, "ticks.yaml"), text, "ticks.yaml",
+                                  options);
+  int k = 0;
+  for (; clock_s < 3.0; clock_s += 0.03, ++k) {
+    session.addWheelTick(0, clock_s, k % 256);
+    session.addWheelTick(1, clock_s + 0.007, k % 256);
+  }
+  session.tick();
+  EXPECT_TRUE(said.empty()) << said.front();
+  for (; clock_s < 9.0; clock_s += 0.03, ++k)  // the right wheel's topic falls silent
+    session.addWheelTick(0, clock_s, k % 256);
+  session.tick();
+  ASSERT_FALSE(said.empty());
+  EXPECT_NE(said.back().find("wheel topic '/rwheel' (wheels.topics[1]) has been silent for 6 s "
+                             "while '/lwheel' publishes"),
+            std::string::npos)
+      << said.back();
 }
 
 }  // namespace

@@ -55,13 +55,13 @@ struct BaseOdometryKinematics
   static Pose2T<T> integrate(const T* intrinsic, const Layout& layout,
                              const std::vector<EncoderSample>& samples)
   {
-    return composeEncoderSteps<T>(
-        samples, [&](const EncoderSample& previous, const EncoderSample& current) {
-          const auto step = [&](int index) { return current.values(index) - previous.values(index); };
-          return Pose2T<T>(intrinsic[kTranslationScale] * T(step(layout.forward_index)),
-                           intrinsic[kTranslationScale] * T(step(layout.lateral_index)),
-                           intrinsic[kRotationScale] * T(step(layout.yaw_index)));
-        });
+    return composeEncoderSteps<T>(samples, [&](const EncoderSample& previous,
+                                               const EncoderSample& current) {
+      const auto step = [&](int index) { return current.values(index) - previous.values(index); };
+      return Pose2T<T>(intrinsic[kTranslationScale] * T(step(layout.forward_index)),
+                       intrinsic[kTranslationScale] * T(step(layout.lateral_index)),
+                       intrinsic[kRotationScale] * T(step(layout.yaw_index)));
+    });
   }
 };
 
