@@ -135,6 +135,20 @@ std::vector<JointConfig> readJoints(const YAML::Node& root)
 
 /// `ego_motion.sources` (issue 35), when given: each entry's keys (topic required, time_offset_s
 /// left NaN when absent), distinct topics, and none of the one-source keys beside it.
+/// The joints: the configuration's, or for wheels.source odometry the base odometry's own
+/// (then `joints` must be left out).
+std::vector<JointConfig> readJointsFor(const YAML::Node& root, WheelSource source)
+{
+  if (source != WheelSource::kOdometry)
+    return readJoints(root);
+  if (root["joints"]) {
+    throw std::runtime_error(
+        "joints: wheels.source odometry makes its own joints (base_forward, "
+        "base_lateral, base_yaw from the base's odometry): leave joints out");
+  }
+  return baseOdometryJoints();
+}
+
 std::vector<EgoMotionSourceConfig> readSources(const YAML::Node& root)
 {
   const YAML::Node sources = findConfigNode(root, "ego_motion.sources");
@@ -337,13 +351,30 @@ void resolveSkidSteer(CalibrationConfig& c, const GivenValues& given)
   inSection("skid_steer", [&] { validate(s); });
 }
 
+/// The base odometry's joints found (wheels.source odometry), its options checked.
+void resolveBaseOdometry(CalibrationConfig& c)
+{
+  if (!uses(c, "base_odometry"))
+    return;
+  if (c.wheels.source != WheelSource::kOdometry) {
+    throw std::runtime_error(
+        "model base_odometry takes a base's own odometry: set wheels.source "
+        "to odometry and wheels.topics to its nav_msgs/Odometry topic");
+  }
+  BaseOdometryOptions& b = c.models.base_odometry;
+  b.layout = baseOdometryLayoutForJoints(jointLayout(c));
+  inSection("base_odometry", [&] { validate(b); });
+}
+
 /// The prior model (default: the fitted model when it has start values), the linear model's
 /// two thresholds, the Gaussian process's options.
 void resolveModelChoices(CalibrationConfig& c, const GivenValues& given)
 {
-  const bool has_start_values =
-      c.model == "tricycle" || c.model == "mecanum" || c.model == "skid_steer";
-  c.prior_model = givenString(given, "prior_model", has_start_values ? c.model : "diff_drive");
+  const bool has_start_values = c.model == "tricycle" || c.model == "mecanum" ||
+                                c.model == "skid_steer" || c.model == "base_odometry";
+  const std::string fallback =
+      c.wheels.source == WheelSource::kOdometry ? "base_odometry" : "diff_drive";
+  c.prior_model = givenString(given, "prior_model", has_start_values ? c.model : fallback);
   const LinearModelOptions& linear = c.models.linear;
   if (!(linear.outlier_threshold > linear.huber_threshold)) {
     throw std::runtime_error(
@@ -368,9 +399,9 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
     refuseDuplicateKeys(root);
     refuseUnknownKeys(root, schemaKeys());
     CalibrationConfig c;
-    c.joints = readJoints(root);
     c.ego_motion_sources = readSources(root);
     const GivenValues given = readKeys(root, &c);
+    c.joints = readJointsFor(root, c.wheels.source);
     if (c.ego_motion_sources.size() == 1) {
       // One source listed: the one-source keys say the same, for every reader of those.
       const std::vector<EgoMotionSourceConfig> listed = c.ego_motion_sources;
@@ -378,12 +409,13 @@ CalibrationConfig parseCalibrationConfig(const std::string& text, const std::str
       c.ego_motion_sources = listed;
     }
     resolveModelChoices(c, given);
+    validateWheelInput(c);  // before the models' joints: a model that needs wheels is named
     resolveSensor(c);
     resolveDiffDrive(c, given);
     resolveTricycle(c, given);
     resolveMecanum(c, given);
     resolveSkidSteer(c, given);
-    validateWheelInput(c);
+    resolveBaseOdometry(c);
     c.models.joints = jointLayout(c);
     return c;
   } catch (const std::runtime_error& error) {  // also YAML::Exception
@@ -448,6 +480,7 @@ CalibrationConfig configForSource(const CalibrationConfig& config, std::size_t i
     one.models.skid_steer.initial_T_base_sensor = pose;
     one.models.mecanum.initial_T_base_sensor = pose;
     one.models.tricycle.initial.T_base_sensor = pose;
+    one.models.base_odometry.initial_T_base_sensor = pose;
   }
   return one;
 }
@@ -502,6 +535,8 @@ std::optional<Pose2> priorSensorPose(const CalibrationConfig& config)
     return config.models.mecanum.initial_T_base_sensor;
   if (config.prior_model == "skid_steer")
     return config.models.skid_steer.initial_T_base_sensor;
+  if (config.prior_model == "base_odometry")
+    return config.models.base_odometry.initial_T_base_sensor;
   return std::nullopt;
 }
 
@@ -516,6 +551,13 @@ MotionPredictor priorPredictor(const CalibrationConfig& config)
   if (config.prior_model == "mecanum") {
     // The unfitted model predicts with its start values: the nominal robot.
     const std::shared_ptr<MotionModel> nominal = makeModel("mecanum", config.models);
+    return [nominal](const std::vector<EncoderSample>& samples) {
+      return nominal->predict(samples).mean;
+    };
+  }
+  if (config.prior_model == "base_odometry") {
+    // Unfitted: the base's own odometry at the start scales.
+    const std::shared_ptr<MotionModel> nominal = makeModel("base_odometry", config.models);
     return [nominal](const std::vector<EncoderSample>& samples) {
       return nominal->predict(samples).mean;
     };

@@ -58,14 +58,16 @@ std::pair<YAML::Node, YAML::Node> loadBoth(const std::string& config_text,
 /// `root` with the allowed sections of `overrides` merged in, parsed and validated.
 CalibrationConfig merged(YAML::Node root, const YAML::Node& overrides, const std::string& source)
 {
-  static const std::set<std::string> allowed = {"diff_drive", "linear",     "gp",    "tricycle",
-                                                "mecanum",    "skid_steer", "model", "prior_model"};
+  static const std::set<std::string> allowed = {"diff_drive",    "linear",  "gp",
+                                                "tricycle",      "mecanum", "skid_steer",
+                                                "base_odometry", "model",   "prior_model"};
   for (const auto& entry : overrides) {
     const std::string key = entry.first.as<std::string>();
     if (allowed.count(key) == 0) {
       throw std::runtime_error("options: '" + key +
                                "' cannot be changed per call (allowed: diff_drive, tricycle, "
-                               "mecanum, skid_steer, linear, gp, model, prior_model)");
+                               "mecanum, skid_steer, base_odometry, linear, gp, model, "
+                               "prior_model)");
     }
   }
   mergeInto(root, overrides);

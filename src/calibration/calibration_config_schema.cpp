@@ -128,7 +128,7 @@ std::vector<Entry> topLevelEntries()
   ConfigKeySpec prior = configKeySpec("prior_model", ConfigType::kString, "",
                                       "start values of the matcher's guesses, the node's nominal "
                                       "odometry and the tables' nominal row (none: no guess)");
-  prior.choices = {"none", "diff_drive", "tricycle", "mecanum", "skid_steer"};
+  prior.choices = {"none", "diff_drive", "tricycle", "mecanum", "skid_steer", "base_odometry"};
   return {
       text<CalibrationConfig>("joint_state_topic", "/joint_states", false,
                               "sensor_msgs/JointState topic", AT(joint_state_topic)),
@@ -146,7 +146,9 @@ std::vector<Entry> topLevelEntries()
             },
             [](const CalibrationConfig& c) { return ConfigValue(c.compare_models); }},
       derivedEntry<CalibrationConfig>(
-          prior, "the model if diff_drive, tricycle, mecanum or skid_steer, else diff_drive",
+          prior,
+          "the model if diff_drive, tricycle, mecanum or skid_steer; base_odometry with "
+          "wheels.source odometry; else diff_drive",
           [](const CalibrationConfig& c) { return ConfigValue(c.prior_model); }),
       text<CalibrationConfig>("output_directory", "odometry_calibration_results", false,
                               "where the result files go (relative: the working directory)",
@@ -157,7 +159,7 @@ std::vector<Entry> topLevelEntries()
 /// The wheel sources' names, in WheelSource's order.
 const char* wheelSourceName(WheelSource source)
 {
-  const char* names[] = {"joint_state", "ticks", "joint_velocity"};
+  const char* names[] = {"joint_state", "ticks", "joint_velocity", "odometry"};
   return names[static_cast<int>(source)];
 }
 
@@ -166,17 +168,20 @@ std::vector<Entry> wheelEntries()
   ConfigKeySpec topics =
       configKeySpec("wheels.topics", ConfigType::kStringList, "",
                     "ticks: one std_msgs topic per joint, in the joints' order (the messages carry "
-                    "no stamp: the receive time live, the record time in a bag)");
+                    "no stamp: the receive time live, the record time in a bag); odometry: the "
+                    "base's nav_msgs/Odometry topic");
   topics.max_size = 16;
   topics.default_value = std::vector<std::string>{};
   return {
       choice<CalibrationConfig>(
-          "wheels.source", "joint_state", {"joint_state", "ticks", "joint_velocity"},
-          "joint_state (JointState positions), ticks (a counter topic per joint) or "
-          "joint_velocity (JointState velocities only, integrated by the trapezoid rule)",
+          "wheels.source", "joint_state", {"joint_state", "ticks", "joint_velocity", "odometry"},
+          "joint_state (JointState positions), ticks (a counter topic per joint), "
+          "joint_velocity (JointState velocities only, integrated by the trapezoid rule) or "
+          "odometry (the base's nav_msgs/Odometry: its pose increments in base_link)",
           [](CalibrationConfig& c, const std::string& v) {
             c.wheels.source = v == "ticks"            ? WheelSource::kTicks
                               : v == "joint_velocity" ? WheelSource::kJointVelocity
+                              : v == "odometry"       ? WheelSource::kOdometry
                                                       : WheelSource::kJointState;
           },
           [](const CalibrationConfig& c) { return wheelSourceName(c.wheels.source); }),

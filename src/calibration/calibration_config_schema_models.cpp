@@ -1,5 +1,6 @@
 // The models' keys of calibration_config_schema.h: start values and fit options of diff_drive,
-// tricycle, mecanum and skid_steer, the linear model's and the Gaussian process's options.
+// tricycle, mecanum, skid_steer and base_odometry, the linear model's and the Gaussian process's
+// options.
 #include <cmath>
 
 #include "odometry_calibration/calibration/calibration_config_schema.h"
@@ -237,6 +238,24 @@ std::vector<Entry> skidSteerEntries()
   return entries;
 }
 
+std::vector<Entry> baseOdometryEntries()
+{
+  std::vector<Entry> entries = {
+      number<CalibrationConfig>("base_odometry.translation_scale", 1.0, "",
+                                rangeClosed(0.01, 100.0),
+                                "k_t: true translation per reported one (start value)",
+                                AT(models.base_odometry.initial_translation_scale)),
+      number<CalibrationConfig>("base_odometry.rotation_scale", 1.0, "", rangeClosed(0.01, 100.0),
+                                "k_r: true rotation per reported one (start value)",
+                                AT(models.base_odometry.initial_rotation_scale)),
+      sensorPose("base_odometry.sensor_pose", AT(models.base_odometry.initial_T_base_sensor)),
+  };
+  appendEntries(entries, fitOptions("base_odometry", kHuberRange,
+                                    "Huber threshold on a pair's whitened error", 8,
+                                    AT(models.base_odometry)));
+  return entries;
+}
+
 std::vector<Entry> linearAndGpEntries()
 {
   return {
@@ -279,8 +298,8 @@ const std::vector<ConfigSchemaEntry<CalibrationConfig>>& modelConfigSchema()
 {
   static const std::vector<Entry> entries = [] {
     std::vector<Entry> all;
-    for (auto section :
-         {diffDriveEntries, tricycleEntries, mecanumEntries, skidSteerEntries, linearAndGpEntries})
+    for (auto section : {diffDriveEntries, tricycleEntries, mecanumEntries, skidSteerEntries,
+                         baseOdometryEntries, linearAndGpEntries})
       appendEntries(all, section());
     return all;
   }();

@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "odometry_calibration/calibration/calibration_config.h"
+#include "odometry_calibration/models/base_odometry_model.h"
 
 namespace odometry_calibration {
 
@@ -34,18 +35,60 @@ std::string wheelInputName(const WheelInputConfig& wheels, const std::string& jo
     return "JointState on '" + joint_state_topic + "'";
   if (wheels.source == WheelSource::kJointVelocity)
     return "JointState velocities on '" + joint_state_topic + "'";
+  if (wheels.source == WheelSource::kOdometry)
+    return "base odometry on '" + (wheels.topics.empty() ? "" : wheels.topics[0]) + "'";
   std::string topics;
   for (const std::string& topic : wheels.topics)
     topics += (topics.empty() ? "'" : ", '") + topic + "'";
   return wheels.message_type + " ticks on " + topics;
 }
 
+std::vector<JointConfig> baseOdometryJoints()
+{
+  std::vector<JointConfig> joints;
+  for (const std::string& name : baseOdometryJointNames()) {
+    JointConfig joint;
+    joint.name = name;
+    joints.push_back(joint);
+  }
+  return joints;
+}
+
+namespace {
+
+/// wheels.source odometry: one topic, and no model that needs wheel joints.
+void validateOdometryInput(const CalibrationConfig& config)
+{
+  if (config.wheels.topics.size() != 1 || config.wheels.topics[0].empty()) {
+    throw std::runtime_error(
+        "wheels.topics: wheels.source odometry reads one nav_msgs/Odometry "
+        "topic (the base's own odometry, e.g. [/odom]); " +
+        std::to_string(config.wheels.topics.size()) + " given");
+  }
+  std::vector<std::pair<std::string, std::string>> models = {{"model", config.model},
+                                                             {"prior_model", config.prior_model}};
+  for (const std::string& model : config.compare_models)
+    models.emplace_back("compare_models", model);
+  for (const auto& [key, model] : models) {
+    if (model != "base_odometry" && model != "linear" && model != "gp" && model != "none") {
+      throw std::runtime_error(key + ": " + model +
+                               " needs wheel joints, and wheels.source odometry has none: set " +
+                               key + " to base_odometry (or linear, gp)");
+    }
+  }
+}
+
+}  // namespace
+
 void validateWheelInput(const CalibrationConfig& config)
 {
   const WheelInputConfig& wheels = config.wheels;
+  if (wheels.source == WheelSource::kOdometry)
+    return validateOdometryInput(config);
   if (wheels.source != WheelSource::kTicks) {
     if (!wheels.topics.empty())
-      throw std::runtime_error("wheels.topics: only wheels.source ticks reads per-wheel topics");
+      throw std::runtime_error(
+          "wheels.topics: only wheels.source ticks (per-wheel topics) and odometry read topics");
     return;
   }
   if (wheels.topics.size() != config.joints.size()) {

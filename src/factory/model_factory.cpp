@@ -13,7 +13,7 @@ namespace odometry_calibration {
 
 std::vector<std::string> knownModelNames()
 {
-  return {"linear", "diff_drive", "gp", "tricycle", "mecanum", "skid_steer"};
+  return {"linear", "diff_drive", "gp", "tricycle", "mecanum", "skid_steer", "base_odometry"};
 }
 
 bool isKnownModel(const std::string& name)
@@ -67,6 +67,12 @@ std::unique_ptr<MotionModel> makeModel(const std::string& name, const ModelFacto
     requireJointsAmong(options.skid_steer.right_indices, joints, "skid_steer: the wheel joints");
     return std::make_unique<SkidSteerModel>(options.skid_steer);
   }
+  if (name == "base_odometry") {
+    const BaseOdometryLayout& layout = options.base_odometry.layout;
+    requireJointsAmong({layout.forward_index, layout.lateral_index, layout.yaw_index}, joints,
+                       "base_odometry: the base odometry's joints");
+    return std::make_unique<BaseOdometryModel>(options.base_odometry);
+  }
   requireKnownModel(name, "makeModel");
   throw std::logic_error("makeModel: model '" + name + "' is known but not made");
 }
@@ -91,6 +97,8 @@ std::unique_ptr<MotionModel> loadModel(const std::string& model_yaml)
     return std::make_unique<MecanumModel>(MecanumModel::fromYaml(model_yaml));
   if (name == "skid_steer")
     return std::make_unique<SkidSteerModel>(SkidSteerModel::fromYaml(model_yaml));
+  if (name == "base_odometry")
+    return std::make_unique<BaseOdometryModel>(BaseOdometryModel::fromYaml(model_yaml));
   throw std::runtime_error("model YAML: unknown or missing 'model' ('" + name + "')");
 }
 

@@ -32,4 +32,13 @@ const ParameterLayout& tricycleParameters()
   return layout;
 }
 
+const ParameterLayout& baseOdometryParameters()
+{
+  static const ParameterLayout layout{
+      {"translation_scale", "rotation_scale", "sensor_x", "sensor_y", "sensor_theta"},
+      {"-", "-", "m", "m", "rad"},
+      {"translation_scale", "rotation_scale"}};
+  return layout;
+}
+
 }  // namespace odometry_calibration

@@ -93,6 +93,9 @@ std::vector<Route> routes(const CalibrationConfig& config)
       result.push_back({config.wheels.topics[j], true, 0, EgoMotionSource::kScan,
                         config.wheels.message_type, j});
     }
+  } else if (config.wheels.source == WheelSource::kOdometry) {
+    // The base's own odometry: a wheel route of type odometry.
+    result.push_back({config.wheels.topics[0], true, 0, EgoMotionSource::kOdometry, "", 0});
   } else {
     result.push_back({config.joint_state_topic, true, 0, EgoMotionSource::kScan, "", 0});
   }
@@ -152,6 +155,19 @@ bool readWheelTick(RecordedMessages& messages, const MessageAdapter& adapter, co
   return true;
 }
 
+/// The current message as the base's own odometry (wheels.source odometry), converted into
+/// `input`; false when it is of another type.
+bool readBaseOdometry(RecordedMessages& messages, const MessageAdapter& adapter,
+                      nav_msgs::Odometry& message, ReadTimers& timers, ConvertedInput& input)
+{
+  if (!messages.read(message))
+    return false;
+  const auto converted = timers.endReading();
+  input = adapter.convertBaseOdometry(message, messages.publisher());
+  timers.endConverting(converted);
+  return true;
+}
+
 /// The current message, on `route`'s topic, converted into `input`; false when it is not of
 /// the topic's type (a pose source takes Odometry and PoseStamped alike).
 bool readCurrent(RecordedMessages& messages, const MessageAdapter& adapter, const Route& route,
@@ -159,6 +175,8 @@ bool readCurrent(RecordedMessages& messages, const MessageAdapter& adapter, cons
 {
   if (!route.tick_type.empty())
     return readWheelTick(messages, adapter, route, timers, input);
+  if (route.joints && route.type == EgoMotionSource::kOdometry)
+    return readBaseOdometry(messages, adapter, buffers.odometry, timers, input);
   if (route.joints)
     return readAs(messages, adapter, 0, buffers.joints, timers, input);
   switch (route.type) {
@@ -311,7 +329,7 @@ void BagMessageReader::read(RecordedMessages& messages, const CalibrationConfig&
 std::vector<std::string> readTopics(const CalibrationConfig& config)
 {
   std::vector<std::string> topics;
-  if (config.wheels.source == WheelSource::kTicks)
+  if (config.wheels.source == WheelSource::kTicks || config.wheels.source == WheelSource::kOdometry)
     topics = config.wheels.topics;
   else
     topics.push_back(config.joint_state_topic);

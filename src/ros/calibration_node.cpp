@@ -56,9 +56,10 @@ CalibrationNode::CalibrationNode(ros::NodeHandle handle, ros::NodeHandle private
   session.base_frame = options_.base_frame;
   session.default_sensor_frame = options_.sensor_frame.empty() ? "laser" : options_.sensor_frame;
   const bool scan = config_.ego_motion == EgoMotionSource::kScan;
-  const bool ticks = config_.wheels.source == WheelSource::kTicks;
+  // Ticks and the base's odometry come on wheels.topics, JointState on joint_state_topic.
+  const bool wheel_topics = !config_.wheels.topics.empty();
   session.topics = {
-      handle_.resolveName(ticks ? config_.wheels.topics.front() : config_.joint_state_topic),
+      handle_.resolveName(wheel_topics ? config_.wheels.topics.front() : config_.joint_state_topic),
       handle_.resolveName(scan ? config_.scan_topic : config_.ego_motion_topic)};
   session.wall_clock = [] { return ros::WallTime::now().toSec(); };
   session.log = rosLog;
@@ -153,6 +154,14 @@ void CalibrationNode::subscribe()
   if (config_.wheels.source == WheelSource::kTicks) {
     for (std::size_t j = 0; j < config_.wheels.topics.size(); ++j)
       subscribeWheelTicks(j);
+  } else if (config_.wheels.source == WheelSource::kOdometry) {
+    tick_subscribers_.push_back(subscribeEvents<nav_msgs::Odometry>(
+        handle_, config_.wheels.topics.front(), 2000,
+        [this](const ros::MessageEvent<const nav_msgs::Odometry>& event) {
+          feedInput(*sessions_,
+                    adapter_->convertBaseOdometry(*event.getMessage(), event.getPublisherName()));
+        },
+        hints));
   } else {
     joint_subscriber_ = handle_.subscribe(config_.joint_state_topic, 2000,
                                           &CalibrationNode::onJointState, this, hints);

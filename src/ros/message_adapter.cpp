@@ -93,6 +93,20 @@ ConvertedInput MessageAdapter::convertWheelTick(double value, std::size_t wheel,
   return input;
 }
 
+ConvertedInput MessageAdapter::convertBaseOdometry(const nav_msgs::Odometry& message,
+                                                   std::string publisher) const
+{
+  ConvertedInput input =
+      makeInput(ConvertedInput::Kind::kBaseOdometry, 0, message.header.stamp, std::move(publisher));
+  try {
+    input.pose = ros_conversions::fromPoseMsg(message.pose.pose);
+  } catch (const std::invalid_argument& error) {
+    input.kind = ConvertedInput::Kind::kBadJoints;
+    input.problem = std::string("a base odometry message: ") + error.what();
+  }
+  return input;
+}
+
 ConvertedInput MessageAdapter::convert(const sensor_msgs::LaserScan& message, std::size_t source,
                                        std::string publisher) const
 {

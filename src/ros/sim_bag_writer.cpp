@@ -288,6 +288,22 @@ void SimBagWriter::onTruth(const sim::TruthSample& sample)
   record("/tf", stamp, tf);
 }
 
+void SimBagWriter::onBaseOdometry(const sim::BaseOdometrySample& sample)
+{
+  // As a base's driver publishes it: odom -> base_link, stamped in the encoders' clock; no tf
+  // (the calibration node's odometry owns that tree in a replay).
+  nav_msgs::Odometry odometry;
+  odometry.header.seq = base_odometry_seq_++;
+  odometry.header.stamp = rosTime(scenario_.start_time_s, sample.stamp_s);
+  odometry.header.frame_id = "odom";
+  odometry.child_frame_id = "base_link";
+  odometry.pose.pose = ros_conversions::toPoseMsg(sample.T_odom_base);
+  odometry.twist.twist.linear.x = sample.twist.vx_mps;
+  odometry.twist.twist.linear.y = sample.twist.vy_mps;
+  odometry.twist.twist.angular.z = sample.twist.omega_radps;
+  record(scenario_.encoders.odometry_topic, odometry.header.stamp, odometry);
+}
+
 void SimBagWriter::onTracker(const sim::TrackerSample& sample)
 {
   geometry_msgs::PoseStamped pose;

@@ -30,12 +30,15 @@ std::string CalibrationSession::oneStampProblem() const
     if (!stamps->oneStamp())
       continue;
     const bool encoders = input == SessionInput::kEncoders;
-    const std::string type = encoders ? "JointState" : egoMessageType(config_.ego_motion);
+    const bool odometry = config_.wheels.source == WheelSource::kOdometry;
+    const std::string type =
+        encoders ? (odometry ? "base odometry" : "JointState") : egoMessageType(config_.ego_motion);
     // The configured topic (the input monitor's name for it may be a description).
-    const std::string topic = encoders ? config_.joint_state_topic
-                              : config_.ego_motion == EgoMotionSource::kScan
-                                  ? config_.scan_topic
-                                  : config_.ego_motion_topic;
+    const std::string topic =
+        encoders ? (config_.wheels.topics.empty() ? config_.joint_state_topic
+                                                  : config_.wheels.topics.front())
+        : config_.ego_motion == EgoMotionSource::kScan ? config_.scan_topic
+                                                       : config_.ego_motion_topic;
     char stamp[32];
     std::snprintf(stamp, sizeof(stamp), "%.9g", stamps->first_s);
     return "all " + std::to_string(stamps->count) + " " + type + " samples on " + topic +

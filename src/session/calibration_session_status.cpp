@@ -33,7 +33,9 @@ std::vector<std::string> CalibrationSession::collectionNotes() const
   }
   if (c.bad_encoder_messages > 0) {
     notes.push_back("skipped " + std::to_string(c.bad_encoder_messages) +
-                    (config_.wheels.source == WheelSource::kTicks ? " wheel tick" : " JointState") +
+                    (config_.wheels.source == WheelSource::kTicks      ? " wheel tick"
+                     : config_.wheels.source == WheelSource::kOdometry ? " base odometry"
+                                                                       : " JointState") +
                     " messages, first: " + c.first_bad_encoder_message);
   }
   if (c.clouds_without_times > 0) {

@@ -1,6 +1,7 @@
 #include "odometry_calibration/session/joint_calibration_session.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <stdexcept>
@@ -98,6 +99,10 @@ JointCalibrationSession::JointCalibrationSession(
       sources_(egoMotionSources(config)),
       fit_jointly_(std::move(fit_jointly))
 {
+  if (config.wheels.source == WheelSource::kTicks) {
+    wheel_watch_ = std::make_unique<WheelTopicWatch>(config.wheels.topics,
+                                                     options.silent_topic_timeout_s, wallNow());
+  }
   if (sources_.size() <= 1) {  // one source: its session exactly as before
     sessions_.push_back(std::make_unique<CalibrationSession>(
         config, config_text, config_source, options, listener ? listener(0) : SessionListener{}));
@@ -160,6 +165,8 @@ void JointCalibrationSession::addWheelTick(std::size_t wheel, double stamp_s, do
   std::lock_guard<std::mutex> lock(wheel_mutex_);
   if (wheel == 0)
     wheel_publisher_ = publisher;
+  if (wheel_watch_)
+    wheel_watch_->received(wheel, wallNow());
   feedWheelOutput(wheel_signals_->addTick(wheel, stamp_s, raw), wheel_publisher_);
 }
 
@@ -168,6 +175,13 @@ void JointCalibrationSession::addJointVelocities(double stamp_s, const Eigen::Ve
 {
   std::lock_guard<std::mutex> lock(wheel_mutex_);
   feedWheelOutput(wheel_signals_->addVelocities(stamp_s, velocity), publisher);
+}
+
+void JointCalibrationSession::addBaseOdometry(double stamp_s, const Pose2& T_odom_base,
+                                              const std::string& publisher)
+{
+  std::lock_guard<std::mutex> lock(wheel_mutex_);
+  feedWheelOutput(wheel_signals_->addBaseOdometry(stamp_s, T_odom_base), publisher);
 }
 
 void JointCalibrationSession::flush()
@@ -180,6 +194,24 @@ void JointCalibrationSession::tick()
 {
   for (const auto& session : sessions_)
     session->tick();
+  if (!wheel_watch_)
+    return;
+  std::vector<std::string> warnings;
+  {
+    std::lock_guard<std::mutex> lock(wheel_mutex_);
+    warnings = wheel_watch_->silentWarnings(wallNow());
+  }
+  for (const std::string& warning : warnings) {
+    if (options_.log)
+      options_.log(SessionLogLevel::kWarn, warning);
+  }
+}
+
+double JointCalibrationSession::wallNow() const
+{
+  if (options_.wall_clock)
+    return options_.wall_clock();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
 std::size_t JointCalibrationSession::writePendingPairs()

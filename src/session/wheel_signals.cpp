@@ -89,4 +89,21 @@ WheelSignalOutput WheelSignals::addVelocities(double stamp_s, const Eigen::Vecto
   return output;
 }
 
+WheelSignalOutput WheelSignals::addBaseOdometry(double stamp_s, const Pose2& T_odom_base)
+{
+  WheelSignalOutput output;
+  try {
+    const std::optional<Eigen::Vector3d> path =
+        base_path_.add(stamp_s, T_odom_base, &output.problem);
+    if (path && static_cast<Eigen::Index>(signs_.size()) == path->size())
+      output.samples = signed_({{stamp_s, *path}});
+    else if (path)
+      output.problem = "a base odometry message for " + std::to_string(signs_.size()) +
+                       " joints: set wheels.source odometry (its own three joints)";
+  } catch (const std::invalid_argument& error) {
+    output.problem = error.what();
+  }
+  return output;
+}
+
 }  // namespace odometry_calibration

@@ -148,8 +148,11 @@ void validate(const Scenario& s)
   require(std::abs(s.encoders.time_offset_s) < 10.0, "encoders.time_offset_s must be within 10 s");
   require(s.encoders.initial_ticks >= 0.0, "encoders.initial_ticks must be >= 0");
   require(s.encoders.output == "joint_state" || s.encoders.output == "ticks" ||
-              s.encoders.output == "joint_velocity",
-          "encoders.output must be joint_state, ticks or joint_velocity");
+              s.encoders.output == "joint_velocity" || s.encoders.output == "odometry",
+          "encoders.output must be joint_state, ticks, joint_velocity or odometry");
+  require(std::abs(s.encoders.odometry_translation_error) < 0.5 &&
+              std::abs(s.encoders.odometry_rotation_error) < 0.5,
+          "encoders.odometry_translation_error and odometry_rotation_error must be within 0.5");
   require(s.encoders.tick_stagger_s >= 0.0 && s.encoders.tick_stagger_s < 0.5 / s.encoders.rate_hz,
           "encoders.tick_stagger_s must be in [0, half the period 1 / rate_hz)");
   require(s.tracker.translation_noise_m >= 0.0 && s.tracker.rotation_noise_rad >= 0.0,
@@ -305,7 +308,8 @@ void readEncodersYaml(const YAML::Node& encoders, const std::string& where, Enco
   checkYamlKeys(
       encoders,
       {"rate_hz", "rate_jitter_s", "topic", "joint_names", "units", "counter_bits", "initial_ticks",
-       "time_offset_s", "output", "tick_topics", "tick_type", "tick_stagger_s"},
+       "time_offset_s", "output", "tick_topics", "tick_type", "tick_stagger_s", "odometry_topic",
+       "odometry_translation_error", "odometry_rotation_error"},
       where);
   readYaml(encoders, "rate_hz", &options.rate_hz);
   readYaml(encoders, "rate_jitter_s", &options.rate_jitter_s);
@@ -324,6 +328,9 @@ void readEncodersYaml(const YAML::Node& encoders, const std::string& where, Enco
   readYaml(encoders, "tick_topics", &options.tick_topics);
   readYaml(encoders, "tick_type", &options.tick_type);
   readYaml(encoders, "tick_stagger_s", &options.tick_stagger_s);
+  readYaml(encoders, "odometry_topic", &options.odometry_topic);
+  readYaml(encoders, "odometry_translation_error", &options.odometry_translation_error);
+  readYaml(encoders, "odometry_rotation_error", &options.odometry_rotation_error);
 }
 
 /// tracker: whether a pose tracker publishes, its noise, topic and frame.
@@ -472,6 +479,10 @@ Scenario loadScenarioYaml(const std::string& path, const std::string& worlds_dir
     encoders.tick_type = overrides.tick_type;
   if (overrides.tick_stagger_s >= 0.0)
     encoders.tick_stagger_s = overrides.tick_stagger_s;
+  if (std::isfinite(overrides.odometry_translation_error))
+    encoders.odometry_translation_error = overrides.odometry_translation_error;
+  if (std::isfinite(overrides.odometry_rotation_error))
+    encoders.odometry_rotation_error = overrides.odometry_rotation_error;
   validate(scenario);
   return scenario;
 }

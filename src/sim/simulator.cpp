@@ -319,6 +319,8 @@ public:
         ticks_(scenario.encoders.output == "ticks"),
         tick_stagger_ns_(std::llround(scenario.encoders.tick_stagger_s * 1e9)),
         velocities_(scenario.encoders.output == "joint_velocity"),
+        base_odometry_(scenario.encoders.output == "odometry"),
+        previous_T_world_base_(scenario.start_pose),
         shaft_rate_(Eigen::VectorXd::Zero(static_cast<Eigen::Index>(specs_.size())))
   {
     if (multibeam_)
@@ -486,6 +488,8 @@ private:
     }
     sink_.onJointState(sample);
     ++summary_.joint_states;
+    if (base_odometry_)
+      publishBaseOdometry(sample.stamp_s);
     sink_.onTruth({t, T_world_base_, realised_, T_base_laser_});
     ++summary_.truth_samples;
     if (scenario_.tracker.enabled) {
@@ -495,6 +499,24 @@ private:
       const Pose2 noise(noise_x, noise_y, noise_theta);
       sink_.onTracker({t, T_world_base_ * T_base_laser_ * noise});
     }
+  }
+
+  /// The base's own odometry at this encoder instant, stamped `stamp_s` [s]: the true motion
+  /// since the last instant, T_prev^-1 T_now = (dx, dy, dtheta), reported as
+  /// ((1 + e_t) dx, (1 + e_t) dy, (1 + e_r) dtheta) and composed onto the reported pose.
+  void publishBaseOdometry(double stamp_s)
+  {
+    const double e_t = scenario_.encoders.odometry_translation_error;
+    const double e_r = scenario_.encoders.odometry_rotation_error;
+    const Pose2 step = previous_T_world_base_.inverse() * T_world_base_;
+    T_odom_base_ = T_odom_base_ * Pose2((1.0 + e_t) * step.x(), (1.0 + e_t) * step.y(),
+                                        (1.0 + e_r) * step.theta());
+    previous_T_world_base_ = T_world_base_;
+    Twist2 twist = realised_;
+    twist.vx_mps *= 1.0 + e_t;
+    twist.vy_mps *= 1.0 + e_t;
+    twist.omega_radps *= 1.0 + e_r;
+    sink_.onBaseOdometry({stamp_s, T_odom_base_, twist});
   }
 
   /// A planar laser's scan (laser `index`, mounted at T_base_laser, its sweep `sweep_ns` long),
@@ -563,7 +585,10 @@ private:
   const std::int64_t tick_stagger_ns_;   // joint j read j * this after the instant
   std::multimap<std::int64_t, std::size_t> pending_ticks_;  // due time [ns] -> joint
   const bool velocities_;                                   // encoders.output joint_velocity
-  Eigen::VectorXd shaft_rate_;  // over the last integration step [rad/s]
+  const bool base_odometry_;                                // encoders.output odometry
+  Pose2 previous_T_world_base_;  // the truth at the last encoder instant (odometry)
+  Pose2 T_odom_base_;            // the base's reported odometry pose (odometry)
+  Eigen::VectorXd shaft_rate_;   // over the last integration step [rad/s]
 };
 
 }  // namespace

@@ -1,5 +1,6 @@
 // simulate: runs a scenario and writes a rosbag plus a YAML with the true parameters.
 #include <iostream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -34,7 +35,11 @@ const char* kUsage =
     "  --wheels W        what the wheels publish: joint_state (JointState positions, default),\n"
     "                    ticks (one std_msgs topic per joint, /<joint>_ticks unless the\n"
     "                    scenario's encoders.tick_topics say otherwise) or joint_velocity\n"
-    "                    (JointState velocities only, position empty)\n"
+    "                    (JointState velocities only, position empty) or odometry (the\n"
+    "                    JointState and the base's own nav_msgs/Odometry on /odom)\n"
+    "  --odometry-errors T,R\n"
+    "                    odometry: the base's translation and rotation scale errors (0.03,0.02:\n"
+    "                    it reports 3 % more travel and 2 % more turn than the truth)\n"
     "  --counter-bits N  the counters' width (8: an 8-bit counter wrapping at 256)\n"
     "  --tick-type T     the tick topics' std_msgs type (std_msgs/Int16, Int32, Int64, UInt16,\n"
     "                    UInt32, Float32, Float64; default std_msgs/Int32)\n"
@@ -44,6 +49,19 @@ const char* kUsage =
     "                    nominal values (Ksteer 0.1, Ktraction 0.0106141, axis 1.4, offset 0,\n"
     "                    laser at x = 1.5) as the calibration's starting point\n"
     "  -h, --help        this text\n";
+
+/// "T,R" (--odometry-errors) into the overrides' translation and rotation errors. Throws
+/// ArgumentError naming the option for anything else.
+void parseOdometryErrors(const std::string& text, odometry_calibration::sim::ScenarioOverrides* o)
+{
+  std::istringstream in(text);
+  char comma = 0;
+  if (!(in >> o->odometry_translation_error >> comma >> o->odometry_rotation_error) ||
+      comma != ',' || !in.eof()) {
+    throw odometry_calibration::ArgumentError("--odometry-errors: '" + text +
+                                              "' is not two numbers T,R (e.g. 0.03,0.02)");
+  }
+}
 
 }  // namespace
 
@@ -58,6 +76,7 @@ int main(int argc, char** argv)
   std::string chunk_compression = "zstd";
   sim::ScenarioOverrides overrides;
   long long counter_bits = -1;
+  std::string odometry_errors;
   try {
     ArgumentParser parser;
     parser.option("--output", &files.bag_path)
@@ -72,6 +91,7 @@ int main(int argc, char** argv)
         .wholeNumber("--counter-bits", &counter_bits, 0, 52)
         .option("--tick-type", &overrides.tick_type)
         .number("--tick-stagger", &overrides.tick_stagger_s, 0.0)
+        .option("--odometry-errors", &odometry_errors)
         .positionals(&scenario_paths, 1);
     if (!parser.parse(argc, argv)) {
       std::cout << kUsage;
@@ -81,6 +101,8 @@ int main(int argc, char** argv)
       throw ArgumentError("missing the scenario file");
     overrides.seed = static_cast<double>(seed);
     overrides.counter_bits = static_cast<int>(counter_bits);
+    if (!odometry_errors.empty())
+      parseOdometryErrors(odometry_errors, &overrides);
     files.format = bagFormatFromName(format, chunk_compression);
   } catch (const std::exception& error) {
     std::cerr << "error: " << error.what() << "\n\n" << kUsage;

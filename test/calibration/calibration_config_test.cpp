@@ -95,7 +95,7 @@ TEST(CalibrationConfig, WheelsMistakesAreNamed)
                 .find("joints[0].counter_bits 32 does not fit std_msgs/Int16 (16 bits)"),
             std::string::npos);
   EXPECT_NE(parseError(joints + "wheels: {topics: [/l, /r]}\n")
-                .find("only wheels.source ticks reads per-wheel topics"),
+                .find("only wheels.source ticks (per-wheel topics) and odometry read topics"),
             std::string::npos);
   EXPECT_NE(parseError(joints + "wheels: {source: odometer}\n").find("wheels.source"),
             std::string::npos);
@@ -104,6 +104,37 @@ TEST(CalibrationConfig, WheelsMistakesAreNamed)
             std::string::npos);
   EXPECT_NE(parseError(joints + "wheels: {source: joint_velocity, max_gap_s: 1e308}\n")
                 .find("wheels.max_gap_s"),
+            std::string::npos);
+}
+
+TEST(CalibrationConfig, BaseOdometryMakesItsOwnJointsAndNeedsItsModels)
+{
+  const std::string odometry = "wheels: {source: odometry, topics: [/odom]}\n";
+  const CalibrationConfig config =
+      parseCalibrationConfig(odometry + "model: base_odometry\n", "odometry.yaml");
+  ASSERT_EQ(config.joints.size(), 3u);
+  EXPECT_EQ(config.joints[2].name, "base_yaw");
+  EXPECT_EQ(config.prior_model, "base_odometry");
+  EXPECT_EQ(config.models.base_odometry.layout.yaw_index, 2);
+  EXPECT_EQ(wheelInputName(config.wheels, config.joint_state_topic), "base odometry on '/odom'");
+  // linear and gp take the increments; prior_model falls back to base_odometry.
+  EXPECT_EQ(parseCalibrationConfig(odometry + "model: gp\n", "gp.yaml").prior_model,
+            "base_odometry");
+  EXPECT_NE(parseError(odometry).find("model: diff_drive needs wheel joints, and wheels.source "
+                                      "odometry has none: set model to base_odometry"),
+            std::string::npos)
+      << parseError(odometry);
+  EXPECT_NE(parseError(odometry + "model: base_odometry\ncompare_models: [tricycle]\n")
+                .find("compare_models: tricycle needs wheel joints"),
+            std::string::npos);
+  EXPECT_NE(parseError("joints: [{name: l}, {name: r}]\n" + odometry + "model: base_odometry\n")
+                .find("joints: wheels.source odometry makes its own joints"),
+            std::string::npos);
+  EXPECT_NE(parseError("wheels: {source: odometry}\nmodel: base_odometry\n")
+                .find("wheels.topics: wheels.source odometry reads one nav_msgs/Odometry topic"),
+            std::string::npos);
+  EXPECT_NE(parseError("joints: [{name: l}, {name: r}]\nmodel: base_odometry\n")
+                .find("model base_odometry takes a base's own odometry: set wheels.source"),
             std::string::npos);
 }
 

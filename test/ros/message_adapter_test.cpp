@@ -323,6 +323,46 @@ TEST(MessageAdapterWheels, VelocityOnlyJointStatesAreIntegratedAndPositionsOnlyO
   EXPECT_NEAR(last(1), 100.0, 1e-9);  // -200 ticks/s, sign -1
 }
 
+TEST(MessageAdapterWheels, BaseOdometryBecomesItsPathAndHeadingJoints)
+{
+  const CalibrationConfig config =
+      loadCalibrationConfig(kConfig + "/base_odometry.yaml");  // wheels.source odometry
+  ASSERT_EQ(config.joints.size(), 3u);
+  const MessageAdapter adapter(config);
+  const auto sessions = quietSession(config);
+  // Driving along the odom frame's +y (yaw pi/2) at 0.5 m/s, turning 0.2 rad/s, for 0.5 s.
+  for (int k = 0; k <= 25; ++k) {
+    const double t = 0.02 * k, yaw = M_PI / 2 + 0.2 * t;
+    geometry_msgs::Pose base;
+    base.position.x = 3.0 + 2.5 * (std::sin(yaw) - 1.0);  // the arc of radius 2.5 m
+    base.position.y = 1.0 - 2.5 * std::cos(yaw);
+    base.orientation.z = std::sin(yaw / 2);
+    base.orientation.w = std::cos(yaw / 2);
+    nav_msgs::Odometry message = odometry(base);
+    message.header.stamp = ros::Time(kStart_s + t);
+    const ConvertedInput input = adapter.convertBaseOdometry(message, "base");
+    ASSERT_EQ(input.kind, ConvertedInput::Kind::kBaseOdometry) << input.problem;
+    feedInput(*sessions, input);
+  }
+  nav_msgs::Odometry broken = odometry(pose(0.0, 0.0));  // a zero quaternion
+  broken.header.stamp = ros::Time(kStart_s + 0.6);
+  const ConvertedInput refused = adapter.convertBaseOdometry(broken, "base");
+  EXPECT_EQ(refused.kind, ConvertedInput::Kind::kBadJoints);
+  feedInput(*sessions, refused);
+  sessions->flush();
+  const SessionCounts counts = sessions->source(0).counts();
+  EXPECT_EQ(counts.encoder_messages, 27u);
+  EXPECT_EQ(counts.bad_encoder_messages, 1u);
+  EXPECT_NE(counts.first_bad_encoder_message.find("base odometry"), std::string::npos)
+      << counts.first_bad_encoder_message;
+  // In base_link, whatever the odom frame: each 20 ms chord of the arc, R sin(w dt) forward
+  // and 2 R sin^2(w dt / 2) to the left, summed over 25 messages; the turn.
+  const Eigen::VectorXd last = sessions->source(0).encoderHistory().back().values;
+  EXPECT_NEAR(last(0), 25 * 2.5 * std::sin(0.004), 1e-9);
+  EXPECT_NEAR(last(1), 25 * 5.0 * std::pow(std::sin(0.002), 2), 1e-9);
+  EXPECT_NEAR(last(2), 0.1, 1e-9);
+}
+
 TEST(MessageAdapterWheels, TicksOfTwoTopicsBecomeJointSamplesAndAliasingIsCounted)
 {
   CalibrationConfig config = loadCalibrationConfig(kConfig + "/diff_drive.yaml");

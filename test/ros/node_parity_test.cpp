@@ -1,7 +1,8 @@
 // rostest (test/node_parity.test, issue 31): the live node and calibrate_bag are one calibration
 // session fed from two readers, so the same bag through both gives the same pairs and the same
 // fit: with a fixed keyframe interval, with the fit interval chosen among candidates, and with
-// the time offset estimated (configured at the truth, and 0.1 s off it: paired again). The reply,
+// the time offset estimated (configured at the truth, and 0.1 s off it: paired again), and from
+// the base's own odometry (wheels.source odometry, model base_odometry). The reply,
 // the report and /diagnostics count the fitted, rejected and down-weighted pairs alike (issue 34).
 #include <cmath>
 #include <cstdlib>
@@ -24,7 +25,8 @@ using test::fileLines;
 using test::readText;
 using test::waitFor;
 
-const std::vector<std::string> kNodes = {"fixed", "intervals", "offset", "offset_off"};
+const std::vector<std::string> kNodes = {"fixed", "intervals", "offset", "offset_off",
+                                         "base_odometry"};
 
 /// The line counts of the nodes' pairs files.
 std::vector<std::size_t> pairFileLines(const std::string& output_directory)
@@ -49,7 +51,7 @@ protected:
     for (const std::string& name : kNodes)
       ASSERT_TRUE(ros::service::waitForService("/" + name + "/calibrate", ros::Duration(60)));
     const std::string play = "rosbag play --clock --quiet -d 2 " + bag +
-                             " --wait-for-subscribers --topics /joint_states /scan > " +
+                             " --wait-for-subscribers --topics /joint_states /odom /scan > " +
                              output_directory + "/play.log 2>&1";
     ASSERT_EQ(std::system(play.c_str()), 0) << play;
     test::waitUntilSettled<std::vector<std::size_t>>(
@@ -80,7 +82,8 @@ TEST_P(NodeParity, NodeAndCalibrateBagGiveTheSamePairsAndParameters)
   const YAML::Node bag_fit = YAML::LoadFile(bag_output + "/result.yaml");
   // (three header lines: the format, the joints, the columns)
   EXPECT_EQ(fit.response.report.pairs_collected + 3, fileLines(node_output + "/pairs.csv"));
-  if (name == "fixed") {  // the bag tool writes the fitted pairs: all of them here, as collected
+  if (name == "fixed" || name == "base_odometry") {  // the bag tool writes the fitted pairs: all
+                                                     // of them here, as collected
     const std::string node_text = readText(node_output + "/pairs.csv");
     const std::string bag_text = readText(bag_output + "/pairs.csv");
     EXPECT_GT(node_text.size(), 1000u);
@@ -200,7 +203,8 @@ TEST_P(NodeParity, ReplyReportAndDiagnosticsGiveTheSameCounts)
 }
 
 INSTANTIATE_TEST_SUITE_P(Configurations, NodeParity,
-                         ::testing::Values("fixed", "intervals", "offset", "offset_off"));
+                         ::testing::Values("fixed", "intervals", "offset", "offset_off",
+                                           "base_odometry"));
 
 }  // namespace
 }  // namespace odometry_calibration

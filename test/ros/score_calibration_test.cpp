@@ -18,12 +18,14 @@
 #include "odometry_calibration/sim/scenario.h"
 
 #include "support/files.h"
+#include "support/score_table.h"
 
 namespace odometry_calibration {
 namespace {
 
 namespace fs = std::filesystem;
 using test_support::readFile;
+using test_support::scoreTableRow;
 
 const std::string kConfig = ODOMETRY_CALIBRATION_CONFIG_DIR;
 const std::string kLog = std::string(ODOMETRY_CALIBRATION_SHARED_DATA_DIR) + "/mines/exp1.dat";
@@ -76,19 +78,6 @@ protected:
                "--result " + directory_ + "/calibration/result.yaml --quiet " + arguments);
   }
 
-  /// The numbers of a table row: ATE, RPE, RMSE x, y, theta.
-  static std::vector<double> row(const std::string& table, const std::string& model)
-  {
-    const std::size_t at = table.find("\n" + model + " ");
-    if (at == std::string::npos)
-      return {};
-    std::istringstream line(table.substr(at + 1 + model.size()));
-    std::vector<double> values(5);
-    for (double& value : values)
-      line >> value;
-    return values;
-  }
-
   static std::string directory_, bag_;
   static ToolResult calibration_;
 };
@@ -100,8 +89,8 @@ TEST_F(ScoreCalibration, SavedDiffDriveAndNominalRowsOnAnotherWindowOfTheMinesLo
   const ToolResult result = score("--config " + kConfig + "/mines.yaml " + bag_ + " --start 45");
   ASSERT_EQ(result.status, 0) << result.out << result.err;
   EXPECT_EQ(result.err, "");
-  const std::vector<double> saved = row(result.out, "diff_drive");
-  const std::vector<double> nominal = row(result.out, "nominal");
+  const std::vector<double> saved = scoreTableRow(result.out, "diff_drive");
+  const std::vector<double> nominal = scoreTableRow(result.out, "nominal");
   ASSERT_EQ(saved.size(), 5u) << result.out;
   ASSERT_EQ(nominal.size(), 5u) << result.out;
   EXPECT_NE(result.out.find("diff_drive: the saved calibration, not refitted"), std::string::npos);
@@ -122,8 +111,8 @@ TEST_F(ScoreCalibration, ScoresAPairsFileToo)
   const ToolResult result =
       score("--config " + kConfig + "/mines.yaml --pairs " + directory_ + "/calibration/pairs.csv");
   ASSERT_EQ(result.status, 0) << result.out << result.err;
-  EXPECT_EQ(row(result.out, "diff_drive").size(), 5u) << result.out;
-  EXPECT_EQ(row(result.out, "nominal").size(), 5u) << result.out;
+  EXPECT_EQ(scoreTableRow(result.out, "diff_drive").size(), 5u) << result.out;
+  EXPECT_EQ(scoreTableRow(result.out, "nominal").size(), 5u) << result.out;
 }
 
 TEST_F(ScoreCalibration, ExitsOneOnDataWhoseJointsAreNotTheCalibrations)

@@ -19,12 +19,14 @@
 #include "odometry_calibration/sim/scenario.h"
 
 #include "support/files.h"
+#include "support/score_table.h"
 
 namespace odometry_calibration {
 namespace {
 
 namespace fs = std::filesystem;
 using test_support::readFile;
+using test_support::scoreTableRow;
 
 const std::string kConfig = ODOMETRY_CALIBRATION_CONFIG_DIR;
 constexpr double kTrueMultiplier = 1.45;  // config/sim/scenarios/skid_steer_office.yaml
@@ -40,19 +42,6 @@ ToolResult run(const std::string& directory, const std::string& command)
   const std::string out = directory + "/out.txt", err = directory + "/err.txt";
   const int status = std::system((command + " > " + out + " 2> " + err).c_str());
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, readFile(out), readFile(err)};
-}
-
-/// ATE, RPE, RMSE x, y, theta of a table row.
-std::vector<double> row(const std::string& table, const std::string& model)
-{
-  const std::size_t at = table.find("\n" + model + " ");
-  if (at == std::string::npos)
-    return {};
-  std::istringstream line(table.substr(at + 1 + model.size()));
-  std::vector<double> values(5);
-  for (double& value : values)
-    line >> value;
-  return values;
 }
 
 TEST(SkidSteerBag, MultiplierWithinTwoPercentNominalRowAndScoredAgain)
@@ -92,7 +81,8 @@ TEST(SkidSteerBag, MultiplierWithinTwoPercentNominalRowAndScoredAgain)
             << kTrueMultiplier << ")\n";
 
   // The --test table: the fitted model, then the nominal robot (the geometric values), far worse.
-  const std::vector<double> fitted = row(fit.out, "skid_steer"), nominal = row(fit.out, "nominal");
+  const std::vector<double> fitted = scoreTableRow(fit.out, "skid_steer"),
+                            nominal = scoreTableRow(fit.out, "nominal");
   ASSERT_EQ(fitted.size(), 5u) << fit.out;
   ASSERT_EQ(nominal.size(), 5u) << fit.out;
   EXPECT_GT(nominal[4], 3.0 * fitted[4]) << fit.out;  // heading RMSE
@@ -103,8 +93,8 @@ TEST(SkidSteerBag, MultiplierWithinTwoPercentNominalRowAndScoredAgain)
       run(directory, std::string(SCORE_CALIBRATION_PROGRAM) + " --config " + config + " --result " +
                          directory + "/out/result.yaml " + directory + "/test.bag --quiet");
   ASSERT_EQ(score.status, 0) << score.out << score.err;
-  const std::vector<double> again = row(score.out, "skid_steer");
-  const std::vector<double> nominal_again = row(score.out, "nominal");
+  const std::vector<double> again = scoreTableRow(score.out, "skid_steer");
+  const std::vector<double> nominal_again = scoreTableRow(score.out, "nominal");
   ASSERT_EQ(again.size(), 5u) << score.out;
   ASSERT_EQ(nominal_again.size(), 5u) << score.out;
   for (int i = 0; i < 5; ++i) {
@@ -128,14 +118,14 @@ TEST(SkidSteerBag, MultiplierWithinTwoPercentNominalRowAndScoredAgain)
                          "/test.bag --quiet --output-dir " + directory + "/compare_out");
   EXPECT_TRUE(skipping.status == 0 || skipping.status == 4) << skipping.out << skipping.err;
   EXPECT_TRUE(fs::exists(directory + "/compare_out/controller.yaml"));
-  const std::vector<double> still_fitted = row(skipping.out, "skid_steer");
+  const std::vector<double> still_fitted = scoreTableRow(skipping.out, "skid_steer");
   ASSERT_EQ(still_fitted.size(), 5u) << skipping.out;
   EXPECT_NEAR(still_fitted[4], fitted[4], 1e-9);
   EXPECT_NE(skipping.out.find("skipped: linear (linear model: the encoder increments do not vary "
                               "independently"),
             std::string::npos)
       << skipping.out;
-  EXPECT_EQ(row(skipping.out, "gp").size(), 5u) << skipping.out;
+  EXPECT_EQ(scoreTableRow(skipping.out, "gp").size(), 5u) << skipping.out;
   EXPECT_EQ(skipping.out.find("skipped: gp"), std::string::npos) << skipping.out;
 
   // compare_models with the configuration: skid_steer's sides and the nominal row from it, on
@@ -149,8 +139,8 @@ TEST(SkidSteerBag, MultiplierWithinTwoPercentNominalRowAndScoredAgain)
                          " --models skid_steer --train " + directory + "/out/pairs.csv --test " +
                          directory + "/test_out/pairs.csv");
   ASSERT_EQ(compared.status, 0) << compared.out << compared.err;
-  const std::vector<double> model_row = row(compared.out, "skid_steer");
-  const std::vector<double> nominal_row = row(compared.out, "nominal");
+  const std::vector<double> model_row = scoreTableRow(compared.out, "skid_steer");
+  const std::vector<double> nominal_row = scoreTableRow(compared.out, "nominal");
   ASSERT_EQ(model_row.size(), 5u) << compared.out;
   ASSERT_EQ(nominal_row.size(), 5u) << compared.out;
   // The same pairs and the same nominal robot as calibrate_bag --test: the same nominal row.

@@ -19,7 +19,9 @@ struct Recorder : SimulationSink
   std::vector<JointStateSample> joints;
   std::vector<ScanSample> scans;
   std::vector<TruthSample> truth;
+  std::vector<BaseOdometrySample> base_odometry;
   void onJointState(const JointStateSample& s) override { joints.push_back(s); }
+  void onBaseOdometry(const BaseOdometrySample& s) override { base_odometry.push_back(s); }
   void onScan(const ScanSample& s) override { scans.push_back(s); }
   void onTruth(const TruthSample& s) override { truth.push_back(s); }
 };
@@ -60,6 +62,36 @@ TEST(Simulator, MessageCountsRatesAndTimeOffset)
   EXPECT_NEAR(recorder.scans[1].stamp_s - recorder.scans[0].stamp_s, 0.125, 1e-9);
   EXPECT_NEAR(recorder.joints[10].stamp_s, recorder.truth[10].stamp_s - 0.15, 1e-12);
   EXPECT_EQ(recorder.scans[0].ranges.size(), 181u);
+}
+
+TEST(Simulator, BaseOdometryReportsItsScaleErrorsAtEveryEncoderInstant)
+{
+  Scenario s = smallScenario("diff_drive");
+  s.encoders.output = "odometry";
+  s.encoders.time_offset_s = 0.05;
+  s.encoders.odometry_translation_error = 0.03;
+  s.encoders.odometry_rotation_error = -0.02;
+  const auto robot = makeRobot(s.robot);
+  Recorder recorder;
+  simulate(s, room(), *robot, recorder);
+  ASSERT_EQ(recorder.base_odometry.size(), recorder.joints.size());  // besides the JointState
+  // Instant by instant: the true step with its translation x 1.03 and its rotation x 0.98.
+  double travel_m = 0.0, turn_rad = 0.0;
+  for (std::size_t k = 1; k < recorder.truth.size(); ++k) {
+    const Pose2 truth = between(recorder.truth[k - 1].T_world_base, recorder.truth[k].T_world_base);
+    const Pose2 reported =
+        between(recorder.base_odometry[k - 1].T_odom_base, recorder.base_odometry[k].T_odom_base);
+    EXPECT_NEAR(reported.x(), 1.03 * truth.x(), 1e-9);
+    EXPECT_NEAR(reported.y(), 1.03 * truth.y(), 1e-9);
+    EXPECT_NEAR(reported.theta(), 0.98 * truth.theta(), 1e-9);
+    EXPECT_NEAR(recorder.base_odometry[k].stamp_s, recorder.joints[k].stamp_s, 1e-12);
+    travel_m += std::hypot(truth.x(), truth.y());
+    turn_rad += std::abs(truth.theta());
+  }
+  EXPECT_GT(travel_m, 1.0);  // it drove and turned
+  EXPECT_GT(turn_rad, 0.5);
+  EXPECT_NEAR(recorder.base_odometry[3].twist.omega_radps,
+              0.98 * recorder.truth[3].twist.omega_radps, 1e-12);
 }
 
 TEST(Simulator, ExtraLasersScanAtTheirOwnRatesPosesAndClocks)

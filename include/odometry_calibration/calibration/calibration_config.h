@@ -40,6 +40,7 @@ enum class WheelSource
   kJointState,     ///< sensor_msgs/JointState positions on joint_state_topic
   kTicks,          ///< one std_msgs number topic per joint (wheels.topics), no stamp
   kJointVelocity,  ///< sensor_msgs/JointState velocities only, integrated into positions
+  kOdometry,       ///< the base's own nav_msgs/Odometry (wheels.topics[0]), three virtual joints
 };
 
 /// The std_msgs types a per-wheel tick topic may carry (`wheels.message_type`).
@@ -53,7 +54,7 @@ int wheelTickMessageBits(const std::string& type);
 struct WheelInputConfig
 {
   WheelSource source = WheelSource::kJointState;
-  /// ticks: one topic per joint, in the joints' order.
+  /// ticks: one topic per joint, in the joints' order; odometry: the base's one Odometry topic.
   std::vector<std::string> topics;
   /// ticks: the topics' std_msgs type.
   std::string message_type = "std_msgs/Int32";
@@ -63,7 +64,7 @@ struct WheelInputConfig
 };
 
 /// The wheel input in words for messages: "JointState on '/joint_states'", "ticks on
-/// '/lwheel', '/rwheel'", "JointState velocities on '/joint_states'".
+/// '/lwheel', '/rwheel'", "JointState velocities on '/joint_states'", "base odometry on '/odom'".
 std::string wheelInputName(const WheelInputConfig& wheels, const std::string& joint_state_topic);
 
 /// Where the sensor's ego-motion comes from.
@@ -178,8 +179,15 @@ CalibrationConfig configForModel(const std::string& config_text, const std::stri
                                  const std::string& override_yaml, const std::string& source);
 
 /// The checks of the `wheels` section against the joints: one topic per joint for ticks, each
-/// joint's counter_bits within the message type's bits. Throws std::runtime_error naming the key.
+/// joint's counter_bits within the message type's bits; for odometry one topic and only the
+/// models that take a base odometry (base_odometry, linear, gp). Throws std::runtime_error naming
+/// the key.
 void validateWheelInput(const CalibrationConfig& config);
+
+/// The joints of wheels.source odometry (models/base_odometry_model.h): base_forward and
+/// base_lateral [m], base_yaw [rad], incremental, 2 pi units per "turn" (so that max_turns_per_s
+/// 50 allows 314 m/s and rad/s: the glitch filter judges steps, not speeds, for them).
+std::vector<JointConfig> baseOdometryJoints();
 
 /// The encoder channels of the joints (scale-free: in the message's units). With wheels.source
 /// ticks or joint_velocity the positions reach the session unwrapped: no channel wraps.

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "odometry_calibration/gp/gp_options.h"
+#include "odometry_calibration/models/base_odometry_model.h"
 #include "odometry_calibration/models/diff_drive_model.h"
 #include "odometry_calibration/models/linear_model.h"
 #include "odometry_calibration/models/mecanum_model.h"
@@ -26,6 +27,7 @@ struct ModelFactoryOptions
   TricycleModelOptions tricycle;
   MecanumOptions mecanum;
   SkidSteerOptions skid_steer;
+  BaseOdometryOptions base_odometry;
 };
 
 /// Names makeModel knows.

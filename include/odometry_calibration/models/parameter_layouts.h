@@ -29,4 +29,8 @@ const ParameterLayout& mecanumParameters();
 /// sensor_x, sensor_y [m], sensor_theta [rad] (tricycle seed, section 3).
 const ParameterLayout& tricycleParameters();
 
+/// translation_scale, rotation_scale [-]; sensor_x, sensor_y [m], sensor_theta [rad] (a base
+/// that publishes only its odometry, base_odometry_model.h).
+const ParameterLayout& baseOdometryParameters();
+
 }  // namespace odometry_calibration

@@ -39,6 +39,10 @@ public:
   /// kWheelTick, or kBadJoints for a value that is not finite (the unwrapper checks the rest).
   ConvertedInput convertWheelTick(double value, std::size_t wheel, double time_s,
                                   std::string publisher) const;
+  /// wheels.source odometry: the base's own odometry pose (kBaseOdometry, stamped by its
+  /// header), or kBadJoints for a quaternion that is not finite or of zero length.
+  ConvertedInput convertBaseOdometry(const nav_msgs::Odometry& message,
+                                     std::string publisher) const;
   /// Source `source`'s scan, or kBadEgoMessage: more rays than ego_motion.max_scan_rays
   /// (refused before the ranges are copied), an impossible geometry.
   ConvertedInput convert(const sensor_msgs::LaserScan& message, std::size_t source,

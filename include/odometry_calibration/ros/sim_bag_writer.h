@@ -1,6 +1,7 @@
 // Writes the simulator's streams into a rosbag: sensor_msgs/JointState (positions, or velocities
 // only with encoders.output joint_velocity; with encoders.output ticks instead one std_msgs
-// number topic per joint, recorded at each reading's time), sensor_msgs/LaserScan
+// number topic per joint, recorded at each reading's time; with encoders.output odometry also
+// the base's own nav_msgs/Odometry), sensor_msgs/LaserScan
 // (each laser of the scenario on its own topic and frame)
 // (or sensor_msgs/PointCloud2 of the multi-beam lidar: x, y, z, intensity, ring, time),
 // and the ground truth as nav_msgs/Odometry plus its own tf tree (sim_world -> sim_base_link
@@ -69,6 +70,9 @@ public:
   void onCloud(const sim::CloudSample& sample) override;
   /// encoders.output ticks: the joint's reading on its tick topic as encoders.tick_type.
   void onWheelTick(const sim::WheelTickSample& sample) override;
+  /// encoders.output odometry: the base's own nav_msgs/Odometry (odom -> base_link) on
+  /// encoders.odometry_topic, besides the JointState.
+  void onBaseOdometry(const sim::BaseOdometrySample& sample) override;
 
   /// Writes the index and closes the file.
   void close();
@@ -87,6 +91,7 @@ private:
   std::vector<std::string> joint_names_;
   std::vector<std::string> tick_topics_;  ///< encoders.output ticks: each joint's topic
   std::uint32_t joint_seq_ = 0, scan_seq_ = 0, truth_seq_ = 0, tracker_seq_ = 0;
+  std::uint32_t base_odometry_seq_ = 0;
   bool wrote_static_tf_ = false;
 };
 

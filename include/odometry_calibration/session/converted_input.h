@@ -35,6 +35,7 @@ struct ConvertedInput
     kSensorPose,       ///< `pose`: the sensor's pose in the world; `frame` its child frame (or "")
     kWheelTick,        ///< `raw(0)`: joint `wheel`'s raw tick reading (wheels.source ticks)
     kJointVelocities,  ///< `raw`: the joints' velocities (encoderChannels order, no signs)
+    kBaseOdometry,  ///< `pose`: the base's own odometry pose T_odom_base (wheels.source odometry)
   };
   Kind kind = Kind::kJoints;
   /// The ego-motion source the message came from (egoMotionSources order; 0 with one source

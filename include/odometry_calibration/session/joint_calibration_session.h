@@ -22,6 +22,7 @@
 #include "odometry_calibration/calibration/joint_source_fit.h"
 #include "odometry_calibration/session/calibration_session.h"
 #include "odometry_calibration/session/wheel_signals.h"
+#include "odometry_calibration/session/wheel_topic_watch.h"
 
 namespace odometry_calibration {
 
@@ -84,7 +85,12 @@ public:
   /// wheels.source joint_velocity: the joints' velocities at `stamp_s`, integrated (as above).
   void addJointVelocities(double stamp_s, const Eigen::VectorXd& velocity,
                           const std::string& publisher = "");
+  /// wheels.source odometry: the base's own pose `T_odom_base` at `stamp_s`, made its path and
+  /// heading joints (as above).
+  void addBaseOdometry(double stamp_s, const Pose2& T_odom_base, const std::string& publisher = "");
   void flush();
+  /// Every source's tick(); with wheels.source ticks also a warning (the log) per wheel topic
+  /// silent beyond silent_topic_timeout_s while another wheel's publishes (wheel_topic_watch.h).
   void tick();
   /// Every source's pairs not yet written; returns how many still are not, in all.
   std::size_t writePendingPairs();
@@ -118,6 +124,8 @@ public:
   std::pair<bool, std::string> reset();
 
 private:
+  /// Seconds on the wall clock (options' wall_clock, else the steady clock).
+  double wallNow() const;
   JointCalibrateOutcome calibrateJointly(const CalibrationRequest& request);
   /// The joint fit's configuration: model `name` (one with a joint fit) with the call's
   /// `options`; throws std::invalid_argument naming an option it does not take or what the
@@ -149,6 +157,8 @@ private:
   CalibrationConfig config_;
   std::string config_text_, config_source_;
   std::unique_ptr<WheelSignals> wheel_signals_;
+  /// wheels.source ticks: each wheel topic's silence, said by tick() (null otherwise).
+  std::unique_ptr<WheelTopicWatch> wheel_watch_;
   std::mutex wheel_mutex_;       ///< guards wheel_signals_ and the order its samples are fed in
   std::string wheel_publisher_;  ///< the first joint's topic's publisher (ticks)
   SessionOptions options_;

@@ -1,7 +1,8 @@
 // The wheels' signals other than JointState positions made joint positions for the session, free
 // of ROS, as `wheels.source` chooses: per-wheel tick topics unwrapped (data/tick_unwrapper.h)
 // and aligned to common instants (data/wheel_sample_alignment.h), or JointState velocities
-// integrated (data/velocity_integrator.h). The joints' signs are applied to the positions; the
+// integrated (data/velocity_integrator.h), or the base's own odometry made its cumulative path
+// and heading (data/base_odometry_path.h). The joints' signs are applied to the positions; the
 // positions are unwrapped already (encoderChannels: no channel wraps for these sources).
 #pragma once
 
@@ -12,6 +13,7 @@
 #include <Eigen/Core>
 
 #include "odometry_calibration/calibration/calibration_config.h"
+#include "odometry_calibration/data/base_odometry_path.h"
 #include "odometry_calibration/data/tick_unwrapper.h"
 #include "odometry_calibration/data/velocity_integrator.h"
 #include "odometry_calibration/data/wheel_sample_alignment.h"
@@ -36,6 +38,9 @@ public:
   WheelSignalOutput addTick(std::size_t wheel, double stamp_s, double raw);
   /// The joints' velocities [units/s] at `stamp_s` [s], in the joints' order.
   WheelSignalOutput addVelocities(double stamp_s, const Eigen::VectorXd& velocity);
+  /// The base's own odometry pose `T_odom_base` at `stamp_s` [s] (wheels.source odometry): the
+  /// base_forward, base_lateral, base_yaw joints.
+  WheelSignalOutput addBaseOdometry(double stamp_s, const Pose2& T_odom_base);
 
 private:
   /// The joints' signs applied to `samples`' values.
@@ -45,6 +50,7 @@ private:
   std::vector<TickUnwrapper> unwrappers_;
   WheelSampleAligner aligner_;
   VelocityIntegrator integrator_;
+  BaseOdometryPath base_path_;
   std::vector<double> last_stamp_s_;  ///< each wheel's newest tick stamp [s]
 };
 

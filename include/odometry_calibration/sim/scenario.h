@@ -2,6 +2,7 @@
 // Read from YAML (see config/sim/scenarios/*.yaml, which document every key).
 #pragma once
 
+#include <limits>
 #include <map>
 #include <string>
 #include <vector>
@@ -87,12 +88,19 @@ struct EncoderOptions
   double time_offset_s = 0.0;
   /// What the wheels publish: "joint_state" (JointState positions), "ticks" (one std_msgs
   /// topic per joint: tick_topics, tick_type; no stamp, recorded at the reading's time) or
-  /// "joint_velocity" (JointState with velocities only, `position` empty).
+  /// "joint_velocity" (JointState with velocities only, `position` empty) or "odometry" (the
+  /// JointState positions and the base's own odometry, below).
   std::string output = "joint_state";
   std::vector<std::string> tick_topics;      ///< ticks: one per joint; empty: "/<joint>_ticks"
   std::string tick_type = "std_msgs/Int32";  ///< ticks: the std_msgs type
   /// ticks: joint j is read j * this after each encoder instant (the wheels' messages apart) [s].
   double tick_stagger_s = 0.0;
+  /// odometry: besides the JointState, the base's own nav_msgs/Odometry on this topic at each
+  /// encoder instant, integrated from the true motion between instants with its translation
+  /// times (1 + odometry_translation_error) and its rotation times (1 + odometry_rotation_error).
+  std::string odometry_topic = "/odom";
+  double odometry_translation_error = 0.0;  ///< the base's translation scale error [-]
+  double odometry_rotation_error = 0.0;     ///< the base's rotation scale error [-]
 };
 
 /// An external tracker (motion capture) measuring the laser's world pose at every encoder
@@ -172,6 +180,9 @@ struct ScenarioOverrides
   int counter_bits = -1;         ///< >= 0: replaces encoders.counter_bits
   std::string tick_type;         ///< non-empty: replaces encoders.tick_type
   double tick_stagger_s = -1.0;  ///< >= 0: replaces encoders.tick_stagger_s [s]
+  /// Finite: replaces encoders.odometry_translation_error (odometry_rotation_error) [-].
+  double odometry_translation_error = std::numeric_limits<double>::quiet_NaN();
+  double odometry_rotation_error = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// loadScenarioYaml, then the overrides (the result validated again).

@@ -33,6 +33,15 @@ struct WheelTickSample
   double value = 0.0;  ///< ticks (or radians)
 };
 
+/// The base's own odometry at an encoder instant (encoders.output odometry): the pose it
+/// integrated, with its scale errors, from the true motion.
+struct BaseOdometrySample
+{
+  double stamp_s = 0.0;  ///< true time + encoders.time_offset_s [s since start]
+  Pose2 T_odom_base;     ///< the base's reported pose in its odom frame
+  Twist2 twist;          ///< the reported body velocity (the true one, scaled)
+};
+
 /// One laser scan in the sensor's frame (angles counter-clockwise from its x axis).
 struct ScanSample
 {
@@ -82,7 +91,8 @@ struct TrackerSample
 };
 
 /// Receives the simulated streams in time order. At an encoder instant the order is
-/// onJointState, onTruth, then onTracker (if the tracker is enabled). A multi-beam sweep comes
+/// onJointState, onBaseOdometry (encoders.output odometry), onTruth, then onTracker (if the
+/// tracker is enabled). A multi-beam sweep comes
 /// (onCloud) when it is complete, one sweep period after its stamp.
 class SimulationSink
 {
@@ -94,6 +104,7 @@ public:
   virtual void onTracker(const TrackerSample& /*sample*/) {}
   virtual void onCloud(const CloudSample& /*sample*/) {}
   virtual void onWheelTick(const WheelTickSample& /*sample*/) {}
+  virtual void onBaseOdometry(const BaseOdometrySample& /*sample*/) {}
 };
 
 /// Forwards every sample to several sinks, in order.
@@ -110,6 +121,10 @@ public:
   void onTracker(const TrackerSample& s) override { forward(&SimulationSink::onTracker, s); }
   void onCloud(const CloudSample& s) override { forward(&SimulationSink::onCloud, s); }
   void onWheelTick(const WheelTickSample& s) override { forward(&SimulationSink::onWheelTick, s); }
+  void onBaseOdometry(const BaseOdometrySample& s) override
+  {
+    forward(&SimulationSink::onBaseOdometry, s);
+  }
 
 private:
   /// Calls `receive` (one of the SimulationSink callbacks) with `sample` on every sink, in order.
