@@ -15,33 +15,13 @@ struct Sample
   double error = 0.0;
 };
 
-/// The middle of `values` (upper middle for an even count), reordering them.
-double middleValue(std::vector<double>& values)
-{
-  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
-  std::nth_element(values.begin(), middle, values.end());
-  return *middle;
-}
+/// A relative error is clipped to this magnitude: a bad scan match (an error of any size) moves
+/// a trend no more than a pair the model misses by half.
+constexpr double kMaxRelativeError = 0.5;
 
-/// The samples whose error lies within 5 MAD of the errors' median (gross errors, e.g. a bad
-/// scan match, would make or hide a trend).
-std::vector<Sample> withoutGrossErrors(const std::vector<Sample>& samples)
+double clipped(double relative_error)
 {
-  if (samples.empty())
-    return samples;
-  std::vector<double> errors;
-  for (const Sample& s : samples)
-    errors.push_back(s.error);
-  const double centre = middleValue(errors);
-  for (double& e : errors)
-    e = std::abs(e - centre);
-  const double limit = 5.0 * 1.4826 * std::max(middleValue(errors), 1e-12);
-  std::vector<Sample> kept;
-  for (const Sample& s : samples) {
-    if (std::abs(s.error - centre) <= limit)
-      kept.push_back(s);
-  }
-  return kept;
+  return std::clamp(relative_error, -kMaxRelativeError, kMaxRelativeError);
 }
 
 double quantile(std::vector<double> values, double q)
@@ -146,14 +126,14 @@ AdequacyCheck checkModelAdequacy(const MotionModel& model, const std::vector<Mot
     const double distance = std::hypot(measured.x(), measured.y());
     const double duration = pair.end_stamp_s - pair.start_stamp_s;
     if (std::abs(turn) >= options.min_turn_rad) {
-      const double error = normalizeAngle(predicted.theta() - turn) / std::abs(turn);
+      const double error = clipped(normalizeAngle(predicted.theta() - turn) / turn);
       const double kappa = std::min(std::abs(turn) / std::max(distance, 1e-9),
                                     options.max_curvature_per_m);
       curvature.push_back({kappa, error});
       direction.push_back({turn, error});
     }
     if (distance >= options.min_distance_m && duration > 0.0) {
-      const double error = (std::hypot(predicted.x(), predicted.y()) - distance) / distance;
+      const double error = clipped((std::hypot(predicted.x(), predicted.y()) - distance) / distance);
       speed.push_back({distance / duration, error});
     }
   }
@@ -167,9 +147,6 @@ AdequacyCheck checkModelAdequacy(const MotionModel& model, const std::vector<Mot
     check.fits = check.fits && !trend.significant;
     check.trends.push_back(trend);
   };
-  curvature = withoutGrossErrors(curvature);
-  speed = withoutGrossErrors(speed);
-  direction = withoutGrossErrors(direction);
   test(lineTrend("curvature", curvature), curvature.size());
   test(lineTrend("speed", speed), speed.size());
   test(directionTrend(direction, options.min_pairs), direction.size());
@@ -177,16 +154,26 @@ AdequacyCheck checkModelAdequacy(const MotionModel& model, const std::vector<Mot
     check.text = "adequacy: not tested (too few turning or moving pairs)\n";
     return check;
   }
-  check.text = check.fits ? "adequacy: " + model.name() +
-                                " fits this robot: no trend of its residuals with curvature, "
-                                "speed or turning direction\n"
-                          : "adequacy: the model does not fit this robot (" + model.name() + ")";
+  if (check.fits) {
+    check.text = "adequacy: " + model.name() +
+                 " fits this robot: no trend of its residuals with curvature, speed or turning "
+                 "direction (";
+    char numbers[120];
+    for (std::size_t k = 0; k < check.trends.size(); ++k) {
+      std::snprintf(numbers, sizeof(numbers), "%s%s %+.1f %%, t = %.1f", k == 0 ? "" : "; ",
+                    check.trends[k].feature.c_str(), 100.0 * check.trends[k].size,
+                    check.trends[k].t_statistic);
+      check.text += numbers;
+    }
+    check.text += ")\n";
+    return check;
+  }
+  check.text = "adequacy: the model does not fit this robot (" + model.name() + ")";
   for (const ResidualTrend& trend : check.trends) {
     if (trend.significant)
       check.text += "; " + trend.text;
   }
-  if (!check.fits)
-    check.text += "\n";
+  check.text += "\n";
   return check;
 }
 

@@ -34,6 +34,15 @@ AdequacyCheck checkDiffDrive(std::map<std::string, double> deformation, unsigned
   return checkModelAdequacy(model, generated.pairs);
 }
 
+/// Every trend in words, for failure messages.
+std::string allTrends(const AdequacyCheck& check)
+{
+  std::string text;
+  for (const ResidualTrend& trend : check.trends)
+    text += trend.text + "\n";
+  return text;
+}
+
 const ResidualTrend* trendOf(const AdequacyCheck& check, const std::string& feature)
 {
   for (const ResidualTrend& trend : check.trends) {
@@ -60,7 +69,7 @@ TEST(ModelAdequacy, NamesTheCurvatureTrendOfATrackedBase)
   EXPECT_FALSE(check.fits) << check.text;
   const ResidualTrend* curvature = trendOf(check, "curvature");
   ASSERT_NE(curvature, nullptr);
-  EXPECT_TRUE(curvature->significant) << check.text;
+  EXPECT_TRUE(curvature->significant) << allTrends(check);
   // One separation for all turns: tight turns turn less than it predicts, gentle ones more.
   EXPECT_GT(curvature->size, 0.05) << check.text;
   EXPECT_NE(check.text.find("the model does not fit this robot"), std::string::npos);

@@ -250,8 +250,9 @@ TEST_F(CalibrateBagReport, HoldsOutTheLastPairsAndScoresEveryModelOnThem)
       EXPECT_EQ(poses[k].q.x(), 0.0);
       EXPECT_EQ(poses[k].q.y(), 0.0);
       EXPECT_EQ(poses[k].t, reference[k].t);
-      if (k > 0)
+      if (k > 0) {
         EXPECT_GT(poses[k].t, poses[k - 1].t) << row << " " << k;
+      }
       sum += (poses[k].p - reference[k].p).squaredNorm();
     }
     EXPECT_NEAR(std::sqrt(sum / poses.size()), tableScores(report, row).first, 6e-5) << row;

@@ -128,13 +128,16 @@ TEST_F(Session, TheReplyScoresEveryModelOnTheLastPartOfThePairs)
   EXPECT_NEAR(static_cast<double>(test_pairs), 0.3 * pairs, 2.0) << message;
   EXPECT_NEAR(static_cast<double>(training_pairs), 0.7 * pairs, 2.0) << message;
   // The configured model, compare_models (linear, gp) and the nominal robot: the office robot's
-  // nominal wheels are off (0.077 m, 0.33 m against 0.0765/0.0775 m, 0.32 m), the fits are not.
-  const double nominal = rowAte(message, "nominal");
-  for (const char* row : {"diff_drive", "linear", "gp"}) {
-    EXPECT_GT(rowAte(message, row), 0.0) << row << "\n" << message;
-    EXPECT_LT(rowAte(message, row), 0.5 * nominal) << row << "\n" << message;
-  }
-  EXPECT_NE(message.find("best on the held-out pairs: "), std::string::npos) << message;
+  // nominal wheels are off (0.077 m, 0.33 m against 0.0765/0.0775 m, 0.32 m), the fit is not;
+  // the model-free ones, fitted to 42 s, generalize worse than the true model family.
+  const double nominal = rowAte(message, "nominal"), fitted = rowAte(message, "diff_drive");
+  EXPECT_GT(fitted, 0.0) << message;
+  EXPECT_LT(fitted, 0.5 * nominal) << message;
+  for (const char* row : {"linear", "gp"})
+    EXPECT_GT(rowAte(message, row), 2.0 * fitted) << row << "\n" << message;
+  EXPECT_NE(message.find("best on the held-out pairs: diff_drive, ATE"), std::string::npos)
+      << message;
+  EXPECT_NE(message.find("adequacy: diff_drive fits this robot"), std::string::npos) << message;
   EXPECT_EQ(session->calibrate({}).message.find("held out"), std::string::npos);
 }
 

@@ -45,10 +45,11 @@ struct AdequacyOptions
 };
 
 /// Tests the model's relative residuals over `pairs` (its predictions against the measured
-/// sensor motion) for three trends: the heading error (theta_pred - theta)/|theta| against the
+/// sensor motion) for three trends: the heading error (theta_pred - theta)/theta against the
 /// measured curvature |theta|/distance (least squares line, t of its slope), the along-track
 /// error (d_pred - d)/d against the speed d/T, and the heading error's mean on left against
-/// right turns (Welch's t). Pairs beyond 5 MAD of a residual's median are left out first.
+/// right turns (Welch's t). Each relative error is clipped to +-0.5 (a bad scan match moves a
+/// trend no more than a pair missed by half).
 AdequacyCheck checkModelAdequacy(const MotionModel& model, const std::vector<MotionPair>& pairs,
                                  const AdequacyOptions& options = {});
 
