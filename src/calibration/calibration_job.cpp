@@ -161,9 +161,9 @@ CalibrationJobResult runCalibrationJob(const CalibrationConfig& config,
 }
 
 std::optional<ModelScore> scoreNominalRobot(const CalibrationConfig& config,
-                                           const std::vector<MotionPair>& pairs,
-                                           const std::vector<EncoderSample>& history,
-                                           double pairs_offset_s)
+                                            const std::vector<MotionPair>& pairs,
+                                            const std::vector<EncoderSample>& history,
+                                            double pairs_offset_s)
 {
   const std::shared_ptr<MotionModel> nominal = priorModel(config);
   if (!nominal)

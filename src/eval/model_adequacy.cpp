@@ -4,7 +4,6 @@
 #include <cmath>
 #include <cstdio>
 
-
 namespace odometry_calibration {
 namespace {
 
@@ -77,7 +76,8 @@ ResidualTrend directionTrend(const std::vector<Sample>& samples, std::size_t min
     sum2[side] += s.error * s.error;
     count[side] += 1.0;
   }
-  if (count[0] < static_cast<double>(min_pairs) / 2 || count[1] < static_cast<double>(min_pairs) / 2)
+  if (count[0] < static_cast<double>(min_pairs) / 2 ||
+      count[1] < static_cast<double>(min_pairs) / 2)
     return trend;
   double mean[2], variance[2];
   for (int k = 0; k < 2; ++k) {
@@ -113,6 +113,32 @@ void describe(ResidualTrend* trend)
   trend->text = text;
 }
 
+/// The check in words: not tested, fits (with the trends' numbers), or the significant trends.
+std::string checkText(const std::string& model, const AdequacyCheck& check)
+{
+  if (check.trends.empty())
+    return "adequacy: not tested (too few turning or moving pairs)\n";
+  if (check.fits) {
+    std::string text = "adequacy: " + model +
+                       " fits this robot: no trend of its residuals with curvature, speed or "
+                       "turning direction (";
+    char numbers[120];
+    for (std::size_t k = 0; k < check.trends.size(); ++k) {
+      std::snprintf(numbers, sizeof(numbers), "%s%s %+.1f %%, t = %.1f", k == 0 ? "" : "; ",
+                    check.trends[k].feature.c_str(), 100.0 * check.trends[k].size,
+                    check.trends[k].t_statistic);
+      text += numbers;
+    }
+    return text + ")\n";
+  }
+  std::string text = "adequacy: the model does not fit this robot (" + model + ")";
+  for (const ResidualTrend& trend : check.trends) {
+    if (trend.significant)
+      text += "; " + trend.text;
+  }
+  return text + "\n";
+}
+
 }  // namespace
 
 AdequacyCheck checkModelAdequacy(const MotionModel& model, const std::vector<MotionPair>& pairs,
@@ -127,13 +153,14 @@ AdequacyCheck checkModelAdequacy(const MotionModel& model, const std::vector<Mot
     const double duration = pair.end_stamp_s - pair.start_stamp_s;
     if (std::abs(turn) >= options.min_turn_rad) {
       const double error = clipped(normalizeAngle(predicted.theta() - turn) / turn);
-      const double kappa = std::min(std::abs(turn) / std::max(distance, 1e-9),
-                                    options.max_curvature_per_m);
+      const double kappa =
+          std::min(std::abs(turn) / std::max(distance, 1e-9), options.max_curvature_per_m);
       curvature.push_back({kappa, error});
       direction.push_back({turn, error});
     }
     if (distance >= options.min_distance_m && duration > 0.0) {
-      const double error = clipped((std::hypot(predicted.x(), predicted.y()) - distance) / distance);
+      const double error =
+          clipped((std::hypot(predicted.x(), predicted.y()) - distance) / distance);
       speed.push_back({distance / duration, error});
     }
   }
@@ -150,30 +177,7 @@ AdequacyCheck checkModelAdequacy(const MotionModel& model, const std::vector<Mot
   test(lineTrend("curvature", curvature), curvature.size());
   test(lineTrend("speed", speed), speed.size());
   test(directionTrend(direction, options.min_pairs), direction.size());
-  if (check.trends.empty()) {
-    check.text = "adequacy: not tested (too few turning or moving pairs)\n";
-    return check;
-  }
-  if (check.fits) {
-    check.text = "adequacy: " + model.name() +
-                 " fits this robot: no trend of its residuals with curvature, speed or turning "
-                 "direction (";
-    char numbers[120];
-    for (std::size_t k = 0; k < check.trends.size(); ++k) {
-      std::snprintf(numbers, sizeof(numbers), "%s%s %+.1f %%, t = %.1f", k == 0 ? "" : "; ",
-                    check.trends[k].feature.c_str(), 100.0 * check.trends[k].size,
-                    check.trends[k].t_statistic);
-      check.text += numbers;
-    }
-    check.text += ")\n";
-    return check;
-  }
-  check.text = "adequacy: the model does not fit this robot (" + model.name() + ")";
-  for (const ResidualTrend& trend : check.trends) {
-    if (trend.significant)
-      check.text += "; " + trend.text;
-  }
-  check.text += "\n";
+  check.text = checkText(model.name(), check);
   return check;
 }
 

@@ -103,7 +103,11 @@ std::string formatComparisonTable(const std::vector<ModelScore>& scores)
   return table;
 }
 
-std::vector<std::string> rankByAte(const std::vector<ModelScore>& scores)
+namespace {
+
+/// The scored rows' names (not skipped, converged) from the lowest `score` to the highest.
+std::vector<std::string> rankBy(const std::vector<ModelScore>& scores,
+                                double (*score)(const ModelScore&))
 {
   std::vector<const ModelScore*> scored;
   for (const ModelScore& s : scores) {
@@ -111,11 +115,31 @@ std::vector<std::string> rankByAte(const std::vector<ModelScore>& scores)
       scored.push_back(&s);
   }
   std::stable_sort(scored.begin(), scored.end(),
-                   [](const ModelScore* a, const ModelScore* b) { return a->ate_m < b->ate_m; });
+                   [&](const ModelScore* a, const ModelScore* b) { return score(*a) < score(*b); });
   std::vector<std::string> names;
   for (const ModelScore* s : scored)
     names.push_back(s->model);
   return names;
+}
+
+std::string joinRanking(const std::vector<std::string>& ranking)
+{
+  std::string text;
+  for (std::size_t k = 0; k < ranking.size(); ++k)
+    text += (k == 0 ? " " : " < ") + ranking[k];
+  return text;
+}
+
+}  // namespace
+
+std::vector<std::string> rankByAte(const std::vector<ModelScore>& scores)
+{
+  return rankBy(scores, [](const ModelScore& s) { return s.ate_m; });
+}
+
+std::vector<std::string> rankByRpe(const std::vector<ModelScore>& scores)
+{
+  return rankBy(scores, [](const ModelScore& s) { return s.rpe_m; });
 }
 
 std::string formatBestModel(const std::vector<ModelScore>& scores, const std::string& where)
@@ -129,8 +153,8 @@ std::string formatBestModel(const std::vector<ModelScore>& scores, const std::st
   };
   const ModelScore& best = row(ranking[0]);
   char text[200];
-  std::snprintf(text, sizeof(text), "best on %s: %s, ATE %.4f m", where.c_str(),
-                best.model.c_str(), best.ate_m);
+  std::snprintf(text, sizeof(text), "best on %s: %s, ATE %.4f m", where.c_str(), best.model.c_str(),
+                best.ate_m);
   std::string line = text;
   auto lower = [&](const ModelScore& other) {
     std::snprintf(text, sizeof(text), ", %.1fx lower than %s (%.4f m)",
@@ -141,10 +165,8 @@ std::string formatBestModel(const std::vector<ModelScore>& scores, const std::st
   lower(row(ranking[1]));
   if (std::find(ranking.begin() + 2, ranking.end(), "nominal") != ranking.end())
     lower(row("nominal"));
-  line += "; ranking by ATE:";
-  for (std::size_t k = 0; k < ranking.size(); ++k)
-    line += (k == 0 ? " " : " < ") + ranking[k];
-  return line + "\n";
+  return line + "; ranking by ATE:" + joinRanking(ranking) +
+         ", by RPE:" + joinRanking(rankByRpe(scores)) + "\n";
 }
 
 std::vector<ModelScore> compareModels(const std::vector<std::string>& models,

@@ -54,9 +54,9 @@ std::vector<std::pair<std::string, std::string>> tumTrajectoryFiles(
     files.emplace_back(score.model + ".sensor.tum",
                        tumTrajectoryText(score.stamps_s, score.predicted));
     if (score.T_base_sensor) {
-      files.emplace_back(score.model + ".base_link.tum",
-                         tumTrajectoryText(score.stamps_s,
-                                           baseTrajectory(score.predicted, *score.T_base_sensor)));
+      files.emplace_back(
+          score.model + ".base_link.tum",
+          tumTrajectoryText(score.stamps_s, baseTrajectory(score.predicted, *score.T_base_sensor)));
     }
     if (!reference) {
       reference = &score;

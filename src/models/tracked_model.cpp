@@ -63,30 +63,14 @@ double TrackedModel::separationAt(double nu) const
   return state_.intrinsics(kTrackedSeparation) + state_.intrinsics(kTrackedSeparationGrowth) * nu;
 }
 
-namespace {
-
-/// The numbers a tracked model saves besides the sensor pose, each key once.
-template <class Layout, class Number, class Visit>
-void visitTrackedYaml(Layout& layout, Number& left_radius_m, Number& right_radius_m,
-                      Number& separation_m, Number& growth_m, const Visit& visit)
-{
-  visit("left_index", layout.left_index);
-  visit("right_index", layout.right_index);
-  visit("ticks_per_turn", layout.ticks_per_turn);
-  visit("left_wheel_radius_m", left_radius_m);
-  visit("right_wheel_radius_m", right_radius_m);
-  visit("wheel_separation_m", separation_m);
-  visit("separation_growth_m", growth_m);
-}
-
-}  // namespace
-
 std::string TrackedModel::toYaml() const
 {
   return writeModelYaml(name(), [this](YAML::Emitter& out) {
     const Eigen::Vector4d& p = state_.intrinsics;
-    visitTrackedYaml(options_.layout, p(kTrackedLeftRadius), p(kTrackedRightRadius),
-                     p(kTrackedSeparation), p(kTrackedSeparationGrowth), YamlKeyWriter(out));
+    const YamlKeyWriter visit(out);
+    visitDiffDriveYaml(options_.layout, p(kTrackedLeftRadius), p(kTrackedRightRadius),
+                       p(kTrackedSeparation), visit);
+    visit("separation_growth_m", p(kTrackedSeparationGrowth));
     emitSensorPoseYaml(out, state_.T_base_sensor, state_.prediction_covariance);
   });
 }
@@ -96,9 +80,10 @@ TrackedModel TrackedModel::fromYaml(const std::string& text)
   return readModelYaml(text, "tracked", [](const YAML::Node& node) {
     DiffDriveOptions options;
     double growth_m = 0.0;
-    visitTrackedYaml(options.layout, options.initial_left_radius_m,
-                     options.initial_right_radius_m, options.initial_separation_m, growth_m,
-                     YamlKeyReader(node));
+    const YamlKeyReader visit(node);
+    visitDiffDriveYaml(options.layout, options.initial_left_radius_m,
+                       options.initial_right_radius_m, options.initial_separation_m, visit);
+    visit("separation_growth_m", growth_m);
     const SensorPoseYaml sensor = readSensorPoseYaml(node);
     options.initial_T_base_sensor = sensor.T_base_sensor;
     TrackedModel model(options);

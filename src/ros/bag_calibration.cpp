@@ -128,13 +128,14 @@ std::string scoreHoldout(const BagCalibrationOptions& options, const Calibration
   addTrajectories("holdout", scores, files);
   *scored = scores;
   char note[400];
-  std::snprintf(note, sizeof(note),
-                "held out: the %zu pairs (T = %.2f s) after %.1f s (the last %.0f %% of the "
-                "collection), %zu fitted (T = %.2f s): %s and every model of compare_models fitted to "
-                "them",
-                split.test.size(), config.collector.keyframe_interval_s,
-                split.border_stamp_s - run.pairs.front().start_stamp_s, 100.0 * options.holdout,
-                fit.job.pairs.size(), fit.fit_interval_s, config.model.c_str());
+  std::snprintf(
+      note, sizeof(note),
+      "held out: the %zu pairs (T = %.2f s) after %.1f s (the last %.0f %% of the "
+      "collection), %zu fitted (T = %.2f s): %s and every model of compare_models fitted to "
+      "them",
+      split.test.size(), config.collector.keyframe_interval_s,
+      split.border_stamp_s - run.pairs.front().start_stamp_s, 100.0 * options.holdout,
+      fit.job.pairs.size(), fit.fit_interval_s, config.model.c_str());
   files->markdown.holdout_note = note;
   if (!scores.empty() && scores.back().model == "nominal")
     files->markdown.holdout_note +=

@@ -6,8 +6,8 @@
 #include <stdexcept>
 
 #include "odometry_calibration/calibration/candidate_collectors.h"
-#include "odometry_calibration/common/atomic_file.h"
 #include "odometry_calibration/calibration/held_out_comparison.h"
+#include "odometry_calibration/common/atomic_file.h"
 #include "odometry_calibration/data/holdout.h"
 #include "odometry_calibration/eval/model_adequacy.h"
 #include "odometry_calibration/eval/model_report.h"
@@ -172,7 +172,8 @@ CalibrateOutcome CalibrationSession::calibrate(const CalibrationRequest& request
   if (!pairing.empty())
     outcome.message += " Pairs: " + pairing.substr(0, pairing.size() - 1) + ".";
   if (outcome.success && request.reply_holdout_fraction > 0.0)
-    outcome.message += "\n" + heldOutText(fit_request, *outcome.fit, request.reply_holdout_fraction);
+    outcome.message +=
+        "\n" + heldOutText(fit_request, *outcome.fit, request.reply_holdout_fraction);
   return outcome;
 }
 

@@ -8,6 +8,8 @@
 #include "odometry_calibration/models/diff_drive_model.h"
 #include "odometry_calibration/sim/pair_generator.h"
 
+#include "support/diff_drive_start.h"
+
 namespace odometry_calibration {
 namespace {
 
@@ -24,12 +26,7 @@ AdequacyCheck checkDiffDrive(std::map<std::string, double> deformation, unsigned
   options.interval_s = 0.5;
   options.seed = seed;
   const sim::GeneratedPairs generated = sim::generatePairs(options);
-  DiffDriveOptions start;
-  start.initial_left_radius_m = 0.077;
-  start.initial_right_radius_m = 0.077;
-  start.initial_separation_m = 0.33;
-  start.initial_T_base_sensor = Pose2(0.1, 0.0, 0.0);
-  DiffDriveModel model(start);
+  DiffDriveModel model(test::nominalDiffDriveOptions());
   model.fit(generated.pairs);
   return checkModelAdequacy(model, generated.pairs);
 }

@@ -14,6 +14,8 @@
 #include "odometry_calibration/models/tracked_model.h"
 #include "odometry_calibration/sim/pair_generator.h"
 
+#include "support/diff_drive_start.h"
+
 namespace odometry_calibration {
 namespace {
 
@@ -33,16 +35,6 @@ sim::GeneratedPairs trackedPairs(unsigned seed, double duration_s)
   return sim::generatePairs(options);
 }
 
-DiffDriveOptions nominal()
-{
-  DiffDriveOptions options;
-  options.initial_left_radius_m = 0.077;
-  options.initial_right_radius_m = 0.077;
-  options.initial_separation_m = 0.33;
-  options.initial_T_base_sensor = Pose2(0.1, 0.0, 0.0);
-  return options;
-}
-
 /// The planar poses of a TUM text (x, y and the yaw of its quaternion about z).
 std::vector<Pose2> readTumPoses(const std::string& text)
 {
@@ -57,7 +49,7 @@ std::vector<Pose2> readTumPoses(const std::string& text)
 TEST(TrackedBase, TheCurvatureModelRecoversTheGrowingSeparation)
 {
   const sim::GeneratedPairs training = trackedPairs(1, 180.0);
-  TrackedModel model(nominal());
+  TrackedModel model(test::nominalDiffDriveOptions());
   const ModelReport report = model.fit(training.pairs);
   ASSERT_TRUE(report.converged) << report.termination;
   EXPECT_NEAR(model.separationAt(0.0), kSeparationM, 0.01 * kSeparationM);
@@ -77,7 +69,7 @@ TEST(TrackedBase, HeldOutTheCurvatureModelBeatsTheDiffDriveAndIsCloserToTheTruth
   const sim::GeneratedPairs training = trackedPairs(1, 180.0), testing = trackedPairs(2, 120.0);
   ModelFactoryOptions options;
   options.joints = training.joints;
-  options.diff_drive = nominal();
+  options.diff_drive = test::nominalDiffDriveOptions();
   const std::vector<ModelScore> scores = compareModels({"diff_drive", "tracked", "linear", "gp"},
                                                        options, training.pairs, testing.pairs);
   const std::vector<std::string> ranking = rankByAte(scores);

@@ -76,10 +76,10 @@ TEST(TumTrajectory, FilesOfAComparisonNameEachRowAndTheScanMatchesOnce)
   std::vector<std::string> names;
   for (const auto& [name, content] : tumTrajectoryFiles({fitted, free, skipped, nominal}))
     names.push_back(name);
-  EXPECT_EQ(names, (std::vector<std::string>{"diff_drive.sensor.tum", "diff_drive.base_link.tum",
-                                             "scan_matched.tum", "gp.sensor.tum",
-                                             "nominal.sensor.tum", "nominal.base_link.tum",
-                                             "nominal.scan_matched.tum"}));
+  EXPECT_EQ(names,
+            (std::vector<std::string>{"diff_drive.sensor.tum", "diff_drive.base_link.tum",
+                                      "scan_matched.tum", "gp.sensor.tum", "nominal.sensor.tum",
+                                      "nominal.base_link.tum", "nominal.scan_matched.tum"}));
 }
 
 }  // namespace

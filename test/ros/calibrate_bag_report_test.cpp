@@ -11,9 +11,9 @@
 #include <sstream>
 #include <string>
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
+#include <Eigen/Geometry>
 
 #include "odometry_calibration/report/report_plots.h"
 #include "odometry_calibration/ros/sim_bag_writer.h"

@@ -72,9 +72,9 @@ CalibrationJobResult runCalibrationJob(const CalibrationConfig& config,
 /// `history` when that is given and the offset is not 0; none without a prior or with fewer than
 /// two pairs left.
 std::optional<ModelScore> scoreNominalRobot(const CalibrationConfig& config,
-                                           const std::vector<MotionPair>& pairs,
-                                           const std::vector<EncoderSample>& history,
-                                           double pairs_offset_s);
+                                            const std::vector<MotionPair>& pairs,
+                                            const std::vector<EncoderSample>& history,
+                                            double pairs_offset_s);
 
 /// The paper's comparison (Tables III/IV): the job's model and each of config.compare_models
 /// (fitted to the job's pairs) scored on `test_pairs`, which were collected at the job's time

@@ -20,7 +20,7 @@ struct ResidualTrend
   /// The change of the relative error across the feature's range (10th to 90th percentile; for
   /// the turning direction: left minus right), a fraction (0.05: 5 % of the turn or distance).
   double size = 0.0;
-  double t_statistic = 0.0;  ///< the change over its standard error
+  double t_statistic = 0.0;     ///< the change over its standard error
   double from = 0.0, to = 0.0;  ///< the feature's range [1/m for curvature, m/s for speed]
   bool significant = false;     ///< |t| and |size| beyond the check's thresholds
   std::string text;             ///< in words
@@ -36,12 +36,12 @@ struct AdequacyCheck
 /// Thresholds of the check.
 struct AdequacyOptions
 {
-  double min_turn_rad = 0.05;     ///< pairs turning less do not enter the heading tests [rad]
-  double min_distance_m = 0.05;   ///< pairs moving less do not enter the speed test [m]
-  double min_abs_t = 5.0;         ///< a trend needs |t| above this ...
-  double min_relative_size = 0.03;  ///< ... and a change of more than this fraction
+  double min_turn_rad = 0.05;         ///< pairs turning less do not enter the heading tests [rad]
+  double min_distance_m = 0.05;       ///< pairs moving less do not enter the speed test [m]
+  double min_abs_t = 5.0;             ///< a trend needs |t| above this ...
+  double min_relative_size = 0.03;    ///< ... and a change of more than this fraction
   double max_curvature_per_m = 20.0;  ///< curvature |theta|/distance capped here (spins) [1/m]
-  std::size_t min_pairs = 20;       ///< a feature with fewer usable pairs is not tested
+  std::size_t min_pairs = 20;         ///< a feature with fewer usable pairs is not tested
 };
 
 /// Tests the model's relative residuals over `pairs` (its predictions against the measured

@@ -67,14 +67,16 @@ std::string formatComparisonTable(const std::vector<ModelScore>& scores);
 
 /// Which row generalizes best, in words: the scored row (not skipped, converged) with the lowest
 /// ATE, how many times lower it is than the next best and than the nominal row, and the ranking
-/// of all scored rows by ATE, e.g. "best on the held-out pairs: gp, ATE 0.0123 m, 2.1x lower
-/// than linear (0.0258 m), 19.1x lower than nominal (0.2350 m); ranking by ATE: gp < linear <
-/// diff_drive < nominal". `where` names the pairs ("the held-out pairs"). Empty with fewer
-/// than two scored rows.
+/// of all scored rows by ATE and by RPE (the ATE of a longer drive grows with its length, the RPE
+/// does not), e.g. "best on the held-out pairs: gp, ATE 0.0123 m, 2.1x lower than linear (0.0258
+/// m), 19.1x lower than nominal (0.2350 m); ranking by ATE: gp < linear < diff_drive < nominal,
+/// by RPE: gp < diff_drive < linear < nominal". `where` names the pairs ("the held-out pairs").
+/// Empty with fewer than two scored rows.
 std::string formatBestModel(const std::vector<ModelScore>& scores, const std::string& where);
 
-/// The scored rows' names (not skipped, converged) from the lowest ATE to the highest.
+/// The scored rows' names (not skipped, converged) from the lowest ATE (RPE) to the highest.
 std::vector<std::string> rankByAte(const std::vector<ModelScore>& scores);
+std::vector<std::string> rankByRpe(const std::vector<ModelScore>& scores);
 
 /// Fits each model of `models` (makeModel with `options`, in order) on the training pairs and
 /// scores it on the test pairs (scoreModel, plus the fit's time, outliers and warnings), then

@@ -17,11 +17,11 @@ namespace odometry_calibration {
 /// Indices into the 4-vector of intrinsic parameters.
 enum TrackedParameterIndex
 {
-  kTrackedLeftRadius = 0,      ///< r_L [m]
-  kTrackedRightRadius = 1,     ///< r_R [m]
-  kTrackedSeparation = 2,      ///< b0: the separation driving straight [m]
+  kTrackedLeftRadius = 0,        ///< r_L [m]
+  kTrackedRightRadius = 1,       ///< r_R [m]
+  kTrackedSeparation = 2,        ///< b0: the separation driving straight [m]
   kTrackedSeparationGrowth = 3,  ///< b1: how much wider on the spot [m]
-  kTrackedParameterCount       ///< 4
+  kTrackedParameterCount         ///< 4
 };
 
 /// The turn's tightness nu of wheel distances `left`, `right` (0 when neither moved).
