@@ -88,12 +88,18 @@ SessionFit fitRun(BagRunResult* run, const IntervalPlan& plan, double holdout)
   return std::move(*outcome.fit);
 }
 
-/// The scored rows' TUM trajectories into `folder`/ of the trajectory folder.
+/// The scored rows' TUM trajectories into `folder`/ of the trajectory folder. Pairs whose stamps
+/// do not increase (test bags recorded out of order) have no TUM file: said on stderr, the run
+/// goes on.
 void addTrajectories(const std::string& folder, const std::vector<ModelScore>& scores,
                      ResultFiles* files)
 {
-  for (auto& [name, content] : tumTrajectoryFiles(scores))
-    files->trajectories.emplace_back(folder + "/" + name, std::move(content));
+  try {
+    for (auto& [name, content] : tumTrajectoryFiles(scores))
+      files->trajectories.emplace_back(folder + "/" + name, std::move(content));
+  } catch (const std::invalid_argument& error) {
+    std::fprintf(stderr, "warning: no trajectories/%s/: %s\n", folder.c_str(), error.what());
+  }
 }
 
 /// The scores on the test bags (paired at the fitted time offset): text and report table.
