@@ -67,6 +67,8 @@ int namedJoint(const CalibrationConfig& config, const GivenValues& given, const 
 /// Whether the configuration fits, compares or guesses with `model`.
 bool uses(const CalibrationConfig& c, const std::string& model)
 {
+  if (model == "diff_drive" && uses(c, "tracked"))
+    return true;  // the tracked model takes the diff_drive section
   return c.model == model || c.prior_model == model ||
          std::find(c.compare_models.begin(), c.compare_models.end(), model) !=
              c.compare_models.end();

@@ -164,6 +164,23 @@ CalibrationJobResult runCalibrationJob(const CalibrationConfig& config,
   return job;
 }
 
+std::optional<ModelScore> scoreNominalRobot(const CalibrationConfig& config,
+                                            const std::vector<MotionPair>& pairs,
+                                            const std::vector<EncoderSample>& history,
+                                            double pairs_offset_s)
+{
+  const std::shared_ptr<MotionModel> nominal = priorModel(config);
+  if (!nominal)
+    return std::nullopt;
+  const bool recut = !history.empty() && pairs_offset_s != 0.0;
+  const std::vector<MotionPair> nominal_pairs = recut ? rewindowPairs(pairs, history, 0.0) : pairs;
+  if (nominal_pairs.size() < 2)
+    return std::nullopt;
+  ModelScore score = scoreNominal(*nominal, nominal_pairs);
+  score.T_base_sensor = priorSensorPose(config);
+  return score;
+}
+
 std::vector<ModelScore> scoreModelsOnTest(const CalibrationConfig& config,
                                           const CalibrationJobResult& job,
                                           const std::vector<MotionPair>& test_pairs,
@@ -193,13 +210,9 @@ std::vector<ModelScore> scoreModelsOnTest(const CalibrationConfig& config,
       scores.push_back(skipped);
     }
   }
-  if (const std::shared_ptr<MotionModel> nominal = priorModel(config)) {
-    const bool recut = !test_history.empty() && job.time_offset_s != 0.0;
-    const std::vector<MotionPair> nominal_pairs =
-        recut ? rewindowPairs(test_pairs, test_history, 0.0) : test_pairs;
-    if (nominal_pairs.size() >= 2)
-      scores.push_back(scoreNominal(*nominal, nominal_pairs));
-  }
+  if (std::optional<ModelScore> nominal =
+          scoreNominalRobot(config, test_pairs, test_history, job.time_offset_s))
+    scores.push_back(std::move(*nominal));
   return scores;
 }
 
@@ -208,19 +221,12 @@ std::vector<ModelScore> scoreHeldOut(const CalibrationConfig& config,
                                      const std::vector<MotionPair>& test_pairs,
                                      const std::vector<EncoderSample>& encoder_history)
 {
-  const bool recut = !encoder_history.empty();
-  std::vector<ModelScore> scores;
-  scores.push_back(
-      scoreModel(*job.model, recut && job.time_offset_s != config.collector.time_offset_s
-                                 ? rewindowPairs(test_pairs, encoder_history, job.time_offset_s)
-                                 : test_pairs));
-  scores.back().model = "calibrated";
-  if (const std::shared_ptr<MotionModel> nominal = priorModel(config)) {
-    scores.push_back(
-        scoreModel(*nominal, recut ? rewindowPairs(test_pairs, encoder_history, 0.0) : test_pairs));
-    scores.back().model = "nominal";
-  }
-  return scores;
+  const bool recut =
+      !encoder_history.empty() && job.time_offset_s != config.collector.time_offset_s;
+  return scoreModelsOnTest(
+      config, job,
+      recut ? rewindowPairs(test_pairs, encoder_history, job.time_offset_s) : test_pairs,
+      encoder_history);
 }
 
 std::string formatTimeOffset(const TimeOffsetResult& offset)

@@ -1,5 +1,7 @@
 #include "odometry_calibration/calibration/saved_calibration_score.h"
 
+#include "odometry_calibration/calibration/calibration_job.h"
+
 #include <stdexcept>
 
 #include "odometry_calibration/calibration/time_offset.h"
@@ -46,13 +48,11 @@ std::vector<ModelScore> scoreSavedCalibration(const CalibrationConfig& config,
                              error.what());
   }
   scores.back().fitted = false;
-  if (const std::shared_ptr<MotionModel> nominal = priorModel(config)) {
-    const bool recut = !encoder_history.empty() && saved.time_offset_s != 0.0;
-    const std::vector<MotionPair> nominal_pairs =
-        recut ? rewindowPairs(pairs, encoder_history, 0.0) : pairs;
-    if (nominal_pairs.size() >= 2)
-      scores.push_back(scoreNominal(*nominal, nominal_pairs));
-  }
+  if (saved.has_extrinsic)
+    scores.back().T_base_sensor = saved.T_base_sensor;
+  if (std::optional<ModelScore> nominal =
+          scoreNominalRobot(config, pairs, encoder_history, saved.time_offset_s))
+    scores.push_back(std::move(*nominal));
   return scores;
 }
 

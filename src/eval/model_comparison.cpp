@@ -1,5 +1,6 @@
 #include "odometry_calibration/eval/model_comparison.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
@@ -17,8 +18,10 @@ ModelScore scoreModel(const MotionModel& model, const std::vector<MotionPair>& t
   score.model = model.name();
   score.test_pairs = test.size();
   std::vector<Pose2> predicted = {Pose2()}, measured = {Pose2()};
+  score.stamps_s = {test.front().start_stamp_s};
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   for (const MotionPair& pair : test) {
+    score.stamps_s.push_back(pair.end_stamp_s);
     const Pose2 prediction = model.predict(pair.encoder_samples).mean;
     const Eigen::Vector3d error(prediction.x() - pair.sensor_motion.x(),
                                 prediction.y() - pair.sensor_motion.y(),
@@ -30,6 +33,8 @@ ModelScore scoreModel(const MotionModel& model, const std::vector<MotionPair>& t
   score.rmse_xytheta = (sum / static_cast<double>(test.size())).cwiseSqrt();
   score.ate_m = absoluteTrajectoryError(predicted, measured);
   score.rpe_m = relativePoseError(predicted, measured);
+  score.predicted = std::move(predicted);
+  score.measured = std::move(measured);
   return score;
 }
 
@@ -49,6 +54,8 @@ ModelScore withFitReport(ModelScore score, const ModelReport& report)
   score.warnings = report.warnings;
   score.converged = report.converged;
   score.termination = report.termination;
+  if (report.has_extrinsic)
+    score.T_base_sensor = report.T_base_sensor;
   return score;
 }
 
@@ -94,6 +101,72 @@ std::string formatComparisonTable(const std::vector<ModelScore>& scores)
     }
   }
   return table;
+}
+
+namespace {
+
+/// The scored rows' names (not skipped, converged) from the lowest `score` to the highest.
+std::vector<std::string> rankBy(const std::vector<ModelScore>& scores,
+                                double (*score)(const ModelScore&))
+{
+  std::vector<const ModelScore*> scored;
+  for (const ModelScore& s : scores) {
+    if (s.skipped.empty() && s.converged)
+      scored.push_back(&s);
+  }
+  std::stable_sort(scored.begin(), scored.end(),
+                   [&](const ModelScore* a, const ModelScore* b) { return score(*a) < score(*b); });
+  std::vector<std::string> names;
+  for (const ModelScore* s : scored)
+    names.push_back(s->model);
+  return names;
+}
+
+std::string joinRanking(const std::vector<std::string>& ranking)
+{
+  std::string text;
+  for (std::size_t k = 0; k < ranking.size(); ++k)
+    text += (k == 0 ? " " : " < ") + ranking[k];
+  return text;
+}
+
+}  // namespace
+
+std::vector<std::string> rankByAte(const std::vector<ModelScore>& scores)
+{
+  return rankBy(scores, [](const ModelScore& s) { return s.ate_m; });
+}
+
+std::vector<std::string> rankByRpe(const std::vector<ModelScore>& scores)
+{
+  return rankBy(scores, [](const ModelScore& s) { return s.rpe_m; });
+}
+
+std::string formatBestModel(const std::vector<ModelScore>& scores, const std::string& where)
+{
+  const std::vector<std::string> ranking = rankByAte(scores);
+  if (ranking.size() < 2)
+    return "";
+  auto row = [&](const std::string& name) -> const ModelScore& {
+    return *std::find_if(scores.begin(), scores.end(),
+                         [&](const ModelScore& s) { return s.model == name; });
+  };
+  const ModelScore& best = row(ranking[0]);
+  char text[200];
+  std::snprintf(text, sizeof(text), "best on %s: %s, ATE %.4f m", where.c_str(), best.model.c_str(),
+                best.ate_m);
+  std::string line = text;
+  auto lower = [&](const ModelScore& other) {
+    std::snprintf(text, sizeof(text), ", %.1fx lower than %s (%.4f m)",
+                  best.ate_m > 0.0 ? other.ate_m / best.ate_m : INFINITY, other.model.c_str(),
+                  other.ate_m);
+    line += text;
+  };
+  lower(row(ranking[1]));
+  if (std::find(ranking.begin() + 2, ranking.end(), "nominal") != ranking.end())
+    lower(row("nominal"));
+  return line + "; ranking by ATE:" + joinRanking(ranking) +
+         ", by RPE:" + joinRanking(rankByRpe(scores)) + "\n";
 }
 
 std::vector<ModelScore> compareModels(const std::vector<std::string>& models,

@@ -8,12 +8,14 @@
 #include "odometry_calibration/common/yaml_reading.h"
 #include "odometry_calibration/gp/gp_model.h"
 #include "odometry_calibration/models/model_checks.h"
+#include "odometry_calibration/models/tracked_model.h"
 
 namespace odometry_calibration {
 
 std::vector<std::string> knownModelNames()
 {
-  return {"linear", "diff_drive", "gp", "tricycle", "mecanum", "skid_steer", "base_odometry"};
+  return {"linear",     "diff_drive",    "gp",     "tricycle", "mecanum",
+          "skid_steer", "base_odometry", "tracked"};
 }
 
 bool isKnownModel(const std::string& name)
@@ -45,6 +47,12 @@ std::unique_ptr<MotionModel> makeModel(const std::string& name, const ModelFacto
     requireJointsAmong({layout.left_index, layout.right_index}, joints,
                        "diff_drive: the wheel joints");
     return std::make_unique<DiffDriveModel>(options.diff_drive);
+  }
+  if (name == "tracked") {  // the diff_drive section's joints and start values
+    const DiffDriveEncoderLayout& layout = options.diff_drive.layout;
+    requireJointsAmong({layout.left_index, layout.right_index}, joints,
+                       "tracked: the wheel joints");
+    return std::make_unique<TrackedModel>(options.diff_drive);
   }
   if (name == "gp") {
     return std::make_unique<GaussianProcessModel>(options.gp, options.joints);
@@ -99,6 +107,8 @@ std::unique_ptr<MotionModel> loadModel(const std::string& model_yaml)
     return std::make_unique<SkidSteerModel>(SkidSteerModel::fromYaml(model_yaml));
   if (name == "base_odometry")
     return std::make_unique<BaseOdometryModel>(BaseOdometryModel::fromYaml(model_yaml));
+  if (name == "tracked")
+    return std::make_unique<TrackedModel>(TrackedModel::fromYaml(model_yaml));
   throw std::runtime_error("model YAML: unknown or missing 'model' ('" + name + "')");
 }
 

@@ -103,24 +103,6 @@ MotionPrediction DiffDriveModel::predict(const std::vector<EncoderSample>& sampl
   return predictSensorMotion<DiffDriveKinematics>(state_, options_.layout, samples);
 }
 
-namespace {
-
-/// The numbers a diff_drive model saves besides the sensor pose, each key once: the wheel joints
-/// and the intrinsics (the fitted ones when written, the start values when read back).
-template <class Layout, class Number, class Visit>
-void visitDiffDriveYaml(Layout& layout, Number& left_radius_m, Number& right_radius_m,
-                        Number& separation_m, const Visit& visit)
-{
-  visit("left_index", layout.left_index);
-  visit("right_index", layout.right_index);
-  visit("ticks_per_turn", layout.ticks_per_turn);
-  visit("left_wheel_radius_m", left_radius_m);
-  visit("right_wheel_radius_m", right_radius_m);
-  visit("wheel_separation_m", separation_m);
-}
-
-}  // namespace
-
 std::string DiffDriveModel::toYaml() const
 {
   return writeModelYaml(name(), [this](YAML::Emitter& out) {

@@ -75,6 +75,23 @@ std::string diffDriveController(const FitOrigin& origin, const std::string& sour
   return text;
 }
 
+/// A tracked base (b(nu) = b0 + b1 nu, tracked_kinematics.h): diff_drive_controller takes one
+/// separation; the multiplier above is b0's (straight, gentle curves), this comment gives the
+/// one for turning on the spot. Empty without `growth`.
+std::string separationGrowthAdvice(const ParameterEstimate* growth,
+                                   const ParameterEstimate& separation)
+{
+  if (!growth)
+    return "";
+  const double spot = separation.value + growth->value;
+  return "# tracked base: the separation grows with the turn's tightness nu (0 straight, 1 on the "
+         "spot):\n#   b(nu) = " +
+         number(separation.value) + " + " + number(growth->value) + " nu m (separation_growth " +
+         sigma(growth->sigma) + " m); on the spot " + number(spot) +
+         " m,\n#   wheel_separation_multiplier " + number(spot / separation.initial) +
+         " for a base that mostly turns on the spot\n";
+}
+
 /// Mecanum: ros2_controllers' mecanum_drive_controller (ROS 2 Jazzy, ros2_controllers 4.x)
 /// reads one radius and lx + ly under its nested `kinematics` keys; the fitted per-wheel radii,
 /// which no controller reads, are comments.
@@ -117,8 +134,10 @@ std::string controllerYamlFrom(const ModelReport& report, const FitOrigin& origi
   const ParameterEstimate* left = find(report, "left_wheel_radius");
   const ParameterEstimate* right = find(report, "right_wheel_radius");
   const ParameterEstimate* separation = find(report, "wheel_separation");
-  if (left && right && separation && left->initial > 0.0 && separation->initial > 0.0)
-    return diffDriveController(origin, source, *left, *right, *separation);
+  if (left && right && separation && left->initial > 0.0 && separation->initial > 0.0) {
+    return diffDriveController(origin, source, *left, *right, *separation) +
+           separationGrowthAdvice(find(report, "separation_growth"), *separation);
+  }
   std::vector<const ParameterEstimate*> radii;
   for (const ParameterEstimate& p : report.parameters) {
     if (p.name.rfind("wheel_radius_", 0) == 0)

@@ -35,6 +35,25 @@ void createDirectory(const std::string& directory)
   }
 }
 
+/// Stages the TUM trajectories (folder kTrajectoryFolderName, replaced whole; an earlier run's
+/// removed when this one has none).
+void stageTrajectories(StagedFileSet& set,
+                       const std::vector<std::pair<std::string, std::string>>& trajectories,
+                       std::vector<std::string>* names, std::vector<std::string>* removed)
+{
+  if (trajectories.empty()) {
+    removed->push_back(kTrajectoryFolderName);
+    return;
+  }
+  const fs::path folder = set.stagedPath(kTrajectoryFolderName);
+  for (const auto& [name, content] : trajectories) {
+    const fs::path path = folder / name;
+    fs::create_directories(path.parent_path());
+    writeFileAtomically(path.string(), content);
+  }
+  names->push_back(kTrajectoryFolderName);
+}
+
 /// Stages `files` into `set`: the entries to move in are appended to `names`, those to remove
 /// to `removed`. Returns what happened to the plots.
 ReportPlots stageResultFiles(StagedFileSet& set, ResultFiles files, std::vector<std::string>* names,
@@ -69,6 +88,12 @@ ReportPlots stageResultFiles(StagedFileSet& set, ResultFiles files, std::vector<
   }
   for (const std::string& name : files.calibration.removed)
     removed->push_back(name);
+  stageTrajectories(set, files.trajectories, names, removed);
+  if (!files.trajectories.empty()) {
+    markdown.files.push_back(std::string("`") + kTrajectoryFolderName +
+                             "/`: each scored model's dead reckoning and the scan matches in TUM "
+                             "format (`evo_ape tum`)");
+  }
   writeFileAtomically(set.stagedPath(kTextReportFileName), files.text_report);
   writeFileAtomically(set.stagedPath(kReportFileName), markdownReport(markdown));
   names->push_back(kReportFileName);

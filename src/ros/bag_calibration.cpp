@@ -9,7 +9,9 @@
 #include "odometry_calibration/common/text_file.h"
 #include "odometry_calibration/data/holdout.h"
 #include "odometry_calibration/eval/joint_fit_text.h"
+#include "odometry_calibration/eval/model_adequacy.h"
 #include "odometry_calibration/eval/model_report.h"
+#include "odometry_calibration/eval/tum_trajectory.h"
 #include "odometry_calibration/factory/model_factory.h"
 #include "odometry_calibration/report/result_files.h"
 #include "odometry_calibration/ros/bag_runner.h"
@@ -86,17 +88,36 @@ SessionFit fitRun(BagRunResult* run, const IntervalPlan& plan, double holdout)
   return std::move(*outcome.fit);
 }
 
+/// The scored rows' TUM trajectories into `folder`/ of the trajectory folder. Pairs whose stamps
+/// do not increase (test bags recorded out of order) have no TUM file: said on stderr, the run
+/// goes on.
+void addTrajectories(const std::string& folder, const std::vector<ModelScore>& scores,
+                     ResultFiles* files)
+{
+  try {
+    for (auto& [name, content] : tumTrajectoryFiles(scores))
+      files->trajectories.emplace_back(folder + "/" + name, std::move(content));
+  } catch (const std::invalid_argument& error) {
+    std::fprintf(stderr, "warning: no trajectories/%s/: %s\n", folder.c_str(), error.what());
+  }
+}
+
 /// The scores on the test bags (paired at the fitted time offset): text and report table.
 std::string scoreTestBags(const BagCalibrationOptions& options, const CalibrationConfig& config,
-                          const CalibrationJobResult& job, ResultFiles* files)
+                          const CalibrationJobResult& job, ResultFiles* files,
+                          std::vector<ModelScore>* scored)
 {
   CalibrationConfig test_config = config;
   test_config.collector.time_offset_s = job.time_offset_s;
   test_config.estimate_time_offset = false;  // paired at the fitted offset: nothing to record
   const BagRunResult test = runBags(options.test_bags, test_config, 0.0, 0.0);
+  const std::vector<ModelScore> scores =
+      scoreModelsOnTest(config, job, test.pairs, test.encoder_history);
   files->markdown.test_table =
-      formatComparisonTable(scoreModelsOnTest(config, job, test.pairs, test.encoder_history));
+      formatComparisonTable(scores) + formatBestModel(scores, "the test bags");
   files->markdown.test_pairs = test.pairs.size();
+  addTrajectories("test", scores, files);
+  *scored = scores;
   return "\ntest bags: " + std::to_string(test.pairs.size()) + " pairs\n" +
          files->markdown.test_table;
 }
@@ -104,23 +125,39 @@ std::string scoreTestBags(const BagCalibrationOptions& options, const Calibratio
 /// The scores on the held-out pairs: text and report table.
 std::string scoreHoldout(const BagCalibrationOptions& options, const CalibrationConfig& config,
                          const BagRunResult& run, const PairHoldout& split, const SessionFit& fit,
-                         ResultFiles* files)
+                         ResultFiles* files, std::vector<ModelScore>* scored)
 {
   const std::vector<ModelScore> scores =
       scoreHeldOut(config, fit.job, split.test, run.encoder_history);
-  files->markdown.holdout_table = formatComparisonTable(scores);
+  files->markdown.holdout_table =
+      formatComparisonTable(scores) + formatBestModel(scores, "the held-out pairs");
+  addTrajectories("holdout", scores, files);
+  *scored = scores;
   char note[400];
-  std::snprintf(note, sizeof(note),
-                "held out: the %zu pairs (T = %.2f s) after %.1f s (the last %.0f %% of the "
-                "collection), %zu fitted (T = %.2f s); calibrated: the fitted %s",
-                split.test.size(), config.collector.keyframe_interval_s,
-                split.border_stamp_s - run.pairs.front().start_stamp_s, 100.0 * options.holdout,
-                fit.job.pairs.size(), fit.fit_interval_s, config.model.c_str());
+  std::snprintf(
+      note, sizeof(note),
+      "held out: the %zu pairs (T = %.2f s) after %.1f s (the last %.0f %% of the "
+      "collection), %zu fitted (T = %.2f s): %s and every model of compare_models fitted to "
+      "them",
+      split.test.size(), config.collector.keyframe_interval_s,
+      split.border_stamp_s - run.pairs.front().start_stamp_s, 100.0 * options.holdout,
+      fit.job.pairs.size(), fit.fit_interval_s, config.model.c_str());
   files->markdown.holdout_note = note;
-  if (scores.size() > 1)
+  if (!scores.empty() && scores.back().model == "nominal")
     files->markdown.holdout_note +=
         ", nominal: the " + config.prior_model + " start values at time offset 0";
   return "\n" + files->markdown.holdout_note + "\n" + files->markdown.holdout_table;
+}
+
+/// The adequacy check of a parametric fit (eval/model_adequacy.h) with its advice from
+/// `scores`, a comparison on `where`; empty for a model-free fit.
+std::string adequacyText(const CalibrationConfig& config, const CalibrationJobResult& job,
+                         const std::vector<ModelScore>& scores, const std::string& where)
+{
+  if (job.report.parameters.empty())
+    return "";
+  const AdequacyCheck check = checkModelAdequacy(*job.model, job.pairs);
+  return "\n" + check.text + adequacyAdvice(check, config.model, scores, where);
 }
 
 std::string timingLine(const BagRunResult& run, const SessionFit& fit)
@@ -175,7 +212,8 @@ void sayWritten(const std::string& output_dir, const std::vector<std::string>& n
 {
   out << "\nwritten: " << output_dir << "/{";
   for (std::size_t k = 0; k < names.size(); ++k) {
-    const bool folder = names[k] == kPlotFolderName || names[k].rfind("source_", 0) == 0;
+    const bool folder = names[k] == kPlotFolderName || names[k] == kTrajectoryFolderName ||
+                        names[k].rfind("source_", 0) == 0;
     out << (k == 0 ? "" : ", ") << names[k] << (folder ? "/" : "");
   }
   out << "}\n";
@@ -187,6 +225,8 @@ void writeFiles(const std::string& output_dir, ResultFiles files, std::ostream& 
   for (const auto& [name, content] : files.calibration.written)
     names.push_back(name);
   names.insert(names.end(), {kTextReportFileName, kReportFileName, kPlotFolderName});
+  if (!files.trajectories.empty())
+    names.push_back(kTrajectoryFolderName);
   const ReportPlots plots = writeResultFiles(output_dir, std::move(files));
   sayWritten(output_dir, names, out);
   out << "report: " << output_dir << "/" << kReportFileName << "\n";
@@ -262,10 +302,13 @@ int calibrateOneSource(const BagCalibrationOptions& options, CalibrationConfig c
                      (job.time_offset ? formatTimeOffset(*job.time_offset) : "") + "\n" +
                      formatModelReport(job.report) + formatNominalComparison(job);
   ResultFiles files = runFiles(options, config, run, 0, fit, "");
+  std::vector<ModelScore> test_scores, held_out_scores;
   if (!options.test_bags.empty())
-    text += scoreTestBags(options, config, job, &files);
+    text += scoreTestBags(options, config, job, &files, &test_scores);
   if (options.holdout > 0.0)
-    text += scoreHoldout(options, config, run, split, fit, &files);
+    text += scoreHoldout(options, config, run, split, fit, &files, &held_out_scores);
+  text += adequacyText(config, job, held_out_scores.empty() ? test_scores : held_out_scores,
+                       held_out_scores.empty() ? "the test bags" : "the held-out pairs");
   text += timingLine(run, fit);
   out << text.substr(summary.size());
   // Everything succeeded: write the files together.

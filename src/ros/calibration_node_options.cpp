@@ -56,6 +56,8 @@ void check(const NodeOptions& o)
   require(s.odometry_options.path_spacing_s >= 0.0, "~path_spacing_s must be >= 0 s");
   require(s.odometry_options.path_max_poses >= 2, "~path_max_poses must be >= 2");
   require(o.diagnostics_period_s > 0.0, "~diagnostics_period_s must be > 0 s");
+  require(o.holdout_fraction >= 0.0 && o.holdout_fraction < 1.0,
+          "~holdout_fraction must be in [0, 1) (0: no held-out table in the ~calibrate reply)");
   require(o.marker_height_m >= 0.0 && o.marker_text_height_m > 0.0,
           "~guidance_marker_height_m must be >= 0 m and ~guidance_marker_text_m > 0 m");
 }
@@ -82,6 +84,7 @@ NodeOptions readNodeOptions(const ros::NodeHandle& p)
   p.param("diagnostics_period_s", o.diagnostics_period_s, o.diagnostics_period_s);
   p.param("guidance_marker_height_m", o.marker_height_m, o.marker_height_m);
   p.param("guidance_marker_text_m", o.marker_text_height_m, o.marker_text_height_m);
+  p.param("holdout_fraction", o.holdout_fraction, o.holdout_fraction);
   readAssistantOptions(p, &s.assistant_options);
   check(o);
   return o;

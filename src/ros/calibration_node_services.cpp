@@ -13,6 +13,7 @@ bool CalibrationNode::onCalibrate(Calibrate::Request& request, Calibrate::Respon
   CalibrationRequest call;
   call.model = request.model;
   call.options = request.options;
+  call.reply_holdout_fraction = options_.holdout_fraction;
   const JointCalibrateOutcome joint = sessions_->calibrate(call);
   const CalibrateOutcome& outcome = joint.outcome;
   response.success = outcome.success;

@@ -6,8 +6,10 @@
 #include <stdexcept>
 
 #include "odometry_calibration/calibration/candidate_collectors.h"
+#include "odometry_calibration/calibration/held_out_comparison.h"
 #include "odometry_calibration/common/atomic_file.h"
 #include "odometry_calibration/data/holdout.h"
+#include "odometry_calibration/eval/model_adequacy.h"
 #include "odometry_calibration/eval/model_report.h"
 #include "odometry_calibration/factory/model_factory.h"
 #include "odometry_calibration/session/calibration_session.h"
@@ -24,6 +26,26 @@ std::string asSentence(std::string text)
   if (!text.empty() && text.back() != '.' && text.back() != '!' && text.back() != '?')
     text += '.';
   return text;
+}
+
+/// The reply's held-out table of `fit` (compareHeldOut on its pairs, the fitted model and
+/// compare_models of `request.config`), or why there is none, then the adequacy check of a
+/// parametric fit (eval/model_adequacy.h) with the model the table recommends.
+std::string heldOutText(const SessionFitRequest& request, const SessionFit& fit, double fraction)
+{
+  std::string text;
+  HeldOutComparison comparison;
+  try {
+    comparison = compareHeldOut(request.config, fit.job, fraction, request.encoder_history);
+    text = formatHeldOutComparison(comparison, fraction);
+  } catch (const std::exception& error) {
+    text = std::string("no held-out table: ") + error.what() + "\n";
+  }
+  if (fit.job.report.parameters.empty())
+    return text;
+  const AdequacyCheck check = checkModelAdequacy(*fit.job.model, fit.job.pairs);
+  return text + check.text +
+         adequacyAdvice(check, request.config.model, comparison.scores, "the held-out pairs");
 }
 
 std::string absolutePath(const std::string& directory, const std::string& name)
@@ -149,6 +171,9 @@ CalibrateOutcome CalibrationSession::calibrate(const CalibrationRequest& request
   adopt(name, fit_request.config, guidance, &outcome);  // may make a new outcome
   if (!pairing.empty())
     outcome.message += " Pairs: " + pairing.substr(0, pairing.size() - 1) + ".";
+  if (outcome.success && request.reply_holdout_fraction > 0.0)
+    outcome.message +=
+        "\n" + heldOutText(fit_request, *outcome.fit, request.reply_holdout_fraction);
   return outcome;
 }
 

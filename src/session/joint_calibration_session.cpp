@@ -331,6 +331,7 @@ std::optional<std::vector<SessionFit>> JointCalibrationSession::fitSourcesAlone(
     CalibrationRequest own = request;  // the joint model, from this source's start pose
     own.model = joint_config.model;
     own.options.clear();
+    own.reply_holdout_fraction = 0.0;  // the joint fit replies, without a held-out table
     own.models = configForSource(joint_config, k).models;
     const CalibrateOutcome alone = sessions_[k]->calibrate(own);
     *pairs_collected += alone.pairs_collected;

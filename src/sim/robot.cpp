@@ -124,13 +124,19 @@ public:
       : p_(options, {{"wheel_radius_left_m", 0.077},
                      {"wheel_radius_right_m", 0.077},
                      {"wheel_separation_m", 0.33},
-                     {"encoder_ticks_per_rev", 2000}}),
+                     {"encoder_ticks_per_rev", 2000},
+                     {"separation_growth", 0.0}}),
         deformation_(p_),
         r_left_(p_.positive("wheel_radius_left_m")),
         r_right_(p_.positive("wheel_radius_right_m")),
         separation_(p_.positive("wheel_separation_m")),
-        ticks_(p_.positive("encoder_ticks_per_rev"))
+        ticks_(p_.positive("encoder_ticks_per_rev")),
+        growth_(p_["separation_growth"])
   {
+    if (!(growth_ >= 0.0 && growth_ <= 10.0)) {
+      throw std::invalid_argument("robot parameter 'separation_growth' must be in [0, 10], got " +
+                                  std::to_string(growth_));
+    }
   }
 
   std::vector<JointEncoderSpec> joints() const override
@@ -151,7 +157,8 @@ public:
     const double left_y = speed_left * std::sin(misalignment);
     (*joint_rad)(0) += rate_left * dt_s;
     (*joint_rad)(1) += rate_right * dt_s;
-    return {0.5 * (left_x + speed_right), 0.5 * left_y, (speed_right - left_x) / separation_};
+    return {0.5 * (left_x + speed_right), 0.5 * left_y,
+            (speed_right - left_x) / effectiveSeparation(left_x, speed_right)};
   }
 
   bool canTurnInPlace() const override { return true; }
@@ -159,9 +166,18 @@ public:
   std::map<std::string, double> trueParameters() const override { return p_.all(); }
 
 private:
+  /// A tracked or skid base's separation, growing with the turn's tightness: b (1 + g nu), nu =
+  /// |v_r - v_l| / (|v_r| + |v_l|) (0 driving straight, 1 turning on the spot) [m].
+  double effectiveSeparation(double speed_left_mps, double speed_right_mps) const
+  {
+    const double sum = std::abs(speed_left_mps) + std::abs(speed_right_mps);
+    const double nu = sum > 0.0 ? std::abs(speed_right_mps - speed_left_mps) / sum : 0.0;
+    return separation_ * (1.0 + growth_ * nu);
+  }
+
   Parameters p_;
   Deformation deformation_;
-  double r_left_, r_right_, separation_, ticks_;
+  double r_left_, r_right_, separation_, ticks_, growth_;
 };
 
 class Tricycle : public Robot

@@ -13,6 +13,8 @@
 #include "odometry_calibration/calibration/saved_calibration_score.h"
 #include "odometry_calibration/common/arguments.h"
 #include "odometry_calibration/data/pairs_csv.h"
+#include "odometry_calibration/eval/tum_trajectory.h"
+#include "odometry_calibration/report/trajectory_files.h"
 #include "odometry_calibration/ros/bag_message_reader.h"
 #include "odometry_calibration/ros/bag_runner.h"
 
@@ -35,6 +37,9 @@ const char* kUsage =
     "options:\n"
     "  --pairs FILE         score on this pairs file instead of bags (repeatable)\n"
     "  --start S, --end S   use only [S, E] seconds after the bags' first message\n"
+    "  --trajectories DIR   write each row's dead reckoning and the scan matches in TUM\n"
+    "                       format into DIR (<model>.sensor.tum, <model>.base_link.tum,\n"
+    "                       scan_matched.tum; compare with evo_ape tum)\n"
     "  --quiet              no progress display\n"
     "\n"
     "exit status: 0 success; 1 bad input (message says what: a file that cannot be read, data\n"
@@ -60,6 +65,7 @@ struct ScoreArguments
 {
   std::string config_path, result_path;
   std::vector<std::string> bags, pairs_files;
+  std::string trajectory_dir;  ///< --trajectories (empty: none written)
   double start_s = 0.0, end_s = 0.0;
   bool quiet = !isatty(STDERR_FILENO);
 };
@@ -75,6 +81,7 @@ int parseArguments(int argc, char** argv, ScoreArguments& arguments)
         .repeatedOption("--pairs", &arguments.pairs_files)
         .number("--start", &arguments.start_s, 0.0)
         .number("--end", &arguments.end_s, 0.0)
+        .option("--trajectories", &arguments.trajectory_dir)
         .flag("--quiet", &arguments.quiet)
         .positionals(&arguments.bags);
     if (!parser.parse(argc, argv)) {
@@ -168,6 +175,12 @@ int main(int argc, char** argv)
     std::cout << scores.front().model << ": the saved calibration, not refitted\n";
     if (scores.size() == 1)
       std::cout << "(no nominal row: the configuration's prior_model is none)\n";
+    std::cout << formatBestModel(scores, "these pairs");
+    if (!arguments.trajectory_dir.empty()) {
+      std::cout << "trajectories: "
+                << writeTrajectoryFiles(arguments.trajectory_dir, tumTrajectoryFiles(scores))
+                << "\n";
+    }
     return 0;
   } catch (const std::exception& error) {
     std::cerr << "error: " << error.what() << "\n";

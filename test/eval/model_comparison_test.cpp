@@ -114,5 +114,33 @@ TEST(ModelComparison, AddsTheUnfittedNominalRowLast)
       << table;
 }
 
+TEST(ModelComparison, NamesTheBestRowAndHowManyTimesLowerItsAteIs)
+{
+  auto row = [](const std::string& name, double ate, double rpe = 0.0) {
+    ModelScore score;
+    score.model = name;
+    score.ate_m = ate;
+    score.rpe_m = rpe;
+    return score;
+  };
+  ModelScore skipped = row("tricycle", 0.0);
+  skipped.skipped = "two wheels";
+  ModelScore stalled = row("mecanum", 0.001);
+  stalled.converged = false;
+  const std::vector<ModelScore> scores = {row("diff_drive", 0.04, 0.002),
+                                          row("linear", 0.02, 0.003),
+                                          row("gp", 0.01, 0.001),
+                                          skipped,
+                                          stalled,
+                                          row("nominal", 0.2, 0.02)};
+  EXPECT_EQ(rankByAte(scores), (std::vector<std::string>{"gp", "linear", "diff_drive", "nominal"}));
+  EXPECT_EQ(formatBestModel(scores, "the held-out pairs"),
+            "best on the held-out pairs: gp, ATE 0.0100 m, 2.0x lower than linear (0.0200 m), "
+            "20.0x lower than nominal (0.2000 m); ranking by ATE: gp < linear < diff_drive < "
+            "nominal, by RPE: gp < diff_drive < linear < nominal\n");
+  EXPECT_EQ(rankByRpe(scores), (std::vector<std::string>{"gp", "diff_drive", "linear", "nominal"}));
+  EXPECT_EQ(formatBestModel({row("gp", 0.01)}, "x"), "");
+}
+
 }  // namespace
 }  // namespace odometry_calibration

@@ -5,6 +5,8 @@
 #include "odometry_calibration/models/diff_drive_model.h"
 #include "odometry_calibration/sim/pair_generator.h"
 
+#include "support/diff_drive_start.h"
+
 namespace odometry_calibration {
 namespace {
 
@@ -24,12 +26,7 @@ sim::PairGeneratorOptions truthOptions(unsigned seed)
 
 DiffDriveOptions nominal()
 {
-  DiffDriveOptions options;
-  options.initial_left_radius_m = 0.077;
-  options.initial_right_radius_m = 0.077;
-  options.initial_separation_m = 0.33;
-  options.initial_T_base_sensor = Pose2(0.1, 0.0, 0.0);
-  return options;
+  return test::nominalDiffDriveOptions();
 }
 
 TEST(DiffDriveModel, RecoversRadiiSeparationAndLaserPose)

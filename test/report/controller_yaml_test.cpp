@@ -56,6 +56,24 @@ TEST(ControllerYaml, DiffDriveControllerMultipliersRelativeToTheNominalValues)
   expectSigmaOnEveryFittedLine(text);
 }
 
+TEST(ControllerYaml, TrackedBaseGetsTheSeparationOnTheSpotAsAComment)
+{
+  ModelReport report = diffDriveReport("tracked");
+  report.parameters.insert(report.parameters.begin() + 3,
+                           {"separation_growth", "m", 0.0, 0.1, 0.001});
+  const std::string text = controllerYaml(report, "drive.bag");
+  const YAML::Node yaml = YAML::Load(text);
+  EXPECT_EQ(yaml.size(), 5u);  // the controller's keys only: the rest is comments
+  EXPECT_NEAR(yaml["wheel_separation_multiplier"].as<double>(), 1.46, 1e-6);  // b0 = 0.73 m
+  // On the spot b0 + b1 = 0.83 m: 1.66 times the nominal 0.5 m.
+  EXPECT_NE(text.find("#   b(nu) = 0.73 + 0.1 nu m (separation_growth sigma 0.001 m); on the "
+                      "spot 0.83 m,\n#   wheel_separation_multiplier 1.66 for a base"),
+            std::string::npos)
+      << text;
+  EXPECT_EQ(controllerYaml(diffDriveReport("diff_drive"), "b").find("tracked base"),
+            std::string::npos);
+}
+
 TEST(ControllerYaml, UndeterminedSigmaAndWarningsAreSaid)
 {
   ModelReport report = diffDriveReport("diff_drive");

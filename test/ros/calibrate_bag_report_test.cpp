@@ -3,6 +3,7 @@
 // still writes the report when gnuplot is missing, and writes nothing on bad input.
 #include <sys/wait.h>
 
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -12,6 +13,7 @@
 
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
+#include <Eigen/Geometry>
 
 #include "odometry_calibration/report/report_plots.h"
 #include "odometry_calibration/ros/sim_bag_writer.h"
@@ -174,24 +176,91 @@ TEST_F(CalibrateBagReport, WritesTheMarkdownReportWithPlots)
     EXPECT_EQ(entry.path().filename().string().find(".plots.tmp"), std::string::npos);
 }
 
-TEST_F(CalibrateBagReport, HoldsOutTheLastPairsAndScoresCalibratedAndNominalOnThem)
+/// One line of a TUM file: t x y z qx qy qz qw.
+struct TumPose
+{
+  double t = 0.0;
+  Eigen::Vector3d p;
+  Eigen::Quaterniond q;
+};
+
+std::vector<TumPose> readTum(const std::string& path)
+{
+  std::istringstream lines(readFile(path));
+  std::vector<TumPose> poses;
+  std::string line;
+  while (std::getline(lines, line)) {
+    TumPose pose;
+    double x, y, z, w;
+    std::istringstream fields(line);
+    fields >> pose.t >> pose.p.x() >> pose.p.y() >> pose.p.z() >> x >> y >> z >> w;
+    EXPECT_TRUE(fields && fields.peek() == EOF) << path << ": " << line;
+    pose.q = Eigen::Quaterniond(w, x, y, z);
+    poses.push_back(pose);
+  }
+  return poses;
+}
+
+/// The ATE and RPE of a table row of `text` ("<row> <ATE> <RPE> ..."; -1 when absent).
+std::pair<double, double> tableScores(const std::string& text, const std::string& row)
+{
+  const std::size_t at = text.find("\n" + row + " ");
+  double ate = -1.0, rpe = -1.0;
+  if (at != std::string::npos)
+    std::istringstream(text.substr(at + row.size() + 1)) >> ate >> rpe;
+  return {ate, rpe};
+}
+
+TEST_F(CalibrateBagReport, HoldsOutTheLastPairsAndScoresEveryModelOnThem)
 {
   ASSERT_EQ(run("holdout", "--holdout 0.4"), 0) << output("stdout") << output("stderr");
   const std::string report = readFile(directory_ + "/holdout/report.md");
   EXPECT_EQ(count(report, "## Held-out pairs\n"), 1u);
-  // Rows "calibrated" and "nominal": name, ATE, RPE, ...
-  auto rpe = [&](const std::string& row) {
-    const std::size_t at = report.find("\n" + row + " ");
-    if (at == std::string::npos)
-      return -1.0;
-    double ate = 0.0, value = -1.0;
-    std::istringstream(report.substr(at + row.size() + 1)) >> ate >> value;
-    return value;
-  };
-  const double calibrated = rpe("calibrated");
-  const double nominal = rpe("nominal");
+  // Rows of the configured model, of compare_models (linear, gp) and the nominal robot.
+  const double calibrated = tableScores(report, "diff_drive").second;
+  const double nominal = tableScores(report, "nominal").second;
   EXPECT_GT(calibrated, 0.0) << report;
   EXPECT_LT(calibrated, 0.6 * nominal) << report;
+  for (const char* row : {"linear", "gp"})
+    EXPECT_GT(tableScores(report, row).first, 0.0) << row << "\n" << report;
+  // The best row named, with its factor over the next: the lowest ATE of the table.
+  const std::size_t best = report.find("best on the held-out pairs: ");
+  ASSERT_NE(best, std::string::npos) << report;
+  char best_name[32] = "";
+  double best_ate = 0.0;
+  std::sscanf(report.c_str() + best, "best on the held-out pairs: %31[a-z_], ATE %lf", best_name,
+              &best_ate);
+  for (const char* row : {"diff_drive", "linear", "gp", "nominal"})
+    EXPECT_LE(best_ate, tableScores(report, row).first + 5e-5) << row << "\n" << report;
+  EXPECT_NEAR(best_ate, tableScores(report, best_name).first, 5e-5) << report;
+  // Every scored row's dead reckoning in TUM format: unit quaternions about z, increasing
+  // stamps, and against the scan matches the ATE the table printed.
+  const std::string folder = directory_ + "/holdout/trajectories/holdout/";
+  const std::vector<TumPose> matched = readTum(folder + "scan_matched.tum");
+  ASSERT_GT(matched.size(), 40u);
+  for (const char* row : {"diff_drive", "linear", "gp", "nominal"}) {
+    const std::vector<TumPose> poses = readTum(folder + row + ".sensor.tum");
+    const std::vector<TumPose> reference = fs::exists(folder + row + ".scan_matched.tum")
+                                               ? readTum(folder + row + ".scan_matched.tum")
+                                               : matched;
+    ASSERT_EQ(poses.size(), reference.size()) << row;
+    double sum = 0.0;
+    for (std::size_t k = 0; k < poses.size(); ++k) {
+      EXPECT_NEAR(poses[k].q.norm(), 1.0, 1e-9) << row << " " << k;
+      EXPECT_EQ(poses[k].q.x(), 0.0);
+      EXPECT_EQ(poses[k].q.y(), 0.0);
+      EXPECT_EQ(poses[k].t, reference[k].t);
+      if (k > 0) {
+        EXPECT_GT(poses[k].t, poses[k - 1].t) << row << " " << k;
+      }
+      sum += (poses[k].p - reference[k].p).squaredNorm();
+    }
+    EXPECT_NEAR(std::sqrt(sum / poses.size()), tableScores(report, row).first, 6e-5) << row;
+  }
+  // The models that know the sensor's pose also in base_link; the model-free ones do not.
+  EXPECT_TRUE(fs::exists(folder + "diff_drive.base_link.tum"));
+  EXPECT_TRUE(fs::exists(folder + "nominal.base_link.tum"));
+  EXPECT_FALSE(fs::exists(folder + "gp.base_link.tum"));
   // 40 % of the 60 s held out: the fit saw the pairs before about 36 s only.
   const std::size_t at = report.find("held out: the ");
   ASSERT_NE(at, std::string::npos);

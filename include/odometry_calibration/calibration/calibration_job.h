@@ -72,6 +72,15 @@ CalibrationJobResult runCalibrationJob(const CalibrationConfig& config,
                                        const std::vector<EncoderSample>& encoder_history,
                                        const CalibrationJobOptions& options = {});
 
+/// The nominal robot's row (the configuration's prior, unfitted: scoreNominal, with its
+/// configured sensor pose) on `pairs` made at `pairs_offset_s`, re-cut at time offset 0 from
+/// `history` when that is given and the offset is not 0; none without a prior or with fewer than
+/// two pairs left.
+std::optional<ModelScore> scoreNominalRobot(const CalibrationConfig& config,
+                                            const std::vector<MotionPair>& pairs,
+                                            const std::vector<EncoderSample>& history,
+                                            double pairs_offset_s);
+
 /// The paper's comparison (Tables III/IV): the job's model and each of config.compare_models
 /// (fitted to the job's pairs) scored on `test_pairs`, which were collected at the job's time
 /// offset. The job's model comes first; the nominal robot (the configuration's prior, unfitted:
@@ -83,10 +92,10 @@ std::vector<ModelScore> scoreModelsOnTest(const CalibrationConfig& config,
                                           const std::vector<MotionPair>& test_pairs,
                                           const std::vector<EncoderSample>& test_history = {});
 
-/// Held-out scores (scoreModel: ATE and RPE of the chained predictions, paper eqs. 10-11) of the
-/// job's model on `test_pairs` (collected at the configuration's time offset, re-cut at the
-/// job's from `encoder_history` when they differ), then of the nominal robot (the configuration's
-/// prior, at time offset 0) when there is one; rows named "calibrated" and "nominal".
+/// Held-out scores: scoreModelsOnTest (the job's model, each of config.compare_models fitted to
+/// the job's pairs, the nominal robot at time offset 0) on `test_pairs`, which were collected
+/// at the configuration's time offset and are re-cut at the job's from `encoder_history` when
+/// the two differ. One table for `--test` and `--holdout`.
 std::vector<ModelScore> scoreHeldOut(const CalibrationConfig& config,
                                      const CalibrationJobResult& job,
                                      const std::vector<MotionPair>& test_pairs,

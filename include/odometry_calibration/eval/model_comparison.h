@@ -3,6 +3,7 @@
 // RMSE of the predicted displacements.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -36,13 +37,22 @@ struct ModelScore
   /// Why the model could not be fitted on these pairs (empty when it was): the table shows the
   /// row as skipped and the reason under it.
   std::string skipped;
+  /// The trajectories scored (empty for a skipped row): the keyframe stamps [s] (the first test
+  /// pair's start, then each pair's end), and the chained predictions and measured
+  /// displacements, sensor poses in the sensor frame of the first keyframe [m, m, rad].
+  std::vector<double> stamps_s;
+  std::vector<Pose2> predicted, measured;
+  /// The sensor's pose in base_link the model holds (a fit that estimated it, the nominal
+  /// robot's configured one); none for a model-free model.
+  std::optional<Pose2> T_base_sensor;
 };
 
 /// The paper's baseline row: `nominal` (a parametric model at its configured start values,
 /// unfitted) scored on the test pairs as scoreModel does, named "nominal", `fitted` false.
 ModelScore scoreNominal(const MotionModel& nominal, const std::vector<MotionPair>& test);
 
-/// `score` with the fit's time, outliers, warnings and convergence from `report`.
+/// `score` with the fit's time, outliers, warnings and convergence from `report`, and its
+/// sensor pose when the fit estimated one.
 ModelScore withFitReport(ModelScore score, const ModelReport& report);
 
 /// Scores a fitted model: each test pair's displacement predicted from its encoder samples,
@@ -54,6 +64,19 @@ ModelScore scoreModel(const MotionModel& model, const std::vector<MotionPair>& t
 /// converge is marked "NOT converged" on its row and named, with the reason, under the table; a
 /// skipped model likewise "skipped".
 std::string formatComparisonTable(const std::vector<ModelScore>& scores);
+
+/// Which row generalizes best, in words: the scored row (not skipped, converged) with the lowest
+/// ATE, how many times lower it is than the next best and than the nominal row, and the ranking
+/// of all scored rows by ATE and by RPE (the ATE of a longer drive grows with its length, the RPE
+/// does not), e.g. "best on the held-out pairs: gp, ATE 0.0123 m, 2.1x lower than linear (0.0258
+/// m), 19.1x lower than nominal (0.2350 m); ranking by ATE: gp < linear < diff_drive < nominal,
+/// by RPE: gp < diff_drive < linear < nominal". `where` names the pairs ("the held-out pairs").
+/// Empty with fewer than two scored rows.
+std::string formatBestModel(const std::vector<ModelScore>& scores, const std::string& where);
+
+/// The scored rows' names (not skipped, converged) from the lowest ATE (RPE) to the highest.
+std::vector<std::string> rankByAte(const std::vector<ModelScore>& scores);
+std::vector<std::string> rankByRpe(const std::vector<ModelScore>& scores);
 
 /// Fits each model of `models` (makeModel with `options`, in order) on the training pairs and
 /// scores it on the test pairs (scoreModel, plus the fit's time, outliers and warnings), then

@@ -34,7 +34,7 @@ struct MarkdownReportInput
   std::string nominal_description;
   std::string test_table;  ///< the comparison table on test bags (empty: none)
   std::size_t test_pairs = 0;
-  std::string holdout_table;       ///< calibrated and nominal on the held-out pairs (empty: none)
+  std::string holdout_table;       ///< every model and the nominal on the held-out pairs (or empty)
   std::string holdout_note;        ///< which pairs were held out, in words
   std::string fit_interval_note;   ///< how the fit interval was chosen, in words (empty: fixed)
   ReportPlots plots;               ///< images made, or why not

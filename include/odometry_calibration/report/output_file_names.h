@@ -12,5 +12,6 @@ inline constexpr const char* kJointReportFileName = "joint_report.txt";        /
 inline constexpr const char* kTextReportFileName = "report.txt";
 inline constexpr const char* kReportFileName = "report.md";
 inline constexpr const char* kPlotFolderName = "plots";
+inline constexpr const char* kTrajectoryFolderName = "trajectories";  ///< TUM files
 
 }  // namespace odometry_calibration

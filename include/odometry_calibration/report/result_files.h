@@ -8,6 +8,7 @@
 #pragma once
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "odometry_calibration/calibration/calibration_job.h"
@@ -27,6 +28,9 @@ struct ResultFiles
   ReportPlotInput plots;         ///< data of the report's plots
   MarkdownReportInput markdown;  ///< the report (plots, plot_folder and files are filled in)
   GnuplotOptions gnuplot;        ///< the plotting program
+  /// The scored models' trajectories in TUM format (eval/tum_trajectory.h): path under
+  /// `trajectories/` ("holdout/gp.sensor.tum") and content; none: no `trajectories/` folder.
+  std::vector<std::pair<std::string, std::string>> trajectories;
 };
 
 /// The files of one calibration job fitted at `fit_interval_s` [s]: its pairs, its calibration

@@ -42,6 +42,9 @@ struct NodeOptions
   double diagnostics_period_s = 1.0;     ///< ~diagnostics_period_s [s]
   double marker_height_m = 1.0;          ///< ~guidance_marker_height_m: text above base [m]
   double marker_text_height_m = 0.25;    ///< ~guidance_marker_text_m: height of a letter [m]
+  /// ~holdout_fraction: the ~calibrate reply's held-out table on this last fraction of the
+  /// pairs (CalibrationRequest::reply_holdout_fraction); 0: none.
+  double holdout_fraction = 0.3;
   /// ~load_saved_calibration, ~resume_pairs, ~min_pairs, ~silent_topic_timeout_s, ~path_*,
   /// ~guidance*, ~health_*: the session's.
   SessionOptions session;

@@ -99,6 +99,10 @@ struct CalibrationRequest
   /// pairing at the estimated offset): fit only those before its border (calibrate_bag
   /// --holdout). In (0, 1); none: fit_until_stamp_s.
   std::optional<double> holdout_fraction;
+  /// After a successful fit on all pairs, the reply's held-out table (held_out_comparison.h):
+  /// every model refitted on the pairs before the last fraction and scored on that fraction
+  /// (the live node's ~holdout_fraction). In [0, 1); 0: none.
+  double reply_holdout_fraction = 0.0;
   std::optional<TimeOffsetResult> offset_search;  ///< already run on exactly these pairs
   /// The model sections for `model`, configured already (a joint session's, each source's
   /// with its own start pose): `options` is then not read.

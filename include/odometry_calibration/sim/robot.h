@@ -83,7 +83,9 @@ public:
 
 /// Builds a robot. Keys by type (defaults in brackets; lengths in m, angles in rad):
 ///  diff_drive: wheel_radius_left_m [0.077], wheel_radius_right_m [0.077],
-///    wheel_separation_m [0.33], encoder_ticks_per_rev [2000]
+///    wheel_separation_m [0.33], encoder_ticks_per_rev [2000], separation_growth [0] (a tracked
+///    or skid base: the separation it turns with is b (1 + g nu), nu = |v_r - v_l| / (|v_r| +
+///    |v_l|), 0 straight, 1 on the spot; 0.2: 20 % wider on the spot than straight)
 ///  tricycle: steering_scale [0.56], traction_scale_m_per_turn [0.0106], axis_length_m [1.54],
 ///    steering_offset_rad [-0.06], max_steering_rad [1.2], steering_rate_radps [1.5],
 ///    steering_ticks_per_rev [8192], traction_ticks_per_rev [5000]
