@@ -319,7 +319,10 @@ public:
         ticks_(scenario.encoders.output == "ticks"),
         tick_stagger_ns_(std::llround(scenario.encoders.tick_stagger_s * 1e9)),
         velocities_(scenario.encoders.output == "joint_velocity"),
-        shaft_rate_(Eigen::VectorXd::Zero(static_cast<Eigen::Index>(specs_.size())))
+        shaft_rate_(Eigen::VectorXd::Zero(static_cast<Eigen::Index>(specs_.size()))),
+        imu_model_(scenario.imu, scenario.seed),
+        imu_period_(periodNs(scenario.imu.rate_hz)),
+        next_imu_(scenario.imu.enabled ? 0 : std::numeric_limits<std::int64_t>::max())
   {
     if (multibeam_)
       history_.add(0, T_world_base_, 2 * scan_period_);
@@ -329,7 +332,7 @@ public:
   {
     while (true) {
       const std::int64_t next_event =
-          std::min({next_encoder_, next_scan_, next_control_, nextExtraScan(), nextTick()});
+          std::min({next_encoder_, next_scan_, next_control_, nextExtraScan(), nextTick(), next_imu_});
       if (next_event > end_ns_)
         break;
       integrateTo(next_event);
@@ -344,6 +347,10 @@ public:
         next_encoder_ += nextEncoderSpacing();
       }
       publishDueTicks(t);
+      if (now_ == next_imu_) {
+        sink_.onImu(imu_model_.measure(t, realised_.omega_radps));
+        next_imu_ += imu_period_;
+      }
       if (now_ == next_scan_ && multibeam_) {
         if (now_ >= scan_period_) {  // a sweep that began at the start or later
           CloudSample cloud = castSweep(laser_, T_base_laser_, world_, history_, now_, scan_period_,
@@ -564,6 +571,9 @@ private:
   std::multimap<std::int64_t, std::size_t> pending_ticks_;  // due time [ns] -> joint
   const bool velocities_;                                   // encoders.output joint_velocity
   Eigen::VectorXd shaft_rate_;  // over the last integration step [rad/s]
+  ImuModel imu_model_;          // the IMU's gyro (its own random stream)
+  const std::int64_t imu_period_;
+  std::int64_t next_imu_;  // never without scenario.imu.enabled
 };
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "odometry_calibration/geometry/se2.h"
+#include "odometry_calibration/sim/imu_model.h"
 #include "odometry_calibration/sim/robot.h"
 #include "odometry_calibration/sim/scenario.h"
 #include "odometry_calibration/sim/world.h"
@@ -94,6 +95,7 @@ public:
   virtual void onTracker(const TrackerSample& /*sample*/) {}
   virtual void onCloud(const CloudSample& /*sample*/) {}
   virtual void onWheelTick(const WheelTickSample& /*sample*/) {}
+  virtual void onImu(const ImuSample& /*sample*/) {}
 };
 
 /// Forwards every sample to several sinks, in order.
@@ -110,6 +112,7 @@ public:
   void onTracker(const TrackerSample& s) override { forward(&SimulationSink::onTracker, s); }
   void onCloud(const CloudSample& s) override { forward(&SimulationSink::onCloud, s); }
   void onWheelTick(const WheelTickSample& s) override { forward(&SimulationSink::onWheelTick, s); }
+  void onImu(const ImuSample& s) override { forward(&SimulationSink::onImu, s); }
 
 private:
   /// Calls `receive` (one of the SimulationSink callbacks) with `sample` on every sink, in order.
