@@ -29,6 +29,7 @@ void feedEgoMotion(CalibrationSession& session, const ConvertedInput& input)
     case ConvertedInput::Kind::kBadJoints:
     case ConvertedInput::Kind::kWheelTick:
     case ConvertedInput::Kind::kJointVelocities:
+    case ConvertedInput::Kind::kGyro:
       break;
   }
 }
@@ -38,9 +39,10 @@ void feedEgoMotion(CalibrationSession& session, const ConvertedInput& input)
 void feedInput(CalibrationSession& session, const ConvertedInput& input)
 {
   if (input.kind == ConvertedInput::Kind::kWheelTick ||
-      input.kind == ConvertedInput::Kind::kJointVelocities) {
+      input.kind == ConvertedInput::Kind::kJointVelocities ||
+      input.kind == ConvertedInput::Kind::kGyro) {
     throw std::invalid_argument(
-        "wheel ticks and joint velocities go to a JointCalibrationSession (its wheel signals)");
+        "wheel ticks, joint velocities and gyro readings go to a JointCalibrationSession");
   }
   if (input.kind == ConvertedInput::Kind::kJoints) {
     session.addJointPositions(input.stamp_s, input.raw, input.publisher);
@@ -64,6 +66,8 @@ void feedInput(JointCalibrationSession& sessions, const ConvertedInput& input)
     sessions.addWheelTick(input.wheel, input.stamp_s, input.raw(0), input.publisher);
   else if (input.kind == ConvertedInput::Kind::kJointVelocities)
     sessions.addJointVelocities(input.stamp_s, input.raw, input.publisher);
+  else if (input.kind == ConvertedInput::Kind::kGyro)
+    sessions.addGyroReading(input.stamp_s, input.raw, input.problem);
   else
     feedEgoMotion(sessions.source(input.source), input);
 }

@@ -98,6 +98,10 @@ JointCalibrationSession::JointCalibrationSession(
       sources_(egoMotionSources(config)),
       fit_jointly_(std::move(fit_jointly))
 {
+  if (!config.gyro.topic.empty()) {
+    gyro_ = std::make_unique<GyroSource>(config.gyro, config.time_offset_search_min_s,
+                                         config.time_offset_search_max_s);
+  }
   if (sources_.size() <= 1) {  // one source: its session exactly as before
     sessions_.push_back(std::make_unique<CalibrationSession>(
         config, config_text, config_source, options, listener ? listener(0) : SessionListener{}));
@@ -270,13 +274,53 @@ std::optional<double> JointCalibrationSession::healthStatistic() const
 
 JointCalibrateOutcome JointCalibrationSession::calibrate(const CalibrationRequest& request)
 {
+  JointCalibrateOutcome result;
   if (sessions_.size() == 1) {
-    JointCalibrateOutcome one;
-    one.outcome = sessions_.front()->calibrate(request);
-    return one;
+    result.outcome = sessions_.front()->calibrate(request);
+  } else {
+    std::lock_guard<std::mutex> fitting(fit_mutex_);
+    result = calibrateJointly(request);
   }
-  std::lock_guard<std::mutex> fitting(fit_mutex_);
-  return calibrateJointly(request);
+  fitGyro(&result);
+  return result;
+}
+
+std::string JointCalibrationSession::addGyroReading(double stamp_s,
+                                                   const Eigen::VectorXd& angular_velocity,
+                                                   const std::string& problem)
+{
+  if (!gyro_)
+    return "an IMU reading without gyro.topic configured: set gyro.topic to use the gyro";
+  if (!problem.empty())
+    return gyro_->refuse(problem);
+  if (angular_velocity.size() != 3)
+    return gyro_->refuse("gyro reading with " + std::to_string(angular_velocity.size()) +
+                         " angular velocity components, not 3");
+  return gyro_->add(stamp_s, angular_velocity);
+}
+
+void JointCalibrationSession::fitGyro(JointCalibrateOutcome* result) const
+{
+  if (!gyro_)
+    return;
+  const std::vector<MotionPair>* pairs = nullptr;
+  double pairs_time_offset_s = 0.0;
+  if (!result->inputs.empty()) {
+    pairs = &result->inputs.front().pairs;
+    pairs_time_offset_s = result->inputs.front().time_offset_s;
+  } else if (result->outcome.fit) {
+    pairs = &result->outcome.fit->job.pairs;
+    pairs_time_offset_s = result->outcome.fit->job.time_offset_s;
+  }
+  if (pairs == nullptr)
+    return;
+  result->gyro = gyro_->fit(*pairs, pairs_time_offset_s);
+  std::string line = gyroFitText(*result->gyro);
+  if (gyro_->refused() > 0) {
+    line += "; " + std::to_string(gyro_->refused()) +
+            " readings refused, the first: " + gyro_->firstProblem();
+  }
+  result->outcome.message += (result->outcome.message.empty() ? "" : "\n") + line;
 }
 
 CalibrationConfig JointCalibrationSession::jointModelConfig(const std::string& name,
@@ -481,6 +525,8 @@ std::string JointCalibrationSession::saveJoint() const
 
 std::pair<bool, std::string> JointCalibrationSession::reset()
 {
+  if (gyro_)
+    gyro_->clear();
   if (sessions_.size() == 1)
     return sessions_.front()->reset();
   std::lock_guard<std::mutex> fitting(fit_mutex_);

@@ -112,6 +112,7 @@ private:
   ros::Subscriber joint_subscriber_;
   std::vector<ros::Subscriber> tick_subscribers_;  ///< wheels.source ticks: one per joint
   std::vector<ros::Subscriber> ego_subscribers_;   ///< one per source
+  ros::Subscriber gyro_subscriber_;                ///< gyro.topic's sensor_msgs/Imu, when set
   ros::Publisher odom_publisher_, nominal_path_publisher_, corrected_path_publisher_,
       scan_path_publisher_, pairs_publisher_, report_publisher_, diagnostics_publisher_,
       guidance_marker_publisher_, health_statistic_publisher_;

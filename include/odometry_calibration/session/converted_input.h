@@ -35,6 +35,8 @@ struct ConvertedInput
     kSensorPose,       ///< `pose`: the sensor's pose in the world; `frame` its child frame (or "")
     kWheelTick,        ///< `raw(0)`: joint `wheel`'s raw tick reading (wheels.source ticks)
     kJointVelocities,  ///< `raw`: the joints' velocities (encoderChannels order, no signs)
+    kGyro,             ///< `raw`: an IMU's angular velocity (x, y, z) in its frame [rad/s];
+                       ///< `problem` non-empty: a reading that could not be read, and why
   };
   Kind kind = Kind::kJoints;
   /// The ego-motion source the message came from (egoMotionSources order; 0 with one source

@@ -21,6 +21,7 @@
 
 #include "odometry_calibration/calibration/joint_source_fit.h"
 #include "odometry_calibration/session/calibration_session.h"
+#include "odometry_calibration/session/gyro_source.h"
 #include "odometry_calibration/session/wheel_signals.h"
 
 namespace odometry_calibration {
@@ -37,6 +38,9 @@ struct JointCalibrateOutcome
   std::vector<SessionFit> alone;
   std::vector<JointSourceInput> inputs;
   std::string joint_failure;  ///< why the joint fit itself failed ("" when it ran)
+  /// With gyro.topic: the gyro's fit against the first source's fitted pairs (gyro_fit.h), when
+  /// a fit of the wheels ran.
+  std::optional<GyroFit> gyro;
 };
 
 /// The joint fit of the sources' fits alone (fitSourcesJointly's signature; a test forces a
@@ -84,6 +88,13 @@ public:
   /// wheels.source joint_velocity: the joints' velocities at `stamp_s`, integrated (as above).
   void addJointVelocities(double stamp_s, const Eigen::VectorXd& velocity,
                           const std::string& publisher = "");
+  /// gyro.topic: one IMU reading (GyroSource::add; `angular_velocity` x, y, z [rad/s]); "" when
+  /// kept, else why it was refused. `problem` non-empty: a message that could not be read,
+  /// refused and counted with that reason. Without a gyro configured: refused, naming gyro.topic.
+  std::string addGyroReading(double stamp_s, const Eigen::VectorXd& angular_velocity,
+                             const std::string& problem = "");
+  /// The gyro's readings (null without gyro.topic).
+  const GyroSource* gyro() const { return gyro_.get(); }
   void flush();
   void tick();
   /// Every source's pairs not yet written; returns how many still are not, in all.
@@ -119,6 +130,9 @@ public:
 
 private:
   JointCalibrateOutcome calibrateJointly(const CalibrationRequest& request);
+  /// With a gyro: its fit against the first source's fitted pairs into `result` (and its line
+  /// appended to the reply's message).
+  void fitGyro(JointCalibrateOutcome* result) const;
   /// The joint fit's configuration: model `name` (one with a joint fit) with the call's
   /// `options`; throws std::invalid_argument naming an option it does not take or what the
   /// configuration lacks for that model.
@@ -149,6 +163,7 @@ private:
   CalibrationConfig config_;
   std::string config_text_, config_source_;
   std::unique_ptr<WheelSignals> wheel_signals_;
+  std::unique_ptr<GyroSource> gyro_;  ///< gyro.topic's readings; null without one
   std::mutex wheel_mutex_;       ///< guards wheel_signals_ and the order its samples are fed in
   std::string wheel_publisher_;  ///< the first joint's topic's publisher (ticks)
   SessionOptions options_;
