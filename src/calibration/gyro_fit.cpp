@@ -8,6 +8,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Geometry>
+#include <yaml-cpp/yaml.h>
 
 #include "odometry_calibration/data/encoder_track.h"
 
@@ -256,6 +257,29 @@ std::string gyroFitText(const GyroFit& fit)
                 fit.scale.value, fit.scale.sigma, fit.bias.value, fit.bias.sigma,
                 fit.time_offset.value, fit.time_offset.sigma, fit.pairs, fit.residual_rms_rad);
   return text;
+}
+
+std::string gyroResultYaml(const GyroFit& fit, const std::string& topic)
+{
+  YAML::Emitter out;
+  out.SetDoublePrecision(10);
+  out << YAML::BeginMap << YAML::Key << "gyro" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "topic" << YAML::Value << topic;
+  out << YAML::Key << "fitted" << YAML::Value << fit.fitted;
+  if (!fit.fitted) {
+    out << YAML::Key << "problem" << YAML::Value << fit.problem;
+  } else {
+    const std::pair<const char*, const ParameterEstimate*> values[] = {
+        {"scale", &fit.scale}, {"bias_rad_s", &fit.bias}, {"time_offset_s", &fit.time_offset}};
+    for (const auto& [key, estimate] : values) {
+      out << YAML::Key << key << YAML::Value << estimate->value;
+      out << YAML::Key << (std::string(key) + "_sigma") << YAML::Value << estimate->sigma;
+    }
+    out << YAML::Key << "pairs" << YAML::Value << fit.pairs;
+    out << YAML::Key << "rotation_residual_rms_rad" << YAML::Value << fit.residual_rms_rad;
+  }
+  out << YAML::EndMap << YAML::EndMap;
+  return std::string(out.c_str()) + "\n";
 }
 
 }  // namespace odometry_calibration

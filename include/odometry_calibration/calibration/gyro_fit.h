@@ -88,4 +88,9 @@ GyroFit fitGyro(const std::vector<MotionPair>& pairs, double pairs_time_offset_s
 /// The fit in words, one line: scale, bias and time offset with σ, the pairs.
 std::string gyroFitText(const GyroFit& fit);
 
+/// result.yaml's `gyro:` block (appended to the file): `topic`, then `scale`, `bias_rad_s`,
+/// `time_offset_s` each with its `_sigma`, `pairs`, `rotation_residual_rms_rad`; not fitted:
+/// `fitted: false` and `problem`.
+std::string gyroResultYaml(const GyroFit& fit, const std::string& topic);
+
 }  // namespace odometry_calibration
