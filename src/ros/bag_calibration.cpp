@@ -158,15 +158,6 @@ void describeRun(const BagCalibrationOptions& options, const CalibrationConfig& 
   files->markdown.collection_notes = run.session->source(source).collectionNotes();
 }
 
-/// result.yaml of `files` with the gyro's block (gyroResultYaml) appended.
-void appendGyro(FileSet* files, const GyroFit& gyro, const std::string& topic)
-{
-  for (auto& [name, content] : files->written) {
-    if (name == "result.yaml")
-      content += gyroResultYaml(gyro, topic);
-  }
-}
-
 /// The files of source `source`'s fit `fit` (its report's data too), `text` its terminal text.
 ResultFiles runFiles(const BagCalibrationOptions& options, const CalibrationConfig& config,
                      const BagRunResult& run, std::size_t source, const SessionFit& fit,
@@ -277,7 +268,7 @@ int calibrateOneSource(const BagCalibrationOptions& options, CalibrationConfig c
   ResultFiles files = runFiles(options, config, run, 0, fit, "");
   if (gyro) {
     text += "\n" + gyroFitText(*gyro) + "\n";
-    appendGyro(&files.calibration, *gyro, config.gyro.topic);
+    appendGyroResult(&files.calibration, *gyro, config.gyro.topic);
   }
   if (!options.test_bags.empty())
     text += scoreTestBags(options, config, job, &files);
@@ -326,7 +317,7 @@ int calibrateSeveralSources(const BagCalibrationOptions& options, const Calibrat
       joint_files = jointCalibrationFiles(config, *outcome.joint, outcome.inputs,
                                           options.bags.front(), "base_link", joint_text);
       if (outcome.gyro)
-        appendGyro(&joint_files, *outcome.gyro, config.gyro.topic);
+        appendGyroResult(&joint_files, *outcome.gyro, config.gyro.topic);
       text = joint_text;
       for (std::size_t k = 0; k < outcome.joint->sensors.size(); ++k)
         status = std::max(status, calibrationExitStatus(sensorModelReport(*outcome.joint, k)));

@@ -281,6 +281,7 @@ JointCalibrateOutcome JointCalibrationSession::calibrate(const CalibrationReques
     std::lock_guard<std::mutex> fitting(fit_mutex_);
     result = calibrateJointly(request);
   }
+  std::lock_guard<std::mutex> fitting(fit_mutex_);
   fitGyro(&result);
   return result;
 }
@@ -299,7 +300,7 @@ std::string JointCalibrationSession::addGyroReading(double stamp_s,
   return gyro_->add(stamp_s, angular_velocity);
 }
 
-void JointCalibrationSession::fitGyro(JointCalibrateOutcome* result) const
+void JointCalibrationSession::fitGyro(JointCalibrateOutcome* result)
 {
   if (!gyro_)
     return;
@@ -315,6 +316,7 @@ void JointCalibrationSession::fitGyro(JointCalibrateOutcome* result) const
   if (pairs == nullptr)
     return;
   result->gyro = gyro_->fit(*pairs, pairs_time_offset_s);
+  gyro_fit_ = result->gyro;
   std::string line = gyroFitText(*result->gyro);
   if (gyro_->refused() > 0) {
     line += "; " + std::to_string(gyro_->refused()) +
@@ -491,9 +493,9 @@ std::string JointCalibrationSession::adoptJointFit(const CalibrationConfig& join
 
 std::pair<bool, std::string> JointCalibrationSession::save()
 {
-  if (sessions_.size() == 1)
-    return sessions_.front()->save();
   std::lock_guard<std::mutex> fitting(fit_mutex_);
+  if (sessions_.size() == 1)
+    return gyro_fit_ ? saveWithGyro() : sessions_.front()->save();
   if (!joint_)
     return {false, "nothing to save: no successful joint ~calibrate since the node started"};
   if (options_.output_directory.empty())
@@ -515,12 +517,34 @@ std::string JointCalibrationSession::saveJoint() const
                                               options_.source, options_.base_frame, joint_text_);
   set.written.insert(set.written.end(), joint.written.begin(), joint.written.end());
   set.removed.insert(set.removed.end(), joint.removed.begin(), joint.removed.end());
+  if (gyro_fit_)
+    appendGyroResult(&set, *gyro_fit_, config_.gyro.topic);
   writeFileSet(options_.output_directory, set);
   std::string list;
   for (const auto& [name, content] : set.written)
     list += (list.empty() ? "" : ", ") + name;
   return "saved the joint fit in " +
          fs::absolute(options_.output_directory).lexically_normal().string() + ": " + list;
+}
+
+std::pair<bool, std::string> JointCalibrationSession::saveWithGyro() const
+{
+  const std::string& directory = options_.output_directory;
+  if (directory.empty())
+    return {false, "nothing to save: the session has no output directory"};
+  try {
+    FileSet files = sessions_.front()->filesToSave();
+    appendGyroResult(&files, *gyro_fit_, config_.gyro.topic);
+    writeFileSet(directory, files);  // all replaced, or none
+    std::string list;
+    for (const auto& [name, content] : files.written)
+      list += (list.empty() ? "" : ", ") + name;
+    return {true, "saved the fit and the gyro's in " +
+                      fs::absolute(directory).lexically_normal().string() + ": " + list};
+  } catch (const std::exception& error) {
+    const std::string what = error.what();
+    return {false, what.rfind("nothing to save", 0) == 0 ? what : "cannot save: " + what};
+  }
 }
 
 std::pair<bool, std::string> JointCalibrationSession::reset()

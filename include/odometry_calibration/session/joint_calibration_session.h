@@ -132,7 +132,9 @@ private:
   JointCalibrateOutcome calibrateJointly(const CalibrationRequest& request);
   /// With a gyro: its fit against the first source's fitted pairs into `result` (and its line
   /// appended to the reply's message).
-  void fitGyro(JointCalibrateOutcome* result) const;
+  void fitGyro(JointCalibrateOutcome* result);
+  /// One source with a gyro fit: its session's files and the gyro in result.yaml, as one set.
+  std::pair<bool, std::string> saveWithGyro() const;
   /// The joint fit's configuration: model `name` (one with a joint fit) with the call's
   /// `options`; throws std::invalid_argument naming an option it does not take or what the
   /// configuration lacks for that model.
@@ -164,6 +166,8 @@ private:
   std::string config_text_, config_source_;
   std::unique_ptr<WheelSignals> wheel_signals_;
   std::unique_ptr<GyroSource> gyro_;  ///< gyro.topic's readings; null without one
+  /// The last ~calibrate's gyro fit (save() writes it into result.yaml); guarded by fit_mutex_.
+  std::optional<GyroFit> gyro_fit_;
   std::mutex wheel_mutex_;       ///< guards wheel_signals_ and the order its samples are fed in
   std::string wheel_publisher_;  ///< the first joint's topic's publisher (ticks)
   SessionOptions options_;
