@@ -6,9 +6,9 @@
 #include <memory>
 #include <stdexcept>
 
+#include <yaml-cpp/yaml.h>
 #include <Eigen/Cholesky>
 #include <Eigen/Geometry>
-#include <yaml-cpp/yaml.h>
 
 #include "odometry_calibration/data/encoder_track.h"
 
@@ -93,7 +93,10 @@ public:
 
   const Eigen::Vector2d& coefficients() const { return coefficients_; }
   const Eigen::Matrix2d& covariance() const { return covariance_; }
-  std::size_t used() const { return static_cast<std::size_t>(std::count(used_.begin(), used_.end(), true)); }
+  std::size_t used() const
+  {
+    return static_cast<std::size_t>(std::count(used_.begin(), used_.end(), true));
+  }
   double rms() const { return rms_; }
 
 private:

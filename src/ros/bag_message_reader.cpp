@@ -125,8 +125,7 @@ bool readAs(RecordedMessages& messages, const MessageAdapter& adapter, std::size
   if (!messages.read(message))
     return false;
   const auto converted = timers.endReading();
-  if constexpr (std::is_same_v<M, sensor_msgs::JointState> ||
-                std::is_same_v<M, sensor_msgs::Imu>) {
+  if constexpr (std::is_same_v<M, sensor_msgs::JointState> || std::is_same_v<M, sensor_msgs::Imu>) {
     input = adapter.convert(message, messages.publisher());
   } else if constexpr (std::is_same_v<M, sensor_msgs::PointCloud2>) {
     double filtering_s = 0.0;

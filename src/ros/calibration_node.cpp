@@ -163,7 +163,8 @@ void CalibrationNode::subscribe()
     gyro_subscriber_ = subscribeEvents<sensor_msgs::Imu>(
         handle_, config_.gyro.topic, 2000,
         [this](const ros::MessageEvent<const sensor_msgs::Imu>& event) {
-          feedInput(*sessions_, adapter_->convert(*event.getConstMessage(), event.getPublisherName()));
+          feedInput(*sessions_,
+                    adapter_->convert(*event.getConstMessage(), event.getPublisherName()));
         },
         hints);
   }

@@ -149,8 +149,7 @@ ConvertedInput MessageAdapter::convert(const geometry_msgs::PoseStamped& message
   return sensorPose(message.pose, message.header.stamp, "", source, std::move(publisher));
 }
 
-ConvertedInput MessageAdapter::convert(const sensor_msgs::Imu& message,
-                                       std::string publisher) const
+ConvertedInput MessageAdapter::convert(const sensor_msgs::Imu& message, std::string publisher) const
 {
   ConvertedInput input;
   input.kind = ConvertedInput::Kind::kGyro;

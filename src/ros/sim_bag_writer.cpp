@@ -8,10 +8,10 @@
 #include <type_traits>
 
 #include <geometry_msgs/PoseStamped.h>
-#include <sensor_msgs/Imu.h>
 #include <geometry_msgs/TransformStamped.h>
 #include <nav_msgs/Odometry.h>
 #include <rosbag/bag.h>
+#include <sensor_msgs/Imu.h>
 #include <sensor_msgs/JointState.h>
 #include <sensor_msgs/LaserScan.h>
 #include <sensor_msgs/PointCloud2.h>

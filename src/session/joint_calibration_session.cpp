@@ -287,8 +287,8 @@ JointCalibrateOutcome JointCalibrationSession::calibrate(const CalibrationReques
 }
 
 std::string JointCalibrationSession::addGyroReading(double stamp_s,
-                                                   const Eigen::VectorXd& angular_velocity,
-                                                   const std::string& problem)
+                                                    const Eigen::VectorXd& angular_velocity,
+                                                    const std::string& problem)
 {
   if (!gyro_)
     return "an IMU reading without gyro.topic configured: set gyro.topic to use the gyro";

@@ -331,8 +331,8 @@ public:
   SimulationSummary run()
   {
     while (true) {
-      const std::int64_t next_event =
-          std::min({next_encoder_, next_scan_, next_control_, nextExtraScan(), nextTick(), next_imu_});
+      const std::int64_t next_event = std::min(
+          {next_encoder_, next_scan_, next_control_, nextExtraScan(), nextTick(), next_imu_});
       if (next_event > end_ns_)
         break;
       integrateTo(next_event);

@@ -32,8 +32,8 @@ protected:
   {
     char pattern[] = "/tmp/calibrate_bag_gyro_test.XXXXXX";
     directory_ = mkdtemp(pattern);
-    sim::Scenario scenario = sim::loadScenarioYaml(
-        kConfig + "/sim/scenarios/diff_drive_gyro.yaml", kConfig + "/sim/worlds");
+    sim::Scenario scenario = sim::loadScenarioYaml(kConfig + "/sim/scenarios/diff_drive_gyro.yaml",
+                                                   kConfig + "/sim/worlds");
     scenario.duration_s = 180.0;
     simulateToBag(scenario, directory_ + "/drive.bag", "");
     simulateToBag(scenario, directory_ + "/drive_db3", "", nullptr, BagFormat::kDb3);

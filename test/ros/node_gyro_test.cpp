@@ -34,8 +34,8 @@ TEST(NodeGyro, NodeAndCalibrateBagGiveTheSameGyroScaleBiasAndClock)
                            " --wait-for-subscribers --topics /joint_states /scan /imu/data > " +
                            output_directory + "/play.log 2>&1";
   ASSERT_EQ(std::system(play.c_str()), 0) << play;
-  test::waitUntilSettled<std::size_t>(
-      [&] { return test::fileLines(node_output + "/pairs.csv"); }, 5, 60);
+  test::waitUntilSettled<std::size_t>([&] { return test::fileLines(node_output + "/pairs.csv"); },
+                                      5, 60);
 
   odometry_calibration::Calibrate fit;
   ASSERT_TRUE(ros::service::call("/gyro/calibrate", fit));

@@ -102,10 +102,10 @@ struct EgoMotionSourceConfig
 /// The IMU's gyro as a further source of the joint fit (`gyro:`; calibration/gyro_fit.h).
 struct GyroConfig
 {
-  std::string topic;        ///< sensor_msgs/Imu topic; empty: no gyro
-  double roll_rad = 0.0;    ///< the IMU's mounting roll in base_link [rad]
-  double pitch_rad = 0.0;   ///< the IMU's mounting pitch in base_link [rad]
-  double max_gap_s = 0.1;   ///< readings further apart: a gap no pair may span [s]
+  std::string topic;       ///< sensor_msgs/Imu topic; empty: no gyro
+  double roll_rad = 0.0;   ///< the IMU's mounting roll in base_link [rad]
+  double pitch_rad = 0.0;  ///< the IMU's mounting pitch in base_link [rad]
+  double max_gap_s = 0.1;  ///< readings further apart: a gap no pair may span [s]
 };
 
 /// Everything a calibration run needs.

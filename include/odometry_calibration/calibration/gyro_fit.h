@@ -61,8 +61,8 @@ struct GyroFit
   ParameterEstimate scale{"gyro_scale", "-"};
   ParameterEstimate bias{"gyro_bias", "rad/s"};
   ParameterEstimate time_offset{"gyro_time_offset", "s"};
-  double shift_s = 0.0;        ///< d [s]
-  std::size_t pairs = 0;       ///< pairs in the final fit
+  double shift_s = 0.0;           ///< d [s]
+  std::size_t pairs = 0;          ///< pairs in the final fit
   double residual_rms_rad = 0.0;  ///< of dtheta at the fit [rad]
   std::optional<CoarseTimeOffset> coarse;
   TimeOffsetResult fine;

@@ -19,22 +19,22 @@ namespace sim {
 struct ImuOptions
 {
   bool enabled = false;
-  double rate_hz = 100.0;                ///< readings per second [Hz]
-  double scale = 1.0;                    ///< gyro scale factor [-] (1.015: reads 1.5 % high)
-  double bias_rad_s = 0.0;               ///< bias at the start [rad/s]
-  double bias_random_walk = 0.0;         ///< bias random walk [rad/s/sqrt(s)]
-  double noise_rad_s = 0.0;              ///< white noise sigma per reading, each axis [rad/s]
-  double time_offset_s = 0.0;            ///< stamp = true time + this (late clock: > 0) [s]
-  double roll_rad = 0.0;                 ///< mounting roll of the IMU in base_link [rad]
-  double pitch_rad = 0.0;                ///< mounting pitch of the IMU in base_link [rad]
-  std::string topic = "/imu/data";       ///< sensor_msgs/Imu in the bag
-  std::string frame_id = "imu_link";     ///< header frame of the readings
+  double rate_hz = 100.0;             ///< readings per second [Hz]
+  double scale = 1.0;                 ///< gyro scale factor [-] (1.015: reads 1.5 % high)
+  double bias_rad_s = 0.0;            ///< bias at the start [rad/s]
+  double bias_random_walk = 0.0;      ///< bias random walk [rad/s/sqrt(s)]
+  double noise_rad_s = 0.0;           ///< white noise sigma per reading, each axis [rad/s]
+  double time_offset_s = 0.0;         ///< stamp = true time + this (late clock: > 0) [s]
+  double roll_rad = 0.0;              ///< mounting roll of the IMU in base_link [rad]
+  double pitch_rad = 0.0;             ///< mounting pitch of the IMU in base_link [rad]
+  std::string topic = "/imu/data";    ///< sensor_msgs/Imu in the bag
+  std::string frame_id = "imu_link";  ///< header frame of the readings
 };
 
 /// One gyro reading on the IMU's clock.
 struct ImuSample
 {
-  double stamp_s = 0.0;                                     ///< [s since start], IMU clock
+  double stamp_s = 0.0;                                        ///< [s since start], IMU clock
   Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();  ///< in the IMU frame [rad/s]
 };
 
