@@ -51,8 +51,8 @@ TEST(GyroYawRate, ATiltedReadingIsTurnedIntoBaseLink)
 {
   // An IMU pitched by 0.3 rad sees the base's yaw rate w as (-sin 0.3 w, 0, cos 0.3 w).
   const double w = 0.7;
-  EXPECT_NEAR(gyroYawRate(Eigen::Vector3d(-std::sin(0.3) * w, 0.0, std::cos(0.3) * w), 0.0, 0.3),
-              w, 1e-12);
+  EXPECT_NEAR(gyroYawRate(Eigen::Vector3d(-std::sin(0.3) * w, 0.0, std::cos(0.3) * w), 0.0, 0.3), w,
+              1e-12);
   EXPECT_NEAR(gyroYawRate(Eigen::Vector3d(0.0, 0.0, w), 0.0, 0.0), w, 1e-12);
 }
 
