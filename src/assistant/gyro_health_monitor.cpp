@@ -64,7 +64,7 @@ void validate(const GyroHealthOptions& options)
 }
 
 GyroHealthMonitor::GyroHealthMonitor(const GyroCalibration& calibration, GyroHealthOptions options)
-  : calibration_(calibration), options_(options)
+    : calibration_(calibration), options_(options)
 {
   if (!std::isfinite(calibration.scale) || !(calibration.scale > 0.0))
     throw std::invalid_argument("gyro health monitor: the gyro's scale must be finite and > 0");
@@ -196,8 +196,8 @@ bool GyroHealthMonitor::feed(GyroHealthChart& chart, double value, double stamp_
   const double n = static_cast<double>(chart.centre_count);
   const double n0 = options_.chart_burn_in_pairs;
   const double centre = chart.centre_sum / (n + n0);
-  const double z = std::clamp((raw - centre) / std::sqrt(1.0 + n / ((n + n0) * (n + n0))), -clip,
-                              clip);
+  const double z =
+      std::clamp((raw - centre) / std::sqrt(1.0 + n / ((n + n0) * (n + n0))), -clip, clip);
   if (!alarm_) {
     chart.centre_sum += raw;
     ++chart.centre_count;
@@ -244,8 +244,7 @@ void GyroHealthMonitor::fitSinceChange(GyroHealthStatus* status) const
     const double fitted = solution(0) * scored_[i].dtheta_rad + solution(1) * scored_[i].duration_s;
     squares += std::pow(scored_[i].gyro_rad - fitted, 2);
   }
-  const Eigen::Matrix2d covariance = squares /
-                                     static_cast<double>(status->pairs_since_change - 2) *
+  const Eigen::Matrix2d covariance = squares / static_cast<double>(status->pairs_since_change - 2) *
                                      solver.solve(Eigen::Matrix2d::Identity());
   const double scale_t = std::abs(solution(0) - calibration_.scale) / std::sqrt(covariance(0, 0));
   const double bias_t =
@@ -272,14 +271,14 @@ GyroHealthStatus GyroHealthMonitor::status() const
   status.alarm_stamp_s = alarm_stamp_s_;
   fitSinceChange(&status);
   char text[320];
-  std::snprintf(text, sizeof(text),
-                "%s drifted (%s chart alarm at %.1f s): over the %zu pairs since the change the gyro reads "
-                "scale %.4f (calibrated %.4f, %+.2f %%) and bias %.5f rad/s (calibrated %.5f); "
-                "refit (call ~calibrate)",
-                status.cause.c_str(), status.alarm_chart.c_str(), alarm_stamp_s_, status.pairs_since_change,
-                status.scale_now, calibration_.scale,
-                100.0 * (status.scale_now / calibration_.scale - 1.0), status.bias_now_rad_s,
-                calibration_.bias_rad_s);
+  std::snprintf(
+      text, sizeof(text),
+      "%s drifted (%s chart alarm at %.1f s): over the %zu pairs since the change the gyro reads "
+      "scale %.4f (calibrated %.4f, %+.2f %%) and bias %.5f rad/s (calibrated %.5f); "
+      "refit (call ~calibrate)",
+      status.cause.c_str(), status.alarm_chart.c_str(), alarm_stamp_s_, status.pairs_since_change,
+      status.scale_now, calibration_.scale, 100.0 * (status.scale_now / calibration_.scale - 1.0),
+      status.bias_now_rad_s, calibration_.bias_rad_s);
   status.message = text;
   return status;
 }

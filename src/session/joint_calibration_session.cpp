@@ -101,10 +101,15 @@ JointCalibrationSession::JointCalibrationSession(
   if (!config.gyro.topic.empty()) {
     gyro_ = std::make_unique<GyroSource>(config.gyro, config.time_offset_search_min_s,
                                          config.time_offset_search_max_s);
+    if (options.assistant && options.assistant_options.health_monitor)
+      gyro_health_ = std::make_unique<GyroHealth>(options.log);
   }
   if (sources_.size() <= 1) {  // one source: its session exactly as before
-    sessions_.push_back(std::make_unique<CalibrationSession>(
-        config, config_text, config_source, options, listener ? listener(0) : SessionListener{}));
+    SessionListener own_listener = listener ? listener(0) : SessionListener{};
+    if (gyro_health_)
+      own_listener.pair = gyroWatchingPairs(std::move(own_listener.pair));
+    sessions_.push_back(std::make_unique<CalibrationSession>(config, config_text, config_source,
+                                                             options, own_listener));
     return;
   }
   if (const std::string problem = jointFitModelProblem(config.model); !problem.empty())
@@ -126,6 +131,8 @@ JointCalibrationSession::JointCalibrationSession(
           forward(pair);
       };
     }
+    if (k == 0 && gyro_health_)  // the gyro is fitted against source 0's pairs
+      own_listener.pair = gyroWatchingPairs(std::move(own_listener.pair));
     sessions_.push_back(std::make_unique<CalibrationSession>(
         configForSource(config, k), config_text, config_source, own, own_listener));
   }
@@ -133,6 +140,16 @@ JointCalibrationSession::JointCalibrationSession(
 }
 
 JointCalibrationSession::~JointCalibrationSession() = default;
+
+std::function<void(const MotionPair&)> JointCalibrationSession::gyroWatchingPairs(
+    std::function<void(const MotionPair&)> forward)
+{
+  return [this, forward = std::move(forward)](const MotionPair& pair) {
+    gyro_health_->addPair(pair);
+    if (forward)
+      forward(pair);
+  };
+}
 
 void JointCalibrationSession::addJointPositions(double stamp_s, const Eigen::VectorXd& raw,
                                                 const std::string& publisher)
@@ -253,6 +270,10 @@ std::vector<SessionStatusReport> JointCalibrationSession::jointStatusReports() c
   std::lock_guard<std::mutex> lock(monitor_mutex_);
   if (monitor_ && monitor_->watching())
     monitor_->addStatuses(&statuses);
+  if (gyro_health_) {
+    if (std::optional<SessionStatusReport> gyro = gyro_health_->status())
+      statuses.push_back(std::move(*gyro));
+  }
   return statuses;
 }
 
@@ -297,7 +318,12 @@ std::string JointCalibrationSession::addGyroReading(double stamp_s,
   if (angular_velocity.size() != 3)
     return gyro_->refuse("gyro reading with " + std::to_string(angular_velocity.size()) +
                          " angular velocity components, not 3");
-  return gyro_->add(stamp_s, angular_velocity);
+  std::string problem_found = gyro_->add(stamp_s, angular_velocity);
+  if (problem_found.empty() && gyro_health_) {
+    gyro_health_->addReading(stamp_s, gyroYawRate(angular_velocity.head<3>(), config_.gyro.roll_rad,
+                                                  config_.gyro.pitch_rad));
+  }
+  return problem_found;
 }
 
 void JointCalibrationSession::fitGyro(JointCalibrateOutcome* result)
@@ -317,6 +343,8 @@ void JointCalibrationSession::fitGyro(JointCalibrateOutcome* result)
     return;
   result->gyro = gyro_->fit(*pairs, pairs_time_offset_s);
   gyro_fit_ = result->gyro;
+  if (gyro_health_)
+    gyro_health_->watch(*result->gyro);
   std::string line = gyroFitText(*result->gyro);
   if (gyro_->refused() > 0) {
     line += "; " + std::to_string(gyro_->refused()) +
@@ -551,6 +579,8 @@ std::pair<bool, std::string> JointCalibrationSession::reset()
 {
   if (gyro_)
     gyro_->clear();
+  if (gyro_health_)
+    gyro_health_->clear();
   if (sessions_.size() == 1)
     return sessions_.front()->reset();
   std::lock_guard<std::mutex> fitting(fit_mutex_);

@@ -66,12 +66,12 @@ void validate(const GyroHealthOptions& options);
 /// One signal's state.
 struct GyroHealthChart
 {
-  std::string name;        ///< "gyro scale" or "gyro bias"
-  std::size_t count = 0;   ///< values that fed it
-  bool calibrated = false;  ///< burn-in done
-  double spread = 1.0;     ///< robust spread of its burn-in values [rad^2 or rad/s]
-  double upper = 0.0;      ///< CUSUM of upward shifts, U [sigma]
-  double lower = 0.0;      ///< CUSUM of downward shifts, L [sigma]
+  std::string name;               ///< "gyro scale" or "gyro bias"
+  std::size_t count = 0;          ///< values that fed it
+  bool calibrated = false;        ///< burn-in done
+  double spread = 1.0;            ///< robust spread of its burn-in values [rad^2 or rad/s]
+  double upper = 0.0;             ///< CUSUM of upward shifts, U [sigma]
+  double lower = 0.0;             ///< CUSUM of downward shifts, L [sigma]
   double centre_sum = 0.0;        ///< sum of its clipped standardised values (the centre)
   std::size_t centre_count = 0;   ///< values in centre_sum
   std::size_t upper_zero_at = 0;  ///< pairs scored when U last stood at 0
@@ -82,11 +82,11 @@ struct GyroHealthChart
 /// The gyro monitor's verdict.
 struct GyroHealthStatus
 {
-  bool alarm = false;      ///< a sustained shift was found (latched)
-  std::size_t pairs = 0;   ///< pairs scored
+  bool alarm = false;       ///< a sustained shift was found (latched)
+  std::size_t pairs = 0;    ///< pairs scored
   std::size_t skipped = 0;  ///< pairs not scored (no readings around them, a gap, too many waiting)
-  double threshold = 0.0;  ///< h [sigma]
-  double statistic = 0.0;  ///< max over the charts of max(U, L) / h (alarm at 1)
+  double threshold = 0.0;   ///< h [sigma]
+  double statistic = 0.0;   ///< max over the charts of max(U, L) / h (alarm at 1)
   std::array<GyroHealthChart, 2> charts;  ///< scale, bias
   std::string alarm_chart;                ///< the chart that fired
   double alarm_stamp_s = 0.0;             ///< end stamp of the pair that raised it [s]

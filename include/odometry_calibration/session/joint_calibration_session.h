@@ -21,6 +21,7 @@
 
 #include "odometry_calibration/calibration/joint_source_fit.h"
 #include "odometry_calibration/session/calibration_session.h"
+#include "odometry_calibration/session/gyro_health.h"
 #include "odometry_calibration/session/gyro_source.h"
 #include "odometry_calibration/session/wheel_signals.h"
 
@@ -106,7 +107,8 @@ public:
   /// The health monitor's largest statistic (none when it does not watch).
   std::optional<double> healthStatistic() const;
   /// Several sources: the joint health monitor's status ("calibration health"), none before it
-  /// watches a calibration; one source: none (its session reports its own).
+  /// watches a calibration; one source: none (its session reports its own). With a gyro fit
+  /// watched, then the "gyro health" status (gyro_health.h).
   std::vector<SessionStatusReport> jointStatusReports() const;
 
   /// One source: its session's calibrate(). Several: each source fitted alone (a source whose
@@ -151,6 +153,9 @@ private:
   std::string adoptJointFit(const CalibrationConfig& joint_config, const JointFitReport& joint,
                             const std::vector<SessionFit>& fits, bool* success);
   std::string saveJoint() const;
+  /// A pair listener feeding the gyro's watch, then `forward` (when set).
+  std::function<void(const MotionPair&)> gyroWatchingPairs(
+      std::function<void(const MotionPair&)> forward);
   /// Source `source`'s new pair into the joint monitor.
   void monitorPair(const MotionPair& pair, std::size_t source);
   /// The joint monitor watches `models` (one per source) from now on.
@@ -168,6 +173,9 @@ private:
   std::unique_ptr<GyroSource> gyro_;  ///< gyro.topic's readings; null without one
   /// The last ~calibrate's gyro fit (save() writes it into result.yaml); guarded by fit_mutex_.
   std::optional<GyroFit> gyro_fit_;
+  /// With a gyro: the watch of the last ~calibrate's gyro fit, fed the readings and source 0's
+  /// pairs (declared before sessions_, whose pair listener feeds it, so that it outlives them).
+  std::unique_ptr<GyroHealth> gyro_health_;
   std::mutex wheel_mutex_;       ///< guards wheel_signals_ and the order its samples are fed in
   std::string wheel_publisher_;  ///< the first joint's topic's publisher (ticks)
   SessionOptions options_;
