@@ -3,11 +3,13 @@
 // clock 20 ms late): it subscribes to the IMU, fits the gyro's scale, bias and time offset on
 // ~calibrate against the laser's pairs, saves them in result.yaml; calibrate_bag on the same
 // bag and configuration gives the same values, and both are within the acceptance (0.1 %,
-// 1e-4 rad/s, 2 ms).
+// 1e-4 rad/s, 2 ms). After the fit the node watches the gyro: "gyro health" OK on /diagnostics.
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <string>
 
+#include <diagnostic_msgs/DiagnosticArray.h>
 #include <gtest/gtest.h>
 #include <ros/ros.h>
 #include <std_srvs/Trigger.h>
@@ -18,6 +20,38 @@
 
 namespace odometry_calibration {
 namespace {
+
+/// The node's last "…: gyro health" status on /diagnostics (its level and message).
+class GyroHealthDiagnostic
+{
+public:
+  GyroHealthDiagnostic()
+      : subscriber_(
+            ros::NodeHandle().subscribe("/diagnostics", 100, &GyroHealthDiagnostic::on, this))
+  {
+  }
+  bool seen() const { return seen_; }
+  int level() const { return level_; }
+  const std::string& message() const { return message_; }
+
+private:
+  void on(const diagnostic_msgs::DiagnosticArray& array)
+  {
+    const std::string suffix = ": gyro health";
+    for (const diagnostic_msgs::DiagnosticStatus& status : array.status) {
+      if (status.name.size() >= suffix.size() &&
+          status.name.compare(status.name.size() - suffix.size(), suffix.size(), suffix) == 0) {
+        seen_ = true;
+        level_ = status.level;
+        message_ = status.message;
+      }
+    }
+  }
+  ros::Subscriber subscriber_;
+  bool seen_ = false;
+  int level_ = -1;
+  std::string message_;
+};
 
 TEST(NodeGyro, NodeAndCalibrateBagGiveTheSameGyroScaleBiasAndClock)
 {
@@ -41,6 +75,16 @@ TEST(NodeGyro, NodeAndCalibrateBagGiveTheSameGyroScaleBiasAndClock)
   ASSERT_TRUE(ros::service::call("/gyro/calibrate", fit));
   ASSERT_TRUE(fit.response.success) << fit.response.message;
   EXPECT_NE(fit.response.message.find("gyro: scale"), std::string::npos) << fit.response.message;
+  // The fitted gyro is watched from now on (the diagnostics run on the wall clock).
+  GyroHealthDiagnostic health;
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  while (!health.seen() && std::chrono::steady_clock::now() < give_up) {
+    ros::WallDuration(0.1).sleep();
+    ros::spinOnce();
+  }
+  ASSERT_TRUE(health.seen()) << "no gyro health status on /diagnostics after the fit";
+  EXPECT_EQ(health.level(), diagnostic_msgs::DiagnosticStatus::OK) << health.message();
+  EXPECT_EQ(health.message(), "ok");
   std_srvs::Trigger save;
   ASSERT_TRUE(ros::service::call("/gyro/save", save));
   ASSERT_TRUE(save.response.success) << save.response.message;
