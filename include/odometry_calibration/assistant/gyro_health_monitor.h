@@ -99,7 +99,8 @@ struct GyroHealthStatus
   std::string message;  ///< "ok" or what drifted, its value now and "refit (call ~calibrate)"
 };
 
-/// Watches one calibrated gyro against one laser's pairs. Not thread-safe.
+/// Watches one calibrated gyro against one laser's pairs. Keeps history_s of readings and three
+/// numbers per scored pair (the fit since the change point). Not thread-safe.
 class GyroHealthMonitor
 {
 public:
