@@ -458,6 +458,7 @@ const std::vector<ConfigSchemaEntry<CalibrationConfig>>& calibrationConfigSchema
          {topLevelEntries, wheelEntries, egoMotionEntries, cloudScanEntries, cloudFilterEntries,
           keyframeEntries, keyframeListEntries, scanMatchingEntries})
       appendEntries(all, section());
+    appendEntries(all, gyroConfigSchema());
     appendEntries(all, modelConfigSchema());
     return all;
   }();

@@ -109,4 +109,12 @@ void writeFileSet(const std::string& directory, const FileSet& set)
   staged.commit(names, set.removed);
 }
 
+void appendGyroResult(FileSet* files, const GyroFit& gyro, const std::string& topic)
+{
+  for (auto& [name, content] : files->written) {
+    if (name == kResultFileName)
+      content += gyroResultYaml(gyro, topic);
+  }
+}
+
 }  // namespace odometry_calibration

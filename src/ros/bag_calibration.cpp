@@ -69,16 +69,19 @@ CalibrationConfig loadConfig(const BagCalibrationOptions& options)
 }
 
 /// The session's fit of the run's pairs (one source; paired again at the estimated time offset
-/// when the configured one is off: the run then takes those pairs, counts and history); throws
-/// when none could run.
-SessionFit fitRun(BagRunResult* run, const IntervalPlan& plan, double holdout)
+/// when the configured one is off: the run then takes those pairs, counts and history), and the
+/// gyro's against them into `gyro` (with gyro.topic); throws when none could run.
+SessionFit fitRun(BagRunResult* run, const IntervalPlan& plan, double holdout,
+                  std::optional<GyroFit>* gyro)
 {
   CalibrationRequest request;
   request.interval_mode = plan.mode;
   request.fixed_interval_s = plan.fixed_s;
   if (holdout > 0.0)
     request.holdout_fraction = holdout;
-  CalibrateOutcome outcome = run->session->calibrate(request).outcome;
+  JointCalibrateOutcome joint = run->session->calibrate(request);
+  *gyro = joint.gyro;
+  CalibrateOutcome& outcome = joint.outcome;
   const CalibrationSession& session = run->session->source(0);
   run->pairs = session.pairs();
   run->encoder_history = session.encoderHistory();
@@ -288,7 +291,8 @@ int calibrateOneSource(const BagCalibrationOptions& options, CalibrationConfig c
               plan.candidates_s);
   warnOfPartialReads(run);
   // Fitted at the estimated time offset (paired again when the configured one is off).
-  const SessionFit fit = fitRun(&run, plan, options.holdout);
+  std::optional<GyroFit> gyro;
+  const SessionFit fit = fitRun(&run, plan, options.holdout, &gyro);
   if (fit.offset_pairing.paired_again)
     config.collector.time_offset_s = fit.offset_pairing.estimate_s;
   const std::string summary =
@@ -302,6 +306,10 @@ int calibrateOneSource(const BagCalibrationOptions& options, CalibrationConfig c
                      (job.time_offset ? formatTimeOffset(*job.time_offset) : "") + "\n" +
                      formatModelReport(job.report) + formatNominalComparison(job);
   ResultFiles files = runFiles(options, config, run, 0, fit, "");
+  if (gyro) {
+    text += "\n" + gyroFitText(*gyro) + "\n";
+    appendGyroResult(&files.calibration, *gyro, config.gyro.topic);
+  }
   std::vector<ModelScore> test_scores, held_out_scores;
   if (!options.test_bags.empty())
     text += scoreTestBags(options, config, job, &files, &test_scores);
@@ -347,9 +355,12 @@ int calibrateSeveralSources(const BagCalibrationOptions& options, const Calibrat
   int status = 0;
   if (outcome.joint) {
     try {  // the joint table joins the text only once its files are made
-      const std::string joint_text = text + "\n=== joint fit ===\n" + outcome.text;
+      const std::string joint_text = text + "\n=== joint fit ===\n" + outcome.text +
+                                     (outcome.gyro ? gyroFitText(*outcome.gyro) + "\n" : "");
       joint_files = jointCalibrationFiles(config, *outcome.joint, outcome.inputs,
                                           options.bags.front(), "base_link", joint_text);
+      if (outcome.gyro)
+        appendGyroResult(&joint_files, *outcome.gyro, config.gyro.topic);
       text = joint_text;
       for (std::size_t k = 0; k < outcome.joint->sensors.size(); ++k)
         status = std::max(status, calibrationExitStatus(sensorModelReport(*outcome.joint, k)));

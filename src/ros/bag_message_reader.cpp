@@ -81,6 +81,7 @@ struct Route
   EgoMotionSource type = EgoMotionSource::kScan;
   std::string tick_type;
   std::size_t wheel = 0;
+  bool gyro = false;  ///< gyro.topic's sensor_msgs/Imu
 };
 
 /// The wheels' routes (the joint states, or each joint's tick topic), then each ego-motion
@@ -102,6 +103,8 @@ std::vector<Route> routes(const CalibrationConfig& config)
   const std::vector<EgoMotionSourceConfig> sources = egoMotionSources(config);
   for (std::size_t k = 0; k < sources.size(); ++k)
     result.push_back({sources[k].topic, false, k, sources[k].type, "", 0});
+  if (!config.gyro.topic.empty())
+    result.push_back({config.gyro.topic, false, 0, EgoMotionSource::kScan, "", 0, true});
   return result;
 }
 
@@ -113,6 +116,7 @@ struct MessageBuffers
   sensor_msgs::PointCloud2 cloud;
   nav_msgs::Odometry odometry;
   geometry_msgs::PoseStamped pose;
+  sensor_msgs::Imu imu;
 };
 
 /// The current message deserialised as M into `message`, then converted by `adapter` into
@@ -124,7 +128,7 @@ bool readAs(RecordedMessages& messages, const MessageAdapter& adapter, std::size
   if (!messages.read(message))
     return false;
   const auto converted = timers.endReading();
-  if constexpr (std::is_same_v<M, sensor_msgs::JointState>) {
+  if constexpr (std::is_same_v<M, sensor_msgs::JointState> || std::is_same_v<M, sensor_msgs::Imu>) {
     input = adapter.convert(message, messages.publisher());
   } else if constexpr (std::is_same_v<M, sensor_msgs::PointCloud2>) {
     double filtering_s = 0.0;
@@ -179,6 +183,8 @@ bool readCurrent(RecordedMessages& messages, const MessageAdapter& adapter, cons
     return readBaseOdometry(messages, adapter, buffers.odometry, timers, input);
   if (route.joints)
     return readAs(messages, adapter, 0, buffers.joints, timers, input);
+  if (route.gyro)
+    return readAs(messages, adapter, 0, buffers.imu, timers, input);
   switch (route.type) {
     case EgoMotionSource::kScan:
       return readAs(messages, adapter, route.source, buffers.scan, timers, input);
@@ -201,8 +207,9 @@ bool readOrMarkBad(RecordedMessages& messages, const MessageAdapter& adapter, co
     return readCurrent(messages, adapter, route, buffers, timers, input);
   } catch (const UnreadableMessage& error) {
     input = ConvertedInput();
-    input.kind =
-        route.joints ? ConvertedInput::Kind::kBadJoints : ConvertedInput::Kind::kBadEgoMessage;
+    input.kind = route.gyro     ? ConvertedInput::Kind::kGyro
+                 : route.joints ? ConvertedInput::Kind::kBadJoints
+                                : ConvertedInput::Kind::kBadEgoMessage;
     input.source = route.joints ? 0 : route.source;
     input.stamp_s = messages.recordTime_s();
     input.problem = error.what();
@@ -335,6 +342,8 @@ std::vector<std::string> readTopics(const CalibrationConfig& config)
     topics.push_back(config.joint_state_topic);
   for (const EgoMotionSourceConfig& source : egoMotionSources(config))
     topics.push_back(source.topic);
+  if (!config.gyro.topic.empty())
+    topics.push_back(config.gyro.topic);
   return topics;
 }
 

@@ -168,6 +168,15 @@ void CalibrationNode::subscribe()
   }
   for (std::size_t k = 0; k < sessions_->sourceCount(); ++k)
     subscribeSource(k);
+  if (!config_.gyro.topic.empty()) {  // 100-1000 Hz: a queue of two seconds or more
+    gyro_subscriber_ = subscribeEvents<sensor_msgs::Imu>(
+        handle_, config_.gyro.topic, 2000,
+        [this](const ros::MessageEvent<const sensor_msgs::Imu>& event) {
+          feedInput(*sessions_,
+                    adapter_->convert(*event.getConstMessage(), event.getPublisherName()));
+        },
+        hints);
+  }
 }
 
 void CalibrationNode::subscribeWheelTicks(std::size_t wheel)

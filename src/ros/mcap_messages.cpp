@@ -289,6 +289,11 @@ bool McapMessages::read(geometry_msgs::PoseStamped& message)
   return readAs(message);
 }
 
+bool McapMessages::read(sensor_msgs::Imu& message)
+{
+  return readAs(message);
+}
+
 bool McapMessages::readWheelTick(const std::string& type, double& value)
 {
   return visitWheelTickType(type, [&](auto message) {

@@ -163,4 +163,16 @@ ConvertedInput MessageAdapter::convert(const geometry_msgs::PoseStamped& message
   return sensorPose(message.pose, message.header.stamp, "", source, std::move(publisher));
 }
 
+ConvertedInput MessageAdapter::convert(const sensor_msgs::Imu& message, std::string publisher) const
+{
+  ConvertedInput input;
+  input.kind = ConvertedInput::Kind::kGyro;
+  input.stamp_s = message.header.stamp.toSec();
+  input.raw = Eigen::Vector3d(message.angular_velocity.x, message.angular_velocity.y,
+                              message.angular_velocity.z);
+  input.frame = message.header.frame_id;
+  input.publisher = std::move(publisher);
+  return input;
+}
+
 }  // namespace odometry_calibration

@@ -393,6 +393,11 @@ bool Rosbag2SqliteMessages::read(geometry_msgs::PoseStamped& message)
   return readAs(message);
 }
 
+bool Rosbag2SqliteMessages::read(sensor_msgs::Imu& message)
+{
+  return readAs(message);
+}
+
 bool Rosbag2SqliteMessages::readWheelTick(const std::string& type, double& value)
 {
   return visitWheelTickType(type, [&](auto message) {

@@ -92,6 +92,11 @@ bool RosbagMessages::read(geometry_msgs::PoseStamped& message)
   return deserialiseChecked(message, ros_conversions::WireMessage::kPoseStamped);
 }
 
+bool RosbagMessages::read(sensor_msgs::Imu& message)
+{
+  return deserialiseChecked(message, ros_conversions::WireMessage::kImu);
+}
+
 bool RosbagMessages::readWheelTick(const std::string& type, double& value)
 {
   return visitWheelTickType(type, [&](auto message) {

@@ -11,6 +11,7 @@
 #include <geometry_msgs/TransformStamped.h>
 #include <nav_msgs/Odometry.h>
 #include <rosbag/bag.h>
+#include <sensor_msgs/Imu.h>
 #include <sensor_msgs/JointState.h>
 #include <sensor_msgs/LaserScan.h>
 #include <sensor_msgs/PointCloud2.h>
@@ -312,6 +313,23 @@ void SimBagWriter::onTracker(const sim::TrackerSample& sample)
   pose.header.frame_id = scenario_.tracker.frame_id;
   pose.pose = ros_conversions::toPoseMsg(sample.T_world_sensor);
   record(scenario_.tracker.topic, pose.header.stamp, pose);
+}
+
+void SimBagWriter::onImu(const sim::ImuSample& sample)
+{
+  sensor_msgs::Imu imu;
+  imu.header.seq = imu_seq_++;
+  imu.header.stamp = rosTime(scenario_.start_time_s, sample.stamp_s);
+  imu.header.frame_id = scenario_.imu.frame_id;
+  imu.orientation_covariance[0] = -1.0;
+  imu.linear_acceleration_covariance[0] = -1.0;
+  imu.angular_velocity.x = sample.angular_velocity.x();
+  imu.angular_velocity.y = sample.angular_velocity.y();
+  imu.angular_velocity.z = sample.angular_velocity.z();
+  const double variance = scenario_.imu.noise_rad_s * scenario_.imu.noise_rad_s;
+  for (int axis = 0; axis < 3; ++axis)
+    imu.angular_velocity_covariance[4 * axis] = variance;
+  record(scenario_.imu.topic, imu.header.stamp, imu);
 }
 
 void SimBagWriter::close()

@@ -83,6 +83,8 @@ std::string wireMessageName(WireMessage type)
       return "nav_msgs/Odometry";
     case WireMessage::kPoseStamped:
       return "geometry_msgs/PoseStamped";
+    case WireMessage::kImu:
+      return "sensor_msgs/Imu";
   }
   return "unknown message";
 }
@@ -117,6 +119,9 @@ bool wireLengthsFit(WireMessage type, const std::uint8_t* data, std::size_t size
       break;
     case WireMessage::kPoseStamped:
       walk.skip(7 * 8);  // position, orientation
+      break;
+    case WireMessage::kImu:
+      walk.skip((4 + 9 + 3 + 9 + 3 + 9) * 8);  // orientation, angular velocity, acceleration
       break;
   }
   return walk.ok();

@@ -30,6 +30,7 @@ void feedEgoMotion(CalibrationSession& session, const ConvertedInput& input)
     case ConvertedInput::Kind::kWheelTick:
     case ConvertedInput::Kind::kJointVelocities:
     case ConvertedInput::Kind::kBaseOdometry:
+    case ConvertedInput::Kind::kGyro:
       break;
   }
 }
@@ -40,10 +41,11 @@ void feedInput(CalibrationSession& session, const ConvertedInput& input)
 {
   if (input.kind == ConvertedInput::Kind::kWheelTick ||
       input.kind == ConvertedInput::Kind::kJointVelocities ||
-      input.kind == ConvertedInput::Kind::kBaseOdometry) {
+      input.kind == ConvertedInput::Kind::kBaseOdometry ||
+      input.kind == ConvertedInput::Kind::kGyro) {
     throw std::invalid_argument(
-        "wheel ticks, joint velocities and base odometry go to a "
-        "JointCalibrationSession (its wheel signals)");
+        "wheel ticks, joint velocities, base odometry and gyro readings go to a "
+        "JointCalibrationSession (its wheel signals and gyro)");
   }
   if (input.kind == ConvertedInput::Kind::kJoints) {
     session.addJointPositions(input.stamp_s, input.raw, input.publisher);
@@ -69,6 +71,8 @@ void feedInput(JointCalibrationSession& sessions, const ConvertedInput& input)
     sessions.addJointVelocities(input.stamp_s, input.raw, input.publisher);
   else if (input.kind == ConvertedInput::Kind::kBaseOdometry)
     sessions.addBaseOdometry(input.stamp_s, input.pose, input.publisher);
+  else if (input.kind == ConvertedInput::Kind::kGyro)
+    sessions.addGyroReading(input.stamp_s, input.raw, input.problem);
   else
     feedEgoMotion(sessions.source(input.source), input);
 }

@@ -103,9 +103,18 @@ JointCalibrationSession::JointCalibrationSession(
     wheel_watch_ = std::make_unique<WheelTopicWatch>(config.wheels.topics,
                                                      options.silent_topic_timeout_s, wallNow());
   }
+  if (!config.gyro.topic.empty()) {
+    gyro_ = std::make_unique<GyroSource>(config.gyro, config.time_offset_search_min_s,
+                                         config.time_offset_search_max_s);
+    if (options.assistant && options.assistant_options.health_monitor)
+      gyro_health_ = std::make_unique<GyroHealth>(options.log);
+  }
   if (sources_.size() <= 1) {  // one source: its session exactly as before
-    sessions_.push_back(std::make_unique<CalibrationSession>(
-        config, config_text, config_source, options, listener ? listener(0) : SessionListener{}));
+    SessionListener own_listener = listener ? listener(0) : SessionListener{};
+    if (gyro_health_)
+      own_listener.pair = gyroWatchingPairs(std::move(own_listener.pair));
+    sessions_.push_back(std::make_unique<CalibrationSession>(config, config_text, config_source,
+                                                             options, own_listener));
     return;
   }
   if (const std::string problem = jointFitModelProblem(config.model); !problem.empty())
@@ -127,6 +136,8 @@ JointCalibrationSession::JointCalibrationSession(
           forward(pair);
       };
     }
+    if (k == 0 && gyro_health_)  // the gyro is fitted against source 0's pairs
+      own_listener.pair = gyroWatchingPairs(std::move(own_listener.pair));
     sessions_.push_back(std::make_unique<CalibrationSession>(
         configForSource(config, k), config_text, config_source, own, own_listener));
   }
@@ -134,6 +145,16 @@ JointCalibrationSession::JointCalibrationSession(
 }
 
 JointCalibrationSession::~JointCalibrationSession() = default;
+
+std::function<void(const MotionPair&)> JointCalibrationSession::gyroWatchingPairs(
+    std::function<void(const MotionPair&)> forward)
+{
+  return [this, forward = std::move(forward)](const MotionPair& pair) {
+    gyro_health_->addPair(pair);
+    if (forward)
+      forward(pair);
+  };
+}
 
 void JointCalibrationSession::addJointPositions(double stamp_s, const Eigen::VectorXd& raw,
                                                 const std::string& publisher)
@@ -281,6 +302,10 @@ std::vector<SessionStatusReport> JointCalibrationSession::jointStatusReports() c
   std::lock_guard<std::mutex> lock(monitor_mutex_);
   if (monitor_ && monitor_->watching())
     monitor_->addStatuses(&statuses);
+  if (gyro_health_) {
+    if (std::optional<SessionStatusReport> gyro = gyro_health_->status())
+      statuses.push_back(std::move(*gyro));
+  }
   return statuses;
 }
 
@@ -302,13 +327,62 @@ std::optional<double> JointCalibrationSession::healthStatistic() const
 
 JointCalibrateOutcome JointCalibrationSession::calibrate(const CalibrationRequest& request)
 {
+  JointCalibrateOutcome result;
   if (sessions_.size() == 1) {
-    JointCalibrateOutcome one;
-    one.outcome = sessions_.front()->calibrate(request);
-    return one;
+    result.outcome = sessions_.front()->calibrate(request);
+  } else {
+    std::lock_guard<std::mutex> fitting(fit_mutex_);
+    result = calibrateJointly(request);
   }
   std::lock_guard<std::mutex> fitting(fit_mutex_);
-  return calibrateJointly(request);
+  fitGyro(&result);
+  return result;
+}
+
+std::string JointCalibrationSession::addGyroReading(double stamp_s,
+                                                    const Eigen::VectorXd& angular_velocity,
+                                                    const std::string& problem)
+{
+  if (!gyro_)
+    return "an IMU reading without gyro.topic configured: set gyro.topic to use the gyro";
+  if (!problem.empty())
+    return gyro_->refuse(problem);
+  if (angular_velocity.size() != 3)
+    return gyro_->refuse("gyro reading with " + std::to_string(angular_velocity.size()) +
+                         " angular velocity components, not 3");
+  std::string problem_found = gyro_->add(stamp_s, angular_velocity);
+  if (problem_found.empty() && gyro_health_) {
+    gyro_health_->addReading(stamp_s, gyroYawRate(angular_velocity.head<3>(), config_.gyro.roll_rad,
+                                                  config_.gyro.pitch_rad));
+  }
+  return problem_found;
+}
+
+void JointCalibrationSession::fitGyro(JointCalibrateOutcome* result)
+{
+  if (!gyro_)
+    return;
+  const std::vector<MotionPair>* pairs = nullptr;
+  double pairs_time_offset_s = 0.0;
+  if (!result->inputs.empty()) {
+    pairs = &result->inputs.front().pairs;
+    pairs_time_offset_s = result->inputs.front().time_offset_s;
+  } else if (result->outcome.fit) {
+    pairs = &result->outcome.fit->job.pairs;
+    pairs_time_offset_s = result->outcome.fit->job.time_offset_s;
+  }
+  if (pairs == nullptr)
+    return;
+  result->gyro = gyro_->fit(*pairs, pairs_time_offset_s);
+  gyro_fit_ = result->gyro;
+  if (gyro_health_)
+    gyro_health_->watch(*result->gyro);
+  std::string line = gyroFitText(*result->gyro);
+  if (gyro_->refused() > 0) {
+    line += "; " + std::to_string(gyro_->refused()) +
+            " readings refused, the first: " + gyro_->firstProblem();
+  }
+  result->outcome.message += (result->outcome.message.empty() ? "" : "\n") + line;
 }
 
 CalibrationConfig JointCalibrationSession::jointModelConfig(const std::string& name,
@@ -480,9 +554,9 @@ std::string JointCalibrationSession::adoptJointFit(const CalibrationConfig& join
 
 std::pair<bool, std::string> JointCalibrationSession::save()
 {
-  if (sessions_.size() == 1)
-    return sessions_.front()->save();
   std::lock_guard<std::mutex> fitting(fit_mutex_);
+  if (sessions_.size() == 1)
+    return gyro_fit_ ? saveWithGyro() : sessions_.front()->save();
   if (!joint_)
     return {false, "nothing to save: no successful joint ~calibrate since the node started"};
   if (options_.output_directory.empty())
@@ -504,6 +578,8 @@ std::string JointCalibrationSession::saveJoint() const
                                               options_.source, options_.base_frame, joint_text_);
   set.written.insert(set.written.end(), joint.written.begin(), joint.written.end());
   set.removed.insert(set.removed.end(), joint.removed.begin(), joint.removed.end());
+  if (gyro_fit_)
+    appendGyroResult(&set, *gyro_fit_, config_.gyro.topic);
   writeFileSet(options_.output_directory, set);
   std::string list;
   for (const auto& [name, content] : set.written)
@@ -512,8 +588,32 @@ std::string JointCalibrationSession::saveJoint() const
          fs::absolute(options_.output_directory).lexically_normal().string() + ": " + list;
 }
 
+std::pair<bool, std::string> JointCalibrationSession::saveWithGyro() const
+{
+  const std::string& directory = options_.output_directory;
+  if (directory.empty())
+    return {false, "nothing to save: the session has no output directory"};
+  try {
+    FileSet files = sessions_.front()->filesToSave();
+    appendGyroResult(&files, *gyro_fit_, config_.gyro.topic);
+    writeFileSet(directory, files);  // all replaced, or none
+    std::string list;
+    for (const auto& [name, content] : files.written)
+      list += (list.empty() ? "" : ", ") + name;
+    return {true, "saved the fit and the gyro's in " +
+                      fs::absolute(directory).lexically_normal().string() + ": " + list};
+  } catch (const std::exception& error) {
+    const std::string what = error.what();
+    return {false, what.rfind("nothing to save", 0) == 0 ? what : "cannot save: " + what};
+  }
+}
+
 std::pair<bool, std::string> JointCalibrationSession::reset()
 {
+  if (gyro_)
+    gyro_->clear();
+  if (gyro_health_)
+    gyro_health_->clear();
   if (sessions_.size() == 1)
     return sessions_.front()->reset();
   std::lock_guard<std::mutex> fitting(fit_mutex_);

@@ -157,6 +157,7 @@ void validate(const Scenario& s)
           "encoders.tick_stagger_s must be in [0, half the period 1 / rate_hz)");
   require(s.tracker.translation_noise_m >= 0.0 && s.tracker.rotation_noise_rad >= 0.0,
           "tracker noise must be >= 0");
+  validate(s.imu);
   validate(s.motion);
   validateChanges(s);
 }
@@ -170,7 +171,7 @@ void readScenarioTop(const YAML::Node& root, const std::string& path,
 {
   checkYamlKeys(root,
                 {"name", "seed", "duration_s", "start_time_s", "world", "start_pose", "robot",
-                 "laser", "lasers", "encoders", "motion", "tracker", "changes",
+                 "laser", "lasers", "encoders", "motion", "tracker", "imu", "changes",
                  "ground_truth_topic", "ground_truth_frame"},
                 path);
   readYaml(root, "name", &s.name);
@@ -346,6 +347,26 @@ void readTrackerYaml(const YAML::Node& tracker, const std::string& where, Tracke
   readYaml(tracker, "frame_id", &options.frame_id);
 }
 
+/// imu: whether the IMU publishes, its gyro's errors, clock, mounting, topic and frame.
+void readImuYaml(const YAML::Node& imu, const std::string& where, ImuOptions& options)
+{
+  checkYamlKeys(imu,
+                {"enabled", "rate_hz", "scale", "bias_rad_s", "bias_random_walk", "noise_rad_s",
+                 "time_offset_s", "roll_rad", "pitch_rad", "topic", "frame_id"},
+                where);
+  readYaml(imu, "enabled", &options.enabled);
+  readYaml(imu, "rate_hz", &options.rate_hz);
+  readYaml(imu, "scale", &options.scale);
+  readYaml(imu, "bias_rad_s", &options.bias_rad_s);
+  readYaml(imu, "bias_random_walk", &options.bias_random_walk);
+  readYaml(imu, "noise_rad_s", &options.noise_rad_s);
+  readYaml(imu, "time_offset_s", &options.time_offset_s);
+  readYaml(imu, "roll_rad", &options.roll_rad);
+  readYaml(imu, "pitch_rad", &options.pitch_rad);
+  readYaml(imu, "topic", &options.topic);
+  readYaml(imu, "frame_id", &options.frame_id);
+}
+
 /// motion: the drive plan, and its script's steps (`where` names the step being read).
 void readMotionYaml(const YAML::Node& motion, const std::string& path, std::string& where,
                     DrivePlanOptions& options)
@@ -451,6 +472,8 @@ Scenario loadScenarioYaml(const std::string& path, const std::string& worlds_dir
     readEncodersYaml(root["encoders"], where, s.encoders);
     where = path + ": tracker";
     readTrackerYaml(root["tracker"], where, s.tracker);
+    where = path + ": imu";
+    readImuYaml(root["imu"], where, s.imu);
     where = path + ": motion";
     readMotionYaml(root["motion"], path, where, s.motion);
     readChangesYaml(root["changes"], path, where, s);

@@ -321,7 +321,10 @@ public:
         velocities_(scenario.encoders.output == "joint_velocity"),
         base_odometry_(scenario.encoders.output == "odometry"),
         previous_T_world_base_(scenario.start_pose),
-        shaft_rate_(Eigen::VectorXd::Zero(static_cast<Eigen::Index>(specs_.size())))
+        shaft_rate_(Eigen::VectorXd::Zero(static_cast<Eigen::Index>(specs_.size()))),
+        imu_model_(scenario.imu, scenario.seed),
+        imu_period_(periodNs(scenario.imu.rate_hz)),
+        next_imu_(scenario.imu.enabled ? 0 : std::numeric_limits<std::int64_t>::max())
   {
     if (multibeam_)
       history_.add(0, T_world_base_, 2 * scan_period_);
@@ -330,8 +333,8 @@ public:
   SimulationSummary run()
   {
     while (true) {
-      const std::int64_t next_event =
-          std::min({next_encoder_, next_scan_, next_control_, nextExtraScan(), nextTick()});
+      const std::int64_t next_event = std::min(
+          {next_encoder_, next_scan_, next_control_, nextExtraScan(), nextTick(), next_imu_});
       if (next_event > end_ns_)
         break;
       integrateTo(next_event);
@@ -346,6 +349,10 @@ public:
         next_encoder_ += nextEncoderSpacing();
       }
       publishDueTicks(t);
+      if (now_ == next_imu_) {
+        sink_.onImu(imu_model_.measure(t, realised_.omega_radps));
+        next_imu_ += imu_period_;
+      }
       if (now_ == next_scan_ && multibeam_) {
         if (now_ >= scan_period_) {  // a sweep that began at the start or later
           CloudSample cloud = castSweep(laser_, T_base_laser_, world_, history_, now_, scan_period_,
@@ -589,6 +596,9 @@ private:
   Pose2 previous_T_world_base_;  // the truth at the last encoder instant (odometry)
   Pose2 T_odom_base_;            // the base's reported odometry pose (odometry)
   Eigen::VectorXd shaft_rate_;   // over the last integration step [rad/s]
+  ImuModel imu_model_;          // the IMU's gyro (its own random stream)
+  const std::int64_t imu_period_;
+  std::int64_t next_imu_;  // never without scenario.imu.enabled
 };
 
 }  // namespace

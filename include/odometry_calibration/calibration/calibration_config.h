@@ -100,11 +100,21 @@ struct EgoMotionSourceConfig
   std::string publisher;
 };
 
+/// The IMU's gyro as a further source of the joint fit (`gyro:`; calibration/gyro_fit.h).
+struct GyroConfig
+{
+  std::string topic;       ///< sensor_msgs/Imu topic; empty: no gyro
+  double roll_rad = 0.0;   ///< the IMU's mounting roll in base_link [rad]
+  double pitch_rad = 0.0;  ///< the IMU's mounting pitch in base_link [rad]
+  double max_gap_s = 0.1;  ///< readings further apart: a gap no pair may span [s]
+};
+
 /// Everything a calibration run needs.
 struct CalibrationConfig
 {
   std::vector<JointConfig> joints;
   WheelInputConfig wheels;  ///< where the joints' positions come from
+  GyroConfig gyro;          ///< the IMU's gyro (off unless gyro.topic is set)
   std::string joint_state_topic = "/joint_states";
   /// The node whose JointState messages carry the wheel joints (empty: whichever single one
   /// does; a second is refused). Others' messages are ignored and counted.

@@ -26,6 +26,10 @@ const std::vector<ConfigSchemaEntry<CalibrationConfig>>& calibrationConfigSchema
 /// last part of calibrationConfigSchema().
 const std::vector<ConfigSchemaEntry<CalibrationConfig>>& modelConfigSchema();
 
+/// The keys of the `gyro:` section (calibration_config_schema_gyro.cpp): part of
+/// calibrationConfigSchema(), before the models'.
+const std::vector<ConfigSchemaEntry<CalibrationConfig>>& gyroConfigSchema();
+
 /// Every declaration, the joints' first, then the ego-motion sources'.
 std::vector<const ConfigKeySpec*> calibrationConfigSpecs();
 

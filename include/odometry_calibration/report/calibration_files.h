@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "odometry_calibration/calibration/gyro_fit.h"
 #include "odometry_calibration/calibration/joint_source_fit.h"
 #include "odometry_calibration/geometry/se2.h"
 #include "odometry_calibration/models/model.h"
@@ -51,6 +52,9 @@ struct CalibrationFilesInput
 /// when a sensor pose is known (removed likewise when none is). Throws std::invalid_argument
 /// without a report or model.
 FileSet calibrationFiles(const CalibrationFilesInput& input);
+
+/// `files`' result.yaml with the gyro's block (gyroResultYaml of `gyro` on `topic`) appended.
+void appendGyroResult(FileSet* files, const GyroFit& gyro, const std::string& topic);
 
 /// A joint fit of several sensors: result.yaml (jointResultYaml), laser_joints.urdf (one fixed
 /// joint per sensor, parent `base_frame`, child the sensor's frame), controller.yaml (the joint

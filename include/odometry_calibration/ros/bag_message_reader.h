@@ -28,7 +28,7 @@ struct BagInput
 };
 
 /// The topics the reader reads for `config`: the joint states' and every ego-motion source's
-/// (egoMotionSources order).
+/// (egoMotionSources order), then gyro.topic when set.
 std::vector<std::string> readTopics(const CalibrationConfig& config);
 
 /// rosbag trusts a bag's index: a corrupted index entry makes it read outside its buffers

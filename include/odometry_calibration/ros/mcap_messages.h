@@ -63,6 +63,7 @@ public:
   bool read(sensor_msgs::PointCloud2& message) override;
   bool read(nav_msgs::Odometry& message) override;
   bool read(geometry_msgs::PoseStamped& message) override;
+  bool read(sensor_msgs::Imu& message) override;
   bool readWheelTick(const std::string& type, double& value) override;
   std::vector<std::string> partialReads() const override;
 

@@ -14,6 +14,7 @@
 
 #include <geometry_msgs/PoseStamped.h>
 #include <nav_msgs/Odometry.h>
+#include <sensor_msgs/Imu.h>
 #include <sensor_msgs/JointState.h>
 #include <sensor_msgs/LaserScan.h>
 #include <sensor_msgs/PointCloud2.h>
@@ -59,6 +60,9 @@ public:
   /// Source `source`'s sensor pose (no frame), or kBadEgoMessage ("pose") as for Odometry.
   ConvertedInput convert(const geometry_msgs::PoseStamped& message, std::size_t source,
                          std::string publisher) const;
+  /// gyro.topic's reading: its stamp and angular velocity in its frame (kGyro; the session's
+  /// GyroSource checks the values).
+  ConvertedInput convert(const sensor_msgs::Imu& message, std::string publisher) const;
 
 private:
   CalibrationConfig config_;

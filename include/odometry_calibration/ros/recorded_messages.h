@@ -10,6 +10,7 @@
 
 #include <geometry_msgs/PoseStamped.h>
 #include <nav_msgs/Odometry.h>
+#include <sensor_msgs/Imu.h>
 #include <sensor_msgs/JointState.h>
 #include <sensor_msgs/LaserScan.h>
 #include <sensor_msgs/PointCloud2.h>
@@ -54,6 +55,7 @@ public:
   virtual bool read(sensor_msgs::PointCloud2& message) = 0;
   virtual bool read(nav_msgs::Odometry& message) = 0;
   virtual bool read(geometry_msgs::PoseStamped& message) = 0;
+  virtual bool read(sensor_msgs::Imu& message) = 0;
   /// The current message's number when it is a wheel tick of std_msgs type `type`
   /// (wheel_tick_messages.h); false when it is of another type. Throws as read.
   virtual bool readWheelTick(const std::string& type, double& value) = 0;

@@ -60,6 +60,7 @@ public:
   bool read(sensor_msgs::PointCloud2& message) override;
   bool read(nav_msgs::Odometry& message) override;
   bool read(geometry_msgs::PoseStamped& message) override;
+  bool read(sensor_msgs::Imu& message) override;
   bool readWheelTick(const std::string& type, double& value) override;
 
   struct Storage;  ///< one open storage file

@@ -67,6 +67,9 @@ public:
   void onScan(const sim::ScanSample& sample) override;
   void onTruth(const sim::TruthSample& sample) override;
   void onTracker(const sim::TrackerSample& sample) override;
+  /// The IMU's reading as sensor_msgs/Imu on imu.topic (angular velocity only; orientation and
+  /// linear acceleration marked unknown: their covariances' first element -1).
+  void onImu(const sim::ImuSample& sample) override;
   void onCloud(const sim::CloudSample& sample) override;
   /// encoders.output ticks: the joint's reading on its tick topic as encoders.tick_type.
   void onWheelTick(const sim::WheelTickSample& sample) override;
@@ -91,7 +94,7 @@ private:
   std::vector<std::string> joint_names_;
   std::vector<std::string> tick_topics_;  ///< encoders.output ticks: each joint's topic
   std::uint32_t joint_seq_ = 0, scan_seq_ = 0, truth_seq_ = 0, tracker_seq_ = 0;
-  std::uint32_t base_odometry_seq_ = 0;
+  std::uint32_t base_odometry_seq_ = 0, imu_seq_ = 0;
   bool wrote_static_tf_ = false;
 };
 

@@ -26,6 +26,7 @@ enum class WireMessage
   kPointCloud2,
   kOdometry,
   kPoseStamped,
+  kImu,
 };
 
 /// The type's name as in a bag ("sensor_msgs/JointState", ...).

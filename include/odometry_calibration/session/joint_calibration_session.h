@@ -21,6 +21,8 @@
 
 #include "odometry_calibration/calibration/joint_source_fit.h"
 #include "odometry_calibration/session/calibration_session.h"
+#include "odometry_calibration/session/gyro_health.h"
+#include "odometry_calibration/session/gyro_source.h"
 #include "odometry_calibration/session/wheel_signals.h"
 #include "odometry_calibration/session/wheel_topic_watch.h"
 
@@ -38,6 +40,9 @@ struct JointCalibrateOutcome
   std::vector<SessionFit> alone;
   std::vector<JointSourceInput> inputs;
   std::string joint_failure;  ///< why the joint fit itself failed ("" when it ran)
+  /// With gyro.topic: the gyro's fit against the first source's fitted pairs (gyro_fit.h), when
+  /// a fit of the wheels ran.
+  std::optional<GyroFit> gyro;
 };
 
 /// The joint fit of the sources' fits alone (fitSourcesJointly's signature; a test forces a
@@ -88,6 +93,13 @@ public:
   /// wheels.source odometry: the base's own pose `T_odom_base` at `stamp_s`, made its path and
   /// heading joints (as above).
   void addBaseOdometry(double stamp_s, const Pose2& T_odom_base, const std::string& publisher = "");
+  /// gyro.topic: one IMU reading (GyroSource::add; `angular_velocity` x, y, z [rad/s]); "" when
+  /// kept, else why it was refused. `problem` non-empty: a message that could not be read,
+  /// refused and counted with that reason. Without a gyro configured: refused, naming gyro.topic.
+  std::string addGyroReading(double stamp_s, const Eigen::VectorXd& angular_velocity,
+                             const std::string& problem = "");
+  /// The gyro's readings (null without gyro.topic).
+  const GyroSource* gyro() const { return gyro_.get(); }
   void flush();
   /// Every source's tick(); with wheels.source ticks also a warning (the log) per wheel topic
   /// silent beyond silent_topic_timeout_s while another wheel's publishes (wheel_topic_watch.h).
@@ -101,7 +113,8 @@ public:
   /// The health monitor's largest statistic (none when it does not watch).
   std::optional<double> healthStatistic() const;
   /// Several sources: the joint health monitor's status ("calibration health"), none before it
-  /// watches a calibration; one source: none (its session reports its own).
+  /// watches a calibration; one source: none (its session reports its own). With a gyro fit
+  /// watched, then the "gyro health" status (gyro_health.h).
   std::vector<SessionStatusReport> jointStatusReports() const;
 
   /// One source: its session's calibrate(). Several: each source fitted alone (a source whose
@@ -127,6 +140,11 @@ private:
   /// Seconds on the wall clock (options' wall_clock, else the steady clock).
   double wallNow() const;
   JointCalibrateOutcome calibrateJointly(const CalibrationRequest& request);
+  /// With a gyro: its fit against the first source's fitted pairs into `result` (and its line
+  /// appended to the reply's message).
+  void fitGyro(JointCalibrateOutcome* result);
+  /// One source with a gyro fit: its session's files and the gyro in result.yaml, as one set.
+  std::pair<bool, std::string> saveWithGyro() const;
   /// The joint fit's configuration: model `name` (one with a joint fit) with the call's
   /// `options`; throws std::invalid_argument naming an option it does not take or what the
   /// configuration lacks for that model.
@@ -143,6 +161,9 @@ private:
   std::string adoptJointFit(const CalibrationConfig& joint_config, const JointFitReport& joint,
                             const std::vector<SessionFit>& fits, bool* success);
   std::string saveJoint() const;
+  /// A pair listener feeding the gyro's watch, then `forward` (when set).
+  std::function<void(const MotionPair&)> gyroWatchingPairs(
+      std::function<void(const MotionPair&)> forward);
   /// Source `source`'s new pair into the joint monitor.
   void monitorPair(const MotionPair& pair, std::size_t source);
   /// The joint monitor watches `models` (one per source) from now on.
@@ -159,6 +180,12 @@ private:
   std::unique_ptr<WheelSignals> wheel_signals_;
   /// wheels.source ticks: each wheel topic's silence, said by tick() (null otherwise).
   std::unique_ptr<WheelTopicWatch> wheel_watch_;
+  std::unique_ptr<GyroSource> gyro_;  ///< gyro.topic's readings; null without one
+  /// The last ~calibrate's gyro fit (save() writes it into result.yaml); guarded by fit_mutex_.
+  std::optional<GyroFit> gyro_fit_;
+  /// With a gyro: the watch of the last ~calibrate's gyro fit, fed the readings and source 0's
+  /// pairs (declared before sessions_, whose pair listener feeds it, so that it outlives them).
+  std::unique_ptr<GyroHealth> gyro_health_;
   std::mutex wheel_mutex_;       ///< guards wheel_signals_ and the order its samples are fed in
   std::string wheel_publisher_;  ///< the first joint's topic's publisher (ticks)
   SessionOptions options_;

@@ -9,6 +9,7 @@
 
 #include "odometry_calibration/geometry/se2.h"
 #include "odometry_calibration/sim/drive_plan.h"
+#include "odometry_calibration/sim/imu_model.h"
 #include "odometry_calibration/sim/robot.h"
 
 namespace odometry_calibration {
@@ -154,6 +155,7 @@ struct Scenario
   EncoderOptions encoders;
   DrivePlanOptions motion;
   TrackerOptions tracker;
+  ImuOptions imu;                        ///< the IMU's gyro (sim/imu_model.h); off unless enabled
   std::vector<ParameterChange> changes;  ///< in time order; empty: the robot never changes
   std::string ground_truth_topic = "/ground_truth/odom";  ///< nav_msgs/Odometry of the truth
   std::string ground_truth_frame = "sim_world";           ///< truth tree root (separate)

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "odometry_calibration/geometry/se2.h"
+#include "odometry_calibration/sim/imu_model.h"
 #include "odometry_calibration/sim/robot.h"
 #include "odometry_calibration/sim/scenario.h"
 #include "odometry_calibration/sim/world.h"
@@ -105,6 +106,7 @@ public:
   virtual void onCloud(const CloudSample& /*sample*/) {}
   virtual void onWheelTick(const WheelTickSample& /*sample*/) {}
   virtual void onBaseOdometry(const BaseOdometrySample& /*sample*/) {}
+  virtual void onImu(const ImuSample& /*sample*/) {}
 };
 
 /// Forwards every sample to several sinks, in order.
@@ -125,6 +127,7 @@ public:
   {
     forward(&SimulationSink::onBaseOdometry, s);
   }
+  void onImu(const ImuSample& s) override { forward(&SimulationSink::onImu, s); }
 
 private:
   /// Calls `receive` (one of the SimulationSink callbacks) with `sample` on every sink, in order.
