@@ -596,7 +596,7 @@ private:
   Pose2 previous_T_world_base_;  // the truth at the last encoder instant (odometry)
   Pose2 T_odom_base_;            // the base's reported odometry pose (odometry)
   Eigen::VectorXd shaft_rate_;   // over the last integration step [rad/s]
-  ImuModel imu_model_;          // the IMU's gyro (its own random stream)
+  ImuModel imu_model_;           // the IMU's gyro (its own random stream)
   const std::int64_t imu_period_;
   std::int64_t next_imu_;  // never without scenario.imu.enabled
 };

@@ -116,7 +116,7 @@ private:
   std::vector<ros::Subscriber>
       tick_subscribers_;  ///< wheels.topics: a tick topic per joint, or the base's odometry
   std::vector<ros::Subscriber> ego_subscribers_;  ///< one per source
-  ros::Subscriber gyro_subscriber_;  ///< gyro.topic's sensor_msgs/Imu, when set
+  ros::Subscriber gyro_subscriber_;               ///< gyro.topic's sensor_msgs/Imu, when set
   ros::Publisher odom_publisher_, nominal_path_publisher_, corrected_path_publisher_,
       scan_path_publisher_, pairs_publisher_, report_publisher_, diagnostics_publisher_,
       guidance_marker_publisher_, health_statistic_publisher_;

@@ -36,8 +36,8 @@ struct ConvertedInput
     kWheelTick,        ///< `raw(0)`: joint `wheel`'s raw tick reading (wheels.source ticks)
     kJointVelocities,  ///< `raw`: the joints' velocities (encoderChannels order, no signs)
     kBaseOdometry,  ///< `pose`: the base's own odometry pose T_odom_base (wheels.source odometry)
-    kGyro,             ///< `raw`: an IMU's angular velocity (x, y, z) in its frame [rad/s];
-                       ///< `problem` non-empty: a reading that could not be read, and why
+    kGyro,          ///< `raw`: an IMU's angular velocity (x, y, z) in its frame [rad/s];
+                    ///< `problem` non-empty: a reading that could not be read, and why
   };
   Kind kind = Kind::kJoints;
   /// The ego-motion source the message came from (egoMotionSources order; 0 with one source
