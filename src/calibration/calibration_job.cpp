@@ -103,11 +103,7 @@ void estimateJobTimeOffset(const CalibrationConfig& config, const std::vector<Mo
         "configured " +
         std::to_string(job->time_offset_s) + " s");
   } else {
-    // An estimate the pairs' offset lies outside of (beyond 2 sigma) is used even within the
-    // pairing tolerance: on slow encoders the pairs' own offset is the less accurate one.
-    const double keep_within_s =
-        std::min(options.keep_offset_within_s, std::max(2.0 * offset.sigma_s, kMinKeptOffsetS));
-    if (std::abs(offset.offset_s - job->time_offset_s) > keep_within_s)
+    if (std::abs(offset.offset_s - job->time_offset_s) > options.keep_offset_within_s)
       job->time_offset_s = offset.offset_s;
     if (offset.at_boundary) {
       warnings->push_back("the time offset estimate " + std::to_string(offset.offset_s) +

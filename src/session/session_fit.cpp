@@ -202,7 +202,7 @@ std::string timeOffsetSentence(const CalibrationConfig& config, const SessionFit
   } else if (job.time_offset->offset_s != job.time_offset_s) {
     std::snprintf(text, sizeof(text),
                   " Time offset: tau = %.4f +- %.4f s (encoder values at scan time + tau), within "
-                  "2 sigma and %.3f s of the %.4f s the pairs were made at: kept.",
+                  "%.3f s of the %.4f s the pairs were made at: kept.",
                   job.time_offset->offset_s, job.time_offset->sigma_s, kOffsetPairingToleranceS,
                   job.time_offset_s);
   } else {

@@ -18,10 +18,6 @@
 namespace odometry_calibration {
 
 /// What the job does besides the fit.
-/// The least difference between a time-offset estimate and the offset the pairs were made at
-/// that re-cuts their encoder windows (keep_offset_within_s) [s].
-constexpr double kMinKeptOffsetS = 0.001;
-
 struct CalibrationJobOptions
 {
   /// Estimate the time offset when the configuration asks for it (`estimate_time_offset`);
@@ -34,9 +30,8 @@ struct CalibrationJobOptions
   /// CalibrationSession::calibrate when the pairs were not paired again): used instead of
   /// searching again.
   std::optional<TimeOffsetResult> time_offset_search;
-  /// An estimate within this of the offset the pairs were made at, and within twice its σ (at
-  /// least kMinKeptOffsetS) of it, keeps that offset: the pairs are fitted as made (the
-  /// estimate is still reported) [s]. 0: any estimate is used.
+  /// An estimate within this of the offset the pairs were made at keeps that offset: the pairs
+  /// are fitted as made (the estimate is still reported) [s]. 0: any estimate is used.
   double keep_offset_within_s = 0.0;
 };
 
