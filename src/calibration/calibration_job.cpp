@@ -85,7 +85,7 @@ void estimateJobTimeOffset(const CalibrationConfig& config, const std::vector<Mo
         "(the bags went back in time)");
   }
   // The grid refits the model per offset from the configured start only: the global yaw
-  // starts (issue 23) are for the final fit and would multiply the search's cost.
+  // starts are for the final fit and would multiply the search's cost.
   ModelFactoryOptions search_models = config.models;
   search_models.diff_drive.yaw_starts = 1;
   search_models.tricycle.calibration.yaw_starts = 1;

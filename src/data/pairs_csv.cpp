@@ -138,7 +138,7 @@ std::vector<EncoderSample> parseSamples(const std::string& field, std::size_t jo
   return samples;
 }
 
-/// Refuses values no real pair has, which a fit would take for data (issue 32): a keyframe
+/// Refuses values no real pair has, which a fit would take for data: a keyframe
 /// motion beyond kMaxMotionM, a covariance that is not positive definite or beyond
 /// kMaxVarianceUnits (its whitening would be NaN or nothing), a joint value beyond
 /// kMaxJointValue (a raw 32-bit counter reaches 4.3e9).

@@ -21,7 +21,7 @@ SessionAssistant::SessionAssistant(const SessionAssistantOptions& options,
     health.sensor_name = "lidar";
   else if (config.ego_motion != EgoMotionSource::kScan)
     health.sensor_name = "ego-motion sensor";
-  // Several sources: each named by its frame, or its topic (issue 35).
+  // Several sources: each named by its frame, or its topic.
   for (const EgoMotionSourceConfig& source : config.ego_motion_sources)
     source_names_.push_back(source.frame.empty() ? source.topic : source.frame);
   if (!options_.guidance)

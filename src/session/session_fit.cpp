@@ -13,7 +13,7 @@ namespace {
 
 /// A fit whose parameters are no physical values (a radius of 77 m or below zero, a value that
 /// is not finite) is marked not converged, so that it never becomes the active model and
-/// calibrate_bag reports it NOT converged (issue 32).
+/// calibrate_bag reports it NOT converged.
 void refuseUnphysicalFit(ModelReport* report)
 {
   std::vector<std::string> names;

@@ -1,4 +1,4 @@
-// Which change explains a stale calibration's residuals (issue 34): a weighted least-squares
+// Which change explains a stale calibration's residuals: a weighted least-squares
 // regression of the pairs' residuals on each candidate change's sensitivity
 // (change_hypotheses.h), and a likelihood comparison of the candidates.
 //
@@ -26,7 +26,7 @@
 // and says "cannot tell" otherwise; nothing is named unless the best X exceeds the chi-square
 // significance threshold (default 10.8: p = 0.001 with no change).
 //
-// With several sensors (issue 35) each pair carries its sensor's index: a wheel candidate is
+// With several sensors each pair carries its sensor's index: a wheel candidate is
 // regressed on every sensor's pairs, a sensor's mounting candidate on that sensor's pairs alone
 // (its column is zero in the others'), so the pairs of a laser that did not move count against
 // a wheel change that would have shown in them too. The verdict names the sensor when the kind

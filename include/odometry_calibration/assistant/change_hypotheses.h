@@ -1,5 +1,5 @@
 // What may have changed on a robot since its calibration, and how each change would show in a
-// pair (issue 34): the health monitor's candidate causes and their per-pair sensitivities.
+// pair: the health monitor's candidate causes and their per-pair sensitivities.
 //
 // A pair's residual r = measured - predicted sensor motion (x, y, theta). If quantity c of the
 // robot changed by delta_c after the fit, the measured motion is the prediction at the changed
@@ -15,7 +15,7 @@
 // The attribution (change_attribution.h) regresses the residuals on these columns.
 //
 // One set of hypotheses describes one ego-motion source (its mounting on the robot). With
-// several sources (issue 35: a front and a rear laser, one set of wheels), the set holds the
+// several sources (a front and a rear laser, one set of wheels), the set holds the
 // wheel quantities once (a wheel change shows in every sensor's pairs) and each sensor's
 // mounting x, y, yaw (a knocked laser shows in its own pairs only); a pair's sensitivity has
 // its own sensor's mounting columns and zeros in the others'.
@@ -89,7 +89,7 @@ std::unique_ptr<ChangeHypotheses> makeChangeHypotheses(
     std::shared_ptr<const MotionModel> model, const std::string& sensor_name,
     const std::vector<std::string>& joint_names = {});
 
-/// The hypotheses of several sensors on one robot (issue 35): `models[s]` predicts sensor s's
+/// The hypotheses of several sensors on one robot: `models[s]` predicts sensor s's
 /// motion (the joint calibration's wheels with that sensor's pose), `sensor_names[s]` names it
 /// (e.g. its frame, "laser_rear"). The wheel quantities of makeChangeHypotheses once (each
 /// sensor's pairs sense them through its own model), then each sensor's mounting x, y, yaw

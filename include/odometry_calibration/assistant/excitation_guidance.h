@@ -1,4 +1,4 @@
-// Live excitation guidance for the parametric models (issue 18): while pairs arrive, keep the
+// Live excitation guidance for the parametric models: while pairs arrive, keep the
 // Fisher information they add, H = sum_i J_i^T Sigma_i^-1 J_i, with J_i the Jacobian of pair i's
 // SE(2) error (sensor_motion_fit.h, the CMLE of Censi et al. T-RO 2013, Sec. V) with respect to
 // the intrinsics and the sensor pose at fixed linearisation values (the nominal or last fitted

@@ -1,6 +1,6 @@
-// Health monitor of an active calibration (issue 18): scores each new pair against the model's
+// Health monitor of an active calibration: scores each new pair against the model's
 // prediction and raises an alarm when the calibration no longer fits the robot (tyre wear, a new
-// load, a knocked laser), and names what changed (issue 34).
+// load, a knocked laser), and names what changed.
 //
 // Per pair, the residual r = measured - predicted sensor motion is standardised per output by the
 // predictive covariance (model covariance + the pair's own), z_k = r_k / sqrt(S_kk). A
@@ -33,7 +33,7 @@
 // regressed on each candidate change (change_attribution.h, change_hypotheses.h) to name the
 // cause, again at every status() while the alarm stands (more pairs, a surer verdict).
 //
-// Several sensors (issue 35: a front and a rear laser calibrated jointly, one set of wheels and a
+// Several sensors (a front and a rear laser calibrated jointly, one set of wheels and a
 // pose per laser): one monitor watches them all, each pair tagged with its sensor. Each sensor
 // has its own six charts and learns its own noise (its model predicts its motion: the joint
 // calibration's wheels with its pose); the false alarms are shared by all the charts; the

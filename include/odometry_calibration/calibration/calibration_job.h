@@ -1,5 +1,5 @@
-// One calibration from collected pairs, the same for the live node and calibrate_bag (DESIGN.md,
-// "data flow": pairs in, optional encoder-laser time offset, fit, report data out).
+// One calibration from collected pairs, the same for the live node and calibrate_bag:
+// pairs in, optional encoder-laser time offset, fit, report data out.
 #pragma once
 
 #include <memory>

@@ -1,4 +1,4 @@
-// The joint fit of several ego-motion sources (issue 35: `ego_motion.sources`, e.g. a front and
+// The joint fit of several ego-motion sources (`ego_motion.sources`, e.g. a front and
 // a rear laser) from each source's own pairs and fit alone: one set of wheel parameters and one
 // pose per sensor (models/joint_fits.h), the model a sensor's view of it gives, and the joint
 // result.yaml. The one place calibrate_bag and the live node's session both fit sources jointly.

@@ -1,4 +1,4 @@
-// The joint fit of several sensors (issue 35) in words: one table per sensor (the shared wheel
+// The joint fit of several sensors in words: one table per sensor (the shared wheel
 // parameters and its pose with σ, its pairs, residuals and observability verdict), then the
 // consistency figure: the wheel parameters each sensor implies fitted alone, side by side.
 #pragma once

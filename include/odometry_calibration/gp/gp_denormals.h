@@ -1,4 +1,4 @@
-// Denormal-safe arithmetic for the GP's prediction loops (issue 33). Far from the training
+// Denormal-safe arithmetic for the GP's prediction loops. Far from the training
 // inputs an RBF kernel value exp(-q/2) underflows into the denormal range (q ~ 1416-1490) and
 // every product with it costs a microcode assist, about a hundred times a normal multiply: a
 // mecanum or coarse-encoder model spent most of its prediction time there. Within a scope of

@@ -9,14 +9,13 @@
 // An exact posterior on more than kGpLowRankVarianceInputs inputs predicts its variance in
 // O(M^2) instead of O(n^2): k_* is projected on M = kGpVarianceInducingInputs inducing inputs
 // (k_* ~ K_nZ K_ZZ^-1 k_*Z), so that |L^-1 k_*|^2 ~ k_*Z^T V_e k_*Z with the cached
-// V_e = K_ZZ^-1 K_Zn (K + S)^-1 K_nZ K_ZZ^-1: one fast path at every size above M (issue 33;
-// it was taken above 1000 inputs only, and a 900-input model spent ~500 us per prediction in
-// the O(n^2) solve), k_*Z^T V_e k_*Z read from V_e's lower triangle. Above M inputs the mean is
+// V_e = K_ZZ^-1 K_Zn (K + S)^-1 K_nZ K_ZZ^-1: one fast path at every size above M (the O(n^2)
+// solve cost a 900-input model ~500 us per prediction), k_*Z^T V_e k_*Z read from V_e's lower
+// triangle. Above M inputs the mean is
 // projected the same way, k_*^T alpha ~ k_*Z^T w_Z with w_Z = K_ZZ^-1 K_Zn alpha (O(M), the
 // k_*Z of the variance), but only if that agrees with the exact mean within 1 % of the smallest
 // noise sigma on (up to 256 of) the training inputs; otherwise the mean stays exact, O(n)
-// (issue 33: the projected mean was tried above 1000 inputs only, and the exact O(n) mean was
-// most of a 900-input model's prediction time).
+// (the exact O(n) mean is most of a 900-input model's prediction time).
 // The prior mean mu(x) is added by the caller (GaussianProcessModel).
 #pragma once
 

@@ -1,4 +1,4 @@
-// What a joint fit of several sensors reports (issue 35; joint_parametric_fit.h fits it): the
+// What a joint fit of several sensors reports (joint_parametric_fit.h fits it): the
 // one set of wheel parameters, each sensor's pose, pairs, noise and observability, and each
 // sensor's pairs fitted alone, whose agreement is a consistency figure.
 #pragma once

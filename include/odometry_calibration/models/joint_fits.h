@@ -1,4 +1,4 @@
-// The joint fits of the parametric models (issue 35: diff_drive, skid_steer, mecanum,
+// The joint fits of the parametric models (diff_drive, skid_steer, mecanum,
 // tricycle): one set of wheel parameters and one pose per sensor from each sensor's pairs
 // (joint_parametric_fit.h).
 #pragma once

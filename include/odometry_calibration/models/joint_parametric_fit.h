@@ -1,4 +1,4 @@
-// One calibration of the wheels and of several sensors' poses (issue 35: a front and a rear
+// One calibration of the wheels and of several sensors' poses (a front and a rear
 // laser): one set of intrinsics, one pose per sensor, every pair weighted by its own
 // covariance (sensor_motion_fit.h's solver with a sensor index per pair, each sensor's
 // covariances rescaled by its own robust noise scale). Each sensor is first fitted alone

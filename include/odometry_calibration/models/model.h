@@ -1,4 +1,4 @@
-// The one interface of all calibration models (DESIGN.md, "Model"): fit to keyframe pairs,
+// The one interface of all calibration models: fit to keyframe pairs,
 // predict the sensor's displacement with a covariance, save to YAML.
 #pragma once
 
@@ -53,7 +53,7 @@ struct ModelReport
   ResidualRms after;                          ///< errors of the fit on all pairs used
   Eigen::Vector3d residual_rms_xytheta = Eigen::Vector3d::Zero();  ///< per axis, inliers
   std::size_t pairs_used = 0;                                      ///< pairs given to the fit
-  /// The model's own outlier count, as before issue 23: parametric models the pairs beyond the
+  /// The model's own outlier count: parametric models the pairs beyond the
   /// Huber threshold (rejected + down_weighted), linear and GP the pairs left out (rejected).
   std::size_t outliers = 0;
   /// Pairs beyond the model's outlier cut: left out of the fit (linear, GP) or, under the

@@ -1,5 +1,5 @@
 // Says in words which parameters of a parametric model the data cannot determine, and why
-// (DESIGN.md, "Report": an observability verdict naming the missing motion).
+// (the report's observability verdict names the missing motion).
 #pragma once
 
 #include <string>

@@ -21,7 +21,7 @@ constexpr double kMaxCovarianceJacobianEntry = 1e100;
 
 /// Whether `problem`'s Jacobian at its parameters' values can be handed to an SVD: every entry
 /// finite and below kMaxCovarianceJacobianEntry. Eigen's SVD inside ceres::Covariance crashes
-/// (SIGSEGV) on one that is not, where no exception can be caught (issue 32).
+/// (SIGSEGV) on one that is not, where no exception can be caught.
 inline bool covarianceComputable(ceres::Problem& problem)
 {
   double cost = 0.0;

@@ -4,7 +4,7 @@
 // the whitened SE(2) error e = Z^-1 * (T_bs^-1 * Delta_base * T_bs) under a Huber loss with
 // Ceres (Levenberg-Marquardt, automatic derivatives, SE(2) manifold for the pose).
 //
-// Several sensors at once (issue 35: a front and a rear laser): one set of intrinsics and one
+// Several sensors at once (a front and a rear laser): one set of intrinsics and one
 // pose per sensor, each pair tagged with its sensor (`SensorPairs`) and weighted by its own
 // covariance, the covariances of each sensor rescaled by that sensor's own robust noise scale.
 // The one-sensor functions below are the several-sensor ones with every pair of sensor 0.

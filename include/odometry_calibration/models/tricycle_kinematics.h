@@ -12,7 +12,7 @@
 // The step's steering is the mean of its two readings (trapezoidal rule): the steering turns
 // continuously between samples, and the end sample's reading alone leads the step's steering by
 // half a sample period, which the time-offset search took for an offset of -5.3 ms at 25 Hz,
-// -2.6 ms at 50 Hz and -1.1 ms at 100 Hz on a simulated tricycle (issue 35). The seed's logs
+// -2.6 ms at 50 Hz and -1.1 ms at 100 Hz on a simulated tricycle. The seed's logs
 // keep the end sample's reading (TricycleEncoderLayout::steering_at_step_end): the robot's own
 // odometry does so, and the seed's published results are computed that way.
 #pragma once

@@ -1,4 +1,4 @@
-// Turns live streams into calibration pairs (DESIGN.md, data flow): encoder readings into an
+// Turns live streams into calibration pairs: encoder readings into an
 // EncoderTrack; scans (or sensor poses from another ego-motion source) into keyframes every
 // T seconds; each new keyframe matched against the previous one with PLICP, the encoder-
 // predicted motion as initial guess; the result checked against the composition of the

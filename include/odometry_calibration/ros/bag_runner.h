@@ -1,6 +1,6 @@
 // Reads bags directly with the rosbag C++ API (no playback), in timestamp order, and feeds the
 // same calibration session as the live node (session/calibration_session.h): the offline half
-// of DESIGN.md's data flow.
+// of the calibration.
 #pragma once
 
 #include <functional>

@@ -1,4 +1,4 @@
-// The live calibration node (DESIGN.md, "Interfaces users touch"): an adapter around the
+// The live calibration node (README, "The live node"): an adapter around the
 // ROS-free calibration session (session/joint_calibration_session.h: one CalibrationSession per
 // ego-motion source). JointState and LaserScan (or another ego-motion topic; with
 // ego_motion.sources every source's topic) are converted and handed to the session; its pairs,

@@ -1,4 +1,4 @@
-// One calibration session (issue 31): everything between the inputs and a fitted model that the
+// One calibration session: everything between the inputs and a fitted model that the
 // live node and calibrate_bag share, free of ROS. It takes encoder readings and ego-motion
 // samples (laser scans, a 3D lidar's clouds made scans, sensor poses) with their stamps and
 // frames, pairs them (pairing/pair_collector.h, and one collector per candidate fit interval),

@@ -1,4 +1,4 @@
-// Stuck and glitching encoders, for the session's status (issue 32): a reading stuck at an
+// Stuck and glitching encoders, for the session's status: a reading stuck at an
 // absurd value (1e300) is skipped as a glitch at every message and stops the odometry, a wheel
 // encoder that stopped counting reads the same value while the other wheels turn; both used to
 // leave /diagnostics OK. The watch names the joint.

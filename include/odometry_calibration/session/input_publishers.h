@@ -1,4 +1,4 @@
-// Who publishes a session's inputs (issue 32). A robot where a second node also publishes the
+// Who publishes a session's inputs. A robot where a second node also publishes the
 // wheel joints (joint_state_publisher at zero beside the driver, a common misconfiguration) or
 // the sensor topic interleaves two streams the pairing would take for one: a confident wrong
 // calibration. Each input's publisher (a bag connection's callerid, a live message's publisher)

@@ -1,4 +1,4 @@
-// The live assistant of a session (issue 18; docs/live_assistant.md): excitation guidance while
+// The live assistant of a session (docs/live_assistant.md): excitation guidance while
 // collecting (what to drive next, per parameter sigma against its target) and a health monitor
 // of the active calibration after a fit (a CUSUM per output on each new pair's standardised
 // residual). Both are the models' (excitation_guidance.h, health_monitor.h); this class feeds
@@ -48,7 +48,7 @@ public:
   void addPair(const MotionPair& pair, std::size_t source = 0);
   /// Watches `model` from now on; `origin` says what it is ("fit of 480 pairs").
   void watch(const std::shared_ptr<const MotionModel>& model, const std::string& origin);
-  /// Several sources (issue 35): watches `models[s]` for source s (the joint calibration's
+  /// Several sources: watches `models[s]` for source s (the joint calibration's
   /// wheels with that source's pose), each named by its frame (its topic without one). One
   /// model: as watch(). Throws std::invalid_argument when the count is not the sources'.
   void watch(const std::vector<std::shared_ptr<const MotionModel>>& models,

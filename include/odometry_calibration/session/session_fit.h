@@ -1,5 +1,5 @@
 // One calibration of a session's pairs, the same for the live node's ~calibrate and for
-// calibrate_bag (issue 31: parity by construction): the keyframe interval of the fitted pairs
+// calibrate_bag (parity by construction): the keyframe interval of the fitted pairs
 // (the configured one, a given one, or one chosen by time-blocked cross-validation among the
 // candidates, calibration/fit_interval.h), then the calibration job (calibration_job.h: the
 // encoder-laser time offset when the configuration asks for it, the fit).
