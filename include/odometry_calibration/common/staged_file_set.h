@@ -1,7 +1,8 @@
 // A set of result files that replaces the previous set whole or not at all (on a full disk,
-// never part of a new set or a mix of an earlier run's files and the new one's). Every file is written into a temporary folder beside the targets first; only when all
-// are written does commit() move them into place, each by a rename (which needs no space). A
-// rename that fails puts everything back: the old set stays as it was and no new file remains.
+// never part of a new set or a mix of an earlier run's files and the new one's). Every file is
+// written into a temporary folder beside the targets first; only when all are written does commit()
+// move them into place, each by a rename (which needs no space). A rename that fails puts
+// everything back: the old set stays as it was and no new file remains.
 #pragma once
 
 #include <functional>
