@@ -42,7 +42,7 @@ JointFitReport fitJointSkidSteer(const SkidSteerOptions& options,
                                  const std::vector<std::vector<MotionPair>>& pairs_per_sensor,
                                  const std::vector<Pose2>& start_poses);
 
-/// The tricycle's Ks, Kt, axis length and steering offset (shared/seeds/003, sections 3-5),
+/// The tricycle's Ks, Kt, axis length and steering offset (docs/models.md, "The tricycle"),
 /// and the pose of each sensor: each set (at least the 7 pairs a fit alone needs, with the
 /// steering and traction joints) first fitted alone as TricycleModel::fit does (from the
 /// options' start values and its own `start_poses` entry, the physical of the symmetric

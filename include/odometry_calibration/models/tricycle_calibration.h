@@ -1,5 +1,5 @@
 // Least-squares calibration of the front-wheel-drive tricycle and of its sensor's pose
-// (shared/seeds/003, sections 3-5): state X = [Ks Kt a ds | T_base_sensor], measurement the
+// (docs/models.md, "The tricycle"): state X = [Ks Kt a ds | T_base_sensor], measurement the
 // sensor displacement over a keyframe window, prediction h = T_bs^-1 * Delta_r * T_bs, error
 // e = Z^-1 * h on SE(2), Huber loss. Solved with Ceres (Levenberg-Marquardt, automatic
 // derivatives, SE(2) manifold for the sensor pose).

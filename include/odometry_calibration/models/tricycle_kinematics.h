@@ -1,5 +1,5 @@
 // Kinematics of the front-wheel-drive tricycle of the calibration seed
-// (shared/seeds/003: "Tricycle Calibration", section 2), templated for Ceres autodiff.
+// (docs/models.md, "The tricycle"), templated for Ceres autodiff.
 //
 // One steered and driven front wheel, two passive rear wheels; base_link is the midpoint of the
 // rear axle, x forward. Per encoder step k (seed, section 2):

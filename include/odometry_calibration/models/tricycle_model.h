@@ -1,6 +1,6 @@
-// The tricycle calibration (shared/seeds/003: Ks, Kt, axis length, steering offset and the
-// sensor pose, by robust least squares on keyframe pairs) behind the common model interface,
-// so that the live node and calibrate_bag fit it like any other model.
+// The tricycle calibration (docs/models.md, "The tricycle": Ks, Kt, axis length, steering offset
+// and the sensor pose, by robust least squares on keyframe pairs) behind the common model
+// interface, so that the live node and calibrate_bag fit it like any other model.
 #pragma once
 
 #include <string>

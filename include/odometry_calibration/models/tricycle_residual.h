@@ -1,4 +1,4 @@
-// The tricycle's error term for one keyframe pair (shared/seeds/003, section 5):
+// The tricycle's error term for one keyframe pair (docs/models.md, "The tricycle"):
 // e = Z^-1 * h(X, Delta_r), h = T_bs^-1 * Delta_r * T_bs, whitened by the pair's covariance.
 #pragma once
 
