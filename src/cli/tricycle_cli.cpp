@@ -16,7 +16,7 @@
 namespace odometry_calibration {
 namespace {
 
-/// The interval when the drive is too short to choose one (the default before issue 22) [s].
+/// The interval when the drive is too short to choose one [s].
 constexpr double kFallbackIntervalS = 0.5;
 
 /// Indices of the keyframes T apart (the first sample, then each window's end), for the RPE.

@@ -138,7 +138,7 @@ void parseHeaderLine(const std::string& body, std::size_t line, const std::strin
 }
 
 /// A pose value beyond this (m or rad) is no pose of a robot but a corrupted number: a tracker
-/// x of 1e10 averaged into an ATE of 1.8e8 m, one of 1e308 overflowed the fit (issue 32).
+/// x of 1e10 averaged into an ATE of 1.8e8 m, one of 1e308 overflowed the fit.
 constexpr double kMaxPoseValue = 1e6;
 
 /// Refuses a sample line that is not 13 tokens with the four labels in their places.
@@ -209,7 +209,7 @@ TricycleDatasetRow parseRow(const std::vector<std::string>& tokens, const std::s
 
 /// Refuses a tracker pose that leaps away from both neighbours while they agree: a corrupted
 /// value (a tracker x of 1000 among poses a few centimetres apart raised the calibrated ATE from
-/// 0.38 m to 20 m, issue 32). A leap counts beyond max(1 m, 100 times the median step) when the
+/// 0.38 m to 20 m). A leap counts beyond max(1 m, 100 times the median step) when the
 /// neighbours are within a tenth of it of each other.
 void refuseTrackerSpikes(const TricycleDataset& dataset)
 {

@@ -20,7 +20,7 @@ struct CalibrationResult
   Pose2 T_base_sensor;                 ///< the sensor's pose in base_link [m, m, rad]
   double time_offset_s = 0.0;          ///< encoder values at scan time + offset [s]
   /// Keyframe interval of the pairs the model was fitted on [s] (a GP predicts windows of this
-  /// length); 0: not recorded (results written before issue 22: the configured interval_s).
+  /// length); 0: not recorded (older results: the configured interval_s).
   double fit_interval_s = 0.0;
   /// The joints the model was fitted on, in EncoderSample order (empty: not recorded).
   std::vector<std::string> joints;

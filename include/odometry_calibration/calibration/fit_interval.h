@@ -1,4 +1,4 @@
-// Lets the data choose the keyframe interval T the laser pairs of a fit span (issue 22), by
+// Lets the data choose the keyframe interval T the laser pairs of a fit span, by
 // time-blocked cross-validation on one yardstick: the training drive is cut into contiguous
 // time blocks; for each candidate T and block, the configured model is fitted to the pairs at T
 // that lie entirely outside the block and scored on the block's evaluation pairs (pairs at one

@@ -36,7 +36,7 @@ struct DrivePlanOptions
   double max_acceleration_mps2 = 1.0;            ///< [m/s^2]
   double max_angular_acceleration_radps2 = 3.0;  ///< [rad/s^2]
   std::vector<ScriptedMotion> script;            ///< scripted: the motions, in order, then stop
-  /// random: motions left out, to test what a drive without them determines (issue 18). A left
+  /// random: motions left out, to test what a drive without them determines. A left
   /// (right) turn is any motion turning counter-clockwise (clockwise), forward or reversing.
   bool left_turns = true;
   bool right_turns = true;
