@@ -204,9 +204,14 @@ GivenValues readKeys(const YAML::Node& root, CalibrationConfig* c)
   return given;
 }
 
-/// The checks across keys of ego_motion, keyframes and scan_matching.
+/// The checks across keys of ego_motion, keyframes and scan_matching, and gyro.odom_heading.
 void resolveSensor(CalibrationConfig& c)
 {
+  if (c.gyro.odom_heading && c.gyro.topic.empty()) {
+    throw std::runtime_error(
+        "gyro.odom_heading: true needs the gyro: set gyro.topic (the sensor_msgs/Imu topic) or "
+        "gyro.odom_heading: false");
+  }
   if (c.ego_motion != EgoMotionSource::kScan && c.ego_motion_topic.empty()) {
     throw std::runtime_error("ego_motion.topic: source '" +
                              formatConfigValue(schemaValue(c, "ego_motion.source")) +

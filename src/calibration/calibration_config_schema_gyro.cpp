@@ -1,4 +1,5 @@
-// The `gyro:` keys of calibration_config_schema.h: the IMU's topic and mounting.
+// The `gyro:` keys of calibration_config_schema.h: the IMU's topic and mounting, and whether
+// ~odom takes its heading from it.
 #include "odometry_calibration/calibration/calibration_config_schema.h"
 
 namespace odometry_calibration {
@@ -25,6 +26,11 @@ const std::vector<ConfigSchemaEntry<CalibrationConfig>>& gyroConfigSchema()
           "readings further apart are a gap: a pair across it is left out "
           "of the gyro's fit",
           [](auto& c) -> auto& { return c.gyro.max_gap_s; }),
+      flag<CalibrationConfig>(
+          "gyro.odom_heading", false,
+          "~odom's heading from the calibrated gyro (scale, bias, time offset of the last "
+          "~calibrate), its translation from the wheels; needs gyro.topic",
+          [](auto& c) -> auto& { return c.gyro.odom_heading; }),
   };
   return entries;
 }

@@ -1,7 +1,6 @@
 #include "odometry_calibration/session/joint_calibration_session.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <stdexcept>
@@ -108,11 +107,11 @@ JointCalibrationSession::JointCalibrationSession(
                                          config.time_offset_search_max_s);
     if (options.assistant && options.assistant_options.health_monitor)
       gyro_health_ = std::make_unique<GyroHealth>(options.log);
+    if (config.gyro.odom_heading && options.odometry)
+      gyro_heading_ = std::make_unique<GyroHeadingOdometry>(config.gyro.max_gap_s);
   }
   if (sources_.size() <= 1) {  // one source: its session exactly as before
-    SessionListener own_listener = listener ? listener(0) : SessionListener{};
-    if (gyro_health_)
-      own_listener.pair = gyroWatchingPairs(std::move(own_listener.pair));
+    const SessionListener own_listener = withGyro(listener ? listener(0) : SessionListener{});
     sessions_.push_back(std::make_unique<CalibrationSession>(config, config_text, config_source,
                                                              options, own_listener));
     return;
@@ -136,8 +135,8 @@ JointCalibrationSession::JointCalibrationSession(
           forward(pair);
       };
     }
-    if (k == 0 && gyro_health_)  // the gyro is fitted against source 0's pairs
-      own_listener.pair = gyroWatchingPairs(std::move(own_listener.pair));
+    if (k == 0)
+      own_listener = withGyro(std::move(own_listener));
     sessions_.push_back(std::make_unique<CalibrationSession>(
         configForSource(config, k), config_text, config_source, own, own_listener));
   }
@@ -146,93 +145,10 @@ JointCalibrationSession::JointCalibrationSession(
 
 JointCalibrationSession::~JointCalibrationSession() = default;
 
-std::function<void(const MotionPair&)> JointCalibrationSession::gyroWatchingPairs(
-    std::function<void(const MotionPair&)> forward)
-{
-  return [this, forward = std::move(forward)](const MotionPair& pair) {
-    gyro_health_->addPair(pair);
-    if (forward)
-      forward(pair);
-  };
-}
-
-void JointCalibrationSession::addJointPositions(double stamp_s, const Eigen::VectorXd& raw,
-                                                const std::string& publisher)
-{
-  for (const auto& session : sessions_)
-    session->addJointPositions(stamp_s, raw, publisher);
-}
-
-void JointCalibrationSession::skipJointState(const std::string& problem,
-                                             const std::string& publisher)
-{
-  for (const auto& session : sessions_)
-    session->skipJointState(problem, publisher);
-}
-
-void JointCalibrationSession::feedWheelOutput(const WheelSignalOutput& output,
-                                              const std::string& publisher)
-{
-  for (const EncoderSample& sample : output.samples)
-    addJointPositions(sample.stamp_s, sample.values, publisher);
-  if (!output.problem.empty())
-    skipJointState(output.problem, publisher);
-}
-
-void JointCalibrationSession::addWheelTick(std::size_t wheel, double stamp_s, double raw,
-                                           const std::string& publisher)
-{
-  // Held while feeding too: the joint samples reach the sessions in the order they were made.
-  std::lock_guard<std::mutex> lock(wheel_mutex_);
-  if (wheel == 0)
-    wheel_publisher_ = publisher;
-  if (wheel_watch_)
-    wheel_watch_->received(wheel, wallNow());
-  feedWheelOutput(wheel_signals_->addTick(wheel, stamp_s, raw), wheel_publisher_);
-}
-
-void JointCalibrationSession::addJointVelocities(double stamp_s, const Eigen::VectorXd& velocity,
-                                                 const std::string& publisher)
-{
-  std::lock_guard<std::mutex> lock(wheel_mutex_);
-  feedWheelOutput(wheel_signals_->addVelocities(stamp_s, velocity), publisher);
-}
-
-void JointCalibrationSession::addBaseOdometry(double stamp_s, const Pose2& T_odom_base,
-                                              const std::string& publisher)
-{
-  std::lock_guard<std::mutex> lock(wheel_mutex_);
-  feedWheelOutput(wheel_signals_->addBaseOdometry(stamp_s, T_odom_base), publisher);
-}
-
 void JointCalibrationSession::flush()
 {
   for (const auto& session : sessions_)
     session->flush();
-}
-
-void JointCalibrationSession::tick()
-{
-  for (const auto& session : sessions_)
-    session->tick();
-  if (!wheel_watch_)
-    return;
-  std::vector<std::string> warnings;
-  {
-    std::lock_guard<std::mutex> lock(wheel_mutex_);
-    warnings = wheel_watch_->silentWarnings(wallNow());
-  }
-  for (const std::string& warning : warnings) {
-    if (options_.log)
-      options_.log(SessionLogLevel::kWarn, warning);
-  }
-}
-
-double JointCalibrationSession::wallNow() const
-{
-  if (options_.wall_clock)
-    return options_.wall_clock();
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
 std::size_t JointCalibrationSession::writePendingPairs()
@@ -337,52 +253,6 @@ JointCalibrateOutcome JointCalibrationSession::calibrate(const CalibrationReques
   std::lock_guard<std::mutex> fitting(fit_mutex_);
   fitGyro(&result);
   return result;
-}
-
-std::string JointCalibrationSession::addGyroReading(double stamp_s,
-                                                    const Eigen::VectorXd& angular_velocity,
-                                                    const std::string& problem)
-{
-  if (!gyro_)
-    return "an IMU reading without gyro.topic configured: set gyro.topic to use the gyro";
-  if (!problem.empty())
-    return gyro_->refuse(problem);
-  if (angular_velocity.size() != 3)
-    return gyro_->refuse("gyro reading with " + std::to_string(angular_velocity.size()) +
-                         " angular velocity components, not 3");
-  std::string problem_found = gyro_->add(stamp_s, angular_velocity);
-  if (problem_found.empty() && gyro_health_) {
-    gyro_health_->addReading(stamp_s, gyroYawRate(angular_velocity.head<3>(), config_.gyro.roll_rad,
-                                                  config_.gyro.pitch_rad));
-  }
-  return problem_found;
-}
-
-void JointCalibrationSession::fitGyro(JointCalibrateOutcome* result)
-{
-  if (!gyro_)
-    return;
-  const std::vector<MotionPair>* pairs = nullptr;
-  double pairs_time_offset_s = 0.0;
-  if (!result->inputs.empty()) {
-    pairs = &result->inputs.front().pairs;
-    pairs_time_offset_s = result->inputs.front().time_offset_s;
-  } else if (result->outcome.fit) {
-    pairs = &result->outcome.fit->job.pairs;
-    pairs_time_offset_s = result->outcome.fit->job.time_offset_s;
-  }
-  if (pairs == nullptr)
-    return;
-  result->gyro = gyro_->fit(*pairs, pairs_time_offset_s);
-  gyro_fit_ = result->gyro;
-  if (gyro_health_)
-    gyro_health_->watch(*result->gyro);
-  std::string line = gyroFitText(*result->gyro);
-  if (gyro_->refused() > 0) {
-    line += "; " + std::to_string(gyro_->refused()) +
-            " readings refused, the first: " + gyro_->firstProblem();
-  }
-  result->outcome.message += (result->outcome.message.empty() ? "" : "\n") + line;
 }
 
 CalibrationConfig JointCalibrationSession::jointModelConfig(const std::string& name,
@@ -588,32 +458,14 @@ std::string JointCalibrationSession::saveJoint() const
          fs::absolute(options_.output_directory).lexically_normal().string() + ": " + list;
 }
 
-std::pair<bool, std::string> JointCalibrationSession::saveWithGyro() const
-{
-  const std::string& directory = options_.output_directory;
-  if (directory.empty())
-    return {false, "nothing to save: the session has no output directory"};
-  try {
-    FileSet files = sessions_.front()->filesToSave();
-    appendGyroResult(&files, *gyro_fit_, config_.gyro.topic);
-    writeFileSet(directory, files);  // all replaced, or none
-    std::string list;
-    for (const auto& [name, content] : files.written)
-      list += (list.empty() ? "" : ", ") + name;
-    return {true, "saved the fit and the gyro's in " +
-                      fs::absolute(directory).lexically_normal().string() + ": " + list};
-  } catch (const std::exception& error) {
-    const std::string what = error.what();
-    return {false, what.rfind("nothing to save", 0) == 0 ? what : "cannot save: " + what};
-  }
-}
-
 std::pair<bool, std::string> JointCalibrationSession::reset()
 {
   if (gyro_)
     gyro_->clear();
   if (gyro_health_)
     gyro_health_->clear();
+  if (gyro_heading_)
+    gyro_heading_->reset();
   if (sessions_.size() == 1)
     return sessions_.front()->reset();
   std::lock_guard<std::mutex> fitting(fit_mutex_);

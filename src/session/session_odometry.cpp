@@ -55,7 +55,8 @@ SessionOdometry::SessionOdometry(const SessionOdometry& other)
       recent_sensor_poses_(other.recent_sensor_poses_),
       scan_matched_sensor_poses_(other.scan_matched_sensor_poses_),
       scan_matched_end_s_(other.scan_matched_end_s_),
-      generation_(other.generation_)
+      generation_(other.generation_),
+      continuity_(other.continuity_)
 {
 }
 
@@ -88,7 +89,9 @@ std::optional<OdometryState> SessionOdometry::add(double encoder_stamp_s,
   keepRecentSensorPose(sample.stamp_s, corrected_->sensorPose());
   if (sample.stamp_s - last_path_stamp_s_ >= options_.path_spacing_s)
     addToPaths(sample, corrected_->pose());
-  return stateOf(*corrected_, sample.stamp_s);
+  OdometryState state = stateOf(*corrected_, sample.stamp_s);
+  state.continuity = continuity_;
+  return state;
 }
 
 void SessionOdometry::keepRecentSensorPose(double stamp_s, const Pose2& T_odom_sensor)
@@ -119,6 +122,7 @@ void SessionOdometry::addToPaths(const EncoderSample& sample, const Pose2& pose)
 void SessionOdometry::restart()
 {
   ++generation_;
+  ++continuity_;
   decoder_.reset();
   last_encoder_stamp_s_ = -1e300;
   last_path_stamp_s_ = -1e300;
@@ -189,6 +193,7 @@ void SessionOdometry::swapCorrected(OdometryReplay* replay)
       replay->integrator->add(*corrected_->lastSample());
   }
   std::swap(corrected_, replay->integrator);
+  ++continuity_;
   std::vector<StampedPose2> replaced(corrected_path_.begin(), corrected_path_.end());
   corrected_path_.assign(replay->path.begin(), replay->path.end());
   replay->path = std::move(replaced);

@@ -17,7 +17,9 @@ struct Collector : SimulationSink
 {
   std::vector<JointStateSample> joints;
   std::vector<Pose2> T_world_sensor;
+  std::vector<ImuSample> imu;
   void onJointState(const JointStateSample& s) override { joints.push_back(s); }
+  void onImu(const ImuSample& s) override { imu.push_back(s); }
   void onScan(const ScanSample&) override {}
   void onTruth(const TruthSample& s) override
   {
@@ -36,6 +38,7 @@ Collector simulateInOpenField(const PairGeneratorOptions& options, const Robot& 
   scenario.motion = options.motion;
   scenario.encoders.rate_hz = options.encoder_rate_hz;
   scenario.changes = options.changes;
+  scenario.imu = options.imu;
   scenario.laser.T_base_laser = options.T_base_sensor;
   scenario.laser.rays = 2;  // scans are not used here: keep them cheap
   scenario.laser.rate_hz = 1.0 / options.duration_s;
@@ -80,6 +83,7 @@ GeneratedPairs generatePairs(const PairGeneratorOptions& options)
   const auto robot = makeRobot(options.robot);
   const Collector collector = simulateInOpenField(options, *robot);
   GeneratedPairs generated;
+  generated.imu = collector.imu;
   std::vector<EncoderSample> samples;
   std::vector<double> stamps;
   decodeJointStates(*robot, collector.joints, generated.joints, samples, stamps);
@@ -116,6 +120,7 @@ PairGeneratorOptions pairGeneratorOptions(const Scenario& scenario, PairGenerato
   options.duration_s = scenario.duration_s;
   options.seed = scenario.seed;
   options.changes = scenario.changes;
+  options.imu = scenario.imu;
   return options;
 }
 }  // namespace sim

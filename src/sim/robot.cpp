@@ -4,6 +4,7 @@
 
 #include <Eigen/Geometry>
 
+#include "odometry_calibration/common/number_text.h"
 #include "odometry_calibration/sim/robot.h"
 
 namespace odometry_calibration {
@@ -26,7 +27,7 @@ public:
       : values_(std::move(defaults))
   {
     for (const char* key : {"slip_per_speed", "non_circular_amplitude", "non_circular_phase_rad",
-                            "axis_misalignment_rad"}) {
+                            "axis_misalignment_rad", "turn_slip_per_radps"}) {
       values_.emplace(key, 0.0);
     }
     for (const auto& [key, value] : options.parameters) {
@@ -66,16 +67,34 @@ struct Deformation
   double non_circular_amplitude = 0.0;
   double non_circular_phase_rad = 0.0;
   double axis_misalignment_rad = 0.0;
+  double turn_slip_per_radps = 0.0;
 
   explicit Deformation(const Parameters& p)
       : slip_per_speed(p["slip_per_speed"]),
         non_circular_amplitude(p["non_circular_amplitude"]),
         non_circular_phase_rad(p["non_circular_phase_rad"]),
-        axis_misalignment_rad(p["axis_misalignment_rad"])
+        axis_misalignment_rad(p["axis_misalignment_rad"]),
+        turn_slip_per_radps(p["turn_slip_per_radps"])
   {
     if (slip_per_speed < 0.0 || std::abs(non_circular_amplitude) >= 0.5) {
       throw std::invalid_argument("slip_per_speed must be >= 0 and |non_circular_amplitude| < 0.5");
     }
+    if (!(turn_slip_per_radps >= 0.0 && turn_slip_per_radps <= 1.0)) {
+      throw std::invalid_argument(
+          "robot parameter 'turn_slip_per_radps' must be in [0, 1] s/rad, got " +
+          formatNumber(turn_slip_per_radps));
+    }
+  }
+
+  /// Wheel slip in turns: the base turns less than its wheels' kinematics say, by a fraction
+  /// growing with the turn rate, while the wheels (and so the encoders) turn as commanded:
+  ///   omega_true = omega_wheels * max(0, 1 - k |omega_wheels|),  k = turn_slip_per_radps [s/rad];
+  /// the translation is the wheels'.
+  Twist2 slipInTurns(const Twist2& wheels) const
+  {
+    Twist2 realised = wheels;
+    realised.omega_radps *= std::max(0.0, 1.0 - turn_slip_per_radps * std::abs(wheels.omega_radps));
+    return realised;
   }
 
   /// Effective rolling radius of a wheel of nominal radius r turning at `rate` with angle
@@ -157,8 +176,9 @@ public:
     const double left_y = speed_left * std::sin(misalignment);
     (*joint_rad)(0) += rate_left * dt_s;
     (*joint_rad)(1) += rate_right * dt_s;
-    return {0.5 * (left_x + speed_right), 0.5 * left_y,
-            (speed_right - left_x) / effectiveSeparation(left_x, speed_right)};
+    return deformation_.slipInTurns(
+        {0.5 * (left_x + speed_right), 0.5 * left_y,
+         (speed_right - left_x) / effectiveSeparation(left_x, speed_right)});
   }
 
   bool canTurnInPlace() const override { return true; }
@@ -231,7 +251,8 @@ public:
     const double travel_rate =
         deformation_.effectiveRadius(0, radius, (*joint_rad)(1), rate) * rate;  // [m/s]
     (*joint_rad)(1) += rate * dt_s;
-    return {travel_rate * std::cos(steering), 0.0, travel_rate * std::sin(steering) / axis_length_};
+    return deformation_.slipInTurns(
+        {travel_rate * std::cos(steering), 0.0, travel_rate * std::sin(steering) / axis_length_});
   }
 
   Eigen::VectorXd encoderAngles(const Eigen::VectorXd& joint_rad) const override
@@ -346,12 +367,12 @@ public:
     }
     if (deformed_) {
       const Eigen::Vector3d twist = solver_ * speed;
-      return {twist(0), twist(1), twist(2)};
+      return deformation_.slipInTurns({twist(0), twist(1), twist(2)});
     }
     // The least-squares solution of the undeformed rows in closed form ([16]).
-    return {0.25 * (speed(0) + speed(1) + speed(2) + speed(3)),
-            0.25 * (-speed(0) + speed(1) + speed(2) - speed(3)),
-            0.25 * (-speed(0) + speed(1) - speed(2) + speed(3)) / lever_};
+    return deformation_.slipInTurns({0.25 * (speed(0) + speed(1) + speed(2) + speed(3)),
+                                     0.25 * (-speed(0) + speed(1) + speed(2) - speed(3)),
+                                     0.25 * (-speed(0) + speed(1) - speed(2) + speed(3)) / lever_});
   }
 
   bool canTurnInPlace() const override { return true; }
@@ -424,8 +445,8 @@ public:
     (*joint_rad)(1) += rate_left * dt_s;
     (*joint_rad)(2) += rate_right * dt_s;
     (*joint_rad)(3) += rate_right * dt_s;
-    return {0.5 * (speed_left + speed_right), 0.0,
-            (speed_right - speed_left) / (factor_ * separation_)};
+    return deformation_.slipInTurns({0.5 * (speed_left + speed_right), 0.0,
+                                     (speed_right - speed_left) / (factor_ * separation_)});
   }
 
   bool canTurnInPlace() const override { return true; }

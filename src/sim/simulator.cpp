@@ -12,7 +12,9 @@
 
 #include <Eigen/Geometry>
 
+#include "odometry_calibration/sim/base_odometry_output.h"
 #include "odometry_calibration/sim/drive_plan.h"
+#include "odometry_calibration/sim/imu_output.h"
 #include "odometry_calibration/sim/laser_model.h"
 
 namespace odometry_calibration {
@@ -319,12 +321,9 @@ public:
         ticks_(scenario.encoders.output == "ticks"),
         tick_stagger_ns_(std::llround(scenario.encoders.tick_stagger_s * 1e9)),
         velocities_(scenario.encoders.output == "joint_velocity"),
-        base_odometry_(scenario.encoders.output == "odometry"),
-        previous_T_world_base_(scenario.start_pose),
+        base_odometry_(scenario.encoders, scenario.start_pose),
         shaft_rate_(Eigen::VectorXd::Zero(static_cast<Eigen::Index>(specs_.size()))),
-        imu_model_(scenario.imu, scenario.seed),
-        imu_period_(periodNs(scenario.imu.rate_hz)),
-        next_imu_(scenario.imu.enabled ? 0 : std::numeric_limits<std::int64_t>::max())
+        imu_(scenario.imu, scenario.seed)
   {
     if (multibeam_)
       history_.add(0, T_world_base_, 2 * scan_period_);
@@ -334,7 +333,7 @@ public:
   {
     while (true) {
       const std::int64_t next_event = std::min(
-          {next_encoder_, next_scan_, next_control_, nextExtraScan(), nextTick(), next_imu_});
+          {next_encoder_, next_scan_, next_control_, nextExtraScan(), nextTick(), imu_.next()});
       if (next_event > end_ns_)
         break;
       integrateTo(next_event);
@@ -349,10 +348,7 @@ public:
         next_encoder_ += nextEncoderSpacing();
       }
       publishDueTicks(t);
-      if (now_ == next_imu_) {
-        sink_.onImu(imu_model_.measure(t, realised_.omega_radps));
-        next_imu_ += imu_period_;
-      }
+      imu_.publishDue(now_, t, realised_.omega_radps, sink_);
       if (now_ == next_scan_ && multibeam_) {
         if (now_ >= scan_period_) {  // a sweep that began at the start or later
           CloudSample cloud = castSweep(laser_, T_base_laser_, world_, history_, now_, scan_period_,
@@ -495,8 +491,7 @@ private:
     }
     sink_.onJointState(sample);
     ++summary_.joint_states;
-    if (base_odometry_)
-      publishBaseOdometry(sample.stamp_s);
+    base_odometry_.publish(sample.stamp_s, T_world_base_, realised_, sink_);
     sink_.onTruth({t, T_world_base_, realised_, T_base_laser_});
     ++summary_.truth_samples;
     if (scenario_.tracker.enabled) {
@@ -506,24 +501,6 @@ private:
       const Pose2 noise(noise_x, noise_y, noise_theta);
       sink_.onTracker({t, T_world_base_ * T_base_laser_ * noise});
     }
-  }
-
-  /// The base's own odometry at this encoder instant, stamped `stamp_s` [s]: the true motion
-  /// since the last instant, T_prev^-1 T_now = (dx, dy, dtheta), reported as
-  /// ((1 + e_t) dx, (1 + e_t) dy, (1 + e_r) dtheta) and composed onto the reported pose.
-  void publishBaseOdometry(double stamp_s)
-  {
-    const double e_t = scenario_.encoders.odometry_translation_error;
-    const double e_r = scenario_.encoders.odometry_rotation_error;
-    const Pose2 step = previous_T_world_base_.inverse() * T_world_base_;
-    T_odom_base_ = T_odom_base_ * Pose2((1.0 + e_t) * step.x(), (1.0 + e_t) * step.y(),
-                                        (1.0 + e_r) * step.theta());
-    previous_T_world_base_ = T_world_base_;
-    Twist2 twist = realised_;
-    twist.vx_mps *= 1.0 + e_t;
-    twist.vy_mps *= 1.0 + e_t;
-    twist.omega_radps *= 1.0 + e_r;
-    sink_.onBaseOdometry({stamp_s, T_odom_base_, twist});
   }
 
   /// A planar laser's scan (laser `index`, mounted at T_base_laser, its sweep `sweep_ns` long),
@@ -592,13 +569,9 @@ private:
   const std::int64_t tick_stagger_ns_;   // joint j read j * this after the instant
   std::multimap<std::int64_t, std::size_t> pending_ticks_;  // due time [ns] -> joint
   const bool velocities_;                                   // encoders.output joint_velocity
-  const bool base_odometry_;                                // encoders.output odometry
-  Pose2 previous_T_world_base_;  // the truth at the last encoder instant (odometry)
-  Pose2 T_odom_base_;            // the base's reported odometry pose (odometry)
-  Eigen::VectorXd shaft_rate_;   // over the last integration step [rad/s]
-  ImuModel imu_model_;           // the IMU's gyro (its own random stream)
-  const std::int64_t imu_period_;
-  std::int64_t next_imu_;  // never without scenario.imu.enabled
+  BaseOdometryOutput base_odometry_;  // encoders.output odometry: the base's reported odometry
+  Eigen::VectorXd shaft_rate_;        // over the last integration step [rad/s]
+  ImuOutput imu_;                     // the IMU's gyro (its own random stream)
 };
 
 }  // namespace

@@ -107,6 +107,21 @@ TEST(CalibrationConfig, WheelsMistakesAreNamed)
             std::string::npos);
 }
 
+TEST(CalibrationConfig, GyroOdomHeadingNeedsTheGyro)
+{
+  const std::string joints =
+      "joints: [{name: l, units_per_turn: 360}, {name: r, units_per_turn: 360}]\n";
+  EXPECT_NE(parseError(joints + "gyro: {odom_heading: true}\n")
+                .find("gyro.odom_heading: true needs the gyro: set gyro.topic"),
+            std::string::npos);
+  EXPECT_NE(
+      parseError(joints + "gyro: {topic: /imu, odom_heading: 1e308}\n").find("gyro.odom_heading"),
+      std::string::npos);
+  EXPECT_TRUE(parseCalibrationConfig(joints + "gyro: {topic: /imu, odom_heading: true}\n", "test")
+                  .gyro.odom_heading);
+  EXPECT_FALSE(parseCalibrationConfig(joints + "gyro: {topic: /imu}\n", "test").gyro.odom_heading);
+}
+
 TEST(CalibrationConfig, BaseOdometryMakesItsOwnJointsAndNeedsItsModels)
 {
   const std::string odometry = "wheels: {source: odometry, topics: [/odom]}\n";

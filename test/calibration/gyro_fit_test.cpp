@@ -9,6 +9,7 @@
 #include "odometry_calibration/calibration/gyro_fit.h"
 #include "odometry_calibration/sim/robot.h"
 #include "odometry_calibration/sim/simulator.h"
+#include "support/acceptance_imu.h"
 
 namespace odometry_calibration {
 namespace {
@@ -35,12 +36,7 @@ sim::Scenario gyroScenario(unsigned seed)
   s.laser.fov_rad = M_PI;
   s.motion.max_speed_mps = 0.5;
   s.motion.max_turn_rate_radps = 1.0;
-  s.imu.enabled = true;
-  s.imu.scale = 1.015;
-  s.imu.bias_rad_s = 0.01;
-  s.imu.bias_random_walk = 1e-6;
-  s.imu.noise_rad_s = 0.002;
-  s.imu.time_offset_s = 0.02;
+  s.imu = test::acceptanceImu();
   return s;
 }
 
@@ -73,19 +69,12 @@ std::vector<MotionPair> pairsFromTruth(const std::vector<sim::TruthSample>& trut
   return pairs;
 }
 
-std::vector<GyroSample> yawRates(const std::vector<sim::ImuSample>& imu, double roll, double pitch)
-{
-  std::vector<GyroSample> samples;
-  for (const sim::ImuSample& s : imu)
-    samples.push_back({s.stamp_s, gyroYawRate(s.angular_velocity, roll, pitch)});
-  return samples;
-}
-
 TEST(GyroFit, ScaleBiasAndClockOfTheSimulatedGyro)
 {
   const Recorder data = run(gyroScenario(4701));
   ASSERT_NEAR(static_cast<double>(data.imu.size()), 100.0 * 180.0, 2.0);
-  const GyroFit fit = fitGyro(pairsFromTruth(data.truth, 25), 0.0, yawRates(data.imu, 0, 0), {});
+  const GyroFit fit =
+      fitGyro(pairsFromTruth(data.truth, 25), 0.0, test::yawRates(data.imu, 0, 0), {});
   ASSERT_TRUE(fit.fitted) << fit.problem;
   EXPECT_NEAR(fit.scale.value, 1.015, 0.001 * 1.015);
   EXPECT_NEAR(fit.bias.value, 0.01, 1e-4);
@@ -105,8 +94,8 @@ TEST(GyroFit, ATiltedImuIsLevelledByItsMounting)
   scenario.imu.bias_rad_s = 0.0;
   const Recorder data = run(scenario);
   const std::vector<MotionPair> pairs = pairsFromTruth(data.truth, 25);
-  const GyroFit levelled = fitGyro(pairs, 0.0, yawRates(data.imu, 0.3, -0.2), {});
-  const GyroFit tilted = fitGyro(pairs, 0.0, yawRates(data.imu, 0.0, 0.0), {});
+  const GyroFit levelled = fitGyro(pairs, 0.0, test::yawRates(data.imu, 0.3, -0.2), {});
+  const GyroFit tilted = fitGyro(pairs, 0.0, test::yawRates(data.imu, 0.0, 0.0), {});
   ASSERT_TRUE(levelled.fitted && tilted.fitted);
   EXPECT_NEAR(levelled.scale.value, 1.015, 0.001);
   // Read as if level, the z axis sees cos(0.3) cos(0.2) of the turn.
@@ -117,7 +106,7 @@ TEST(GyroFit, RefusesTooFewReadingsAndAStraightDrive)
 {
   const Recorder data = run(gyroScenario(4703));
   const std::vector<MotionPair> pairs = pairsFromTruth(data.truth, 25);
-  std::vector<GyroSample> short_track = yawRates(data.imu, 0, 0);
+  std::vector<GyroSample> short_track = test::yawRates(data.imu, 0, 0);
   short_track.resize(300);  // 3 s of readings
   const GyroFit few = fitGyro(pairs, 0.0, short_track, {});
   EXPECT_FALSE(few.fitted);
@@ -126,10 +115,10 @@ TEST(GyroFit, RefusesTooFewReadingsAndAStraightDrive)
   std::vector<MotionPair> straight = pairs;
   for (MotionPair& pair : straight)
     pair.sensor_motion = Pose2(0.0, 0.0, 0.0);
-  const GyroFit none = fitGyro(straight, 0.0, yawRates(data.imu, 0, 0), {});
+  const GyroFit none = fitGyro(straight, 0.0, test::yawRates(data.imu, 0, 0), {});
   EXPECT_FALSE(none.fitted);
   EXPECT_NE(none.problem.find("barely turns"), std::string::npos) << none.problem;
-  std::vector<GyroSample> bad = yawRates(data.imu, 0, 0);
+  std::vector<GyroSample> bad = test::yawRates(data.imu, 0, 0);
   bad[500].yaw_rate_rad_s = std::nan("");
   bad[600].stamp_s = bad[599].stamp_s - 1.0;  // time going backwards: left out
   EXPECT_TRUE(fitGyro(pairs, 0.0, bad, {}).fitted);

@@ -38,8 +38,10 @@ protected:
     simulateToBag(scenario, directory_ + "/drive.bag", "");
     simulateToBag(scenario, directory_ + "/drive_db3", "", nullptr, BagFormat::kDb3);
     simulateToBag(scenario, directory_ + "/drive_mcap", "", nullptr, BagFormat::kMcapZstd);
-    // The same configuration without the gyro.
-    const std::string text = test_support::readFile(kConfig + "/diff_drive_gyro.yaml");
+    // The same configuration without the gyro (nor ~odom's heading from it).
+    const std::string text =
+        std::regex_replace(test_support::readFile(kConfig + "/diff_drive_gyro.yaml"),
+                           std::regex("odom_heading: true"), "odom_heading: false");
     std::ofstream(directory_ + "/no_gyro.yaml")
         << std::regex_replace(text, std::regex("topic: /imu/data"), "topic: \"\"");
   }

@@ -3,7 +3,8 @@
 // clock 20 ms late): it subscribes to the IMU, fits the gyro's scale, bias and time offset on
 // ~calibrate against the laser's pairs, saves them in result.yaml; calibrate_bag on the same
 // bag and configuration gives the same values, and both are within the acceptance (0.1 %,
-// 1e-4 rad/s, 2 ms). After the fit the node watches the gyro: "gyro health" OK on /diagnostics.
+// 1e-4 rad/s, 2 ms). After the fit the node watches the gyro: "gyro health" OK on /diagnostics,
+// and ~odom takes its heading from it (the configuration's gyro.odom_heading).
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -75,6 +76,10 @@ TEST(NodeGyro, NodeAndCalibrateBagGiveTheSameGyroScaleBiasAndClock)
   ASSERT_TRUE(ros::service::call("/gyro/calibrate", fit));
   ASSERT_TRUE(fit.response.success) << fit.response.message;
   EXPECT_NE(fit.response.message.find("gyro: scale"), std::string::npos) << fit.response.message;
+  // gyro.odom_heading: true in the configuration: ~odom turns with the gyro from now on.
+  EXPECT_NE(fit.response.message.find("~odom's heading from the gyro (gyro.odom_heading)"),
+            std::string::npos)
+      << fit.response.message;
   // The fitted gyro is watched from now on (the diagnostics run on the wall clock).
   GyroHealthDiagnostic health;
   const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(20);

@@ -73,6 +73,28 @@ TEST(SimRobots, SlipShrinksTheRadiusWithSpeed)
   EXPECT_NEAR(stepOnce(*robot, {0.3, 0.0, 0.0}, &joints).vx_mps, 0.3 * 0.95, 1e-12);
 }
 
+TEST(SimRobots, TurnSlipTurnsLessThanTheWheelsSay)
+{
+  // k = 0.05 s/rad: a turn at w loses 0.05 |w| of it (3 % at 0.6 rad/s on diff_drive), the
+  // wheels and the translation as commanded.
+  for (const char* type : {"diff_drive", "skid_steer", "mecanum"}) {
+    const auto ideal = makeRobot({type, {}});
+    const auto slipping = makeRobot({type, {{"turn_slip_per_radps", 0.05}}});
+    Eigen::VectorXd ideal_joints = ideal->initialJoints(), joints = slipping->initialJoints();
+    const Twist2 wheels = stepOnce(*ideal, {0.3, 0.0, -0.6}, &ideal_joints);
+    const Twist2 twist = stepOnce(*slipping, {0.3, 0.0, -0.6}, &joints);
+    EXPECT_NEAR(twist.omega_radps, wheels.omega_radps * (1.0 - 0.05 * std::abs(wheels.omega_radps)),
+                1e-12)
+        << type;
+    EXPECT_NEAR(twist.vx_mps, wheels.vx_mps, 1e-12) << type;
+    EXPECT_EQ(joints, ideal_joints) << type;
+    EXPECT_EQ(slipping->trueParameters().at("turn_slip_per_radps"), 0.05);
+  }
+  const auto spinning = makeRobot({"diff_drive", {{"turn_slip_per_radps", 1.0}}});
+  Eigen::VectorXd joints = spinning->initialJoints();
+  EXPECT_EQ(stepOnce(*spinning, {0.0, 0.0, 2.0}, &joints).omega_radps, 0.0);  // never backwards
+}
+
 TEST(SimRobots, MisalignedAxisDriftsSideways)
 {
   const auto robot = makeRobot({"diff_drive", {{"axis_misalignment_rad", 0.1}}});
@@ -216,6 +238,10 @@ TEST(SimRobots, BadParametersAreNamed)
             std::string::npos);
   EXPECT_NE(message({"mecanum", {{"axis_yaw_deg", 50.0}}}).find("axis_yaw_deg"), std::string::npos);
   EXPECT_NE(message({"mecanum", {{"axis_misalignment_rad", 0.1}}}).find("axis_yaw_deg"),
+            std::string::npos);
+  EXPECT_NE(message({"diff_drive", {{"turn_slip_per_radps", -0.1}}}).find("turn_slip_per_radps"),
+            std::string::npos);
+  EXPECT_NE(message({"tricycle", {{"turn_slip_per_radps", 1.5}}}).find("in [0, 1] s/rad, got 1.5"),
             std::string::npos);
 }
 

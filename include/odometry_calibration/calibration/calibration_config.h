@@ -107,6 +107,9 @@ struct GyroConfig
   double roll_rad = 0.0;   ///< the IMU's mounting roll in base_link [rad]
   double pitch_rad = 0.0;  ///< the IMU's mounting pitch in base_link [rad]
   double max_gap_s = 0.1;  ///< readings further apart: a gap no pair may span [s]
+  /// ~odom's heading from the calibrated gyro, its translation from the wheels
+  /// (session/gyro_heading_odometry.h); needs `topic`.
+  bool odom_heading = false;
 };
 
 /// Everything a calibration run needs.

@@ -21,6 +21,7 @@
 
 #include "odometry_calibration/calibration/joint_source_fit.h"
 #include "odometry_calibration/session/calibration_session.h"
+#include "odometry_calibration/session/gyro_heading_odometry.h"
 #include "odometry_calibration/session/gyro_health.h"
 #include "odometry_calibration/session/gyro_source.h"
 #include "odometry_calibration/session/wheel_signals.h"
@@ -161,6 +162,12 @@ private:
   std::string adoptJointFit(const CalibrationConfig& joint_config, const JointFitReport& joint,
                             const std::vector<SessionFit>& fits, bool* success);
   std::string saveJoint() const;
+  /// Source 0's `listener` with the gyro's wrappers: its pairs to the gyro's watch, its
+  /// odometry turned by the gyro (gyro.odom_heading).
+  SessionListener withGyro(SessionListener listener);
+  /// An odometry listener handing `forward` the state with its heading from the gyro.
+  std::function<void(const OdometryState&)> gyroHeadingOdometry(
+      std::function<void(const OdometryState&)> forward);
   /// A pair listener feeding the gyro's watch, then `forward` (when set).
   std::function<void(const MotionPair&)> gyroWatchingPairs(
       std::function<void(const MotionPair&)> forward);
@@ -186,6 +193,10 @@ private:
   /// With a gyro: the watch of the last ~calibrate's gyro fit, fed the readings and source 0's
   /// pairs (declared before sessions_, whose pair listener feeds it, so that it outlives them).
   std::unique_ptr<GyroHealth> gyro_health_;
+  /// gyro.odom_heading (with SessionOptions::odometry): source 0's odometry with its heading
+  /// from the last gyro fit that succeeded (declared before sessions_, whose odometry listener
+  /// uses it); null otherwise.
+  std::unique_ptr<GyroHeadingOdometry> gyro_heading_;
   std::mutex wheel_mutex_;       ///< guards wheel_signals_ and the order its samples are fed in
   std::string wheel_publisher_;  ///< the first joint's topic's publisher (ticks)
   SessionOptions options_;

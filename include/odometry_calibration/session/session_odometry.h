@@ -39,6 +39,9 @@ struct OdometryState
   Eigen::Vector3d velocity = Eigen::Vector3d::Zero();    ///< (vx, vy, omega) [m/s, rad/s]
   /// One window's covariance divided by its length squared (the velocity's spread).
   Eigen::Matrix3d velocity_covariance = Eigen::Matrix3d::Zero();
+  /// Changes when the pose may jump from the previous state's: a restart, another model's
+  /// odometry taking over (SessionOdometry::swapCorrected).
+  std::size_t continuity = 0;
 };
 
 /// The paths for rviz.
@@ -134,6 +137,7 @@ private:
   std::deque<StampedPose2> scan_matched_sensor_poses_;
   std::optional<double> scan_matched_end_s_;
   std::size_t generation_ = 0;  ///< restarts so far
+  std::size_t continuity_ = 0;  ///< restarts and swaps so far (OdometryState::continuity)
 };
 
 }  // namespace odometry_calibration

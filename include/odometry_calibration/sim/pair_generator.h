@@ -8,6 +8,7 @@
 #include "odometry_calibration/data/motion_pair.h"
 #include "odometry_calibration/models/model.h"
 #include "odometry_calibration/sim/drive_plan.h"
+#include "odometry_calibration/sim/imu_model.h"
 #include "odometry_calibration/sim/robot.h"
 #include "odometry_calibration/sim/scenario.h"
 
@@ -30,6 +31,8 @@ struct PairGeneratorOptions
   /// Each pair's truth is taken at its encoder samples' instants, so a time_offset_change_s
   /// shows in no pair.
   std::vector<ParameterChange> changes;
+  /// The IMU's gyro (off by default; its own random stream: the drive is the same either way).
+  ImuOptions imu;
 };
 
 /// The pairs, the joints they carry (ticks), and the noise-free displacements.
@@ -38,6 +41,7 @@ struct GeneratedPairs
   std::vector<MotionPair> pairs;    ///< sensor_motion includes the noise
   std::vector<Pose2> true_motions;  ///< the same without noise
   JointLayout joints;               ///< names and kinds of EncoderSample::values
+  std::vector<ImuSample> imu;       ///< the gyro's readings, with options.imu enabled
 };
 
 /// Runs the simulator and cuts the run into pairs. Throws std::invalid_argument for invalid
@@ -45,7 +49,7 @@ struct GeneratedPairs
 GeneratedPairs generatePairs(const PairGeneratorOptions& options);
 
 /// `options` with the scenario's robot, laser pose (as the sensor), motion, encoder rate,
-/// duration, seed and changes; the keyframe interval and the noise stay `options`'.
+/// duration, seed, changes and IMU; the keyframe interval and the noise stay `options`'.
 PairGeneratorOptions pairGeneratorOptions(const Scenario& scenario, PairGeneratorOptions options);
 
 }  // namespace sim

@@ -103,7 +103,9 @@ public:
 /// Deformations, any type: slip_per_speed [0] (effective radius shrinks by this fraction per
 /// m/s of wheel speed), non_circular_amplitude [0] and non_circular_phase_rad [0] (the first
 /// wheel's radius varies as r (1 + A cos(angle + phase))), axis_misalignment_rad [0] (the
-/// first wheel rolls in a direction turned by this angle; diff_drive; mecanum: axis_yaw_deg).
+/// first wheel rolls in a direction turned by this angle; diff_drive; mecanum: axis_yaw_deg),
+/// turn_slip_per_radps [0] (wheel slip in turns: the base turns at omega (1 - k |omega|) of the
+/// wheels' yaw rate omega, k in s/rad, in [0, 1]; the encoders see the wheels' turn).
 /// Throws std::invalid_argument naming an unknown type, unknown key or invalid value.
 std::unique_ptr<Robot> makeRobot(const RobotOptions& options);
 
