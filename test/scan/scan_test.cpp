@@ -313,7 +313,33 @@ TEST(ScanLines, FarWallsOfSparseScannersKeepTheirLinesButDepthStepsStillBreak)
   // Twice the ray spacing: the gaps exceed the threshold again.
   LineFitOptions shorter;
   shorter.max_gap_range_m = 10.0;
+  shorter.max_gap_incidence_rad = 0.0;
   EXPECT_EQ(fitScanLines(points, shorter).valid_count, 0u);
+}
+
+TEST(ScanLines, FarSurfacesKeepTheirLinesWithinTheIncidenceGap)
+{
+  // 0.5 deg rays, a wall at x = 30 m: neighbouring points 0.26-0.29 m apart, beyond the fixed
+  // arc at max_gap_range_m (28 m: 0.24 m) but within r * spacing / cos(70 deg) (0.77 m at 30 m).
+  // A step back to x = 32 m (2 m) still breaks.
+  synthetic::World world;
+  world.addSegment(30.0, -8.0, 30.0, 0.0);
+  world.addSegment(32.0, 0.0, 32.0, 8.0);
+  const ScanPoints points = cleanScan180(world, 361);
+  ASSERT_GT(points.size(), 50u);
+  LineFitOptions fixed_arc;
+  fixed_arc.max_gap_incidence_rad = 0.0;
+  EXPECT_EQ(fitScanLines(points, fixed_arc).valid_count, 0u);  // every point its own surface
+  const ScanLines lines = fitScanLines(points, LineFitOptions());
+  EXPECT_EQ(lines.valid_count, points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const double wall_x_m = points.points_m[i].y() > 0.0 ? 32.0 : 30.0;
+    EXPECT_NEAR(lines.normals[i].x(), -1.0, 1e-9) << "point " << i;
+    EXPECT_NEAR(lines.centroids_m[i].x(), wall_x_m, 1e-9) << "point " << i;
+  }
+  LineFitOptions invalid;
+  invalid.max_gap_incidence_rad = 0.5 * M_PI;
+  EXPECT_THROW(validate(invalid), std::invalid_argument);
 }
 
 TEST(ScanLines, DenseScansBreakSurfacesAtMaxGapAlone)
