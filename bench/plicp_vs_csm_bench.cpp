@@ -1,8 +1,9 @@
 // Our PLICP and the reference implementation (Censi's CSM, sm_icp) side by side, in one process,
 // on the same scans with the same first guesses (issue 16): synthetic office rooms of 180, 682
 // and 1081 rays and a sparse corridor scene (with the true motion), the real Mines log's
-// consecutive and 0.5 s keyframe pairs (agreement, path length), and three real CARMEN logs
-// against their SLAM-corrected poses (issue 33: errors, silent gross failures, refusals). Each data
+// consecutive and 0.5 s keyframe pairs (agreement, path length), and every real CARMEN log of
+// ../shared/data/carmen against its SLAM-corrected poses (errors, silent gross failures, the
+// good pairs ours refuses and which check refused them; two seeds of the guesses). Each data
 // set is matched in several passes a whole set apart, the two matchers interleaved pair by pair
 // (alternating which goes first); a pair's time is its fastest pass. Both sides convert the scans
 // themselves inside the timed call (ours: Scan -> prepared points and line fits; CSM: Scan ->
@@ -11,7 +12,7 @@
 // logs also ours with the line fits' surface breaks of before issue 33, gap_rule 0, and ours with
 // the ambiguity check's rematches run to convergence, covariance 3). BM_CovarianceCostCarmen times
 // ours alone with the covariance off and on, interleaved, for the on/off ratio. Logs kept aside
-// from tuning run with the same protocol through CARMEN_LOGS (registerHeldOutLogs). Run
+// from tuning run with the same protocol through CARMEN_LOGS (registerCarmenLogs). Run
 // scripts/bench_plicp_vs_csm for the table.
 #include <benchmark/benchmark.h>
 
@@ -20,6 +21,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <limits>
+#include <map>
 #include <memory>
 #include <random>
 #include <sstream>
@@ -30,11 +32,11 @@
 #include "odometry_calibration/scan/plicp.h"
 #include "odometry_calibration/scan/plicp_ambiguity.h"
 #include "odometry_calibration/scan/plicp_match.h"
+#include "support/carmen_log.h"
 #include "support/mines_log.h"
 #include "support/synthetic_scans.h"
 
 #include "ambiguity_check_passes.h"
-#include "carmen_log.h"
 #include "csm_matcher.h"
 #include "side_by_side_statistics.h"
 
@@ -63,6 +65,8 @@ struct MatchCase
 struct Outcome
 {
   bool valid = false;
+  /// Ours: the matcher's status (CSM: valid or not, as kValid / kNoConvergence).
+  PlicpStatus status = PlicpStatus::kNoConvergence;
   Pose2 T_ref_new;
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
 };
@@ -71,7 +75,8 @@ Outcome matchWithCsm(const MatchCase& pair, bool covariance)
 {
   const csm_reference::CsmOutcome outcome =
       csm_reference::matchWithCsm(pair.reference, pair.current, pair.guess_ref_new, covariance);
-  return {outcome.valid, outcome.T_ref_new, outcome.covariance};
+  return {outcome.valid, outcome.valid ? PlicpStatus::kValid : PlicpStatus::kNoConvergence,
+          outcome.T_ref_new, outcome.covariance};
 }
 
 /// The default of PlicpOptions::ambiguity_return_sigma (rematches stop once back at the solution).
@@ -92,19 +97,28 @@ Outcome matchWithOurs(const MatchCase& pair, bool covariance, bool check_ambigui
   if (!gap_rule)
     options.line_fit.max_gap_range_m = 0.0;
   const PlicpResult result = matchScans(pair.reference, pair.current, pair.guess_ref_new, options);
-  return {result.valid(), result.T_ref_new, result.covariance};
+  return {result.valid(), result.status, result.T_ref_new, result.covariance};
 }
+
+/// A silent gross failure when called valid: more than 10 cm or 5 deg from the truth.
+bool grossError(const Pose2& error)
+{
+  return std::hypot(error.x(), error.y()) > 0.10 || std::abs(error.theta()) > 5.0 * M_PI / 180.0;
+}
+
+/// Both matchers' outcomes on every case (ours first).
+using Outcomes = std::pair<std::vector<Outcome>, std::vector<Outcome>>;
 
 /// Times both matchers on every case (fastest of kPasses interleaved passes per case) and puts
 /// speed, validity and accuracy (against the truth, or between the two) into the counters.
-void runSideBySide(benchmark::State& state, const std::vector<MatchCase>& cases, bool covariance,
-                   bool check_ambiguity = true, bool gap_rule = true,
-                   double return_sigma = kReturnSigma)
+Outcomes runSideBySide(benchmark::State& state, const std::vector<MatchCase>& cases,
+                       bool covariance, bool check_ambiguity = true, bool gap_rule = true,
+                       double return_sigma = kReturnSigma)
 {
   if (cases.empty()) {
     state.SkipWithError(
         "no data (the Mines and CARMEN logs are read from ODOMETRY_CALIBRATION_SHARED_DATA_DIR)");
-    return;
+    return {};
   }
   sm_debug_write(0);
   const std::size_t n = cases.size();
@@ -149,10 +163,7 @@ void runSideBySide(benchmark::State& state, const std::vector<MatchCase>& cases,
   std::vector<std::pair<double, double>> both_err_mm, both_err_deg;
   double ours_path_m = 0.0, csm_path_m = 0.0;
   int ours_valid = 0, csm_valid = 0, ours_wild = 0, ours_gross = 0, csm_gross = 0;
-  // A silent gross failure: called valid, but more than 10 cm or 5 deg from the truth.
-  auto gross = [](const Pose2& error) {
-    return std::hypot(error.x(), error.y()) > 0.10 || std::abs(error.theta()) > 5.0 * M_PI / 180.0;
-  };
+  const auto gross = grossError;
   for (std::size_t k = 0; k < n; ++k) {
     ours_valid += ours[k].valid ? 1 : 0;
     csm_valid += csm[k].valid ? 1 : 0;
@@ -227,6 +238,7 @@ void runSideBySide(benchmark::State& state, const std::vector<MatchCase>& cases,
     // Sum of the matched distances, ours over CSM's, on the pairs both call valid [%].
     state.counters["path_ours_vs_csm_pct"] = 100.0 * (ours_path_m / csm_path_m - 1.0);
   }
+  return {ours, csm};
 }
 
 /// Synthetic trials with the truth (1 cm range noise, 240 deg field of view, guess off by
@@ -272,17 +284,14 @@ std::vector<MatchCase> minesCases(std::size_t step)
   return cases;
 }
 
-/// The real CARMEN logs (../shared/data/carmen), in the order of kCarmenLogs.
-const char* const kCarmenLogs[] = {"aces", "fhw", "freiburg-079"};
-
 /// Up to 600 consecutive FLASER pairs of the CARMEN log at `path`, scored against the relative
 /// corrected pose; the first guess is that reference moved by 5 cm in a random direction and
-/// turned by 3 deg either way (random sign), as in issue 33's protocol. The same guesses for both
-/// sides. Empty when the log cannot be read.
-std::vector<MatchCase> carmenCasesAt(const std::string& path)
+/// turned by 3 deg either way (random sign, drawn with `seed`). The same guesses for both sides.
+/// Empty when the log cannot be read.
+std::vector<MatchCase> carmenCasesAt(const std::string& path, unsigned seed)
 {
   const std::vector<carmen::Record> records = carmen::loadLog(path);
-  std::mt19937 rng(33);
+  std::mt19937 rng(seed);
   std::uniform_real_distribution<double> direction(-M_PI, M_PI);
   std::bernoulli_distribution sign(0.5);
   std::vector<MatchCase> cases;
@@ -296,6 +305,54 @@ std::vector<MatchCase> carmenCasesAt(const std::string& path)
   }
   return cases;
 }
+
+/// Which check refused a pair ours does not call valid: its status ("degenerate", "poor overlap",
+/// "no convergence", ...), or "ambiguity" when the same match without the ambiguity check is valid
+/// (the check found a clearly better degenerate fit and made the match degenerate).
+std::string refusingCheck(const MatchCase& pair, const Outcome& ours)
+{
+  if (ours.status == PlicpStatus::kDegenerate && matchWithOurs(pair, true, false).valid)
+    return "ambiguity";
+  return toString(ours.status);
+}
+
+/// The pairs on which CSM's answer is good (valid, within 10 cm / 5 deg of the SLAM pose) and ours
+/// refuses, and which check refused each (counters refused_good, csm_good, "refused_by:<check>").
+void countRefusedGood(benchmark::State& state, const std::vector<MatchCase>& cases,
+                      const Outcomes& outcomes)
+{
+  const auto& [ours, csm] = outcomes;
+  int csm_good = 0, refused_good = 0;
+  std::map<std::string, int> by_check;
+  for (std::size_t k = 0; k < cases.size() && k < ours.size(); ++k) {
+    if (!csm[k].valid || grossError(between(cases[k].truth_ref_new, csm[k].T_ref_new)))
+      continue;
+    ++csm_good;
+    if (ours[k].valid)
+      continue;
+    ++refused_good;
+    ++by_check[refusingCheck(cases[k], ours[k])];
+  }
+  state.counters["csm_good"] = csm_good;
+  state.counters["refused_good"] = refused_good;
+  for (const auto& [check, count] : by_check)
+    state.counters["refused_by:" + check] = count;
+}
+
+/// The pairs of one CARMEN log with one seed, read once and shared by the rows that use them.
+std::shared_ptr<const std::vector<MatchCase>> carmenCases(const std::string& path, unsigned seed)
+{
+  static std::map<std::pair<std::string, unsigned>, std::shared_ptr<const std::vector<MatchCase>>>
+      cache;
+  auto& cases = cache[{path, seed}];
+  if (!cases)
+    cases = std::make_shared<const std::vector<MatchCase>>(carmenCasesAt(path, seed));
+  return cases;
+}
+
+/// The seeds of the CARMEN guesses: the fixed one of every table, and a second.
+constexpr unsigned kCarmenSeed = 33;
+constexpr unsigned kCarmenSecondSeed = 7;
 
 bool sameOutcome(const Outcome& a, const Outcome& b)
 {
@@ -324,23 +381,25 @@ void countWidened(benchmark::State& state, const std::vector<MatchCase>& cases)
   state.counters["ours_differ_from_before"] = differ;
 }
 
-void BM_SideBySideCarmen(benchmark::State& state)
+/// One CARMEN log with one seed's guesses. covariance 2: covariance on, our ambiguity check off
+/// (CSM as with covariance 1); covariance 3: on, every rematch of our check run to convergence
+/// (ambiguity_return_sigma 0, before its early stop); gap_rule 0: our line fits' surface breaks
+/// as before issue 33 (line_fit.max_gap_range_m 0). The rows with our defaults and covariance on
+/// also count the refused good pairs and which check refused them, and the widened matches.
+void sideBySideCarmen(benchmark::State& state, const std::string& path, unsigned seed,
+                      int covariance, bool gap_rule)
 {
-  static std::vector<MatchCase> cases[3];
-  const auto log = static_cast<std::size_t>(state.range(0));
-  if (cases[log].empty()) {
-    cases[log] =
-        carmenCasesAt(carmen::logPath(ODOMETRY_CALIBRATION_SHARED_DATA_DIR, kCarmenLogs[log]));
+  const auto cases = carmenCases(path, seed);
+  if (cases->empty()) {
+    state.SkipWithError(("cannot read FLASER pairs from " + path).c_str());
+    return;
   }
-  // covariance 2: covariance on, our ambiguity check off (CSM as with covariance 1); covariance 3:
-  // on, every rematch of our check run to convergence (ambiguity_return_sigma 0, before issue
-  // 33's early stop); gap_rule 0: our line fits' surface breaks as before issue 33
-  // (line_fit.max_gap_range_m 0)
-  const int covariance = static_cast<int>(state.range(1));
-  runSideBySide(state, cases[log], covariance != 0, covariance != 2, state.range(2) != 0,
-                covariance == 3 ? 0.0 : kReturnSigma);
-  if (covariance == 1 && state.range(2) != 0)
-    countWidened(state, cases[log]);
+  const Outcomes outcomes = runSideBySide(state, *cases, covariance != 0, covariance != 2, gap_rule,
+                                          covariance == 3 ? 0.0 : kReturnSigma);
+  if (covariance == 1 && gap_rule) {
+    countRefusedGood(state, *cases, outcomes);
+    countWidened(state, *cases);
+  }
 }
 
 /// Counts the check's passes on every pair of `cases` (ours, defaults, covariance on).
@@ -373,14 +432,12 @@ CheckPasses countCheckPasses(const std::vector<MatchCase>& cases)
 /// run to convergence (ambiguity_return_sigma 0, before its early stop), and on without the
 /// check. Counters: the medians [ms] and the on/off ratios of the medians; untimed, the check's
 /// work per checked match in correspondence passes (countCheckPasses).
-void BM_CovarianceCostCarmen(benchmark::State& state)
+void covarianceCostCarmen(benchmark::State& state, const std::string& path)
 {
   constexpr int kCostPasses = 5;
-  const std::vector<MatchCase> cases = carmenCasesAt(
-      carmen::logPath(ODOMETRY_CALIBRATION_SHARED_DATA_DIR, kCarmenLogs[state.range(0)]));
+  const std::vector<MatchCase>& cases = *carmenCases(path, kCarmenSeed);
   if (cases.empty()) {
-    state.SkipWithError(
-        "no data (the CARMEN logs are read from ODOMETRY_CALIBRATION_SHARED_DATA_DIR)");
+    state.SkipWithError(("cannot read FLASER pairs from " + path).c_str());
     return;
   }
   const auto variant = [](const MatchCase& pair, int which) {
@@ -480,53 +537,53 @@ BENCHMARK(BM_SideBySideMines)
     ->Iterations(1)
     ->Unit(benchmark::kMillisecond);
 
-// log: 0 ACES (180 rays), 1 FHW museum (180), 2 Freiburg 079 (360); covariance 2: on for
-// both, our ambiguity check off; covariance 3: on for both, our check's rematches run to
-// convergence (before its early stop); gap_rule 0: ours with the surface breaks of before
-// issue 33 (the before/after of its line-fit change, in the same run).
-BENCHMARK(BM_SideBySideCarmen)
-    ->ArgNames({"log", "covariance", "gap_rule"})
-    ->ArgsProduct({{0, 1, 2}, {1, 0, 2, 3}, {1}})
-    ->ArgsProduct({{0, 1, 2}, {1}, {0}})
-    ->Iterations(1)
-    ->Unit(benchmark::kMillisecond);
-
-// log: 0 ACES (180 rays), 1 FHW museum (180), 2 Freiburg 079 (360)
-BENCHMARK(BM_CovarianceCostCarmen)
-    ->ArgNames({"log"})
-    ->DenseRange(0, 2)
-    ->Iterations(1)
-    ->Unit(benchmark::kMillisecond);
-
-/// Held-out logs: CARMEN_LOGS=path[:path...] (corrected CARMEN logs, gzip'ed or plain) adds a
-/// row per log with covariance on and one with it off, so that logs kept aside from tuning get
-/// the same protocol and table (scripts/bench_plicp_vs_csm prints the acceptance per row).
-void registerHeldOutLogs()
+/// Every CARMEN log in the shared data folder (../shared/data/carmen: every *.log.gz and *.log)
+/// and those CARMEN_LOGS=path[:path...] adds (corrected CARMEN logs, gzip'ed or plain, e.g. logs
+/// kept aside from tuning): rows BM_SideBySideCarmen/<log>/seed:S/covariance:C/gap_rule:G with our
+/// defaults and covariance on for the fixed seed and the second, and for the fixed seed also
+/// covariance off, on without our ambiguity check (2), on with its rematches run to convergence
+/// (3), and ours with the surface breaks of before issue 33 (gap_rule 0); and
+/// BM_CovarianceCostCarmen/<log>. scripts/bench_plicp_vs_csm prints the table and the acceptance.
+void registerCarmenLogs()
 {
-  const char* list = std::getenv("CARMEN_LOGS");
-  if (list == nullptr)
-    return;
-  std::stringstream paths(list);
-  std::string path;
-  while (std::getline(paths, path, ':')) {
-    if (path.empty())
-      continue;
-    auto cases = std::make_shared<std::vector<MatchCase>>(carmenCasesAt(path));
-    std::string stem = path.substr(path.find_last_of('/') + 1);
-    stem = stem.substr(0, stem.find('.'));
-    for (const int covariance : {1, 0}) {
-      benchmark::RegisterBenchmark(
-          ("BM_SideBySideCarmenFile/" + stem + "/covariance:" + std::to_string(covariance)).c_str(),
-          [cases, covariance, path](benchmark::State& state) {
-            if (cases->empty()) {
-              state.SkipWithError(("cannot read FLASER pairs from " + path).c_str());
-              return;
-            }
-            runSideBySide(state, *cases, covariance != 0);
-          })
+  std::vector<std::string> paths =
+      carmen::logsIn(std::string(ODOMETRY_CALIBRATION_SHARED_DATA_DIR) + "/carmen");
+  if (const char* list = std::getenv("CARMEN_LOGS")) {
+    std::stringstream extra(list);
+    std::string path;
+    while (std::getline(extra, path, ':')) {
+      if (!path.empty() && std::find(paths.begin(), paths.end(), path) == paths.end())
+        paths.push_back(path);
+    }
+  }
+  struct Row
+  {
+    unsigned seed;
+    int covariance;
+    bool gap_rule;
+  };
+  const Row rows[] = {{kCarmenSeed, 1, true}, {kCarmenSecondSeed, 1, true},
+                      {kCarmenSeed, 0, true}, {kCarmenSeed, 2, true},
+                      {kCarmenSeed, 3, true}, {kCarmenSeed, 1, false}};
+  for (const std::string& path : paths) {
+    const std::string log = carmen::logName(path);
+    for (const Row& row : rows) {
+      const std::string name = "BM_SideBySideCarmen/" + log + "/seed:" + std::to_string(row.seed) +
+                               "/covariance:" + std::to_string(row.covariance) +
+                               "/gap_rule:" + std::to_string(row.gap_rule ? 1 : 0);
+      benchmark::RegisterBenchmark(name.c_str(),
+                                   [path, row](benchmark::State& state) {
+                                     sideBySideCarmen(state, path, row.seed, row.covariance,
+                                                      row.gap_rule);
+                                   })
           ->Iterations(1)
           ->Unit(benchmark::kMillisecond);
     }
+    benchmark::RegisterBenchmark(
+        ("BM_CovarianceCostCarmen/" + log).c_str(),
+        [path](benchmark::State& state) { covarianceCostCarmen(state, path); })
+        ->Iterations(1)
+        ->Unit(benchmark::kMillisecond);
   }
 }
 
@@ -535,7 +592,7 @@ int main(int argc, char** argv)
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv))
     return 1;
-  registerHeldOutLogs();
+  registerCarmenLogs();
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
   return 0;

@@ -54,6 +54,9 @@ void validate(const LineFitOptions& options, const std::string& prefix)
           prefix + "max_gap_m must be a positive number of metres");
   require(std::isfinite(options.max_gap_range_m) && options.max_gap_range_m >= 0.0,
           prefix + "max_gap_range_m must be a number of metres >= 0 (0: max_gap_m alone)");
+  require(std::isfinite(options.max_gap_incidence_rad) && options.max_gap_incidence_rad >= 0.0 &&
+              options.max_gap_incidence_rad < 0.5 * M_PI,
+          prefix + "max_gap_incidence_rad must be in [0, pi/2) radians (0: off)");
   require(std::isfinite(options.max_rms_m) && options.max_rms_m > 0.0,
           prefix + "max_rms_m must be a positive number of metres");
   require(std::isfinite(options.max_bend_sigmas) && options.max_bend_sigmas > 0.0,
@@ -70,7 +73,9 @@ void validate(const LineFitOptions& options, const std::string& prefix)
 namespace {
 
 /// Whether points k and k + 1 lie on different surfaces (a depth discontinuity): farther apart
-/// than both max_gap_m and max_gap_range_m times the angle between neighbouring rays.
+/// than max_gap_m, than max_gap_range_m times the angle between neighbouring rays, and than that
+/// angle times the nearer point's range over cos(max_gap_incidence_rad) (the spacing of
+/// neighbouring rays' points on a surface seen at that incidence: r dtheta / cos(incidence)).
 bool surfaceBreak(const ScanPoints& points, int k, const LineFitOptions& options)
 {
   const double gap_m = (points.points_m[k + 1] - points.points_m[k]).norm();
@@ -86,7 +91,12 @@ bool surfaceBreak(const ScanPoints& points, int k, const LineFitOptions& options
   const int rays_apart = std::max(1, std::abs(points.ray_indices[k + 1] - points.ray_indices[k]));
   const double ray_spacing_rad =
       std::abs(points.angles_rad[k + 1] - points.angles_rad[k]) / static_cast<double>(rays_apart);
-  return gap_m > options.max_gap_range_m * ray_spacing_rad;
+  double reach_m = options.max_gap_range_m;
+  if (options.max_gap_incidence_rad > 0.0 && points.ranges_m.size() == points.size()) {
+    const double near_m = std::min(points.ranges_m[k], points.ranges_m[k + 1]);
+    reach_m = std::max(reach_m, near_m / std::cos(options.max_gap_incidence_rad));
+  }
+  return gap_m > reach_m * ray_spacing_rad;
 }
 
 /// A scan's surfaces (maximal runs of points without a depth discontinuity, surfaceBreak) and

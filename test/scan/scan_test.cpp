@@ -290,30 +290,55 @@ ScanPoints cleanScan180(const synthetic::World& world, int ray_count, const Pose
   return scanToPoints(synthetic::simulateScan(world, pose, lidar, rng));
 }
 
+/// A noise-free scan (`rays` over 180 deg) of two walls facing the sensor, x = near_x_m for
+/// y in [-half_width_m, 0] and x = far_x_m for y in [0, half_width_m]. Expects no point to get
+/// a line with `breaking` (every gap a surface break) and, with the defaults, every point the
+/// line of its own wall (the step between the walls still a break).
+ScanPoints expectFarWallLines(double near_x_m, double far_x_m, double half_width_m, int rays,
+                              const LineFitOptions& breaking)
+{
+  synthetic::World world;
+  world.addSegment(near_x_m, -half_width_m, near_x_m, 0.0);
+  world.addSegment(far_x_m, 0.0, far_x_m, half_width_m);
+  const ScanPoints points = cleanScan180(world, rays);
+  EXPECT_GT(points.size(), 30u);
+  EXPECT_EQ(fitScanLines(points, breaking).valid_count, 0u);  // every point its own surface
+  const ScanLines lines = fitScanLines(points, LineFitOptions());
+  EXPECT_EQ(lines.valid_count, points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const double wall_x_m = points.points_m[i].y() > 0.0 ? far_x_m : near_x_m;
+    EXPECT_NEAR(lines.normals[i].x(), -1.0, 1e-9) << "point " << i;
+    EXPECT_NEAR(lines.centroids_m[i].x(), wall_x_m, 1e-9) << "point " << i;
+  }
+  return points;
+}
+
 TEST(ScanLines, FarWallsOfSparseScannersKeepTheirLinesButDepthStepsStillBreak)
 {
   // 1 deg rays: on the wall x = 15 neighbouring points lie 0.26-0.37 m apart, beyond max_gap_m
   // (0.2 m) but within the arc of one ray at max_gap_range_m (28 m: 0.49 m). Behind it (y > 0)
   // the wall steps back to x = 16: a 1 m step, a new surface.
-  synthetic::World world;
-  world.addSegment(15.0, -6.0, 15.0, 0.0);
-  world.addSegment(16.0, 0.0, 16.0, 6.0);
-  const ScanPoints points = cleanScan180(world, 181);
-  ASSERT_GT(points.size(), 30u);
   LineFitOptions before;
   before.max_gap_range_m = 0.0;
-  EXPECT_EQ(fitScanLines(points, before).valid_count, 0u);  // every point its own surface
-  const ScanLines lines = fitScanLines(points, LineFitOptions());
-  EXPECT_EQ(lines.valid_count, points.size());
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    const double wall_x_m = points.points_m[i].y() > 0.0 ? 16.0 : 15.0;
-    EXPECT_NEAR(lines.normals[i].x(), -1.0, 1e-9) << "point " << i;
-    EXPECT_NEAR(lines.centroids_m[i].x(), wall_x_m, 1e-9) << "point " << i;
-  }
+  const ScanPoints points = expectFarWallLines(15.0, 16.0, 6.0, 181, before);
   // Twice the ray spacing: the gaps exceed the threshold again.
   LineFitOptions shorter;
   shorter.max_gap_range_m = 10.0;
+  shorter.max_gap_incidence_rad = 0.0;
   EXPECT_EQ(fitScanLines(points, shorter).valid_count, 0u);
+}
+
+TEST(ScanLines, FarSurfacesKeepTheirLinesWithinTheIncidenceGap)
+{
+  // 0.5 deg rays, a wall at x = 30 m: neighbouring points 0.26-0.29 m apart, beyond the fixed
+  // arc at max_gap_range_m (28 m: 0.24 m) but within r * spacing / cos(70 deg) (0.77 m at 30 m).
+  // A step back to x = 32 m (2 m) still breaks.
+  LineFitOptions fixed_arc;
+  fixed_arc.max_gap_incidence_rad = 0.0;
+  expectFarWallLines(30.0, 32.0, 8.0, 361, fixed_arc);
+  LineFitOptions invalid;
+  invalid.max_gap_incidence_rad = 0.5 * M_PI;
+  EXPECT_THROW(validate(invalid), std::invalid_argument);
 }
 
 TEST(ScanLines, DenseScansBreakSurfacesAtMaxGapAlone)

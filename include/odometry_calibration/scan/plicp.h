@@ -72,8 +72,10 @@ struct PlicpResult
   int iterations = 0;            ///< closed-form steps taken
   int correspondence_count = 0;  ///< correspondences kept after trimming, at the solution
   double mean_residual_m = 0.0;  ///< mean |point-to-line residual| of those [m]
-  double inlier_fraction = 0.0;  ///< new points within inlier_distance_m of a line [-]
-  Degeneracy degeneracy;         ///< which direction, if any, the scene leaves unconstrained
+  /// New scan's points with a line of their own within inlier_distance_m of a reference line,
+  /// over all its points with a line [-].
+  double inlier_fraction = 0.0;
+  Degeneracy degeneracy;  ///< which direction, if any, the scene leaves unconstrained
 
   /// Converged (valid or degenerate): the constrained components are measurements.
   bool converged() const

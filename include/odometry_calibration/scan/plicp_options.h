@@ -55,10 +55,11 @@ struct PlicpOptions
   int min_points = 20;
   /// Every iteration needs at least this many kept correspondences [correspondences].
   int min_correspondences = 20;
-  /// A converged match is valid only if at least this fraction of the new scan's points have a
-  /// correspondence within inlier_distance_m of their line [-]: a match that converged to a
-  /// wrong pose leaves most points far from any surface (real indoor scans give 0.4-0.9 when
-  /// right).
+  /// A converged match is valid only if at least this fraction of the new scan's surface points
+  /// (those with a line of their own) have a correspondence within inlier_distance_m of their
+  /// line [-]: a match that converged to a wrong pose leaves most points far from any surface
+  /// (real indoor scans give 0.4-0.9 when right). Points without a line (foliage, clutter) are
+  /// not counted: they are off every line wherever the scan is put.
   double min_inlier_fraction = 0.3;
   double inlier_distance_m = 0.05;
   /// Standard deviation of a range reading [m], for the covariance (Censi ICRA 2007).

@@ -11,6 +11,7 @@
 // of surfaces too small for a fit (a table leg) fall back to Censi's two-point segment.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -42,6 +43,14 @@ struct LineFitOptions
   /// points are what pins the heading down (issue 33: FHW median heading error on the pairs
   /// both matchers accept 0.342 -> 0.278 deg, CSM 0.271; docs/benchmarks.md).
   double max_gap_range_m = 28.0;
+  /// ... and unless they are no farther apart than neighbouring rays' points on a surface seen at
+  /// up to this incidence angle (from the surface normal) [rad], in [0, pi/2); 0: off. The
+  /// threshold grows with the nearer point's range r: r * ray spacing / cos(angle), 2.9 times
+  /// the arc at 70 deg. Beyond max_gap_range_m / 2.9 (9.6 m) it exceeds the fixed arc: far
+  /// surfaces outdoors (the Freiburg campus log, 0.5 deg rays, walls and trees at 20-50 m, 0.17-
+  /// 0.44 m apart) stay surfaces instead of one-point surfaces without a line
+  /// (docs/scan_matching.md, "Real scans").
+  double max_gap_incidence_rad = 70.0 * M_PI / 180.0;
   /// Largest RMS distance of the window's points from the fitted line [m]; beyond it the window
   /// is not straight (a corner, clutter) and the point gets no line.
   double max_rms_m = 0.02;

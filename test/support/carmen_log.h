@@ -1,14 +1,17 @@
 // Reader of the real CARMEN laser logs with SLAM-corrected poses (../shared/data/carmen, see its
 // README): FLASER lines, n ranges over 180 deg, first ray at -90 deg, counter-clockwise, ray
 // spacing 180/(n-1) deg; readings <= 0 or >= 80 m are no return. Both pose triples of a line hold
-// the corrected pose of the robot (laser at its origin). For the side-by-side PLICP benchmark.
+// the corrected pose of the robot (laser at its origin). For the side-by-side PLICP benchmark and
+// the test guarding the matcher's failures on these logs.
 //
-// Header-only benchmark helper; not part of the library. The files are read through
+// Header-only test and benchmark helper; not part of the library. The files are read through
 // `gzip -dcf` (gzip'ed or plain text; no copy of the data is made).
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <limits>
 #include <memory>
 #include <sstream>
@@ -83,10 +86,41 @@ inline std::vector<Record> loadLog(const std::string& path)
   return records;
 }
 
-/// Path of a log under the shared data folder (`name`: aces, fhw, freiburg-079).
+/// Path of a log under the shared data folder (`name`: aces, fhw, freiburg-079, ...).
 inline std::string logPath(const std::string& shared_data_dir, const std::string& name)
 {
   return shared_data_dir + "/carmen/" + name + "-corrected.log.gz";
+}
+
+/// Every CARMEN log (`*.log.gz` or `*.log`) directly in `folder`, sorted by name; empty when the
+/// folder is absent.
+inline std::vector<std::string> logsIn(const std::string& folder)
+{
+  std::vector<std::string> paths;
+  std::error_code error;
+  for (const auto& entry : std::filesystem::directory_iterator(folder, error)) {
+    const std::string name = entry.path().filename().string();
+    const auto endsWith = [&name](const std::string& end) {
+      return name.size() > end.size() &&
+             name.compare(name.size() - end.size(), end.size(), end) == 0;
+    };
+    if (entry.is_regular_file() && (endsWith(".log.gz") || endsWith(".log")))
+      paths.push_back(entry.path().string());
+  }
+  std::sort(paths.begin(), paths.end());
+  return paths;
+}
+
+/// A log's short name: its file name up to the first '.' and without "-corrected".
+inline std::string logName(const std::string& path)
+{
+  std::string stem = path.substr(path.find_last_of('/') + 1);
+  stem = stem.substr(0, stem.find('.'));
+  const std::string suffix = "-corrected";
+  if (stem.size() > suffix.size() &&
+      stem.compare(stem.size() - suffix.size(), suffix.size(), suffix) == 0)
+    stem.resize(stem.size() - suffix.size());
+  return stem;
 }
 
 }  // namespace carmen
