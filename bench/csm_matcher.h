@@ -1,5 +1,5 @@
-// The reference PLICP (Censi's CSM, sm_icp) called on our Scan type, for the benchmarks and
-// studies that put it side by side with ours (plicp_vs_csm_bench.cpp, along_track_study.cpp).
+// The reference PLICP (Censi's CSM, sm_icp) called on our Scan type, for the benchmark that puts
+// it side by side with ours (plicp_vs_csm_bench.cpp).
 // Built only with cmake/reference_csm.cmake's reference_csm library.
 #pragma once
 

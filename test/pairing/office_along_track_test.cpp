@@ -1,5 +1,5 @@
 // Along-track bias of the matcher on the simulated office with every sensor effect of the
-// simulated laser (issue 16; the full study is bench/along_track_study.cpp): the summed matched
+// simulated laser (docs/scan_matching.md, "Under simulated sensor effects"): the summed matched
 // distance of consecutive pairs against the truth, each scan compensated with the motion over
 // its own sweep (as the pairing does). Far walls seen through range noise growing with the range
 // (5 mm + 0.5 % of r) get Censi's two-point segments when their rays are too sparse for a fit;

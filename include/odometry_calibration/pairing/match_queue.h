@@ -20,8 +20,8 @@ namespace odometry_calibration {
 
 /// A scan matcher in place of matchScans (same contract: the pose of the current scan in the
 /// reference scan's frame from a first guess, with a status and, when options ask, a
-/// covariance), so that another implementation can be compared inside the same pairing (the
-/// reference PLICP in bench/mines_component_study.cpp). Empty: matchScans.
+/// covariance), so that another implementation can be compared inside the same pairing. Empty:
+/// matchScans.
 using ScanMatcher =
     std::function<PlicpResult(const PreparedScan& reference, const PreparedScan& current,
                               const Pose2& T_ref_new_guess, const PlicpOptions& options)>;
