@@ -135,7 +135,7 @@ std::vector<JointConfig> readJoints(const YAML::Node& root)
   return result;
 }
 
-/// `ego_motion.sources` (issue 35), when given: each entry's keys (topic required, time_offset_s
+/// `ego_motion.sources`, when given: each entry's keys (topic required, time_offset_s
 /// left NaN when absent), distinct topics, and none of the one-source keys beside it.
 /// The joints: the configuration's, or for wheels.source odometry the base odometry's own
 /// (then `joints` must be left out).

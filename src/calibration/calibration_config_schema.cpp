@@ -77,7 +77,7 @@ std::vector<SourceEntry> sourceEntries()
 {
   SourceEntry topic = text<EgoMotionSourceConfig>(
       "ego_motion.sources[].topic", "", false,
-      "the source's topic (issue 35: several sources, each paired with the encoders)", AT(topic));
+      "the source's topic (several sources, each paired with the encoders)", AT(topic));
   topic.spec.default_value.reset();
   topic.spec.default_text = "required";
   SourceEntry offset = number<EgoMotionSourceConfig>(

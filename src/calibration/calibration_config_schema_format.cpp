@@ -62,7 +62,7 @@ void writeJoints(std::ostringstream& out, const CalibrationConfig& config)
   }
 }
 
-/// ego_motion.sources (issue 35) at `depth`: each source's keys (a time offset left to
+/// ego_motion.sources at `depth`: each source's keys (a time offset left to
 /// keyframes.time_offset_s commented out), or, without the list, its keys commented out.
 void writeSources(std::ostringstream& out, const CalibrationConfig& config, std::size_t depth)
 {

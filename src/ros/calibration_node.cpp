@@ -29,7 +29,7 @@ void rosLog(SessionLogLevel level, const std::string& text)
 }
 
 /// Subscribes `callback` to `topic`'s full message events, which keep the connection header (the
-/// publisher's name: issue 32). roscpp's subscribe<M> with a callable converts it to a callback
+/// publisher's name). roscpp's subscribe<M> with a callable converts it to a callback
 /// of the bare message and rebuilds the event without a header ("unknown_publisher").
 template <class M, class Callback>
 ros::Subscriber subscribeEvents(ros::NodeHandle& handle, const std::string& topic,

@@ -4,7 +4,7 @@
 namespace odometry_calibration {
 namespace {
 
-/// The live assistant's ~guidance_* and ~health_* parameters (issue 18).
+/// The live assistant's ~guidance_* and ~health_* parameters.
 void readAssistantOptions(const ros::NodeHandle& p, SessionAssistantOptions* o)
 {
   ExcitationGuidanceOptions& g = o->guidance_options;

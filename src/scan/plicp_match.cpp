@@ -248,7 +248,7 @@ Degeneracy solutionDegeneracy(PlicpMatcher& matcher, const MatchState& state)
   // weak direction at the guess, the next one does not, and the iteration stops (small step or
   // cycle) on a pose whose weak component is the guess's or lies between it and the solution.
   // The analysis at that pose may find the scene just constrained, yet the component was never
-  // measured: the match is reported degenerate, as the held step found it (issue 16: in the
+  // measured: the match is reported degenerate, as the held step found it (in the
   // sparse hall such matches were valid 3-4 cm and 6-15 mrad off, 7-9 sigma).
   if (!degeneracy.degenerate() && state.history.solutionHeld()) {
     degeneracy = state.history.heldDegeneracy();

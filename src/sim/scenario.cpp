@@ -85,7 +85,7 @@ void validateLaserGeometry(const LaserOptions& laser)
           "laser.time_offset_s must be within 10 s");
 }
 
-/// The extra lasers (issue 35): planar, each on a topic and frame of its own.
+/// The extra lasers: planar, each on a topic and frame of its own.
 void validateExtraLasers(const Scenario& s)
 {
   std::set<std::string> topics{s.laser.topic}, frames{s.laser.frame_id};
@@ -280,7 +280,7 @@ void readLaserYaml(const YAML::Node& laser, const std::string& where, LaserOptio
   readLaserTypeYaml(laser, options);
 }
 
-/// lasers: the robot's lasers (issue 35), the first into s.laser, the others into
+/// lasers: the robot's lasers, the first into s.laser, the others into
 /// s.extra_lasers; each entry has the keys of `laser:`. Not together with `laser:`.
 void readLasersYaml(const YAML::Node& root, const std::string& path, std::string& where,
                     Scenario& s)

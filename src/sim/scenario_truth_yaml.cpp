@@ -141,7 +141,7 @@ std::string scenarioTruthYaml(const Scenario& s, const Robot& robot)
   out << YAML::Key << "world" << YAML::Value << s.world_path;
   emitRobot(s, robot, out);
   emitLaser(s.laser, out);
-  if (!s.extra_lasers.empty()) {  // issue 35: each further laser's true pose and sensor model
+  if (!s.extra_lasers.empty()) {  // each further laser's true pose and sensor model
     out << YAML::Key << "extra_lasers" << YAML::Value << YAML::BeginSeq;
     for (const LaserOptions& laser : s.extra_lasers) {
       out << YAML::BeginMap;

@@ -242,7 +242,7 @@ Pose2 laserPoseDuringSweep(const std::deque<MotionStep>& recent_steps, const Pos
   return step->T_world_base * integrateTwist(step->twist, into_s) * T_base_laser;
 }
 
-/// A laser after the first (issue 35): its ray model on a random stream of its own, its scan
+/// A laser after the first: its ray model on a random stream of its own, its scan
 /// period and sweep, and when its next scan is due.
 struct ExtraLaser
 {

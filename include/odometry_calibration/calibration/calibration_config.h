@@ -82,7 +82,7 @@ inline bool matchesScans(EgoMotionSource source)
   return source == EgoMotionSource::kScan || source == EgoMotionSource::kCloud;
 }
 
-/// One ego-motion source of `ego_motion.sources` (issue 35: several sensors, e.g. a front and a
+/// One ego-motion source of `ego_motion.sources` (several sensors, e.g. a front and a
 /// rear laser, calibrated together with the wheels). Each makes its own pairs against the same
 /// encoder track; the sources share the cloud, sigma, keyframe and matching keys.
 struct EgoMotionSourceConfig
@@ -95,7 +95,7 @@ struct EgoMotionSourceConfig
   /// Start value and matcher guesses of this sensor's pose [x, y, theta] (m, m, rad); empty:
   /// the model section's sensor_pose (a rear laser needs its own: its guesses turned round).
   std::vector<double> sensor_pose;
-  /// The node whose messages on `topic` are used when two publish it (issue 32; empty: whichever
+  /// The node whose messages on `topic` are used when two publish it (empty: whichever
   /// single one does, a second is refused). Others' messages are ignored and counted.
   std::string publisher;
 };
@@ -125,7 +125,7 @@ struct CalibrationConfig
   EgoMotionSource ego_motion = EgoMotionSource::kScan;
   std::string scan_topic = "/scan";
   std::string ego_motion_topic;  ///< odometry / pose / cloud source topic
-  /// The node whose ego-motion messages are used when two publish the topic (issue 32, as
+  /// The node whose ego-motion messages are used when two publish the topic (as
   /// joint_state_publisher; empty: one publisher only, a second is refused).
   std::string ego_motion_publisher;
   /// The key that chooses it, for messages: ego_motion.publisher, or
@@ -168,7 +168,7 @@ std::vector<EgoMotionSourceConfig> egoMotionSources(const CalibrationConfig& con
 /// "pose" (an Odometry or PoseStamped).
 std::string egoMessageType(EgoMotionSource type);
 
-/// The one-source configuration of source `index` of egoMotionSources(config) (issue 35: each
+/// The one-source configuration of source `index` of egoMotionSources(config) (each
 /// source paired on its own): its type and topic as ego_motion.source and scan_topic or topic,
 /// its time offset as keyframes.time_offset_s, ego_motion.sources empty. Throws
 /// std::out_of_range naming the index beyond the sources.

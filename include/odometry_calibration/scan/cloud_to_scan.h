@@ -1,4 +1,4 @@
-// A 3D lidar's point cloud turned into the planar scan the matcher takes (issue 19).
+// A 3D lidar's point cloud turned into the planar scan the matcher takes.
 //
 // The cloud is in the sensor's frame. The points of a height band around the ground-parallel
 // plane through the sensor are kept (the sensor's configured roll and pitch level the cloud

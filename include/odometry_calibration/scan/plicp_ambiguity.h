@@ -1,4 +1,4 @@
-// The ambiguity check of weak PLICP matches (PlicpOptions::check_ambiguity, issue 16): the
+// The ambiguity check of weak PLICP matches (PlicpOptions::check_ambiguity): the
 // Censi covariance measures the noise of a match, not which of two equally good solutions is
 // right. A weak or near-degenerate valid match is matched again from four starts around it;
 // a clearly better fit replaces it, equally good fits elsewhere widen its covariance to cover
@@ -24,7 +24,7 @@ bool needsAmbiguityCheck(const PlicpResult& result, const PlicpOptions& options)
 using PlicpRematch =
     std::function<PlicpResult(const Pose2& start, bool with_covariance, const IterationStop& stop)>;
 
-/// The early stop of a rematch that is back at `best`'s solution (issue 33): an iterate within
+/// The early stop of a rematch that is back at `best`'s solution: an iterate within
 /// ambiguity_return_sigma of it (Mahalanobis distance under best.covariance), reached by a step
 /// small enough that the next trimming keeps what it keeps near a converged solution (pose
 /// uncertainty within adaptive_trim_floor_m: the threshold then depends on the pose alone). From
@@ -42,7 +42,7 @@ IterationStop backAtSolution(const PlicpResult& best, const PlicpOptions& option
 /// covariance); converged starts that fit as well (valid, or degenerate and held where they
 /// started) but lie beyond 3 sigma add d d^T to the covariance (d: their offset). The rematches
 /// skip their own covariance, which only a returned start needs, and stop once back at the
-/// solution (backAtSolution; issue 33).
+/// solution (backAtSolution).
 PlicpResult checkAmbiguity(PlicpResult best, const PlicpOptions& options,
                            const PlicpRematch& rematch);
 

@@ -1,5 +1,5 @@
 // Per-point time stamps of a 3D lidar's cloud, as drivers write them, turned into the seconds
-// after the cloud's stamp that the sweep compensation uses (issue 19).
+// after the cloud's stamp that the sweep compensation uses.
 //
 // Drivers differ: Velodyne's `time` is FLOAT32 seconds after the cloud's stamp, Ouster's `t`
 // UINT32 nanoseconds after it, Hesai's `timestamp` FLOAT64 absolute seconds (epoch), Livox's

@@ -40,7 +40,7 @@ struct LineFitOptions
   /// at 1 deg, 0.65 m at 1.33 deg. On sparse scanners a fixed 0.2 m cuts every wall beyond
   /// 0.2 m / spacing (11.5 m at 1 deg) into one-point surfaces, which get no line and are never
   /// matched: on the real FHW museum log (180 rays) 65 of 180 points per scan, and the far
-  /// points are what pins the heading down (issue 33: FHW median heading error on the pairs
+  /// points are what pins the heading down (FHW median heading error on the pairs
   /// both matchers accept 0.342 -> 0.278 deg, CSM 0.271; docs/benchmarks.md).
   double max_gap_range_m = 28.0;
   /// ... and unless they are no farther apart than neighbouring rays' points on a surface seen at

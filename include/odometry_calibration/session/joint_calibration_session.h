@@ -1,4 +1,4 @@
-// The calibration session of a configuration's ego-motion sources (issue 35: `ego_motion.sources`,
+// The calibration session of a configuration's ego-motion sources (`ego_motion.sources`,
 // e.g. a front and a rear laser), free of ROS: one CalibrationSession per source (its own pair
 // collector, consistency checks, time offset, pairs file, guidance), all fed the same encoder
 // track; a fit fits each source alone and then the wheels and every source's pose jointly

@@ -55,7 +55,7 @@ struct LaserOptions
   std::string frame_id = "laser";          ///< header frame of the scans
   std::string topic = "/scan";             ///< bag topic
   /// The laser's clock: its scans (sweeps) are stamped at the true time of their first ray
-  /// (start) + this [s]; each laser of a robot has its own (issue 35). 0 = the true time.
+  /// (start) + this [s]; each laser of a robot has its own. 0 = the true time.
   double time_offset_s = 0.0;
   // Multi-beam only: the rings' elevations are equally spaced over [min, max]; each sweep
   // turns once counter-clockwise from -pi during the 1 / rate_hz before its cloud is
@@ -115,12 +115,12 @@ struct TrackerOptions
   std::string frame_id = "tracker";     ///< header frame of the tracker poses
 };
 
-/// The true robot changing at a given time (issue 18: a worn tyre, a new load, a knocked laser;
-/// issue 34: a shifted laser, an encoder clock that jumps): from `at_s` on, the robot has these
+/// The true robot changing at a given time (a worn tyre, a new load, a knocked laser,
+/// a shifted laser, an encoder clock that jumps): from `at_s` on, the robot has these
 /// parameters, the laser's mounting pose in base_link these extra x, y and yaw, and the encoder
 /// stamps this extra offset. The encoders and the drive carry on; only the physics, the laser's
 /// pose and the encoders' clock change. Changes add up (each is relative to the pose and offset
-/// before it). With several lasers (issue 35) the mounting change moves one of them,
+/// before it). With several lasers the mounting change moves one of them,
 /// `laser_index` (YAML `laser:`, its index in `lasers:` or its frame_id or topic).
 struct ParameterChange
 {
@@ -147,7 +147,7 @@ struct Scenario
   Pose2 start_pose;                    ///< T_world_base at t = 0
   RobotOptions robot;
   LaserOptions laser;  ///< the (first) laser; the only one unless extra_lasers are given
-  /// The robot's further lasers (issue 35: e.g. a rear safety scanner), planar each, with their
+  /// The robot's further lasers (e.g. a rear safety scanner), planar each, with their
   /// own pose, rays, rate and time offset, their scans drawn from random streams of their own
   /// (so the first laser's scans do not change when one is added). YAML: `lasers:`, a list
   /// whose first entry is `laser` and the others these.
