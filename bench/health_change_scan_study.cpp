@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "health_study_table.h"
-#include "odometry_calibration/calibration/calibration_config.h"
+#include "odometry_calibration/config/calibration_config.h"
 #include "odometry_calibration/factory/model_factory.h"
 #include "odometry_calibration/pairing/pair_collector.h"
 #include "odometry_calibration/sim/simulator.h"

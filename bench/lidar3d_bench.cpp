@@ -16,9 +16,9 @@
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
 
-#include "odometry_calibration/calibration/calibration_config.h"
+#include "odometry_calibration/bag_writers/sim_bag_writer.h"
+#include "odometry_calibration/config/calibration_config.h"
 #include "odometry_calibration/ros/point_cloud_conversion.h"
-#include "odometry_calibration/ros/sim_bag_writer.h"
 #include "odometry_calibration/scan/cloud_to_scan.h"
 #include "odometry_calibration/scan/plicp.h"
 #include "odometry_calibration/sim/scenario.h"

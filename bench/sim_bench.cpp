@@ -7,7 +7,7 @@
 #include <cstdio>
 #include <string>
 
-#include "odometry_calibration/ros/sim_bag_writer.h"
+#include "odometry_calibration/bag_writers/sim_bag_writer.h"
 #include "odometry_calibration/sim/scenario.h"
 #include "odometry_calibration/sim/world.h"
 

@@ -8,10 +8,10 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include "odometry_calibration/calibration/calibration_config.h"
 #include "odometry_calibration/calibration/saved_calibration_score.h"
 #include "odometry_calibration/common/text_file.h"
 #include "odometry_calibration/common/yaml_reading.h"
+#include "odometry_calibration/config/calibration_config.h"
 #include "odometry_calibration/data/pairs_csv.h"
 #include "odometry_calibration/eval/model_comparison.h"
 #include "odometry_calibration/factory/model_factory.h"

@@ -5,7 +5,7 @@
 #include <glog/logging.h>
 #include <ros/ros.h>
 
-#include "odometry_calibration/ros/calibration_node.h"
+#include "odometry_calibration/live_node/calibration_node.h"
 
 int main(int argc, char** argv)
 {

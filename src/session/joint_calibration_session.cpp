@@ -145,6 +145,23 @@ JointCalibrationSession::JointCalibrationSession(
 
 JointCalibrationSession::~JointCalibrationSession() = default;
 
+std::string JointCalibrationSession::startSummary() const
+{
+  std::string ego_topics = options_.topics[1];
+  if (sourceCount() > 1) {
+    ego_topics.clear();
+    for (std::size_t k = 0; k < sourceCount(); ++k)
+      ego_topics += (k == 0 ? "" : ", ") + sourceConfig(k).topic;
+    ego_topics += " (fitted jointly)";
+  }
+  char numbers[160];
+  std::snprintf(numbers, sizeof(numbers), "keyframes every %.2f s, time offset %.3f s",
+                config_.collector.keyframe_interval_s, sessions_.front()->timeOffset());
+  return "collecting pairs: " + wheelInputName(config_.wheels, config_.joint_state_topic) +
+         ", ego-motion on " + ego_topics + ", " + numbers + "; output in " +
+         options_.output_directory;
+}
+
 void JointCalibrationSession::flush()
 {
   for (const auto& session : sessions_)

@@ -7,9 +7,9 @@
 
 #include <glog/logging.h>
 
+#include "odometry_calibration/bag/bag_message_reader.h"
+#include "odometry_calibration/bag_tools/bag_calibration.h"
 #include "odometry_calibration/common/arguments.h"
-#include "odometry_calibration/ros/bag_calibration.h"
-#include "odometry_calibration/ros/bag_message_reader.h"
 
 namespace {
 

@@ -5,9 +5,9 @@
 #include <string>
 #include <vector>
 
+#include "odometry_calibration/bag_writers/mines_bag_writer.h"
 #include "odometry_calibration/common/arguments.h"
 #include "odometry_calibration/datasets/mines_log.h"
-#include "odometry_calibration/ros/mines_bag_writer.h"
 
 namespace {
 

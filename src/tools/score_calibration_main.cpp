@@ -10,13 +10,13 @@
 
 #include <glog/logging.h>
 
+#include "odometry_calibration/bag/bag_message_reader.h"
+#include "odometry_calibration/bag_tools/bag_runner.h"
 #include "odometry_calibration/calibration/saved_calibration_score.h"
 #include "odometry_calibration/common/arguments.h"
 #include "odometry_calibration/data/pairs_csv.h"
 #include "odometry_calibration/eval/tum_trajectory.h"
 #include "odometry_calibration/report/trajectory_files.h"
-#include "odometry_calibration/ros/bag_message_reader.h"
-#include "odometry_calibration/ros/bag_runner.h"
 
 namespace {
 

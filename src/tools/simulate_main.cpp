@@ -4,8 +4,8 @@
 #include <string>
 #include <vector>
 
+#include "odometry_calibration/bag_writers/sim_bag_writer.h"
 #include "odometry_calibration/common/arguments.h"
-#include "odometry_calibration/ros/sim_bag_writer.h"
 #include "odometry_calibration/sim/scenario.h"
 
 namespace {

@@ -10,7 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "odometry_calibration/assistant/health_monitor.h"
-#include "odometry_calibration/calibration/calibration_config.h"
+#include "odometry_calibration/config/calibration_config.h"
 #include "odometry_calibration/pairing/pair_collector.h"
 #include "support/mines_log.h"
 

@@ -4,8 +4,8 @@
 
 #include <gtest/gtest.h>
 
-#include "odometry_calibration/calibration/calibration_config.h"
 #include "odometry_calibration/calibration/calibration_result.h"
+#include "odometry_calibration/config/calibration_config.h"
 #include "odometry_calibration/factory/model_factory.h"
 #include "odometry_calibration/sim/pair_generator.h"
 #include "support/alias_bomb.h"

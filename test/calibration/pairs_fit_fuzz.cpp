@@ -6,8 +6,8 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "odometry_calibration/calibration/calibration_config.h"
 #include "odometry_calibration/common/text_file.h"
+#include "odometry_calibration/config/calibration_config.h"
 #include "odometry_calibration/data/pairs_csv.h"
 #include "odometry_calibration/factory/model_factory.h"
 #include "support/fuzz_input.h"

@@ -3,8 +3,8 @@
 
 #include <gtest/gtest.h>
 
-#include "odometry_calibration/calibration/calibration_config.h"
 #include "odometry_calibration/calibration/time_offset.h"
+#include "odometry_calibration/config/calibration_config.h"
 #include "odometry_calibration/factory/model_factory.h"
 #include "odometry_calibration/models/tricycle_model.h"
 #include "odometry_calibration/sim/pair_generator.h"

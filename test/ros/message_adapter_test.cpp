@@ -20,7 +20,7 @@
 #include <pcl_conversions/pcl_conversions.h>
 #include <rosbag/bag.h>
 
-#include "odometry_calibration/ros/bag_runner.h"
+#include "odometry_calibration/bag_tools/bag_runner.h"
 #include "odometry_calibration/ros/message_adapter.h"
 #include "odometry_calibration/session/converted_input.h"
 #include "odometry_calibration/session/joint_calibration_session.h"

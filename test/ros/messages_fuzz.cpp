@@ -14,10 +14,10 @@
 #include <sensor_msgs/JointState.h>
 #include <sensor_msgs/LaserScan.h>
 
-#include "odometry_calibration/calibration/calibration_config.h"
+#include "odometry_calibration/bag/wire_length_check.h"
 #include "odometry_calibration/calibration/odometry_integrator.h"
+#include "odometry_calibration/config/calibration_config.h"
 #include "odometry_calibration/ros/conversions.h"
-#include "odometry_calibration/ros/wire_length_check.h"
 
 #include "support/fuzz_config.h"
 

@@ -18,6 +18,8 @@ geometry:
 data: geometry common
 models: data
 ros: models
+bag: ros
+cli: models
 """
 CMAKE = """# odometry_calibration_test(LAYER NAME [USES layer...]) is not a declaration in a comment
 function(odometry_calibration_test layer name)
@@ -117,6 +119,20 @@ class CheckLayersTest(unittest.TestCase):
                       "odometry_calibration/Report.h", output)
         self.assertIn("src/data/encoder.cpp:3: data may not include ROS header "
                       "geometry_msgs/Pose2D.h", output)
+
+    def test_ros_headers_only_in_ros_and_the_layers_using_it(self):
+        # bag uses ros: a ROS layer; cli, listed after ros but not using it, is core.
+        write(self.root, "include/odometry_calibration/bag/reader.h",
+              '#pragma once\n#include <rosbag/bag.h>\n#include "odometry_calibration/ros/'
+              'node.h"\nvoid read();\n')
+        write(self.root, "src/bag/reader.cpp", '#include "odometry_calibration/bag/reader.h"\n')
+        write(self.root, "src/cli/tool.cpp", "#include <ros/time.h>\n")
+        write(self.root, "include/odometry_calibration/cli/tool.h", "#pragma once\nvoid tool();\n")
+        code, output = run(self.root)
+        self.assertEqual(code, 1, output)
+        self.assertIn("src/cli/tool.cpp:1: cli may not include ROS header ros/time.h (only the "
+                      "ROS layers: bag ros; the mains)", output)
+        self.assertNotIn("bag/reader", output)
 
     def test_ros_include_in_core_test_fails(self):
         write(self.root, "test/data/encoder_test.cpp", "#include <ros/time.h>\n")

@@ -11,7 +11,7 @@
 #include <cstring>
 #include <stdexcept>
 
-#include "odometry_calibration/calibration/calibration_config.h"
+#include "odometry_calibration/config/calibration_config.h"
 #include "odometry_calibration/session/wheel_signals.h"
 
 #include "support/fuzz_config.h"

@@ -3,7 +3,7 @@
 
 #include <gtest/gtest.h>
 
-#include "odometry_calibration/calibration/calibration_config.h"
+#include "odometry_calibration/config/calibration_config.h"
 #include "odometry_calibration/session/joint_calibration_session.h"
 #include "odometry_calibration/session/wheel_topic_watch.h"
 

@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "odometry_calibration/assistant/health_monitor.h"
-#include "odometry_calibration/calibration/calibration_config.h"
+#include "odometry_calibration/config/calibration_config.h"
 #include "odometry_calibration/models/joint_fits.h"
 #include "odometry_calibration/pairing/pair_collector.h"
 #include "odometry_calibration/sim/robot.h"

@@ -2,7 +2,7 @@
 // diff_drive.yaml, every match in the calling thread so that a finding replays the same way.
 #pragma once
 
-#include "odometry_calibration/calibration/calibration_config.h"
+#include "odometry_calibration/config/calibration_config.h"
 
 namespace odometry_calibration {
 namespace test {

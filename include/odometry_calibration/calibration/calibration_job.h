@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "odometry_calibration/calibration/calibration_config.h"
 #include "odometry_calibration/calibration/coarse_time_offset.h"
 #include "odometry_calibration/calibration/time_offset.h"
+#include "odometry_calibration/config/calibration_config.h"
 #include "odometry_calibration/data/motion_pair.h"
 #include "odometry_calibration/eval/model_comparison.h"
 #include "odometry_calibration/eval/trajectory_comparison.h"

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "odometry_calibration/calibration/calibration_config.h"
+#include "odometry_calibration/config/calibration_config.h"
 #include "odometry_calibration/data/motion_pair.h"
 
 namespace odometry_calibration {

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "odometry_calibration/calibration/calibration_config.h"
+#include "odometry_calibration/config/calibration_config.h"
 #include "odometry_calibration/data/motion_pair.h"
 #include "odometry_calibration/geometry/se2.h"
 #include "odometry_calibration/models/joint_fit_report.h"

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "odometry_calibration/calibration/calibration_config.h"
 #include "odometry_calibration/calibration/calibration_result.h"
+#include "odometry_calibration/config/calibration_config.h"
 #include "odometry_calibration/eval/model_comparison.h"
 
 namespace odometry_calibration {

@@ -20,8 +20,8 @@
 #include <utility>
 #include <vector>
 
-#include "odometry_calibration/calibration/calibration_config.h"
 #include "odometry_calibration/calibration/fit_interval.h"
+#include "odometry_calibration/config/calibration_config.h"
 #include "odometry_calibration/pairing/pair_collector.h"
 #include "odometry_calibration/report/calibration_files.h"
 #include "odometry_calibration/session/encoder_watch.h"

@@ -11,8 +11,8 @@
 
 #include <Eigen/Core>
 
-#include "odometry_calibration/calibration/calibration_config.h"
 #include "odometry_calibration/calibration/gyro_fit.h"
+#include "odometry_calibration/config/calibration_config.h"
 
 namespace odometry_calibration {
 

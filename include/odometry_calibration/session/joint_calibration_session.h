@@ -72,6 +72,10 @@ public:
   JointCalibrationSession(const JointCalibrationSession&) = delete;
   JointCalibrationSession& operator=(const JointCalibrationSession&) = delete;
 
+  /// One line for the start: the wheel input, the ego-motion topics (SessionOptions::topics,
+  /// or every source's), the keyframe interval, the time offset and the output folder.
+  std::string startSummary() const;
+
   std::size_t sourceCount() const { return sessions_.size(); }
   /// Source `index`'s session (its ego-motion inputs go there); throws std::out_of_range.
   CalibrationSession& source(std::size_t index) { return *sessions_.at(index); }

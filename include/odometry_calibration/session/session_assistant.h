@@ -12,7 +12,7 @@
 
 #include "odometry_calibration/assistant/excitation_guidance.h"
 #include "odometry_calibration/assistant/health_monitor.h"
-#include "odometry_calibration/calibration/calibration_config.h"
+#include "odometry_calibration/config/calibration_config.h"
 #include "odometry_calibration/session/session_messages.h"
 
 namespace odometry_calibration {

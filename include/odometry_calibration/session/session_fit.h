@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
-#include "odometry_calibration/calibration/calibration_config.h"
 #include "odometry_calibration/calibration/calibration_job.h"
 #include "odometry_calibration/calibration/fit_interval.h"
+#include "odometry_calibration/config/calibration_config.h"
 
 namespace odometry_calibration {
 

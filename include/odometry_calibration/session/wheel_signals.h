@@ -12,7 +12,7 @@
 
 #include <Eigen/Core>
 
-#include "odometry_calibration/calibration/calibration_config.h"
+#include "odometry_calibration/config/calibration_config.h"
 #include "odometry_calibration/data/base_odometry_path.h"
 #include "odometry_calibration/data/tick_unwrapper.h"
 #include "odometry_calibration/data/velocity_integrator.h"
