@@ -182,9 +182,10 @@ void describeRun(const BagCalibrationOptions& options, const CalibrationConfig& 
 {
   if (fit.choice) {
     for (const FitIntervalScore& score : fit.choice->curve)
-      files->plots.fit_interval_curve.emplace_back(score.interval_s, score.validation_rpe_m);
+      files->plots.fit_interval_curve.emplace_back(score.interval_s, score.validation_error_m);
     files->plots.fit_interval_s = fit.choice->interval_s;
     files->plots.fit_interval_evaluation_s = config.collector.keyframe_interval_s;
+    files->plots.fit_interval_criterion = criterionName(fit.choice->criterion);
   }
   files->markdown.fit_interval_note = fit.interval_text.empty() ? "" : fit.interval_text + "\n";
   files->gnuplot = options.gnuplot;

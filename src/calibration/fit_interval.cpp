@@ -41,10 +41,11 @@ std::vector<Block> cutBlocks(const std::vector<MotionPair>& evaluation, std::siz
   return blocks;
 }
 
-/// The RPE of a model fitted to the candidate's pairs outside `block`, on the block's pairs;
-/// infinity when the fit is impossible.
-double blockRpe(const CalibrationConfig& config, const ModelFactoryOptions& models,
-                const std::vector<MotionPair>& candidate, const Block& block)
+/// The RPE or ATE (paper eq. 10 or 11) of the chained predictions of a model fitted to the
+/// candidate's pairs outside `block`, on the block's pairs; infinity when the fit is impossible.
+double blockError(const CalibrationConfig& config, const ModelFactoryOptions& models,
+                  const std::vector<MotionPair>& candidate, const Block& block,
+                  FitIntervalCriterion criterion)
 {
   std::vector<MotionPair> training;
   for (const MotionPair& pair : candidate) {
@@ -54,19 +55,17 @@ double blockRpe(const CalibrationConfig& config, const ModelFactoryOptions& mode
   try {
     const std::unique_ptr<MotionModel> model = makeModel(config.model, models);
     model->fit(training);
-    const double rpe = scoreModel(*model, block.evaluation).rpe_m;
-    return std::isfinite(rpe) ? rpe : std::numeric_limits<double>::infinity();
+    const ModelScore score = scoreModel(*model, block.evaluation);
+    const double error = criterion == FitIntervalCriterion::kAte ? score.ate_m : score.rpe_m;
+    return std::isfinite(error) ? error : std::numeric_limits<double>::infinity();
   } catch (const std::exception&) {
     return std::numeric_limits<double>::infinity();
   }
 }
 
-}  // namespace
-
-FitIntervalChoice chooseFitInterval(const CalibrationConfig& config,
-                                    const std::vector<IntervalPairs>& candidates,
-                                    const std::vector<MotionPair>& evaluation,
-                                    const FitIntervalOptions& options)
+/// Throws std::invalid_argument for no candidate or fold counts that cannot cut the drive.
+void checkCandidatesAndFolds(const std::vector<IntervalPairs>& candidates,
+                             const FitIntervalOptions& options)
 {
   if (candidates.empty())
     throw std::invalid_argument("fit interval: no candidate interval");
@@ -76,6 +75,27 @@ FitIntervalChoice chooseFitInterval(const CalibrationConfig& config,
     if (folds < 2)
       throw std::invalid_argument("fit interval: each fold count must be >= 2");
   }
+}
+
+}  // namespace
+
+FitIntervalCriterion fitIntervalCriterion(EgoMotionSource source)
+{
+  return source == EgoMotionSource::kPose ? FitIntervalCriterion::kAte : FitIntervalCriterion::kRpe;
+}
+
+const char* criterionName(FitIntervalCriterion criterion)
+{
+  return criterion == FitIntervalCriterion::kAte ? "ATE" : "RPE";
+}
+
+FitIntervalChoice chooseFitInterval(const CalibrationConfig& config,
+                                    const std::vector<IntervalPairs>& candidates,
+                                    const std::vector<MotionPair>& evaluation,
+                                    FitIntervalCriterion criterion,
+                                    const FitIntervalOptions& options)
+{
+  checkCandidatesAndFolds(candidates, options);
   // The search's fits start from the configured sensor yaw only, as the time-offset search's.
   ModelFactoryOptions models = config.models;
   models.diff_drive.yaw_starts = 1;
@@ -93,6 +113,7 @@ FitIntervalChoice chooseFitInterval(const CalibrationConfig& config,
   }
 
   FitIntervalChoice choice;
+  choice.criterion = criterion;
   double best = std::numeric_limits<double>::infinity();
   for (const IntervalPairs& candidate : candidates) {
     FitIntervalScore score;
@@ -103,14 +124,14 @@ FitIntervalChoice chooseFitInterval(const CalibrationConfig& config,
       for (const Block& block : blocks) {
         if (block.evaluation.size() < std::max<std::size_t>(options.min_block_pairs, 2))
           continue;
-        sum += blockRpe(config, models, candidate.pairs, block);
+        sum += blockError(config, models, candidate.pairs, block, criterion);
         ++score.blocks;
       }
     }
-    score.validation_rpe_m = score.blocks > 0 ? sum / static_cast<double>(score.blocks)
-                                              : std::numeric_limits<double>::infinity();
-    if (score.validation_rpe_m < best) {
-      best = score.validation_rpe_m;
+    score.validation_error_m = score.blocks > 0 ? sum / static_cast<double>(score.blocks)
+                                                : std::numeric_limits<double>::infinity();
+    if (score.validation_error_m < best) {
+      best = score.validation_error_m;
       choice.interval_s = candidate.interval_s;
     }
     choice.curve.push_back(score);
@@ -138,14 +159,14 @@ std::string formatFitIntervalChoice(const FitIntervalChoice& choice, double eval
   char head[200];
   std::snprintf(head, sizeof(head),
                 "fit interval T = %.2f s, chosen by time-blocked cross-validation (validation "
-                "RPE of %.2f s pairs):",
-                choice.interval_s, evaluation_interval_s);
+                "%s of %.2f s pairs):",
+                choice.interval_s, criterionName(choice.criterion), evaluation_interval_s);
   std::string text = head;
   for (const FitIntervalScore& score : choice.curve) {
     char point[120];
-    if (std::isfinite(score.validation_rpe_m)) {
+    if (std::isfinite(score.validation_error_m)) {
       std::snprintf(point, sizeof(point), " %.2f s %.5f m%s,", score.interval_s,
-                    score.validation_rpe_m,
+                    score.validation_error_m,
                     score.interval_s == choice.interval_s ? " (chosen)" : "");
     } else {
       std::snprintf(point, sizeof(point), " %.2f s not scored,", score.interval_s);

@@ -1,10 +1,13 @@
 #include "odometry_calibration/cli/tricycle_cli.h"
 
+#include <algorithm>
 #include <cmath>
 #include <utility>
 
+#include "odometry_calibration/calibration/fit_interval.h"
 #include "odometry_calibration/common/arguments.h"
 #include "odometry_calibration/common/atomic_file.h"
+#include "odometry_calibration/config/calibration_config.h"
 #include "odometry_calibration/data/holdout.h"
 #include "odometry_calibration/data/keyframes.h"
 #include "odometry_calibration/data/reference_pairs.h"
@@ -101,10 +104,13 @@ void setIntervalOptions(const std::string& interval, const std::vector<std::stri
       options.interval_selection.fold_counts.push_back(static_cast<std::size_t>(value));
     }
   }
-  try {
-    validate(options.interval_selection);
-  } catch (const std::invalid_argument& error) {
-    throw ArgumentError(std::string("option --interval-candidates / --folds: ") + error.what());
+  const std::vector<double>& candidates_s = options.interval_selection.candidates_s;
+  for (std::size_t i = 0; i < candidates_s.size(); ++i) {
+    if (!(candidates_s[i] > 0.0) || !std::isfinite(candidates_s[i]) ||
+        (i > 0 && !(candidates_s[i] > candidates_s[i - 1]))) {
+      throw ArgumentError(
+          "option --interval-candidates: candidate intervals must be increasing numbers > 0 s");
+    }
   }
 }
 
@@ -188,8 +194,31 @@ std::vector<T> tail(const std::vector<T>& all, std::size_t count)
   return std::vector<T>(all.begin() + static_cast<std::ptrdiff_t>(count), all.end());
 }
 
+/// The configuration of the cross-validation's fits: the tricycle model from `nominal` with the
+/// command's fit options, on the log's two joints (steering absolute, traction incremental).
+CalibrationConfig tricycleFitConfig(const TricycleEncoderLayout& layout,
+                                    const TricycleParameters& nominal,
+                                    const TricycleCalibrationOptions& calibration)
+{
+  CalibrationConfig config;
+  config.model = "tricycle";
+  config.ego_motion = EgoMotionSource::kPose;
+  config.models.joints.names = {"steering", "traction"};
+  config.models.joints.kinds = {EncoderKind::kIncremental, EncoderKind::kIncremental};
+  config.models.joints.kinds.at(static_cast<std::size_t>(layout.steering_index)) =
+      EncoderKind::kAbsolute;
+  if (layout.steering_index == 1)
+    std::swap(config.models.joints.names[0], config.models.joints.names[1]);
+  config.models.tricycle.layout = layout;
+  config.models.tricycle.initial = nominal;
+  config.models.tricycle.calibration = calibration;
+  return config;
+}
+
 /// The keyframe interval: the options' when given, else chosen by time-blocked cross-validation
-/// on the training samples, else (too short a drive) the fixed interval of earlier versions.
+/// (chooseFitInterval, the criterion of a tracker's poses) on the training samples, scored on
+/// pairs at the shortest candidate, else (too short a drive, or one that leaves a single
+/// candidate to score: nothing to choose among) a fixed interval.
 TricycleValidation chooseInterval(const std::vector<EncoderSample>& samples,
                                   const std::vector<Pose2>& reference,
                                   const TricycleEncoderLayout& layout,
@@ -199,19 +228,39 @@ TricycleValidation chooseInterval(const std::vector<EncoderSample>& samples,
 {
   TricycleValidation validation;
   validation.interval_s = options.keyframe_interval_s;
-  if (validation.interval_s > 0.0) {
+  if (validation.interval_s > 0.0)
     return validation;
+  const TricycleIntervalSelection& selection = options.interval_selection;
+  std::vector<IntervalPairs> candidates;
+  for (const double interval_s : selection.candidates_s) {
+    candidates.push_back({interval_s, referencePairs(samples, reference, interval_s, covariance,
+                                                     selection.stride_s)});
   }
+  FitIntervalOptions cross_validation;
+  cross_validation.fold_counts = selection.fold_counts;
+  const CalibrationConfig config = tricycleFitConfig(layout, nominal, options.calibration);
   try {
-    const IntervalChoice choice =
-        chooseTricycleInterval(samples, reference, layout, nominal, options.calibration, covariance,
-                               options.interval_selection);
+    const FitIntervalChoice choice = chooseFitInterval(
+        config, candidates,
+        referencePairs(samples, reference, selection.candidates_s.front(), covariance),
+        fitIntervalCriterion(config.ego_motion), cross_validation);
+    const auto scored = std::count_if(
+        choice.curve.begin(), choice.curve.end(),
+        [](const FitIntervalScore& score) { return std::isfinite(score.validation_error_m); });
+    if (scored < 2 && selection.candidates_s.size() > 1) {
+      throw std::invalid_argument(
+          "only " + std::to_string(scored) +
+          " candidate interval could be cross-validated (too few pairs outside the time blocks "
+          "for the others); record a longer drive or set --interval");
+    }
     validation.interval_s = choice.interval_s;
     validation.interval_chosen = true;
-    validation.fold_counts = options.interval_selection.fold_counts;
-    validation.curve = choice.curve;
+    validation.fold_counts = selection.fold_counts;
+    validation.evaluation_interval_s = selection.candidates_s.front();
+    for (const FitIntervalScore& score : choice.curve)
+      validation.curve.push_back({score.interval_s, score.validation_error_m, score.pairs});
   } catch (const std::invalid_argument& error) {
-    // Too short a drive to cross-validate: the fixed interval of earlier versions, and why.
+    // Too short a drive to cross-validate: a fixed interval, and why.
     validation.interval_s = kFallbackIntervalS;
     validation.fallback_reason = error.what();
   }

@@ -128,9 +128,11 @@ std::string formatTricycleValidation(const TricycleValidation& validation)
     }
     text += line("keyframe interval: T = %.2f s, chosen by time-blocked cross-validation",
                  validation.interval_s);
-    text += "  (validation curve: the ATE dead-reckoned through each time block by a fit to the\n";
+    text += line("  (validation curve: the ATE of each time block's chained %.2f s pairs",
+                 validation.evaluation_interval_s);
     text +=
-        "   pairs outside it, RMS over the blocks, mean over the cuts into " + cuts + " blocks)\n";
+        "   predicted by a fit to the pairs outside it, mean over the blocks of the cuts into " +
+        cuts + " blocks)\n";
     text += line("  %8s %8s %16s", "T [s]", "pairs", "validation ATE");
     for (const IntervalScore& score : validation.curve) {
       if (std::isfinite(score.validation_ate_m)) {

@@ -187,27 +187,30 @@ std::string timeOffsetScript(const ReportPlotInput& input, const std::string& di
   return "time_offset.gp";
 }
 
-/// fit_interval.dat/.gp: the validation RPE against the candidate fit interval, the choice marked.
+/// fit_interval.dat/.gp: the validation error (RPE or ATE) against the candidate fit interval,
+/// the choice marked.
 std::string fitIntervalScript(const ReportPlotInput& input, const std::string& directory)
 {
+  const std::string& criterion = input.fit_interval_criterion;
   std::ostringstream data;
-  data << "# interval_s validation_rpe_m (time-blocked cross-validation)\n";
-  for (const auto& [interval, rpe] : input.fit_interval_curve) {
-    if (std::isfinite(rpe))
-      data << number(interval) << ' ' << number(rpe) << '\n';
+  data << "# interval_s validation_" << (criterion == "ATE" ? "ate" : "rpe")
+       << "_m (time-blocked cross-validation)\n";
+  for (const auto& [interval, error] : input.fit_interval_curve) {
+    if (std::isfinite(error))
+      data << number(interval) << ' ' << number(error) << '\n';
   }
   writeText(directory + "/fit_interval.dat", data.str());
   char title[160];
   std::snprintf(title, sizeof(title),
-                "Fit interval: validation RPE of %.2f s pairs on held-out time blocks",
-                input.fit_interval_evaluation_s);
+                "Fit interval: validation %s of %.2f s pairs on held-out time blocks",
+                criterion.c_str(), input.fit_interval_evaluation_s);
   std::ostringstream script;
   script << "reset\n"
          << kTerminal << "900,500\n"
          << "set output '" << kFitIntervalPlot << "'\n"
          << "set title '" << title << "'\n"
          << "set xlabel 'keyframe interval T of the fitted pairs [s]'\n"
-         << "set ylabel 'validation RPE [m]'\nset grid\nset key top center\n"
+         << "set ylabel 'validation " << criterion << " [m]'\nset grid\nset key top center\n"
          << "set arrow from " << number(input.fit_interval_s) << ", graph 0 to "
          << number(input.fit_interval_s) << ", graph 1 nohead dt 2 lw 1.5 lc rgb '#1f77b4'\n"
          << "set label \"chosen T = " << number(input.fit_interval_s) << " s\" at "

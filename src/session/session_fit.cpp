@@ -115,7 +115,8 @@ void chooseInterval(const SessionFitRequest& request, bool with_offset, SessionF
           rewindowPairs(candidate.pairs, request.encoder_history, offset_job.time_offset_s);
     }
   }
-  fit->choice = chooseFitInterval(request.config, candidates, evaluation);
+  fit->choice = chooseFitInterval(request.config, candidates, evaluation,
+                                  fitIntervalCriterion(request.config.ego_motion));
   for (const IntervalPairs& candidate : collected) {
     if (candidate.interval_s == fit->choice->interval_s) {
       fit->fit_interval_s = candidate.interval_s;

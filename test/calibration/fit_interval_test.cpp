@@ -1,4 +1,5 @@
-// Choosing the keyframe interval of laser pairs by time-blocked cross-validation (issue 22).
+// Choosing the keyframe interval of laser pairs by time-blocked cross-validation, scored by the
+// criterion of scan matching (the RPE).
 #include <cmath>
 #include <iostream>
 #include <random>
@@ -11,6 +12,9 @@
 
 namespace odometry_calibration {
 namespace {
+
+/// The criterion of scan-matched pairs (fitIntervalCriterion of a laser).
+constexpr FitIntervalCriterion kRpe = FitIntervalCriterion::kRpe;
 
 /// Noise-free pairs of one drive (same seed, same plan) at keyframe interval `interval_s`.
 sim::GeneratedPairs drive(double interval_s)
@@ -68,16 +72,17 @@ TEST(FitInterval, LongerPairsWinWhenTheMatchersErrorDoesNotShrinkWithT)
   const std::vector<IntervalPairs> candidates = {{0.3, measured(short_pairs.pairs, 0.01, 0.01, 1)},
                                                  {1.0, measured(long_pairs.pairs, 0.01, 0.01, 2)}};
   const FitIntervalChoice choice =
-      chooseFitInterval(config, candidates, measured(evaluation.pairs, 0.0005, 0.0005, 3));
+      chooseFitInterval(config, candidates, measured(evaluation.pairs, 0.0005, 0.0005, 3), kRpe);
   ASSERT_EQ(choice.curve.size(), 2u);
   std::cout << formatFitIntervalChoice(choice, 0.5);
   EXPECT_EQ(choice.interval_s, 1.0);
   EXPECT_EQ(choice.curve[0].pairs, candidates[0].pairs.size());
   EXPECT_EQ(choice.curve[0].blocks, 7u);  // 3 + 4 blocks
-  EXPECT_LT(choice.curve[1].validation_rpe_m, 0.9 * choice.curve[0].validation_rpe_m);
+  EXPECT_LT(choice.curve[1].validation_error_m, 0.9 * choice.curve[0].validation_error_m);
   const std::string text = formatFitIntervalChoice(choice, 0.5);
   EXPECT_NE(text.find("1.00 s"), std::string::npos) << text;
   EXPECT_NE(text.find("(chosen)"), std::string::npos) << text;
+  EXPECT_NE(text.find("validation RPE of 0.50 s pairs"), std::string::npos) << text;
 }
 
 TEST(FitInterval, ABiasedCandidateLoses)
@@ -91,10 +96,10 @@ TEST(FitInterval, ABiasedCandidateLoses)
       chooseFitInterval(config,
                         {{0.5, measured(half.pairs, 0.003, 0.003, 5)},
                          {1.0, measured(one.pairs, 0.003, 0.003, 6, 0.03)}},
-                        evaluation);
+                        evaluation, kRpe);
   std::cout << formatFitIntervalChoice(choice, 0.5);
   EXPECT_EQ(choice.interval_s, 0.5);
-  EXPECT_GT(choice.curve[1].validation_rpe_m, 1.5 * choice.curve[0].validation_rpe_m);
+  EXPECT_GT(choice.curve[1].validation_error_m, 1.5 * choice.curve[0].validation_error_m);
 }
 
 TEST(FitInterval, BadInputIsAClearError)
@@ -102,21 +107,21 @@ TEST(FitInterval, BadInputIsAClearError)
   sim::GeneratedPairs half = drive(0.5);
   half.pairs = measured(half.pairs, 0.002, 0.002, 7);
   const CalibrationConfig config = diffDriveConfig(half.joints);
-  EXPECT_THROW(chooseFitInterval(config, {}, half.pairs), std::invalid_argument);
+  EXPECT_THROW(chooseFitInterval(config, {}, half.pairs, kRpe), std::invalid_argument);
   FitIntervalOptions one_block;
   one_block.fold_counts = {1};
-  EXPECT_THROW(chooseFitInterval(config, {{0.5, half.pairs}}, half.pairs, one_block),
+  EXPECT_THROW(chooseFitInterval(config, {{0.5, half.pairs}}, half.pairs, kRpe, one_block),
                std::invalid_argument);
   // Five evaluation pairs cannot be cut into four blocks of two.
   const std::vector<MotionPair> few(half.pairs.begin(), half.pairs.begin() + 5);
-  EXPECT_THROW(chooseFitInterval(config, {{0.5, half.pairs}}, few), std::invalid_argument);
+  EXPECT_THROW(chooseFitInterval(config, {{0.5, half.pairs}}, few, kRpe), std::invalid_argument);
   // A candidate with too few pairs to fit scores infinity; with no other, it is an error.
   const std::vector<MotionPair> three(half.pairs.begin(), half.pairs.begin() + 3);
-  EXPECT_THROW(chooseFitInterval(config, {{0.5, three}}, half.pairs), std::invalid_argument);
+  EXPECT_THROW(chooseFitInterval(config, {{0.5, three}}, half.pairs, kRpe), std::invalid_argument);
   const FitIntervalChoice choice =
-      chooseFitInterval(config, {{0.3, three}, {0.5, half.pairs}}, half.pairs);
+      chooseFitInterval(config, {{0.3, three}, {0.5, half.pairs}}, half.pairs, kRpe);
   EXPECT_EQ(choice.interval_s, 0.5);
-  EXPECT_FALSE(std::isfinite(choice.curve[0].validation_rpe_m));
+  EXPECT_FALSE(std::isfinite(choice.curve[0].validation_error_m));
 }
 
 TEST(FitInterval, PairsEndingByTheBorder)

@@ -8,6 +8,7 @@
 #include "odometry_calibration/datasets/tricycle_log.h"
 #include "odometry_calibration/eval/tricycle_report.h"
 #include "odometry_calibration/models/tricycle_calibration.h"
+#include "support/tricycle_parameters.h"
 
 namespace odometry_calibration {
 namespace {
@@ -16,8 +17,7 @@ const TricycleEncoderLayout kLayout;
 
 TricycleParameters trueParameters()
 {
-  return TricycleParameters::fromVectors(Eigen::Vector4d(0.55, 0.0108, 1.6, -0.07),
-                                         Eigen::Vector3d(1.75, 0.03, 0.02));
+  return test::simulatedTricycleTruth();
 }
 
 /// A simulated drive: 25 Hz encoder samples, steering sweeping both ways, forward and reverse;
@@ -63,8 +63,7 @@ std::vector<MotionPair> simulatePairs(const TricycleParameters& truth, int pair_
 
 TricycleParameters nominalGuess()
 {
-  return TricycleParameters::fromVectors(Eigen::Vector4d(0.1, 0.0106141, 1.4, 0.0),
-                                         Eigen::Vector3d(1.5, 0.0, 0.0));
+  return test::tricycleLogNominal();
 }
 
 TEST(TricycleCalibration, RecoversTheTruthFromAFarGuessOnSimulatedData)

@@ -7,10 +7,24 @@
 #include <vector>
 
 #include "odometry_calibration/common/arguments.h"
-#include "odometry_calibration/eval/interval_selection.h"
 #include "odometry_calibration/models/tricycle_calibration.h"
 
 namespace odometry_calibration {
+
+/// The automatic choice of the keyframe interval (calibration/fit_interval.h's time-blocked
+/// cross-validation with the criterion of a tracker's absolute poses, the ATE, scored on
+/// evaluation pairs at the shortest candidate).
+struct TricycleIntervalSelection
+{
+  /// Candidate keyframe intervals T [s], increasing.
+  std::vector<double> candidates_s = {0.25, 0.35, 0.5, 0.7, 1.0, 1.4, 2.0, 2.8, 4.0, 5.6, 8.0};
+  /// The fitted samples' evaluation pairs are cut into this many contiguous time blocks, once
+  /// per entry (each in [2, 100]); a candidate's score is the mean ATE over all blocks of all
+  /// cuts. Several cuts average out the luck of where one cut's block borders fall.
+  std::vector<std::size_t> fold_counts = {2, 3, 4, 5, 6};
+  /// Start a window every stride_s [s] (overlapping windows, referencePairs); 0: end to end.
+  double stride_s = 0.0;
+};
 
 /// Everything the command can be told.
 struct TricycleCliOptions
@@ -19,7 +33,7 @@ struct TricycleCliOptions
   std::string output_path = "tricycle_calibration.yaml";  ///< result YAML; "" = do not write
   /// Keyframe spacing T [s]; 0 = chosen by time-blocked cross-validation (`--interval auto`).
   double keyframe_interval_s = 0.0;
-  IntervalSelectionOptions interval_selection;  ///< candidates and folds of the automatic choice
+  TricycleIntervalSelection interval_selection;  ///< candidates and folds of the automatic choice
   /// Last fraction of the samples held out of the fit and used to score it (0: none).
   double holdout_fraction = 0.0;
   TricycleCalibrationOptions calibration;  ///< fit options

@@ -2,7 +2,7 @@
 // default, unit, allowed range and a one-line description (ConfigKeySpec); a YAML value read
 // and checked against it, with messages that name the full key, the value and what is allowed;
 // unknown and duplicated keys refused. The calibration configuration's keys are in
-// calibration/calibration_config_schema.h.
+// config/calibration_config_schema.h.
 #pragma once
 
 #include <cstddef>

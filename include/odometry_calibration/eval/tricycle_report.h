@@ -6,7 +6,6 @@
 #include <vector>
 
 #include "odometry_calibration/data/motion_pair.h"
-#include "odometry_calibration/eval/interval_selection.h"
 #include "odometry_calibration/models/tricycle_calibration.h"
 
 namespace odometry_calibration {
@@ -37,12 +36,23 @@ TricycleEvaluation evaluateTricycle(const TricycleCalibrationResult& result,
 std::string formatTricycleReport(const TricycleCalibrationResult& result,
                                  const TricycleEvaluation& evaluation);
 
+/// One point of the validation curve of the keyframe interval.
+struct IntervalScore
+{
+  double interval_s = 0.0;  ///< candidate T [s]
+  /// Mean over the blocks of all cuts of the ATE of the block's chained evaluation pairs [m];
+  /// inf: a fold could not be fitted (too few pairs outside it).
+  double validation_ate_m = 0.0;
+  std::size_t pairs = 0;  ///< pairs at this T in the fitted samples
+};
+
 /// How the keyframe interval was set and how the fit did on data it never saw.
 struct TricycleValidation
 {
   double interval_s = 0.0;               ///< the keyframe interval T of the fit [s]
   bool interval_chosen = false;          ///< T chosen by cross-validation (else set by hand)
   std::vector<std::size_t> fold_counts;  ///< cuts (numbers of time blocks) of the validation
+  double evaluation_interval_s = 0.0;    ///< the interval of the blocks' evaluation pairs [s]
   std::vector<IntervalScore> curve;
   /// Why the interval could not be chosen (and a fixed one was used); "" otherwise.
   std::string fallback_reason;       ///< the validation curve (interval_chosen)

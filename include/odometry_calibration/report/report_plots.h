@@ -28,11 +28,13 @@ struct ReportPlotInput
   std::vector<std::pair<double, double>> time_offset_curve;
   double time_offset_s = 0.0;        ///< the estimate, marked on the curve [s]
   double time_offset_sigma_s = 0.0;  ///< its sigma [s] (NaN: not determined)
-  /// Validation curve of the fit interval (T [s], validation RPE [m]; calibration/fit_interval.h);
+  /// Validation curve of the fit interval (T [s], validation RPE or ATE [m];
+  /// calibration/fit_interval.h);
   /// empty: not chosen by the data, no plot. Unscored candidates (infinite) are left out.
   std::vector<std::pair<double, double>> fit_interval_curve;
-  double fit_interval_s = 0.0;             ///< the chosen T, marked on the curve [s]
-  double fit_interval_evaluation_s = 0.0;  ///< the evaluation pairs' interval [s]
+  double fit_interval_s = 0.0;                 ///< the chosen T, marked on the curve [s]
+  double fit_interval_evaluation_s = 0.0;      ///< the evaluation pairs' interval [s]
+  std::string fit_interval_criterion = "RPE";  ///< what the curve measures ("RPE" or "ATE")
 };
 
 /// What was drawn.

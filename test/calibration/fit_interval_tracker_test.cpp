@@ -1,3 +1,5 @@
+// The keyframe interval of a tracker's poses chosen by calibration/fit_interval.h with the
+// criterion of absolute poses (the ATE of each block's chained pairs), on simulated tracker logs.
 #include <algorithm>
 #include <cmath>
 #include <random>
@@ -6,9 +8,11 @@
 
 #include <gtest/gtest.h>
 
+#include "odometry_calibration/calibration/fit_interval.h"
 #include "odometry_calibration/data/reference_pairs.h"
-#include "odometry_calibration/eval/interval_selection.h"
 #include "odometry_calibration/eval/metrics.h"
+#include "odometry_calibration/models/tricycle_calibration.h"
+#include "support/tricycle_parameters.h"
 
 namespace odometry_calibration {
 namespace {
@@ -17,14 +21,12 @@ const TricycleEncoderLayout kLayout;
 
 TricycleParameters truth()
 {
-  return TricycleParameters::fromVectors(Eigen::Vector4d(0.55, 0.0108, 1.6, -0.07),
-                                         Eigen::Vector3d(1.75, 0.03, 0.02));
+  return test::simulatedTricycleTruth();
 }
 
 TricycleParameters nominal()
 {
-  return TricycleParameters::fromVectors(Eigen::Vector4d(0.1, 0.0106141, 1.4, 0.0),
-                                         Eigen::Vector3d(1.5, 0.0, 0.0));
+  return test::tricycleLogNominal();
 }
 
 /// A simulated tracker log at 25 Hz whose best keyframe interval lies inside the candidates:
@@ -98,67 +100,86 @@ SimulatedLog slice(const SimulatedLog& log, std::size_t first, std::size_t end)
   return part;
 }
 
-TEST(IntervalSelection, ValidatesItsOptions)
+/// The tracker's configuration of the cross-validation's fits, as calibrate_tricycle makes it.
+CalibrationConfig trackerConfig()
 {
-  IntervalSelectionOptions options;
-  EXPECT_NO_THROW(validate(options));
-  options.candidates_s = {1.0, 0.5};
-  EXPECT_THROW(validate(options), std::invalid_argument);
-  options.candidates_s = {};
-  EXPECT_THROW(validate(options), std::invalid_argument);
-  options.candidates_s = {0.5, 1.0};
-  options.fold_counts = {1};
-  EXPECT_THROW(validate(options), std::invalid_argument);
-  options.fold_counts = {};
-  EXPECT_THROW(validate(options), std::invalid_argument);
+  CalibrationConfig config;
+  config.model = "tricycle";
+  config.ego_motion = EgoMotionSource::kPose;
+  config.models.joints.names = {"steering", "traction"};
+  config.models.joints.kinds = {EncoderKind::kAbsolute, EncoderKind::kIncremental};
+  config.models.tricycle.layout = kLayout;
+  config.models.tricycle.initial = nominal();
+  return config;
 }
 
-TEST(IntervalSelection, ACandidateLeavingAFoldTooFewPairsScoresInfinity)
+/// chooseFitInterval as calibrate_tricycle calls it: candidates at `candidates_s`, evaluation
+/// pairs at the shortest, cuts into 2-6 blocks, the tracker's criterion.
+FitIntervalChoice chooseForTracker(const SimulatedLog& log, const std::vector<double>& candidates_s,
+                                   const std::vector<std::size_t>& fold_counts)
+{
+  std::vector<IntervalPairs> candidates;
+  for (const double interval_s : candidates_s) {
+    candidates.push_back({interval_s, referencePairs(log.samples, log.T_world_sensor, interval_s,
+                                                     pairCovariance())});
+  }
+  FitIntervalOptions options;
+  options.fold_counts = fold_counts;
+  const CalibrationConfig config = trackerConfig();
+  return chooseFitInterval(
+      config, candidates,
+      referencePairs(log.samples, log.T_world_sensor, candidates_s.front(), pairCovariance()),
+      fitIntervalCriterion(config.ego_motion), options);
+}
+
+TEST(FitIntervalTracker, TheCriterionFollowsThePoseSource)
+{
+  EXPECT_EQ(fitIntervalCriterion(EgoMotionSource::kPose), FitIntervalCriterion::kAte);
+  EXPECT_EQ(fitIntervalCriterion(EgoMotionSource::kScan), FitIntervalCriterion::kRpe);
+  EXPECT_EQ(fitIntervalCriterion(EgoMotionSource::kCloud), FitIntervalCriterion::kRpe);
+  EXPECT_EQ(fitIntervalCriterion(EgoMotionSource::kOdometry), FitIntervalCriterion::kRpe);
+}
+
+TEST(FitIntervalTracker, ACandidateLeavingAFoldTooFewPairsScoresInfinity)
 {
   const SimulatedLog log = simulate(40.0, 0.0, 0.0, 3);
-  IntervalSelectionOptions options;
-  options.candidates_s = {0.5, 8.0};  // 8 s: 5 pairs in all, fewer than 7 outside any block
-  options.fold_counts = {2};
-  const IntervalChoice choice = chooseTricycleInterval(log.samples, log.T_world_sensor, kLayout,
-                                                       nominal(), {}, pairCovariance(), options);
+  // 8 s: 5 pairs in all, too few outside either half to fit the tricycle's seven parameters.
+  const FitIntervalChoice choice = chooseForTracker(log, {0.5, 8.0}, {2});
   ASSERT_EQ(choice.curve.size(), 2u);
-  EXPECT_TRUE(std::isfinite(choice.curve[0].validation_ate_m));
-  EXPECT_TRUE(std::isinf(choice.curve[1].validation_ate_m));
+  EXPECT_EQ(choice.criterion, FitIntervalCriterion::kAte);
+  EXPECT_TRUE(std::isfinite(choice.curve[0].validation_error_m));
+  EXPECT_TRUE(std::isinf(choice.curve[1].validation_error_m));
   EXPECT_DOUBLE_EQ(choice.interval_s, 0.5);
-  options.candidates_s = {8.0};
-  EXPECT_THROW(chooseTricycleInterval(log.samples, log.T_world_sensor, kLayout, nominal(), {},
-                                      pairCovariance(), options),
-               std::invalid_argument);
+  EXPECT_NE(formatFitIntervalChoice(choice, 0.5).find("validation ATE of 0.50 s pairs"),
+            std::string::npos);
+  EXPECT_THROW(chooseForTracker(log, {8.0}, {2}), std::invalid_argument);
 }
 
-TEST(IntervalSelection, ChoosesAnIntervalAsGoodAsTheBestOnUnseenData)
+TEST(FitIntervalTracker, ChoosesAnIntervalAsGoodAsTheBestOnUnseenData)
 {
   const SimulatedLog log = simulate(300.0, 0.02, 0.0005, 5);
   const std::size_t split = log.samples.size() * 6 / 10;
   const SimulatedLog training = slice(log, 0, split);
   const SimulatedLog test = slice(log, split, log.samples.size());
-  IntervalSelectionOptions options;
-  options.candidates_s = {0.25, 0.5, 1.0, 2.0, 4.0, 8.0};
-  const IntervalChoice choice = chooseTricycleInterval(
-      training.samples, training.T_world_sensor, kLayout, nominal(), {}, pairCovariance(), options);
-  ASSERT_EQ(choice.curve.size(), options.candidates_s.size());
+  const std::vector<double> candidates_s = {0.25, 0.5, 1.0, 2.0, 4.0, 8.0};
+  const FitIntervalChoice choice = chooseForTracker(training, candidates_s, {2, 3, 4, 5, 6});
+  ASSERT_EQ(choice.curve.size(), candidates_s.size());
   // The truth: each candidate's calibration error on the unseen 40 %. This drive's best interval
-  // is 4 s (error 0.012 m); 0.25 s windows are 7x worse (the jitter's bias), 8 s 3x (the walk,
-  // few pairs).
+  // is 4 s; 0.25 s windows are 7x worse (the jitter's bias), 8 s 3x (the walk, few pairs).
   std::vector<double> error_m;
-  for (const IntervalScore& score : choice.curve) {
+  for (const FitIntervalScore& score : choice.curve) {
     error_m.push_back(calibrationError(training, test, score.interval_s));
     std::printf("T %.2f s: validation %.4f m, calibration error on unseen data %.4f m\n",
-                score.interval_s, score.validation_ate_m, error_m.back());
+                score.interval_s, score.validation_error_m, error_m.back());
   }
   const std::size_t best =
       static_cast<std::size_t>(std::min_element(error_m.begin(), error_m.end()) - error_m.begin());
   const std::size_t chosen = static_cast<std::size_t>(
-      std::find(options.candidates_s.begin(), options.candidates_s.end(), choice.interval_s) -
-      options.candidates_s.begin());
-  ASSERT_LT(chosen, options.candidates_s.size());
-  EXPECT_DOUBLE_EQ(options.candidates_s[best], 4.0);
-  // Cross-validation on the training part alone lands next to it (2 s), far from the extremes.
+      std::find(candidates_s.begin(), candidates_s.end(), choice.interval_s) -
+      candidates_s.begin());
+  ASSERT_LT(chosen, candidates_s.size());
+  EXPECT_DOUBLE_EQ(candidates_s[best], 4.0);
+  // Cross-validation on the training part alone lands next to it, far from the extremes.
   EXPECT_LE(chosen > best ? chosen - best : best - chosen, 1u) << choice.interval_s;
   EXPECT_LT(error_m[chosen], 1.5 * error_m[best]);
   EXPECT_LT(error_m[chosen], 0.25 * error_m.front());
