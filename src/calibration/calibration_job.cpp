@@ -231,7 +231,7 @@ std::string formatTimeOffset(const TimeOffsetResult& offset)
   out << "time offset (encoder values at scan time + tau): tau = " << offset.offset_s << " s +- "
       << offset.sigma_s << " s"
       << (offset.at_boundary ? "  WARNING: at the edge of the search range" : "")
-      << "\ncost curve (tau [s], trimmed mean chi^2):";
+      << "\ncost curve (tau [s], mean Huber loss of chi^2):";
   for (const auto& [tau, cost] : offset.curve)
     out << " " << tau << ":" << cost;
   return out.str() + "\n";

@@ -185,6 +185,7 @@ TimeOffsetOptions fineWindow(const GyroFitOptions& options, double centre_s)
   fine.max_s = std::min(options.search_max_s, centre_s + options.fine_half_width_s);
   fine.step_s = options.fine_step_s;
   fine.trim = 0.0;
+  fine.huber_threshold = 0.0;
   return fine;
 }
 

@@ -31,8 +31,19 @@ std::vector<MotionPair> rewindowPairs(const std::vector<MotionPair>& pairs,
 
 namespace {
 
-/// Trimmed mean of the squared whitened prediction errors of a model fitted to `pairs`.
-double robustCost(const std::vector<MotionPair>& pairs, MotionModel& model, double trim)
+/// Huber's loss of a squared whitened error r^2 with threshold k: r^2 up to k, 2 k r - k^2
+/// beyond (k = 0: r^2) [-].
+double huberLoss(double squared_error, double k)
+{
+  if (k <= 0.0 || squared_error <= k * k)
+    return squared_error;
+  return 2.0 * k * std::sqrt(squared_error) - k * k;
+}
+
+/// Trimmed mean of the Huber losses (huberLoss) of the squared whitened prediction errors of a
+/// model fitted to `pairs`.
+double robustCost(const std::vector<MotionPair>& pairs, MotionModel& model, double trim,
+                  double huber_threshold)
 {
   model.fit(pairs);
   std::vector<double> errors;
@@ -40,7 +51,7 @@ double robustCost(const std::vector<MotionPair>& pairs, MotionModel& model, doub
   for (const MotionPair& pair : pairs) {
     const Eigen::Vector3d e =
         boxMinus(model.predict(pair.encoder_samples).mean, pair.sensor_motion);
-    errors.push_back(e.dot(pair.covariance.ldlt().solve(e)));
+    errors.push_back(huberLoss(e.dot(pair.covariance.ldlt().solve(e)), huber_threshold));
   }
   std::sort(errors.begin(), errors.end());
   const std::size_t kept = std::max<std::size_t>(
@@ -59,10 +70,10 @@ TimeOffsetResult estimateTimeOffset(const std::vector<MotionPair>& pairs,
                                     const TimeOffsetOptions& options)
 {
   if (!(options.max_s > options.min_s) || !(options.step_s > 0.0) || options.trim < 0.0 ||
-      options.trim >= 1.0) {
+      options.trim >= 1.0 || !(options.huber_threshold >= 0.0)) {
     throw std::invalid_argument(
         "time offset search: need min_s < max_s, step_s > 0, "
-        "0 <= trim < 1");
+        "0 <= trim < 1, huber_threshold >= 0");
   }
   TimeOffsetResult result;
   const int steps = static_cast<int>(std::round((options.max_s - options.min_s) / options.step_s));
@@ -73,7 +84,7 @@ TimeOffsetResult estimateTimeOffset(const std::vector<MotionPair>& pairs,
     double cost = std::numeric_limits<double>::infinity();
     try {
       auto model = make_model();
-      cost = robustCost(moved, *model, options.trim);
+      cost = robustCost(moved, *model, options.trim, options.huber_threshold);
     } catch (const std::invalid_argument& error) {
       // Too few pairs covered at this offset: leave it out of the curve's minimum.
       if (moved.size() >= pairs.size() / 2)
@@ -104,7 +115,8 @@ TimeOffsetResult estimateTimeOffset(const std::vector<MotionPair>& pairs,
     const double curvature = (c_plus - 2.0 * c0 + c_minus) / (h * h);
     if (std::isfinite(curvature) && curvature > 0.0) {
       result.offset_s += -0.5 * h * (c_plus - c_minus) / (c_plus - 2.0 * c0 + c_minus);
-      // The cost is a mean of squared whitened errors over n pairs: the total chi^2 is n times
+      // The cost is a mean of squared whitened errors over n pairs (Huber's loss is that near
+      // the minimum for all but a few): the total chi^2 is n times
       // it, and sigma^2 = 2 / (d^2 chi^2 / d tau^2), scaled by the cost level (chi^2/dof).
       const double n = static_cast<double>(pairs.size());
       result.sigma_s = std::sqrt(2.0 * std::max(c0, 1e-12) / (n * curvature));

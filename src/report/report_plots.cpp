@@ -163,7 +163,7 @@ std::string residualScript(const ReportPlotInput& input, const std::string& dire
 std::string timeOffsetScript(const ReportPlotInput& input, const std::string& directory)
 {
   std::ostringstream data;
-  data << "# tau_s cost (trimmed mean chi^2 of the model refitted at tau)\n";
+  data << "# tau_s cost (mean Huber loss of chi^2 of the model refitted at tau)\n";
   for (const auto& [tau, cost] : input.time_offset_curve)
     data << number(tau) << ' ' << number(cost) << '\n';
   writeText(directory + "/time_offset.dat", data.str());
@@ -176,7 +176,7 @@ std::string timeOffsetScript(const ReportPlotInput& input, const std::string& di
          << "set output '" << kTimeOffsetPlot << "'\n"
          << "set title 'Encoder-laser time offset: the model refitted at every tau'\n"
          << "set xlabel 'tau [s] (encoder values taken at scan time + tau)'\n"
-         << "set ylabel 'cost (trimmed mean chi^2)'\nset grid\nset key top center\n"
+         << "set ylabel 'cost (mean Huber loss of chi^2)'\nset grid\nset key top center\n"
          << "set arrow from " << number(input.time_offset_s) << ", graph 0 to "
          << number(input.time_offset_s) << ", graph 1 nohead dt 2 lw 1.5 lc rgb '#1f77b4'\n"
          << "set label \"" << label << "\" at " << number(input.time_offset_s)

@@ -2,6 +2,7 @@
 // when the offset estimated on the pairs is far from the one they were made at, paired again
 // at the estimate with fresh collectors, as a session configured at it would have paired them
 // (calibrate_bag's result and the node's are then the same).
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -33,6 +34,8 @@ struct CalibrationSession::PairingAgain
   std::unique_ptr<EncoderDecoder> decoder;  ///< the history's (made at the first reading)
   /// The time-offset search run on exactly `pairs` at `offset_s` (when one was).
   std::optional<TimeOffsetResult> offset_search;
+  /// The pairing before this one: its offset and the estimate on its pairs [s].
+  OffsetRound before;
 };
 
 void CalibrationSession::record(const std::function<void(InputRecord&)>& add)
@@ -194,7 +197,8 @@ std::unique_ptr<CalibrationSession::PairingAgain> CalibrationSession::pairUntilS
 {
   // Pairs made far from the true offset carry its trace (each scan's sweep undone with the
   // motion of another instant), so the estimate on them lands short of it: each round pairs
-  // at the estimate of the previous one until it moves less than the tolerance.
+  // at the offset nextPairingOffset_s gives from the last two until the estimate on the
+  // pairs is within the tolerance of the offset they were made at.
   CalibrationJobOptions offset_only;
   offset_only.compare_trajectories = false;
   while (*rounds < kMaxPairingRounds && !again->history_broken && !again->pairs.empty()) {
@@ -211,11 +215,16 @@ std::unique_ptr<CalibrationSession::PairingAgain> CalibrationSession::pairUntilS
       again->offset_search = job->time_offset;  // settled: the final fit reuses it
       break;
     }
+    const OffsetRound last{again->offset_s, job->time_offset_s};
+    const double next_offset_s =
+        std::clamp(nextPairingOffset_s(again->before, last), config.time_offset_search_min_s,
+                   config.time_offset_search_max_s);
     std::string problem;
     std::unique_ptr<PairingAgain> next =
-        pairRecord(record, config.collector, job->time_offset_s, &problem);
+        pairRecord(record, config.collector, next_offset_s, &problem);
     if (!next)
       break;
+    next->before = last;
     again = std::move(next);
     ++*rounds;
   }
@@ -260,6 +269,7 @@ std::unique_ptr<CalibrationSession::PairingAgain> CalibrationSession::pairAtEsti
       pairRecord(*record, request->config.collector, pairing->estimate_s, &pairing->text);
   if (!again)
     return nullptr;
+  again->before = {pairing->configured_s, pairing->estimate_s};
   int rounds = 1;
   again = pairUntilSettled(*record, request->config, std::move(again), &rounds);
   pairing->estimate_s = again->offset_s;

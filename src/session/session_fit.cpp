@@ -11,6 +11,12 @@
 namespace odometry_calibration {
 namespace {
 
+/// The secant step below is taken only while g's slope over the last two pairings lies in
+/// [kSecantSlopeMin, kSecantSlopeMax]: the estimate leaning toward the pairing offset by at
+/// most 3/4 (slope -0.25) or away from it by at most 1 (slope -2) [-].
+constexpr double kSecantSlopeMin = -2.0;
+constexpr double kSecantSlopeMax = -0.25;
+
 /// A fit whose parameters are no physical values (a radius of 77 m or below zero, a value that
 /// is not finite) is marked not converged, so that it never becomes the active model and
 /// calibrate_bag reports it NOT converged.
@@ -213,6 +219,22 @@ std::string timeOffsetSentence(const CalibrationConfig& config, const SessionFit
                   job.time_offset_s, job.time_offset->sigma_s);
   }
   return text;
+}
+
+double nextPairingOffset_s(const OffsetRound& before, const OffsetRound& last)
+{
+  // The estimate f(t) on pairs made at offset t leans toward t (each scan's sweep is undone
+  // with the encoders at t), so the offset sought is the fixed point f(t) = t, the root of
+  // g(t) = f(t) - t. The secant through the last two pairings (t0, g0), (t1, g1) finds it
+  // where f leans linearly: t1 - g1 (t1 - t0) / (g1 - g0); outside the slopes the rule trusts,
+  // the last estimate f(t1) itself (the plain iteration).
+  const double g0 = before.estimate_s - before.paired_at_s;
+  const double g1 = last.estimate_s - last.paired_at_s;
+  const double dt = last.paired_at_s - before.paired_at_s;
+  const double slope = dt != 0.0 ? (g1 - g0) / dt : NAN;
+  if (!(slope >= kSecantSlopeMin && slope <= kSecantSlopeMax))
+    return last.estimate_s;
+  return last.paired_at_s - g1 / slope;
 }
 
 }  // namespace odometry_calibration

@@ -159,7 +159,11 @@ TEST_F(CalibrateBagReport, WritesTheMarkdownReportWithPlots)
   const std::string trajectories = readFile(out + "/plots/trajectories.dat");
   const std::size_t pairs = count(readFile(out + "/pairs.csv"), "\n") - 3;  // header lines
   EXPECT_GT(pairs, 100u);
-  EXPECT_EQ(count(trajectories, "\n"), pairs + 2);  // comment + first keyframe + one per pair
+  // Comment + first keyframe + one per pair the nominal robot is compared on: it is taken at time
+  // offset 0 (compareTrajectories), where the last pair's window may end after the last encoder
+  // reading (the drive's encoders run 0.15 s ahead of the laser) and is then left out.
+  EXPECT_GE(count(trajectories, "\n"), pairs + 1);
+  EXPECT_LE(count(trajectories, "\n"), pairs + 2);
   std::istringstream histogram(readFile(out + "/plots/residuals.dat"));
   std::size_t calibrated = 0;
   for (std::string line; std::getline(histogram, line) && !line.empty();) {

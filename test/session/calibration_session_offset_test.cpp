@@ -2,7 +2,8 @@
 // pairs its recorded inputs again at the estimate in calibrate() and gives exactly the pairs,
 // time offset and parameters of a fresh session configured at that estimate and fed the same
 // messages; the record stays within its memory bound
-// and a reset clears it.
+// and a reset clears it. The next offset to pair at: the secant toward where the estimate agrees
+// with the pairing offset.
 #include <filesystem>
 #include <fstream>
 
@@ -156,6 +157,28 @@ TEST_F(SessionOffset, WithoutTheEstimateNothingIsRecorded)
   feed(*session);
   EXPECT_EQ(session->inputRecordBytes().first, 0u);
   EXPECT_EQ(session->calibrate({}).fit->offset_pairing.text, "");
+}
+
+// An estimate that leans toward the pairing offset by 0.4 (f(t) = 0.6 + 0.003 + 0.4 (t - 0.6)):
+// the secant through two pairings lands on its fixed point 0.605 s at once, where the plain
+// iteration would pair at the last estimate 0.6074 s; a lean the secant cannot trust (one pushing
+// away, or two pairings at one offset) gives the last estimate, and so does no lean at all.
+TEST(NextPairingOffset, TheSecantFindsWhereTheEstimateAgreesWithThePairingOffset)
+{
+  auto lean = [](double t) { return 0.603 + 0.4 * (t - 0.6); };
+  const OffsetRound first{0.62, lean(0.62)};
+  const OffsetRound second{first.estimate_s, lean(first.estimate_s)};
+  EXPECT_NEAR(nextPairingOffset_s(first, second), 0.605, 1e-12);
+  EXPECT_NEAR(lean(nextPairingOffset_s(first, second)), 0.605, 1e-12);
+
+  const OffsetRound flat_first{0.0, 0.61};
+  const OffsetRound flat_second{0.61, 0.61};  // f does not depend on t: slope of g = -1
+  EXPECT_NEAR(nextPairingOffset_s(flat_first, flat_second), 0.61, 1e-12);
+
+  const OffsetRound away_first{0.60, 0.605};
+  const OffsetRound away_second{0.605, 0.6125};  // f leans away: slope of g = +0.5
+  EXPECT_DOUBLE_EQ(nextPairingOffset_s(away_first, away_second), 0.6125);
+  EXPECT_DOUBLE_EQ(nextPairingOffset_s(away_second, away_second), 0.6125);  // t0 = t1
 }
 
 }  // namespace

@@ -40,11 +40,27 @@ struct SessionFitRequest
 };
 
 /// Beyond this difference between the time offset estimated on the pairs and the one they were
-/// paired at, calibrate() pairs the recorded inputs again at the estimate [s].
-constexpr double kOffsetPairingToleranceS = 0.01;
-/// At most this many pairings at estimates, each at the estimate on the previous one's pairs
-/// (an offset found far from the configured one settles in two or three).
-constexpr int kMaxPairingRounds = 3;
+/// paired at, calibrate() pairs the recorded inputs again (nextPairingOffset_s); within it the
+/// pairs and their offset stand [s].
+constexpr double kOffsetPairingToleranceS = 0.002;
+/// At most this many pairings again (an offset found far from the configured one settles in
+/// two to four).
+constexpr int kMaxPairingRounds = 4;
+
+/// One pairing of the recorded inputs: the time offset it paired at and the one estimated on
+/// its pairs [s].
+struct OffsetRound
+{
+  double paired_at_s = 0.0;
+  double estimate_s = 0.0;
+};
+
+/// The offset to pair at after the pairings `before` and `last`: the estimate f(t) on pairs
+/// made at offset t leans toward t, and the offset sought is the fixed point f(t) = t. The
+/// secant of g(t) = f(t) - t through the two, t1 - g1 (t1 - t0) / (g1 - g0), when its slope
+/// lies in [-2, -0.25]; otherwise (a lean the secant cannot trust, or t0 = t1) the last
+/// estimate f(t1) [s].
+double nextPairingOffset_s(const OffsetRound& before, const OffsetRound& last);
 
 /// How calibrate() paired the inputs when the configuration estimates the time offset.
 struct OffsetPairing
