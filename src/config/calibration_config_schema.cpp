@@ -398,9 +398,11 @@ std::vector<Entry> keyframeListEntries()
 std::vector<Entry> scanMatchingEntries()
 {
   return {
-      number<CalibrationConfig>("scan_matching.max_correspondence_distance_m", 0.5, "m",
-                                rangeClosed(1e-3, 10.0), "farthest point-to-line correspondence",
-                                AT(collector.plicp.max_correspondence_distance_m)),
+      number<CalibrationConfig>(
+          "scan_matching.max_correspondence_distance_m", 0.5, "m", rangeClosed(1e-3, 10.0),
+          "farthest point-to-line correspondence (doubled, at most twice, for a "
+          "match that finds too few at its guess)",
+          AT(collector.plicp.max_correspondence_distance_m)),
       integer<CalibrationConfig>("scan_matching.max_iterations", 50, rangeClosed(1, 1000),
                                  "PLICP iteration cap", AT(collector.plicp.max_iterations)),
       number<CalibrationConfig>("scan_matching.range_sigma_m", 0.01, "m", rangeClosed(1e-5, 1.0),

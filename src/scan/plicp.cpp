@@ -47,17 +47,35 @@ PreparedScan prepareScan(const Scan& scan, const LineFitOptions& options,
   return prepared;
 }
 
+namespace {
+
+/// Whether a match failed at its first iteration for lack of correspondences: at the guess, too
+/// few new points lie within max_correspondence_distance_m of a reference surface.
+bool startsStarved(const PlicpResult& result)
+{
+  return result.status == PlicpStatus::kTooFewCorrespondences && result.iterations <= 1;
+}
+
+}  // namespace
+
 PlicpResult matchScans(const PreparedScan& reference, const PreparedScan& current,
                        const Pose2& T_ref_new_guess, const PlicpOptions& options)
 {
   validate(options);
   std::unique_ptr<NearestPointSearch> search;  // built once, shared by the ambiguity check
-  PlicpResult result = matchOnce(reference, current, T_ref_new_guess, options, search);
-  if (needsAmbiguityCheck(result, options)) {
+  PlicpOptions gated = options;                // the gate the match ends with
+  PlicpResult result = matchOnce(reference, current, T_ref_new_guess, gated, search);
+  for (int doubling = 0;
+       doubling < options.max_correspondence_distance_doublings && startsStarved(result);
+       ++doubling) {
+    gated.max_correspondence_distance_m *= 2.0;
+    result = matchOnce(reference, current, T_ref_new_guess, gated, search);
+  }
+  if (needsAmbiguityCheck(result, gated)) {
     result =
-        checkAmbiguity(std::move(result), options,
+        checkAmbiguity(std::move(result), gated,
                        [&](const Pose2& start, bool with_covariance, const IterationStop& stop) {
-                         PlicpOptions rematch_options = options;
+                         PlicpOptions rematch_options = gated;
                          rematch_options.compute_covariance = with_covariance;
                          return matchOnce(reference, current, start, rematch_options, search, stop);
                        });

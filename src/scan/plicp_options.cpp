@@ -24,6 +24,9 @@ void validate(const PlicpOptions& options)
 {
   require(positive(options.max_correspondence_distance_m),
           "max_correspondence_distance_m must be a positive number of metres");
+  require(options.max_correspondence_distance_doublings >= 0 &&
+              options.max_correspondence_distance_doublings <= 10,
+          "max_correspondence_distance_doublings must be in [0, 10]");
   require(positive(options.max_normal_angle_rad) && options.max_normal_angle_rad <= M_PI,
           "max_normal_angle_rad must be in (0, pi] radians");
   require(std::isfinite(options.surface_extent_margin_m) && options.surface_extent_margin_m >= 0.0,

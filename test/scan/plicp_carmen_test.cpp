@@ -4,7 +4,8 @@
 // protocol of scripts/bench_plicp_vs_csm, seed 33), the silent gross failures (valid, > 10 cm or
 // > 5 deg off the corrected pose) and the refusals (not valid) stay at or below the counts of the
 // matcher as it is now. Counted against the corrected poses only (no reference matcher needed).
-// Skips, saying so, without the logs.
+// And on the outdoor log, the matches starved of correspondences at their guess are matched again
+// with a wider gate, changing no other match. Skips, saying so, without the logs.
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -37,31 +38,42 @@ struct Counts
   int refused = 0;
 };
 
+/// The guess of the benchmark's protocol: the corrected relative pose moved 5 cm in a random
+/// direction and turned 3 deg either way.
+Pose2 perturbed(const Pose2& truth, std::mt19937& rng)
+{
+  std::uniform_real_distribution<double> direction(-M_PI, M_PI);
+  std::bernoulli_distribution sign(0.5);
+  const double bearing = direction(rng);
+  const double turn_rad = (sign(rng) ? 3.0 : -3.0) * M_PI / 180.0;
+  return Pose2(truth.x() + 0.05 * std::cos(bearing), truth.y() + 0.05 * std::sin(bearing),
+               truth.theta() + turn_rad);
+}
+
+/// More than 10 cm or 5 deg off the corrected pose.
+bool gross(const Pose2& truth, const PlicpResult& result)
+{
+  const Pose2 error = between(truth, result.T_ref_new);
+  return std::hypot(error.x(), error.y()) > 0.10 || std::abs(error.theta()) > 5.0 * M_PI / 180.0;
+}
+
 /// Matches the first kPairs consecutive pairs of the log at `path` with the default options.
 Counts countFailures(const std::string& path)
 {
   const std::vector<carmen::Record> records = carmen::loadLog(path);
   const PlicpOptions options;
   std::mt19937 rng(33);
-  std::uniform_real_distribution<double> direction(-M_PI, M_PI);
-  std::bernoulli_distribution sign(0.5);
   Counts counts;
   for (std::size_t k = 0; k + 1 < records.size() && k < kPairs; ++k) {
     const Pose2 truth = between(records[k].T_map_robot, records[k + 1].T_map_robot);
-    const double bearing = direction(rng);
-    const double turn_rad = (sign(rng) ? 3.0 : -3.0) * M_PI / 180.0;
-    const Pose2 guess(truth.x() + 0.05 * std::cos(bearing), truth.y() + 0.05 * std::sin(bearing),
-                      truth.theta() + turn_rad);
-    const PlicpResult result = matchScans(records[k].scan, records[k + 1].scan, guess, options);
+    const PlicpResult result =
+        matchScans(records[k].scan, records[k + 1].scan, perturbed(truth, rng), options);
     ++counts.pairs;
     if (!result.valid()) {
       ++counts.refused;
       continue;
     }
-    const Pose2 error = between(truth, result.T_ref_new);
-    counts.gross +=
-        std::hypot(error.x(), error.y()) > 0.10 || std::abs(error.theta()) > 5.0 * M_PI / 180.0 ? 1
-                                                                                                : 0;
+    counts.gross += gross(truth, result) ? 1 : 0;
   }
   return counts;
 }
@@ -78,7 +90,7 @@ TEST(PlicpCarmen, GrossFailuresAndRefusalsDoNotGrow)
       {"aces", 5, 9},
       {"fhw", 16, 15},
       {"freiburg-079", 0, 0},
-      {"freiburg-campus", 21, 33},
+      {"freiburg-campus", 21, 32},
       {"infinite-corridor", 12, 11},
       {"intel", 0, 18},
       {"orebro", 4, 7},
@@ -102,6 +114,59 @@ TEST(PlicpCarmen, GrossFailuresAndRefusalsDoNotGrow)
   }
   if (checked == 0)
     GTEST_SKIP() << "none of the CARMEN logs is in " << folder;
+}
+
+}  // namespace
+}  // namespace odometry_calibration
+
+namespace odometry_calibration {
+namespace {
+
+// Outdoors (the Freiburg campus log) most points are 15-25 m away, where the guess's 3 deg moves
+// them about 1 m: at the guess too few lie within max_correspondence_distance_m (0.5 m) of a
+// reference surface. Doubling the gate for those matches only leaves every other result as it
+// is and turns some of them into matches near the corrected pose (the first 600 pairs, seed 33).
+TEST(PlicpCarmen, StarvedMatchesAreMatchedAgainWithAWiderGate)
+{
+  const std::string path = carmen::logPath(ODOMETRY_CALIBRATION_SHARED_DATA_DIR, "freiburg-campus");
+  if (!std::filesystem::exists(path)) {
+    GTEST_SKIP() << "no log at " << path;
+  }
+  const std::vector<carmen::Record> records = carmen::loadLog(path);
+  PlicpOptions single;
+  single.max_correspondence_distance_doublings = 0;
+  const PlicpOptions doubling;  // the default: up to twice
+  std::mt19937 rng(33);
+  int starved = 0, rescued = 0, rescued_gross = 0;
+  for (std::size_t k = 0; k + 1 < records.size() && k < 2 * kPairs; ++k) {
+    const Pose2 truth = between(records[k].T_map_robot, records[k + 1].T_map_robot);
+    const Pose2 guess = perturbed(truth, rng);
+    const PreparedScan reference = prepareScan(records[k].scan, doubling.line_fit);
+    const PreparedScan current = prepareScan(records[k + 1].scan, doubling.line_fit);
+    const PlicpResult before = matchScans(reference, current, guess, single);
+    const PlicpResult after = matchScans(reference, current, guess, doubling);
+    const bool was_starved =
+        before.status == PlicpStatus::kTooFewCorrespondences && before.iterations == 1;
+    if (!was_starved) {
+      // Every other match is the same match.
+      ASSERT_EQ(after.status, before.status) << "pair " << k;
+      ASSERT_EQ(after.T_ref_new.vector(), before.T_ref_new.vector()) << "pair " << k;
+      continue;
+    }
+    ++starved;
+    if (after.valid()) {
+      ++rescued;
+      rescued_gross += gross(truth, after) ? 1 : 0;
+    }
+  }
+  std::printf(
+      "[ campus   ] %d starved matches at the guess, %d valid with a wider gate, %d of "
+      "those gross failures\n",
+      starved, rescued, rescued_gross);
+  // Measured: 28 starved, 7 of them valid with a wider gate, none a gross failure.
+  EXPECT_GE(starved, 20);
+  EXPECT_GE(rescued, 5);
+  EXPECT_EQ(rescued_gross, 0);
 }
 
 }  // namespace

@@ -33,6 +33,8 @@ TEST(PlicpOptions, DefaultsAreValidAndBadValuesAreNamed)
   const std::vector<std::pair<std::string, std::function<void(PlicpOptions&)>>> cases = {
       {"max_correspondence_distance_m",
        [](PlicpOptions& o) { o.max_correspondence_distance_m = 0; }},
+      {"max_correspondence_distance_doublings",
+       [](PlicpOptions& o) { o.max_correspondence_distance_doublings = -1; }},
       {"max_normal_angle_rad", [](PlicpOptions& o) { o.max_normal_angle_rad = 4.0; }},
       {"surface_extent_margin_m", [](PlicpOptions& o) { o.surface_extent_margin_m = -0.1; }},
       {"trim_keep_fraction", [](PlicpOptions& o) { o.trim_keep_fraction = 1.5; }},

@@ -21,6 +21,13 @@ struct PlicpOptions
   /// A new point is matched only to a reference point within this distance [m] (CSM
   /// max_correspondence_dist).
   double max_correspondence_distance_m = 0.5;
+  /// A match whose first iteration keeps fewer than min_correspondences is matched again with
+  /// max_correspondence_distance_m doubled, at most this many times [-], >= 0 (0: never; 2: up
+  /// to 2 m, CSM's default gate, from 0.5 m). A heading error of the guess moves a point by its
+  /// range times the error (3 deg: 1 m at 20 m): in a scene seen only far away (outdoors) no
+  /// point is within the gate at the guess. Only matches that would fail as "too few
+  /// correspondences" at their first iteration are matched again, so no other result changes.
+  int max_correspondence_distance_doublings = 2;
   /// ... and only when the two local lines differ by less than this angle [rad] (surfaces seen
   /// from the same side; larger than the initial guess' heading error).
   double max_normal_angle_rad = 0.6;
