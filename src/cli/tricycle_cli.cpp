@@ -4,22 +4,22 @@
 #include <cmath>
 #include <utility>
 
-#include "odometry_calibration/calibration/fit_interval.h"
 #include "odometry_calibration/common/arguments.h"
 #include "odometry_calibration/common/atomic_file.h"
 #include "odometry_calibration/config/calibration_config.h"
 #include "odometry_calibration/data/holdout.h"
 #include "odometry_calibration/data/keyframes.h"
-#include "odometry_calibration/data/reference_pairs.h"
 #include "odometry_calibration/datasets/tricycle_dataset.h"
 #include "odometry_calibration/datasets/tricycle_log.h"
 #include "odometry_calibration/eval/tricycle_report.h"
+#include "odometry_calibration/models/tricycle_model.h"
 #include "odometry_calibration/report/tricycle_result_yaml.h"
+#include "odometry_calibration/session/calibration_session.h"
 
 namespace odometry_calibration {
 namespace {
 
-/// The interval when the drive is too short to choose one [s].
+/// The interval when the drive is too short to choose one (or the candidate nearest it) [s].
 constexpr double kFallbackIntervalS = 0.5;
 
 /// Indices of the keyframes T apart (the first sample, then each window's end), for the RPE.
@@ -56,8 +56,6 @@ std::string tricycleCliUsage()
          "                           0.25,0.35,0.5,0.7,1,1.4,2,2.8,4,5.6,8)\n"
          "  --folds N,M,...          cuts of the cross-validation into N, M, ... time blocks\n"
          "                           (default 2,3,4,5,6)\n"
-         "  --window-stride S        start a keyframe window every S [s] (overlapping windows\n"
-         "                           when S < T; default 0: windows end to end)\n"
          "  --holdout F              hold out the last fraction F of the samples (0 < F < 1):\n"
          "                           fit on the rest, report the errors on them (default: none)\n"
          "  --translation-sigma M    assumed sigma of a measured displacement's x, y [m]\n"
@@ -152,7 +150,6 @@ TricycleCliOptions parseTricycleCliArguments(const std::vector<std::string>& arg
       .listOption("--interval-candidates", &candidates)
       .listOption("--folds", &folds)
       .number("--holdout", &options.holdout_fraction)
-      .number("--window-stride", &options.interval_selection.stride_s, 0.0)
       .number("--translation-sigma", &options.calibration.translation_sigma_m)
       .number("--rotation-sigma", &options.calibration.rotation_sigma_rad)
       .number("--huber", &options.calibration.huber_threshold)
@@ -194,77 +191,156 @@ std::vector<T> tail(const std::vector<T>& all, std::size_t count)
   return std::vector<T>(all.begin() + static_cast<std::ptrdiff_t>(count), all.end());
 }
 
-/// The configuration of the cross-validation's fits: the tricycle model from `nominal` with the
-/// command's fit options, on the log's two joints (steering absolute, traction incremental).
-CalibrationConfig tricycleFitConfig(const TricycleEncoderLayout& layout,
-                                    const TricycleParameters& nominal,
-                                    const TricycleCalibrationOptions& calibration)
+/// The session's configuration of a tracker log (docs/models.md, "The tricycle"): the log's two
+/// joints as its header describes them (the steering an absolute angle, the traction a 32-bit
+/// counter; the glitch filter off, as the log records no publisher's bugs but a real tracker's
+/// drive), the tracker's poses as the sensor's (`ego_motion.source: pose`, with the fit's
+/// sigmas), no time offset (encoders and poses share each row's stamp), and the keyframes at the
+/// shortest candidate with the others as fit-interval candidates, or at the one interval given.
+CalibrationConfig trackerLogConfig(const TricycleEncoderLayout& layout,
+                                   const TricycleParameters& nominal,
+                                   const TricycleCliOptions& options)
 {
   CalibrationConfig config;
   config.model = "tricycle";
+  config.prior_model = "tricycle";
   config.ego_motion = EgoMotionSource::kPose;
-  config.models.joints.names = {"steering", "traction"};
-  config.models.joints.kinds = {EncoderKind::kIncremental, EncoderKind::kIncremental};
-  config.models.joints.kinds.at(static_cast<std::size_t>(layout.steering_index)) =
-      EncoderKind::kAbsolute;
-  if (layout.steering_index == 1)
-    std::swap(config.models.joints.names[0], config.models.joints.names[1]);
+  config.ego_motion_topic = "tracker";
+  config.ego_motion_sigma_m = options.calibration.translation_sigma_m;
+  config.ego_motion_sigma_rad = options.calibration.rotation_sigma_rad;
+  config.estimate_time_offset = false;
+  config.output_directory.clear();
+  const auto steering = static_cast<std::size_t>(layout.steering_index);
+  const auto traction = static_cast<std::size_t>(layout.traction_index);
+  config.joints.resize(2);
+  config.joints[steering] = {
+      "steering", EncoderKind::kAbsolute, layout.steering_ticks_per_turn, 0, 0.0, 1.0};
+  config.joints[traction] = {
+      "traction", EncoderKind::kIncremental, layout.traction_ticks_per_turn, 32, 0.0, 1.0};
+  for (const JointConfig& joint : config.joints) {
+    config.models.joints.names.push_back(joint.name);
+    config.models.joints.kinds.push_back(joint.kind);
+  }
   config.models.tricycle.layout = layout;
   config.models.tricycle.initial = nominal;
-  config.models.tricycle.calibration = calibration;
+  config.models.tricycle.calibration = options.calibration;
+  const std::vector<double>& candidates_s = options.interval_selection.candidates_s;
+  if (options.keyframe_interval_s > 0.0) {
+    config.collector.keyframe_interval_s = options.keyframe_interval_s;
+  } else {
+    config.collector.keyframe_interval_s = candidates_s.front();
+    config.fit_intervals_s.assign(candidates_s.begin() + 1, candidates_s.end());
+  }
   return config;
 }
 
-/// The keyframe interval: the options' when given, else chosen by time-blocked cross-validation
-/// (chooseFitInterval, the criterion of a tracker's poses) on the training samples, scored on
-/// pairs at the shortest candidate, else (too short a drive, or one that leaves a single
-/// candidate to score: nothing to choose among) a fixed interval.
-TricycleValidation chooseInterval(const std::vector<EncoderSample>& samples,
-                                  const std::vector<Pose2>& reference,
-                                  const TricycleEncoderLayout& layout,
-                                  const TricycleParameters& nominal,
-                                  const Eigen::Matrix3d& covariance,
-                                  const TricycleCliOptions& options)
+/// The candidate interval nearest kFallbackIntervalS [s].
+double nearestCandidate(const std::vector<double>& candidates_s)
+{
+  return *std::min_element(candidates_s.begin(), candidates_s.end(), [](double a, double b) {
+    return std::abs(a - kFallbackIntervalS) < std::abs(b - kFallbackIntervalS);
+  });
+}
+
+/// A session that fits what it is fed and writes nothing: no saved calibration, no pairs file,
+/// no odometry or assistant.
+SessionOptions trackerLogSessionOptions(const std::string& dataset_path)
+{
+  SessionOptions session;
+  session.load_saved_calibration = false;
+  session.resume_pairs = false;
+  session.min_pairs = 1;  // the model says what it lacks
+  session.min_pairs_name.clear();
+  session.odometry = false;
+  session.assistant = false;
+  session.adopt_fits = false;
+  session.source = dataset_path;
+  session.default_sensor_frame = "sensor";
+  session.topics = {"the log's encoders", "the log's tracker poses"};
+  return session;
+}
+
+/// The first `row_count` rows of the log into `session`: each row's encoder readings, then its
+/// tracker pose at the same stamp; then the end of the input.
+void feedRows(const TricycleDataset& dataset, const TricycleEncoderLayout& layout,
+              std::size_t row_count, CalibrationSession* session)
+{
+  for (std::size_t i = 0; i < row_count; ++i) {
+    const TricycleDatasetRow& row = dataset.rows[i];
+    Eigen::VectorXd raw(2);
+    raw(layout.steering_index) = row.steering_ticks;
+    raw(layout.traction_index) = row.traction_ticks;
+    session->addJointPositions(row.stamp_s, raw);
+    session->addSensorPose(row.stamp_s, row.T_world_sensor, "sensor");
+  }
+  session->flush();
+}
+
+/// How the session's fit found its interval, as the report gives it: the validation curve when
+/// chosen, else why not.
+TricycleValidation intervalValidation(const SessionFit& fit, const TricycleCliOptions& options)
 {
   TricycleValidation validation;
-  validation.interval_s = options.keyframe_interval_s;
-  if (validation.interval_s > 0.0)
+  validation.interval_s = fit.fit_interval_s;
+  if (options.keyframe_interval_s > 0.0)
     return validation;
-  const TricycleIntervalSelection& selection = options.interval_selection;
-  std::vector<IntervalPairs> candidates;
-  for (const double interval_s : selection.candidates_s) {
-    candidates.push_back({interval_s, referencePairs(samples, reference, interval_s, covariance,
-                                                     selection.stride_s)});
+  if (!fit.choice) {
+    validation.fallback_reason = fit.interval_problem;
+    return validation;
   }
-  FitIntervalOptions cross_validation;
-  cross_validation.fold_counts = selection.fold_counts;
-  const CalibrationConfig config = tricycleFitConfig(layout, nominal, options.calibration);
-  try {
-    const FitIntervalChoice choice = chooseFitInterval(
-        config, candidates,
-        referencePairs(samples, reference, selection.candidates_s.front(), covariance),
-        fitIntervalCriterion(config.ego_motion), cross_validation);
-    const auto scored = std::count_if(
-        choice.curve.begin(), choice.curve.end(),
-        [](const FitIntervalScore& score) { return std::isfinite(score.validation_error_m); });
-    if (scored < 2 && selection.candidates_s.size() > 1) {
-      throw std::invalid_argument(
-          "only " + std::to_string(scored) +
-          " candidate interval could be cross-validated (too few pairs outside the time blocks "
-          "for the others); record a longer drive or set --interval");
-    }
-    validation.interval_s = choice.interval_s;
-    validation.interval_chosen = true;
-    validation.fold_counts = selection.fold_counts;
-    validation.evaluation_interval_s = selection.candidates_s.front();
-    for (const FitIntervalScore& score : choice.curve)
-      validation.curve.push_back({score.interval_s, score.validation_error_m, score.pairs});
-  } catch (const std::invalid_argument& error) {
-    // Too short a drive to cross-validate: a fixed interval, and why.
-    validation.interval_s = kFallbackIntervalS;
-    validation.fallback_reason = error.what();
-  }
+  validation.interval_chosen = true;
+  validation.fold_counts = options.interval_selection.fold_counts;
+  validation.evaluation_interval_s = options.interval_selection.candidates_s.front();
+  for (const FitIntervalScore& score : fit.choice->curve)
+    validation.curve.push_back({score.interval_s, score.validation_error_m, score.pairs});
   return validation;
+}
+
+/// The session's fit of the tracker log's first `row_count` rows: pairing, interval choice
+/// (calibration/fit_interval.h, by the ATE of a tracker's poses) and the tricycle fit. Throws
+/// std::invalid_argument with the session's message when no fit ran (too few pairs).
+SessionFit fitTrackerLog(const TricycleDataset& dataset, const TricycleEncoderLayout& layout,
+                         const TricycleParameters& nominal, std::size_t row_count,
+                         const TricycleCliOptions& options)
+{
+  const CalibrationConfig config = trackerLogConfig(layout, nominal, options);
+  CalibrationSession session(config, "", options.dataset_path,
+                             trackerLogSessionOptions(options.dataset_path));
+  feedRows(dataset, layout, row_count, &session);
+  CalibrationRequest request;
+  request.model = config.model;
+  request.models = config.models;
+  request.interval_mode =
+      options.keyframe_interval_s > 0.0 ? FitIntervalMode::kConfigured : FitIntervalMode::kChoose;
+  request.fold_counts = options.interval_selection.fold_counts;
+  CalibrateOutcome outcome = session.calibrate(request);
+  if (outcome.fit && !outcome.fit->interval_problem.empty()) {
+    // Too short a drive to cross-validate: the candidate nearest kFallbackIntervalS, and why.
+    const std::string problem = outcome.fit->interval_problem;
+    request.interval_mode = FitIntervalMode::kFixed;
+    request.fixed_interval_s = nearestCandidate(options.interval_selection.candidates_s);
+    outcome = session.calibrate(request);
+    if (outcome.fit)
+      outcome.fit->interval_problem = problem;
+  }
+  if (!outcome.fit)
+    throw std::invalid_argument(outcome.message);
+  return std::move(*outcome.fit);
+}
+
+/// The tricycle's own result of the session's fit, with the warnings the session added (an
+/// interval it could not choose).
+TricycleCalibrationResult tricycleResult(const SessionFit& fit)
+{
+  const auto* model = dynamic_cast<const TricycleModel*>(fit.job.model.get());
+  if (model == nullptr || !model->lastCalibration())
+    throw std::logic_error("the session's fit is not a tricycle fit");
+  TricycleCalibrationResult result = *model->lastCalibration();
+  for (const std::string& warning : fit.job.report.warnings) {
+    if (std::find(result.warnings.begin(), result.warnings.end(), warning) == result.warnings.end())
+      result.warnings.push_back(warning);
+  }
+  return result;
 }
 
 /// Prints the run (and writes the result YAML when asked); the exit status: 3 not converged,
@@ -303,32 +379,26 @@ std::pair<TricycleEncoderLayout, TricycleParameters> readHeader(const TricycleDa
   }
 }
 
-/// Calibrates on a loaded dataset of at least two samples: interval, pairs, fit, evaluation
-/// (and on the held-out samples), report.
+/// Calibrates on a loaded dataset of at least two samples through the calibration session
+/// (its pairing, interval choice and fit), then scores the fit dead-reckoned on the fitted rows
+/// (and on the held-out ones) and reports.
 int calibrateDataset(const TricycleDataset& dataset, const TricycleCliOptions& options,
                      std::ostream& out)
 {
   const auto [layout, nominal] = readHeader(dataset, options.dataset_path);
   const std::vector<EncoderSample> all_samples = decodeTricycleEncoders(dataset, layout);
   const std::vector<Pose2> all_reference = tricycleTrackerPoses(dataset);
-  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
-  covariance.diagonal() << std::pow(options.calibration.translation_sigma_m, 2),
-      std::pow(options.calibration.translation_sigma_m, 2),
-      std::pow(options.calibration.rotation_sigma_rad, 2);
-  // The fit sees the first samples only; the held-out ones score it.
+  // The fit sees the first rows only; the held-out ones score it.
   const std::size_t training_end = options.holdout_fraction > 0.0
                                        ? holdoutStart(all_samples.size(), options.holdout_fraction)
                                        : all_samples.size();
+  const SessionFit fit = fitTrackerLog(dataset, layout, nominal, training_end, options);
+  const TricycleCalibrationResult result = tricycleResult(fit);
+  TricycleValidation validation = intervalValidation(fit, options);
   const std::vector<EncoderSample> samples = head(all_samples, training_end);
-  const std::vector<Pose2> reference = head(all_reference, training_end);
-  TricycleValidation validation =
-      chooseInterval(samples, reference, layout, nominal, covariance, options);
-  const std::vector<MotionPair> pairs = referencePairs(
-      samples, reference, validation.interval_s, covariance, options.interval_selection.stride_s);
-  const TricycleCalibrationResult result =
-      calibrateTricycle(pairs, layout, nominal, options.calibration);
-  const TricycleEvaluation evaluation = evaluateTricycle(
-      result, layout, samples, reference, keyframeIndices(samples, validation.interval_s));
+  const TricycleEvaluation evaluation =
+      evaluateTricycle(result, layout, samples, head(all_reference, training_end),
+                       keyframeIndices(samples, validation.interval_s));
   if (options.holdout_fraction > 0.0) {
     const std::vector<EncoderSample> test_samples = tail(all_samples, training_end);
     validation.holdout_fraction = options.holdout_fraction;
@@ -338,8 +408,8 @@ int calibrateDataset(const TricycleDataset& dataset, const TricycleCliOptions& o
         evaluateTricycle(result, layout, test_samples, tail(all_reference, training_end),
                          keyframeIndices(test_samples, validation.interval_s));
   }
-  return reportTricycleRun(options, dataset.rows.size(), samples.size(), pairs.size(), validation,
-                           result, evaluation, out);
+  return reportTricycleRun(options, dataset.rows.size(), samples.size(), fit.job.pairs.size(),
+                           validation, result, evaluation, out);
 }
 
 }  // namespace

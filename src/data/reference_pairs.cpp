@@ -1,18 +1,13 @@
 #include "odometry_calibration/data/reference_pairs.h"
 
-#include <algorithm>
 #include <stdexcept>
 
 #include "odometry_calibration/data/keyframes.h"
 
 namespace odometry_calibration {
-namespace {
-constexpr double kStampSlackS = 1e-9;  // as selectKeyframeWindows
-}  // namespace
-
 std::vector<MotionPair> referencePairs(const std::vector<EncoderSample>& samples,
                                        const std::vector<Pose2>& T_world_sensor, double interval_s,
-                                       const Eigen::Matrix3d& covariance, double stride_s)
+                                       const Eigen::Matrix3d& covariance)
 {
   if (samples.size() != T_world_sensor.size()) {
     throw std::invalid_argument("reference pairs: one reference pose per encoder sample expected");
@@ -22,28 +17,7 @@ std::vector<MotionPair> referencePairs(const std::vector<EncoderSample>& samples
   for (const EncoderSample& sample : samples) {
     stamps_s.push_back(sample.stamp_s);
   }
-  std::vector<KeyframeWindow> windows;
-  if (stride_s <= 0.0 || stride_s >= interval_s) {
-    windows = selectKeyframeWindows(stamps_s, interval_s);
-  } else {
-    selectKeyframeWindows(stamps_s, interval_s);  // validates the interval and the times
-    std::vector<std::size_t> starts = {0};
-    for (const KeyframeWindow& window : selectKeyframeWindows(stamps_s, stride_s)) {
-      starts.push_back(window.last);
-    }
-    std::size_t last = 0;
-    for (std::size_t first : starts) {
-      last = std::max(last, first);
-      while (last < stamps_s.size() &&
-             stamps_s[last] - stamps_s[first] < interval_s - kStampSlackS) {
-        ++last;
-      }
-      if (last == stamps_s.size()) {
-        break;
-      }
-      windows.push_back({first, last});
-    }
-  }
+  const std::vector<KeyframeWindow> windows = selectKeyframeWindows(stamps_s, interval_s);
   std::vector<MotionPair> pairs;
   pairs.reserve(windows.size());
   for (const KeyframeWindow& window : windows) {

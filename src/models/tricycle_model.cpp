@@ -28,6 +28,7 @@ ModelReport TricycleModel::fit(const std::vector<MotionPair>& pairs)
                          "tricycle", "the steering and traction joints");
   const TricycleCalibrationResult result =
       calibrateTricycle(pairs, options_.layout, parameters_, options_.calibration);
+  last_calibration_ = result;
   ModelReport report;
   report.model = name();
   report.parameters = result.estimates;

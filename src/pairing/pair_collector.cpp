@@ -351,9 +351,18 @@ bool PairCollector::reachesKeyframeTime(double stamp_s) const
 {
   if (!keyframe_)
     return true;
-  // The input nearest to keyframe + T: the first one past T minus half the input period (the
-  // last gap between inputs as the period). Without the half period, T = 0.3 s on a 10 Hz laser
-  // waited for the 0.4 s scan whenever the stamps' sum came out a rounding error short of 0.3 s.
+  if (!keyframe_->scan) {
+    // A pose source (a tracker: tens of poses a second, unevenly spaced): the first pose at
+    // least T after the keyframe (within a stamp's rounding), so that no pair is shorter than T.
+    // At such rates half a spacing is a few per cent of T, and the pairs of the scan rule below
+    // scored worse on held-out tracker data (docs/results.md, "The tracker log").
+    constexpr double kStampRoundingS = 1e-6;
+    return stamp_s - keyframe_->stamp_s >= options_.keyframe_interval_s - kStampRoundingS;
+  }
+  // A scan: the input nearest to keyframe + T: the first one past T minus half the input period
+  // (the last gap between inputs as the period). Without the half period, T = 0.3 s on a 10 Hz
+  // laser waited for the 0.4 s scan whenever the stamps' sum came out a rounding error short of 0.3
+  // s.
   const double half_period_s = 0.5 * std::max(0.0, stamp_s - previous_keyframe_input_s_);
   return stamp_s - keyframe_->stamp_s >= options_.keyframe_interval_s - half_period_s;
 }

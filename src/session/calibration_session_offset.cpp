@@ -295,6 +295,7 @@ SessionFit CalibrationSession::fitPairs(const CalibrationRequest& request,
                                         std::size_t resumed, SessionFitRequest* fit_request)
 {
   fit_request->fixed_interval_s = request.fixed_interval_s;
+  fit_request->fold_counts = request.fold_counts;
   fit_request->fit_until_stamp_s = request.fit_until_stamp_s;
   fit_request->offset_search = request.offset_search;
   OffsetPairing pairing;

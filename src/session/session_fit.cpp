@@ -121,8 +121,21 @@ void chooseInterval(const SessionFitRequest& request, bool with_offset, SessionF
           rewindowPairs(candidate.pairs, request.encoder_history, offset_job.time_offset_s);
     }
   }
-  fit->choice = chooseFitInterval(request.config, candidates, evaluation,
-                                  fitIntervalCriterion(request.config.ego_motion));
+  FitIntervalOptions cross_validation;
+  if (!request.fold_counts.empty())
+    cross_validation.fold_counts = request.fold_counts;
+  fit->choice =
+      chooseFitInterval(request.config, candidates, evaluation,
+                        fitIntervalCriterion(request.config.ego_motion), cross_validation);
+  const auto scored = std::count_if(
+      fit->choice->curve.begin(), fit->choice->curve.end(),
+      [](const FitIntervalScore& score) { return std::isfinite(score.validation_error_m); });
+  if (scored < 2 && candidates.size() > 1) {
+    throw std::invalid_argument(
+        "only " + std::to_string(scored) +
+        " candidate interval could be cross-validated (too few pairs outside the time blocks for "
+        "the others); record a longer drive or fix the interval");
+  }
   for (const IntervalPairs& candidate : collected) {
     if (candidate.interval_s == fit->choice->interval_s) {
       fit->fit_interval_s = candidate.interval_s;
@@ -163,8 +176,9 @@ SessionFit fitSessionPairs(const SessionFitRequest& request)
       fit.choice.reset();
       fit.interval_text.clear();
       fit_pairs = pairsEndingBy(request.pairs, request.fit_until_stamp_s);
+      fit.interval_problem = error.what();
       interval_warning = "the fit interval could not be chosen by cross-validation (" +
-                         std::string(error.what()) + "): fitted at keyframes.interval_s";
+                         fit.interval_problem + "): fitted at keyframes.interval_s";
     }
   }
   if (!fit.interval_text.empty() && fit.interval_text.back() == '\n')

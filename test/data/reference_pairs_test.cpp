@@ -39,26 +39,6 @@ TEST(ReferencePairs, EndToEndWindowsAreTheKeyframeWindows)
         between(poses[first], poses[first + 10]).vector()));
     EXPECT_TRUE(pairs[p].covariance.isApprox(covariance));
   }
-  // A stride of at least the interval is the same.
-  EXPECT_EQ(referencePairs(samples, poses, 1.0, covariance, 1.0).size(), 3u);
-  EXPECT_EQ(referencePairs(samples, poses, 1.0, covariance, 2.0).size(), 3u);
-}
-
-TEST(ReferencePairs, AShorterStrideGivesOverlappingWindowsOfTheInterval)
-{
-  std::vector<EncoderSample> samples;
-  std::vector<Pose2> poses;
-  makeDrive(31, &samples, &poses);
-  const std::vector<MotionPair> pairs =
-      referencePairs(samples, poses, 1.0, Eigen::Matrix3d::Identity(), 0.5);
-  // Starts every 0.5 s: 0, 5, ..., 20 (from 25 a 1 s window would run past the last sample).
-  ASSERT_EQ(pairs.size(), 5u);
-  for (std::size_t p = 0; p < pairs.size(); ++p) {
-    EXPECT_EQ(pairs[p].encoder_samples.front().values(0), 5.0 * static_cast<double>(p));
-    EXPECT_EQ(pairs[p].encoder_samples.size(), 11u);
-    EXPECT_TRUE(pairs[p].sensor_motion.vector().isApprox(
-        between(poses[5 * p], poses[5 * p + 10]).vector()));
-  }
 }
 
 TEST(ReferencePairs, RefusesMismatchedInput)
@@ -70,7 +50,7 @@ TEST(ReferencePairs, RefusesMismatchedInput)
   EXPECT_THROW(referencePairs(samples, poses, 0.5, Eigen::Matrix3d::Identity()),
                std::invalid_argument);
   poses.push_back(Pose2());
-  EXPECT_THROW(referencePairs(samples, poses, 0.0, Eigen::Matrix3d::Identity(), 0.1),
+  EXPECT_THROW(referencePairs(samples, poses, 0.0, Eigen::Matrix3d::Identity()),
                std::invalid_argument);
 }
 

@@ -11,9 +11,9 @@
 
 namespace odometry_calibration {
 
-/// The automatic choice of the keyframe interval (calibration/fit_interval.h's time-blocked
-/// cross-validation with the criterion of a tracker's absolute poses, the ATE, scored on
-/// evaluation pairs at the shortest candidate).
+/// The automatic choice of the keyframe interval: the calibration session's (calibration/
+/// fit_interval.h's time-blocked cross-validation with the criterion of a tracker's absolute
+/// poses, the ATE), its evaluation pairs at the shortest candidate.
 struct TricycleIntervalSelection
 {
   /// Candidate keyframe intervals T [s], increasing.
@@ -22,8 +22,6 @@ struct TricycleIntervalSelection
   /// per entry (each in [2, 100]); a candidate's score is the mean ATE over all blocks of all
   /// cuts. Several cuts average out the luck of where one cut's block borders fall.
   std::vector<std::size_t> fold_counts = {2, 3, 4, 5, 6};
-  /// Start a window every stride_s [s] (overlapping windows, referencePairs); 0: end to end.
-  double stride_s = 0.0;
 };
 
 /// Everything the command can be told.

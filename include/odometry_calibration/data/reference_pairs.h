@@ -12,14 +12,11 @@
 
 namespace odometry_calibration {
 
-/// One pair per window of at least `interval_s` [s]. With `stride_s` <= 0 or >= interval_s the
-/// windows run end to end (keyframes of selectKeyframeWindows); with a shorter stride a window
-/// starts at every keyframe `stride_s` apart and ends at the first sample `interval_s` after its
-/// start (overlapping windows: more pairs over long intervals). Each pair gets `covariance`
-/// [m^2, rad^2]. Throws std::invalid_argument unless there is one pose per sample, the interval
+/// One pair per window of at least `interval_s` [s], the windows end to end (keyframes of
+/// selectKeyframeWindows). Each pair gets `covariance` [m^2, rad^2]. Throws std::invalid_argument unless there is one pose per sample, the interval
 /// is > 0 and times do not decrease.
 std::vector<MotionPair> referencePairs(const std::vector<EncoderSample>& samples,
                                        const std::vector<Pose2>& T_world_sensor, double interval_s,
-                                       const Eigen::Matrix3d& covariance, double stride_s = 0.0);
+                                       const Eigen::Matrix3d& covariance);
 
 }  // namespace odometry_calibration

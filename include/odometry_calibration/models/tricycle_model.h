@@ -3,6 +3,7 @@
 // interface, so that the live node and calibrate_bag fit it like any other model.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -41,11 +42,18 @@ public:
   static TricycleModel fromYaml(const std::string& text);
 
   const TricycleParameters& parameters() const { return parameters_; }
+  /// The last fit's own result (start and fitted values, covariance, residuals), as the
+  /// tracker-log report prints it; none before a fit.
+  const std::optional<TricycleCalibrationResult>& lastCalibration() const
+  {
+    return last_calibration_;
+  }
 
 private:
   TricycleModelOptions options_;
   TricycleParameters parameters_;
   Eigen::Matrix3d residual_covariance_ = Eigen::Matrix3d::Zero();
+  std::optional<TricycleCalibrationResult> last_calibration_;
 };
 
 }  // namespace odometry_calibration

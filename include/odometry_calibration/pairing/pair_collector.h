@@ -250,9 +250,10 @@ public:
 
 private:
   /// The keyframe rule shared by scans and sensor poses, for an input at stamp_s: the first
-  /// input becomes the keyframe; one less than keyframes.interval_s minus half the input period
-  /// (the gap since the previous input) after the keyframe waits, so that pairs last T within
-  /// half a scan period; one without an encoder window, or with too little motion after 4
+  /// input becomes the keyframe; a scan less than keyframes.interval_s minus half the input
+  /// period (the gap since the previous input) after the keyframe waits, so that pairs last T
+  /// within half a scan period; a sensor pose less than T after it waits (reachesKeyframeTime);
+  /// one without an encoder window, or with too little motion after 4
   /// intervals, is rejected (counted) and becomes the new keyframe; any other is paired with the
   /// keyframe. Returns the caller's answer when the input is not paired: an empty event (wait) or
   /// start_keyframe(event) with the keyframe or rejection event; nullopt when it is to be paired,

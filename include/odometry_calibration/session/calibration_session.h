@@ -94,6 +94,9 @@ struct CalibrationRequest
   /// Default: kChoose when there are candidate intervals, else kConfigured.
   std::optional<FitIntervalMode> interval_mode;
   double fixed_interval_s = 0.0;        ///< with kFixed [s]
+  /// With kChoose: the cuts of the cross-validation (FitIntervalOptions::fold_counts; empty:
+  /// its default).
+  std::vector<std::size_t> fold_counts;
   double fit_until_stamp_s = INFINITY;  ///< fit only pairs ending by this stamp
   /// Hold out the last pairs (data/holdout.h: holdOutLastPairs of the pairs fitted, after any
   /// pairing at the estimated offset): fit only those before its border (calibrate_bag

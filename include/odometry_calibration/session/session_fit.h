@@ -32,6 +32,8 @@ struct SessionFitRequest
   std::vector<EncoderSample> encoder_history;  ///< continuous since the first pair (or empty)
   FitIntervalMode interval_mode = FitIntervalMode::kConfigured;
   double fixed_interval_s = 0.0;  ///< with kFixed [s]
+  /// With kChoose: the cuts of the cross-validation (empty: FitIntervalOptions' default).
+  std::vector<std::size_t> fold_counts;
   /// Only pairs ending by this stamp are fitted (calibrate_bag --holdout: the training part).
   double fit_until_stamp_s = INFINITY;
   /// The time-offset search already run on exactly `pairs` (reused with kConfigured).
@@ -77,6 +79,9 @@ struct SessionFit
   double fit_interval_s = 0.0;              ///< the interval of the fitted pairs [s]
   std::optional<FitIntervalChoice> choice;  ///< the cross-validation, when it ran
   std::string interval_text;      ///< how the interval was found, one line (empty: configured)
+  /// With kChoose: why cross-validation could not choose (the fit then used keyframes.interval_s
+  /// and warns); empty otherwise.
+  std::string interval_problem;
   bool offset_estimated = false;  ///< the time offset was searched (history available)
   /// With the offset estimated: how the session made the fitted pairs (CalibrationSession::
   /// calibrate; fitSessionPairs leaves it empty).
