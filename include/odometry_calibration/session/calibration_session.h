@@ -93,7 +93,7 @@ struct CalibrationRequest
   std::string options;  ///< YAML overriding the configuration's model sections ("" none)
   /// Default: kChoose when there are candidate intervals, else kConfigured.
   std::optional<FitIntervalMode> interval_mode;
-  double fixed_interval_s = 0.0;        ///< with kFixed [s]
+  double fixed_interval_s = 0.0;  ///< with kFixed [s]
   /// With kChoose: the cuts of the cross-validation (FitIntervalOptions::fold_counts; empty:
   /// its default).
   std::vector<std::size_t> fold_counts;

@@ -78,7 +78,7 @@ struct SessionFit
   CalibrationJobResult job;
   double fit_interval_s = 0.0;              ///< the interval of the fitted pairs [s]
   std::optional<FitIntervalChoice> choice;  ///< the cross-validation, when it ran
-  std::string interval_text;      ///< how the interval was found, one line (empty: configured)
+  std::string interval_text;  ///< how the interval was found, one line (empty: configured)
   /// With kChoose: why cross-validation could not choose (the fit then used keyframes.interval_s
   /// and warns); empty otherwise.
   std::string interval_problem;
