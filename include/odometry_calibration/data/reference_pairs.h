@@ -13,8 +13,8 @@
 namespace odometry_calibration {
 
 /// One pair per window of at least `interval_s` [s], the windows end to end (keyframes of
-/// selectKeyframeWindows). Each pair gets `covariance` [m^2, rad^2]. Throws std::invalid_argument unless there is one pose per sample, the interval
-/// is > 0 and times do not decrease.
+/// selectKeyframeWindows). Each pair gets `covariance` [m^2, rad^2]. Throws std::invalid_argument
+/// unless there is one pose per sample, the interval is > 0 and times do not decrease.
 std::vector<MotionPair> referencePairs(const std::vector<EncoderSample>& samples,
                                        const std::vector<Pose2>& T_world_sensor, double interval_s,
                                        const Eigen::Matrix3d& covariance);
