@@ -44,7 +44,9 @@ namespace {
 
 using namespace odometry_calibration;
 using ambiguity_passes::CheckPasses;
+using ambiguity_passes::gatherWideningEvidence;
 using ambiguity_passes::rematchPasses;
+using ambiguity_passes::WideningEvidence;
 using bench_statistics::mean;
 using bench_statistics::median;
 using bench_statistics::pairedComparison;
@@ -403,7 +405,7 @@ void sideBySideCarmen(benchmark::State& state, const std::string& path, unsigned
 }
 
 /// Counts the check's passes on every pair of `cases` (ours, defaults, covariance on).
-CheckPasses countCheckPasses(const std::vector<MatchCase>& cases)
+CheckPasses countCheckPasses(const std::vector<MatchCase>& cases, WideningEvidence& evidence)
 {
   CheckPasses counts;
   const PlicpOptions now;
@@ -422,8 +424,32 @@ CheckPasses countCheckPasses(const std::vector<MatchCase>& cases)
     counts.rematches_now += rematchPasses(reference, current, best, now, unused, counts.stopped);
     counts.rematches_before +=
         rematchPasses(reference, current, best, before, counts.rematches_beyond_3_sigma, unused);
+    gatherWideningEvidence(reference, current, best, before, evidence);
   }
   return counts;
+}
+
+/// The widening evidence as counters: checked matches widened, of those by one start alone; the
+/// widening rematches' passes (median, maximum, and how many take more than the median stopped
+/// rematch's 4) and how many passed within 1 and 1.5 sigma of the solution after a small step;
+/// the median weakest sigma of the widened and of the other checked matches [mm].
+void recordWideningEvidence(benchmark::State& state, const WideningEvidence& evidence)
+{
+  state.counters["widened_checks"] = evidence.widened;
+  state.counters["widened_by_one_start"] = evidence.widened_by_one_start;
+  std::vector<double> passes(evidence.passes.begin(), evidence.passes.end());
+  state.counters["widening_rematches"] = static_cast<double>(passes.size());
+  state.counters["widening_passes_median"] = passes.empty() ? 0.0 : median(passes);
+  state.counters["widening_passes_max"] =
+      passes.empty() ? 0.0 : *std::max_element(passes.begin(), passes.end());
+  state.counters["widening_over_4_passes"] = static_cast<double>(
+      std::count_if(passes.begin(), passes.end(), [](double p) { return p > 4.0; }));
+  state.counters["widening_within_1_sigma"] = evidence.within_1_sigma;
+  state.counters["widening_within_1_5_sigma"] = evidence.within_1_5_sigma;
+  if (!evidence.sigma_widened_m.empty())
+    state.counters["sigma_widened_median_mm"] = 1e3 * median(evidence.sigma_widened_m);
+  if (!evidence.sigma_kept_m.empty())
+    state.counters["sigma_kept_median_mm"] = 1e3 * median(evidence.sigma_kept_m);
 }
 
 /// What the covariance costs us (issue 33), ours alone, four variants timed pair by pair in one
@@ -478,7 +504,9 @@ void covarianceCostCarmen(benchmark::State& state, const std::string& path)
   state.counters["ratio_on_off"] = median(ms[1]) / off;
   state.counters["ratio_on_before_off"] = median(ms[2]) / off;
   state.counters["ratio_on_no_check_off"] = median(ms[3]) / off;
-  const CheckPasses passes = countCheckPasses(cases);
+  WideningEvidence evidence;
+  const CheckPasses passes = countCheckPasses(cases, evidence);
+  recordWideningEvidence(state, evidence);
   const double checked = std::max(passes.checked, 1);
   state.counters["checked"] = passes.checked;
   state.counters["match_passes"] = passes.match / checked;
