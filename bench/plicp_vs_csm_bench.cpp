@@ -44,7 +44,9 @@ namespace {
 
 using namespace odometry_calibration;
 using ambiguity_passes::CheckPasses;
+using ambiguity_passes::gatherWideningEvidence;
 using ambiguity_passes::rematchPasses;
+using ambiguity_passes::WideningEvidence;
 using bench_statistics::mean;
 using bench_statistics::median;
 using bench_statistics::pairedComparison;
@@ -81,16 +83,20 @@ Outcome matchWithCsm(const MatchCase& pair, bool covariance)
 
 /// The default of PlicpOptions::ambiguity_return_sigma (rematches stop once back at the solution).
 const double kReturnSigma = PlicpOptions().ambiguity_return_sigma;
+/// The default of PlicpOptions::ambiguity_offset_rad (the check's turned starts).
+const double kOffsetRad = PlicpOptions().ambiguity_offset_rad;
 
 /// Ours with its defaults, covariance as asked; `check_ambiguity` false turns off the ambiguity
 /// check of weak matches (which needs the covariance) to show what it costs; `gap_rule` false
 /// sets line_fit.max_gap_range_m to 0, the surface breaks of before issue 33 (every gap beyond
 /// max_gap_m, whatever the ray spacing); `return_sigma` 0 lets every rematch of the check run to
-/// convergence, as before issue 33's early stop.
+/// convergence, as before issue 33's early stop; `offset_rad` 0 drops the check's turned starts.
 Outcome matchWithOurs(const MatchCase& pair, bool covariance, bool check_ambiguity = true,
-                      bool gap_rule = true, double return_sigma = kReturnSigma)
+                      bool gap_rule = true, double return_sigma = kReturnSigma,
+                      double offset_rad = kOffsetRad)
 {
   PlicpOptions options;
+  options.ambiguity_offset_rad = offset_rad;
   options.compute_covariance = covariance;
   options.check_ambiguity = check_ambiguity;
   options.ambiguity_return_sigma = return_sigma;
@@ -113,7 +119,7 @@ using Outcomes = std::pair<std::vector<Outcome>, std::vector<Outcome>>;
 /// speed, validity and accuracy (against the truth, or between the two) into the counters.
 Outcomes runSideBySide(benchmark::State& state, const std::vector<MatchCase>& cases,
                        bool covariance, bool check_ambiguity = true, bool gap_rule = true,
-                       double return_sigma = kReturnSigma)
+                       double return_sigma = kReturnSigma, double offset_rad = kOffsetRad)
 {
   if (cases.empty()) {
     state.SkipWithError(
@@ -129,7 +135,8 @@ Outcomes runSideBySide(benchmark::State& state, const std::vector<MatchCase>& ca
       for (std::size_t k = 0; k < n; ++k) {
         auto timeOurs = [&] {
           const auto start = std::chrono::steady_clock::now();
-          ours[k] = matchWithOurs(cases[k], covariance, check_ambiguity, gap_rule, return_sigma);
+          ours[k] = matchWithOurs(cases[k], covariance, check_ambiguity, gap_rule, return_sigma,
+                                  offset_rad);
           const std::chrono::duration<double, std::milli> took =
               std::chrono::steady_clock::now() - start;
           ours_ms[k] = std::min(ours_ms[k], took.count());
@@ -364,13 +371,14 @@ bool sameOutcome(const Outcome& a, const Outcome& b)
 /// valid matches it widens (covariance other than without the check), with the early stop of its
 /// rematches (now) and with every rematch run to convergence (before), and how many matches of
 /// the two differ at all (validity, pose or covariance).
-void countWidened(benchmark::State& state, const std::vector<MatchCase>& cases)
+void countWidened(benchmark::State& state, const std::vector<MatchCase>& cases,
+                  double offset_rad = kOffsetRad)
 {
   int widened_now = 0, widened_before = 0, differ = 0;
   for (const MatchCase& pair : cases) {
     const Outcome unchecked = matchWithOurs(pair, true, false);
-    const Outcome now = matchWithOurs(pair, true);
-    const Outcome before = matchWithOurs(pair, true, true, true, 0.0);
+    const Outcome now = matchWithOurs(pair, true, true, true, kReturnSigma, offset_rad);
+    const Outcome before = matchWithOurs(pair, true, true, true, 0.0, offset_rad);
     widened_now += now.valid && unchecked.valid && now.covariance != unchecked.covariance ? 1 : 0;
     widened_before +=
         before.valid && unchecked.valid && before.covariance != unchecked.covariance ? 1 : 0;
@@ -383,9 +391,11 @@ void countWidened(benchmark::State& state, const std::vector<MatchCase>& cases)
 
 /// One CARMEN log with one seed's guesses. covariance 2: covariance on, our ambiguity check off
 /// (CSM as with covariance 1); covariance 3: on, every rematch of our check run to convergence
-/// (ambiguity_return_sigma 0, before its early stop); gap_rule 0: our line fits' surface breaks
-/// as before issue 33 (line_fit.max_gap_range_m 0). The rows with our defaults and covariance on
-/// also count the refused good pairs and which check refused them, and the widened matches.
+/// (ambiguity_return_sigma 0, before its early stop); covariance 4: on, the check without its
+/// turned starts (ambiguity_offset_rad 0); gap_rule 0: our line fits' surface breaks
+/// as before issue 33 (line_fit.max_gap_range_m 0). The rows with our defaults and covariance on,
+/// and those of covariance 4, also count the refused good pairs and which check refused them, and
+/// the widened matches.
 void sideBySideCarmen(benchmark::State& state, const std::string& path, unsigned seed,
                       int covariance, bool gap_rule)
 {
@@ -394,16 +404,17 @@ void sideBySideCarmen(benchmark::State& state, const std::string& path, unsigned
     state.SkipWithError(("cannot read FLASER pairs from " + path).c_str());
     return;
   }
+  const double offset_rad = covariance == 4 ? 0.0 : kOffsetRad;
   const Outcomes outcomes = runSideBySide(state, *cases, covariance != 0, covariance != 2, gap_rule,
-                                          covariance == 3 ? 0.0 : kReturnSigma);
-  if (covariance == 1 && gap_rule) {
+                                          covariance == 3 ? 0.0 : kReturnSigma, offset_rad);
+  if ((covariance == 1 || covariance == 4) && gap_rule) {
     countRefusedGood(state, *cases, outcomes);
-    countWidened(state, *cases);
+    countWidened(state, *cases, offset_rad);
   }
 }
 
 /// Counts the check's passes on every pair of `cases` (ours, defaults, covariance on).
-CheckPasses countCheckPasses(const std::vector<MatchCase>& cases)
+CheckPasses countCheckPasses(const std::vector<MatchCase>& cases, WideningEvidence& evidence)
 {
   CheckPasses counts;
   const PlicpOptions now;
@@ -422,8 +433,32 @@ CheckPasses countCheckPasses(const std::vector<MatchCase>& cases)
     counts.rematches_now += rematchPasses(reference, current, best, now, unused, counts.stopped);
     counts.rematches_before +=
         rematchPasses(reference, current, best, before, counts.rematches_beyond_3_sigma, unused);
+    gatherWideningEvidence(reference, current, best, before, evidence);
   }
   return counts;
+}
+
+/// The widening evidence as counters: checked matches widened, of those by one start alone; the
+/// widening rematches' passes (median, maximum, and how many take more than the median stopped
+/// rematch's 4) and how many passed within 1 and 1.5 sigma of the solution after a small step;
+/// the median weakest sigma of the widened and of the other checked matches [mm].
+void recordWideningEvidence(benchmark::State& state, const WideningEvidence& evidence)
+{
+  state.counters["widened_checks"] = evidence.widened;
+  state.counters["widened_by_one_start"] = evidence.widened_by_one_start;
+  std::vector<double> passes(evidence.passes.begin(), evidence.passes.end());
+  state.counters["widening_rematches"] = static_cast<double>(passes.size());
+  state.counters["widening_passes_median"] = passes.empty() ? 0.0 : median(passes);
+  state.counters["widening_passes_max"] =
+      passes.empty() ? 0.0 : *std::max_element(passes.begin(), passes.end());
+  state.counters["widening_over_4_passes"] = static_cast<double>(
+      std::count_if(passes.begin(), passes.end(), [](double p) { return p > 4.0; }));
+  state.counters["widening_within_1_sigma"] = evidence.within_1_sigma;
+  state.counters["widening_within_1_5_sigma"] = evidence.within_1_5_sigma;
+  if (!evidence.sigma_widened_m.empty())
+    state.counters["sigma_widened_median_mm"] = 1e3 * median(evidence.sigma_widened_m);
+  if (!evidence.sigma_kept_m.empty())
+    state.counters["sigma_kept_median_mm"] = 1e3 * median(evidence.sigma_kept_m);
 }
 
 /// What the covariance costs us (issue 33), ours alone, four variants timed pair by pair in one
@@ -478,7 +513,9 @@ void covarianceCostCarmen(benchmark::State& state, const std::string& path)
   state.counters["ratio_on_off"] = median(ms[1]) / off;
   state.counters["ratio_on_before_off"] = median(ms[2]) / off;
   state.counters["ratio_on_no_check_off"] = median(ms[3]) / off;
-  const CheckPasses passes = countCheckPasses(cases);
+  WideningEvidence evidence;
+  const CheckPasses passes = countCheckPasses(cases, evidence);
+  recordWideningEvidence(state, evidence);
   const double checked = std::max(passes.checked, 1);
   state.counters["checked"] = passes.checked;
   state.counters["match_passes"] = passes.match / checked;
@@ -542,7 +579,8 @@ BENCHMARK(BM_SideBySideMines)
 /// kept aside from tuning): rows BM_SideBySideCarmen/<log>/seed:S/covariance:C/gap_rule:G with our
 /// defaults and covariance on for the fixed seed and the second, and for the fixed seed also
 /// covariance off, on without our ambiguity check (2), on with its rematches run to convergence
-/// (3), and ours with the surface breaks of before issue 33 (gap_rule 0); and
+/// (3), and ours with the surface breaks of before issue 33 (gap_rule 0); for both seeds on with
+/// the check's shifted starts only (4, ambiguity_offset_rad 0); and
 /// BM_CovarianceCostCarmen/<log>. scripts/bench_plicp_vs_csm prints the table and the acceptance.
 void registerCarmenLogs()
 {
@@ -562,9 +600,9 @@ void registerCarmenLogs()
     int covariance;
     bool gap_rule;
   };
-  const Row rows[] = {{kCarmenSeed, 1, true}, {kCarmenSecondSeed, 1, true},
-                      {kCarmenSeed, 0, true}, {kCarmenSeed, 2, true},
-                      {kCarmenSeed, 3, true}, {kCarmenSeed, 1, false}};
+  const Row rows[] = {{kCarmenSeed, 1, true}, {kCarmenSecondSeed, 1, true}, {kCarmenSeed, 0, true},
+                      {kCarmenSeed, 2, true}, {kCarmenSeed, 3, true},       {kCarmenSeed, 1, false},
+                      {kCarmenSeed, 4, true}, {kCarmenSecondSeed, 4, true}};
   for (const std::string& path : paths) {
     const std::string log = carmen::logName(path);
     for (const Row& row : rows) {

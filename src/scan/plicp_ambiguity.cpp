@@ -57,6 +57,8 @@ PlicpResult checkAmbiguity(PlicpResult best, const PlicpOptions& options,
                         -options.ambiguity_offset_m * weakest.y(), 0.0),
         Eigen::Vector3d(0.0, 0.0, options.ambiguity_offset_rad),
         Eigen::Vector3d(0.0, 0.0, -options.ambiguity_offset_rad)}) {
+    if (offset.isZero())
+      continue;  // ambiguity_offset_rad 0: no turned starts
     const Pose2 start(solution.x() + offset.x(), solution.y() + offset.y(),
                       solution.theta() + offset.z());
     PlicpResult other = rematch(start, false, stop);

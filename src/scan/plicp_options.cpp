@@ -65,9 +65,12 @@ void validate(const PlicpOptions& options)
               options.ambiguity_max_information_ratio < 1.0,
           "ambiguity_max_information_ratio must be in [0, 1) (0: no near-degenerate check)");
   require(positive(options.ambiguity_sigma_m) && positive(options.ambiguity_sigma_rad) &&
-              positive(options.ambiguity_offset_m) && positive(options.ambiguity_offset_rad),
-          "ambiguity_sigma_m, ambiguity_sigma_rad, ambiguity_offset_m and ambiguity_offset_rad "
-          "must be > 0");
+              positive(options.ambiguity_offset_m),
+          "ambiguity_sigma_m, ambiguity_sigma_rad and ambiguity_offset_m must be > 0");
+  require(std::isfinite(options.ambiguity_offset_rad) && options.ambiguity_offset_rad >= 0.0 &&
+              options.ambiguity_offset_rad <= M_PI,
+          "ambiguity_offset_rad must be in [0, pi] rad (0: no turned starts, the two shifted "
+          "ones only)");
   require(std::isfinite(options.ambiguity_return_sigma) && options.ambiguity_return_sigma >= 0.0 &&
               options.ambiguity_return_sigma < 3.0,
           "ambiguity_return_sigma must be in [0, 3) sigma (0: rematches run to convergence; 3 "

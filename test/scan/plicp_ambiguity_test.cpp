@@ -4,6 +4,7 @@
 #include <iostream>
 #include <memory>
 #include <random>
+#include <stdexcept>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -89,6 +90,23 @@ synthetic::LidarModel lidar180(double field_of_view_deg, double range_max_m)
   return lidar;
 }
 
+/// A random trial in `world`, both scans prepared with the default line fits, and its guess.
+struct PreparedTrial
+{
+  PreparedScan reference;
+  PreparedScan current;
+  Pose2 guess;
+};
+
+PreparedTrial preparedTrial(const synthetic::World& world, const synthetic::LidarModel& lidar,
+                            std::mt19937& rng)
+{
+  const synthetic::Trial trial = synthetic::makeTrial(world, lidar, synthetic::TrialOptions(), rng);
+  const LineFitOptions line_fit;
+  return {prepareScan(trial.reference, line_fit), prepareScan(trial.current, line_fit),
+          trial.guess_ref_new};
+}
+
 /// Every trial matched with the early stop (defaults) and with every rematch run to
 /// convergence (ambiguity_return_sigma 0).
 struct Comparison
@@ -113,16 +131,11 @@ Comparison compare(const synthetic::World& world, const synthetic::LidarModel& l
   to_convergence.ambiguity_return_sigma = 0.0;
   Comparison comparison;
   for (int k = 0; k < trials; ++k) {
-    const synthetic::Trial trial =
-        synthetic::makeTrial(world, lidar, synthetic::TrialOptions(), rng);
-    const PreparedScan reference = prepareScan(trial.reference, with_stop.line_fit);
-    const PreparedScan current = prepareScan(trial.current, with_stop.line_fit);
-    const CheckedMatch now = matchCounted(reference, current, trial.guess_ref_new, with_stop);
-    const CheckedMatch before =
-        matchCounted(reference, current, trial.guess_ref_new, to_convergence);
+    const auto [reference, current, guess] = preparedTrial(world, lidar, rng);
+    const CheckedMatch now = matchCounted(reference, current, guess, with_stop);
+    const CheckedMatch before = matchCounted(reference, current, guess, to_convergence);
     // The helper makes the match as matchScans does.
-    const PlicpResult public_result =
-        matchScans(reference, current, trial.guess_ref_new, with_stop);
+    const PlicpResult public_result = matchScans(reference, current, guess, with_stop);
     EXPECT_EQ(public_result.covariance, now.result.covariance) << "trial " << k;
     EXPECT_EQ(public_result.T_ref_new.vector(), now.result.T_ref_new.vector()) << "trial " << k;
     ++comparison.trials;
@@ -174,6 +187,44 @@ TEST(PlicpAmbiguity, RematchesBackAtTheSolutionStopEarly)
   EXPECT_EQ(c.unchanged_with_all_stopped, c.checked);
   EXPECT_EQ(c.stopped, 4 * c.checked);
   EXPECT_LT(c.iterations_with_stop, 0.8 * c.iterations_to_convergence);
+}
+
+TEST(PlicpAmbiguity, WithoutTurnedStartsTheCheckRematchesTwiceAndWidensLess)
+{
+  // ambiguity_offset_rad 0: only the two starts shifted along the weakest direction. By the wall
+  // and pillars (the slide along the wall is the ambiguity) they widen most of what the four
+  // starts widen and nothing the four do not, with two rematches per checked match instead of
+  // four (a third one only to return a clearly better fit); no status or pose changes.
+  std::mt19937 rng(2);
+  const synthetic::World world = wallAndPillars();
+  const synthetic::LidarModel lidar = lidar180(360.0, 8.0);
+  const PlicpOptions all_starts;
+  PlicpOptions shifted_only;
+  shifted_only.ambiguity_offset_rad = 0.0;
+  int checked = 0, widened_all = 0, widened_shifted = 0, rematches = 0;
+  for (int k = 0; k < 100; ++k) {
+    const auto [reference, current, guess] = preparedTrial(world, lidar, rng);
+    const CheckedMatch all = matchCounted(reference, current, guess, all_starts);
+    const CheckedMatch shifted = matchCounted(reference, current, guess, shifted_only);
+    EXPECT_EQ(all.result.status, shifted.result.status) << "trial " << k;
+    EXPECT_EQ(all.result.T_ref_new.vector(), shifted.result.T_ref_new.vector()) << "trial " << k;
+    EXPECT_FALSE(shifted.widened && !all.widened) << "trial " << k;
+    checked += shifted.checked ? 1 : 0;
+    widened_all += all.widened ? 1 : 0;
+    widened_shifted += shifted.widened ? 1 : 0;
+    rematches += shifted.rematches;
+  }
+  std::cout << "wall and pillars without turned starts: " << checked << " checked, " << rematches
+            << " rematches, " << widened_shifted << " widened (" << widened_all
+            << " with the turned starts)\n";
+  EXPECT_GE(checked, 90);
+  EXPECT_LE(rematches, 2 * checked + checked / 10);
+  EXPECT_GE(widened_shifted, widened_all / 2);
+  EXPECT_GE(widened_shifted, 10);
+  PlicpOptions negative;
+  negative.ambiguity_offset_rad = -0.1;
+  EXPECT_THROW(validate(negative), std::invalid_argument);
+  EXPECT_NO_THROW(validate(shifted_only));
 }
 
 TEST(PlicpAmbiguity, BackAtSolutionNeedsTheSolutionsTrimmingAndItsBasin)

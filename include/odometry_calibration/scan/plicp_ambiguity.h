@@ -37,12 +37,12 @@ using PlicpRematch =
 IterationStop backAtSolution(const PlicpResult& best, const PlicpOptions& options);
 
 /// Matches again from `best`'s solution moved by +-ambiguity_offset_m along its weakest
-/// direction and turned by +-ambiguity_offset_rad. A start that finds the scene degenerate with
-/// a clearly better fit (2 % more inliers) is returned instead (matched once more, with its
-/// covariance); converged starts that fit as well (valid, or degenerate and held where they
-/// started) but lie beyond 3 sigma add d d^T to the covariance (d: their offset). The rematches
-/// skip their own covariance, which only a returned start needs, and stop once back at the
-/// solution (backAtSolution).
+/// direction and turned by +-ambiguity_offset_rad (no turned starts when it is 0). A start that
+/// finds the scene degenerate with a clearly better fit (2 % more inliers) is returned instead
+/// (matched once more, with its covariance); converged starts that fit as well (valid, or
+/// degenerate and held where they started) but lie beyond 3 sigma add d d^T to the covariance (d:
+/// their offset). The rematches skip their own covariance, which only a returned start needs, and
+/// stop once back at the solution (backAtSolution).
 PlicpResult checkAmbiguity(PlicpResult best, const PlicpOptions& options,
                            const PlicpRematch& rematch);
 
