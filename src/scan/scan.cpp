@@ -11,13 +11,16 @@
 namespace odometry_calibration {
 namespace {
 
-/// The sensor's pose after moving for tau_s seconds at constant `velocity`: the SE(2)
-/// exponential exp(tau * xi) as se2Exp computes it, with the cosine and sine of its heading
+/// The sensor's pose after moving for tau_s seconds with `velocity` (and its rate of change):
+/// the SE(2) exponential exp(tau v + tau^2 / 2 a) as se2Exp computes it, with the cosine and sine
+/// of its heading
 /// (*cos_theta, *sin_theta) from the same evaluation (once per point of every scan).
 Pose2 poseAfter(const SensorVelocity& velocity, double tau_s, double* cos_theta, double* sin_theta)
 {
-  const Eigen::Vector3d xi(velocity.vx_mps * tau_s, velocity.vy_mps * tau_s,
-                           velocity.omega_radps * tau_s);
+  const double half_tau2 = 0.5 * tau_s * tau_s;
+  const Eigen::Vector3d xi(velocity.vx_mps * tau_s + velocity.ax_mps2 * half_tau2,
+                           velocity.vy_mps * tau_s + velocity.ay_mps2 * half_tau2,
+                           velocity.omega_radps * tau_s + velocity.alpha_radps2 * half_tau2);
   const double theta = xi.z();
   *cos_theta = std::cos(theta);
   *sin_theta = std::sin(theta);

@@ -47,9 +47,9 @@ struct CollectorOptions
   double min_translation_m = 0.0;
   double min_rotation_rad = 0.0;
   /// Compensate the motion during each scan's sweep (scans with ray times: time_increment_s or
-  /// ray_times_s), with the sensor velocity the prior model predicts over the sweep itself (a
-  /// scan waits for its sweep's encoders; without them, over the interval since the previous
-  /// scan).
+  /// ray_times_s), with the sensor velocity the prior model predicts over the sweep itself,
+  /// linear in time from its two halves (a scan waits for its sweep's encoders; without them, a
+  /// constant velocity over the interval since the previous scan).
   bool compensate_sweep = true;
   /// Encoder values are taken at scan time + time_offset_s [s] (clock offset between streams).
   double time_offset_s = 0.0;
@@ -270,7 +270,8 @@ private:
   /// `event` (kKeyframe, a rejection or a pair), which ends the chain.
   void startKeyframe(double stamp_s, std::shared_ptr<const LazyPreparedScan> scan,
                      const Pose2& T_world_sensor, const CollectorEvent& event);
-  /// Sets the scan's sweep velocity from the prior model's prediction (compensate_sweep).
+  /// Sets the scan's sweep velocity from the prior model's prediction (compensate_sweep): over
+  /// each half of the sweep, linearSweepVelocity (pair_collector.cpp).
   void compensateSweep(double stamp_s, LazyPreparedScan& prepared_scan);
   /// Whether the keyframe rule considers an input at stamp_s (none yet, or one about T after
   /// the keyframe: it is paired, rejected or extended), before unpairedInput updates the input

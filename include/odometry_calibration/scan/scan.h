@@ -8,8 +8,9 @@
 // A spinning lidar measures its rays one after the other (ray i at i * time_increment_s after
 // the stamp, as in sensor_msgs/LaserScan); when the sensor moves during the sweep, each point is
 // seen from a different pose. Given the sensor's velocity, scanToPoints() moves every point into
-// the frame of the sensor at the stamp (constant velocity over the sweep, the SE(2) exponential
-// exp(tau * xi)), so that the scan is the picture of one pose.
+// the frame of the sensor at the stamp (the velocity, and optionally its constant rate of change,
+// integrated over the ray's time: the SE(2) exponential exp(tau v + tau^2 / 2 a)), so that the
+// scan is the picture of one pose.
 #pragma once
 
 #include <cmath>
@@ -48,16 +49,25 @@ struct Scan
   std::vector<double> ray_angles_rad;
 };
 
-/// Velocity of the sensor during a scan's sweep, in the sensor's frame at the stamp, assumed
-/// constant over the sweep [m/s, m/s, rad/s]. E.g. odometry's motion over the last interval
-/// divided by its duration.
+/// Velocity of the sensor during a scan's sweep, in the sensor's frame at the stamp: at the stamp
+/// [m/s, m/s, rad/s] and its rate of change, constant over the sweep [m/s^2, m/s^2, rad/s^2; 0: a
+/// constant velocity]. The sensor's pose tau seconds after the stamp is exp(tau v + tau^2 / 2 a)
+/// (the twist integrated in the stamp's frame: exact for a constant velocity, second order in the
+/// motion otherwise). E.g. odometry's motion over the last interval divided by its duration.
 struct SensorVelocity
 {
   double vx_mps = 0.0;
   double vy_mps = 0.0;
   double omega_radps = 0.0;
+  double ax_mps2 = 0.0;
+  double ay_mps2 = 0.0;
+  double alpha_radps2 = 0.0;
 
-  bool isZero() const { return vx_mps == 0.0 && vy_mps == 0.0 && omega_radps == 0.0; }
+  bool isZero() const
+  {
+    return vx_mps == 0.0 && vy_mps == 0.0 && omega_radps == 0.0 && ax_mps2 == 0.0 &&
+           ay_mps2 == 0.0 && alpha_radps2 == 0.0;
+  }
 };
 
 /// Throws std::invalid_argument naming the offending field when the scan's geometry is unusable
@@ -115,8 +125,9 @@ std::size_t countUsableReadings(const Scan& scan);
 /// above range_max_m and masked-out readings. Throws std::invalid_argument (via validate) only
 /// for an unusable scan geometry; a scan with no usable reading gives an empty ScanPoints.
 /// When `velocity` is not zero and the rays carry times (hasRayTimes), compensates the motion
-/// during the sweep: the point p of ray i becomes exp(tau_i xi) p, tau_i = i * time_increment_s
-/// (or ray_times_s[i]), xi = velocity (the sensor's pose at tau_i in its pose at the stamp).
+/// during the sweep: the point p of ray i becomes exp(tau_i v + tau_i^2 / 2 a) p, tau_i = i *
+/// time_increment_s (or ray_times_s[i]), v and a the velocity and its rate of change (the
+/// sensor's pose at tau_i in its pose at the stamp).
 ScanPoints scanToPoints(const Scan& scan, const SensorVelocity& velocity = {});
 
 }  // namespace odometry_calibration
