@@ -86,7 +86,8 @@ void refuseNonJointOptions(const std::string& model, const std::string& options)
 }
 
 /// A build without PCL cannot turn clouds into scans: a cloud source is refused up front (not
-/// every message skipped), naming its key and topic.
+/// every message skipped), naming its key and topic. A runtime_error: the bag tools report it as
+/// it is (an invalid_argument there is taken for a corrupted bag's).
 void refuseCloudsWithoutPcl(const CalibrationConfig& config)
 {
   if constexpr (kHavePcl)
@@ -98,7 +99,7 @@ void refuseCloudsWithoutPcl(const CalibrationConfig& config)
     const std::string key = config.ego_motion_sources.empty()
                                 ? "ego_motion.source"
                                 : "ego_motion.sources[" + std::to_string(k) + "].type";
-    throw std::invalid_argument(
+    throw std::runtime_error(
         withoutPclMessage(key + ": cloud (sensor_msgs/PointCloud2 on '" + sources[k].topic + "')"));
   }
 }

@@ -185,7 +185,7 @@ TEST_F(JointSession, ACloudSourceNeedsABuildWithPcl)
   try {
     JointCalibrationSession session(config, text, "front_lidar.yaml", options_, nullptr);
     FAIL() << "a cloud source was accepted without PCL";
-  } catch (const std::invalid_argument& error) {
+  } catch (const std::runtime_error& error) {
     const std::string message = error.what();
     EXPECT_NE(message.find("ego_motion.sources[1].type: cloud (sensor_msgs/PointCloud2 on "
                            "'/points') needs PCL"),
