@@ -6,9 +6,12 @@
 #include <utility>
 
 #include "odometry_calibration/ros/conversions.h"
+#include "odometry_calibration/scan/pcl_support.h"
+#include "odometry_calibration/session/calibration_session.h"
+#if ODOMETRY_CALIBRATION_HAVE_PCL
 #include "odometry_calibration/ros/point_cloud_conversion.h"
 #include "odometry_calibration/scan/cloud_to_scan.h"
-#include "odometry_calibration/session/calibration_session.h"
+#endif
 
 namespace odometry_calibration {
 namespace {
@@ -129,10 +132,14 @@ ConvertedInput MessageAdapter::convert(const sensor_msgs::LaserScan& message, st
 ConvertedInput MessageAdapter::convert(const sensor_msgs::PointCloud2& message, std::size_t source,
                                        std::string publisher, double* filtering_s) const
 {
-  using Clock = std::chrono::steady_clock;
   ConvertedInput input = makeInput(ConvertedInput::Kind::kCloudScan, source, message.header.stamp,
                                    std::move(publisher));
   input.frame = message.header.frame_id;
+#if !ODOMETRY_CALIBRATION_HAVE_PCL  // the session refuses a cloud source before any message
+  markBadEgoMessage(input, "PointCloud2", withoutPclMessage("turning a cloud into a scan"));
+  (void)filtering_s;
+#else
+  using Clock = std::chrono::steady_clock;
   try {
     const auto lidar = ros_conversions::fromPointCloud2Msg(message, config_.cloud.point_times);
     const auto filtering_start = Clock::now();
@@ -147,6 +154,7 @@ ConvertedInput MessageAdapter::convert(const sensor_msgs::PointCloud2& message, 
   } catch (const std::invalid_argument& error) {
     markBadEgoMessage(input, "PointCloud2", error.what());
   }
+#endif
   return input;
 }
 

@@ -6,12 +6,14 @@
 #include <cstdio>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 #include <vector>
 
 #include <Eigen/Geometry>
 
 #include "odometry_calibration/common/number_text.h"
 #include "odometry_calibration/scan/nearest_point_search.h"
+#include "odometry_calibration/scan/pcl_support.h"
 #include "odometry_calibration/scan/plicp_matcher.h"
 #include "odometry_calibration/scan/point_to_line_solver.h"
 
@@ -298,6 +300,20 @@ PlicpResult concludeMatch(PlicpMatcher& matcher, const PreparedScan& reference,
   return result;
 }
 
+/// The correspondence search over the reference scan; the kd-tree only in builds with PCL.
+std::unique_ptr<NearestPointSearch> makeSearch(const PreparedScan& reference,
+                                               CorrespondenceSearch kind)
+{
+  if (kind == CorrespondenceSearch::kAngularOrder)
+    return makeAngularSearch(reference.points, reference.lines);
+  if constexpr (kHavePcl) {
+    return makeKdTreeSearch(reference.points, reference.lines);
+  } else {
+    throw std::invalid_argument(
+        withoutPclMessage("PlicpOptions::correspondence_search kKdTree (the kd-tree search)"));
+  }
+}
+
 }  // namespace
 
 PlicpResult matchOnce(const PreparedScan& reference, const PreparedScan& current,
@@ -316,9 +332,7 @@ PlicpResult matchOnce(const PreparedScan& reference, const PreparedScan& current
                        std::to_string(options.min_points));
   }
   if (!search) {
-    search = options.correspondence_search == CorrespondenceSearch::kKdTree
-                 ? makeKdTreeSearch(reference.points, reference.lines)
-                 : makeAngularSearch(reference.points, reference.lines);
+    search = makeSearch(reference, options.correspondence_search);
   }
   PlicpMatcher matcher(reference, current, options, *search);
   MatchState state;

@@ -10,6 +10,7 @@
 #include "odometry_calibration/common/yaml_reading.h"
 #include "odometry_calibration/eval/joint_fit_text.h"
 #include "odometry_calibration/report/calibration_files.h"
+#include "odometry_calibration/scan/pcl_support.h"
 
 namespace odometry_calibration {
 namespace {
@@ -84,6 +85,25 @@ void refuseNonJointOptions(const std::string& model, const std::string& options)
   }
 }
 
+/// A build without PCL cannot turn clouds into scans: a cloud source is refused up front (not
+/// every message skipped), naming its key and topic. A runtime_error: the bag tools report it as
+/// it is (an invalid_argument there is taken for a corrupted bag's).
+void refuseCloudsWithoutPcl(const CalibrationConfig& config)
+{
+  if constexpr (kHavePcl)
+    return;
+  const std::vector<EgoMotionSourceConfig> sources = egoMotionSources(config);
+  for (std::size_t k = 0; k < sources.size(); ++k) {
+    if (sources[k].type != EgoMotionSource::kCloud)
+      continue;
+    const std::string key = config.ego_motion_sources.empty()
+                                ? "ego_motion.source"
+                                : "ego_motion.sources[" + std::to_string(k) + "].type";
+    throw std::runtime_error(
+        withoutPclMessage(key + ": cloud (sensor_msgs/PointCloud2 on '" + sources[k].topic + "')"));
+  }
+}
+
 }  // namespace
 
 JointCalibrationSession::JointCalibrationSession(
@@ -98,6 +118,7 @@ JointCalibrationSession::JointCalibrationSession(
       sources_(egoMotionSources(config)),
       fit_jointly_(std::move(fit_jointly))
 {
+  refuseCloudsWithoutPcl(config);
   if (config.wheels.source == WheelSource::kTicks) {
     wheel_watch_ = std::make_unique<WheelTopicWatch>(config.wheels.topics,
                                                      options.silent_topic_timeout_s, wallNow());

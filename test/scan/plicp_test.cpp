@@ -3,11 +3,14 @@
 #include <cstdio>
 #include <functional>
 #include <random>
+#include <stdexcept>
+#include <string>
 
 #include <gtest/gtest.h>
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 
+#include "odometry_calibration/scan/pcl_support.h"
 #include "odometry_calibration/scan/plicp.h"
 #include "support/synthetic_scans.h"
 
@@ -186,6 +189,17 @@ TEST(Plicp, AngularAndKdTreeSearchGiveTheSameMatch)
   const synthetic::Trial trial = officeTrial(0.01, 3);
   PlicpOptions kdtree;
   kdtree.correspondence_search = CorrespondenceSearch::kKdTree;
+  if (!kHavePcl) {  // a build without PCL has no kd-tree: refused, saying how to get it
+    try {
+      matchScans(trial.reference, trial.current, trial.guess_ref_new, kdtree);
+      FAIL() << "the kd-tree search was accepted without PCL";
+    } catch (const std::invalid_argument& error) {
+      EXPECT_NE(std::string(error.what()).find("kKdTree (the kd-tree search) needs PCL"),
+                std::string::npos)
+          << error.what();
+    }
+    return;
+  }
   const PlicpResult a = matchScans(trial.reference, trial.current, trial.guess_ref_new, {});
   const PlicpResult b = matchScans(trial.reference, trial.current, trial.guess_ref_new, kdtree);
   ASSERT_TRUE(a.valid());

@@ -1,8 +1,12 @@
 // The session of several ego-motion sources (issue 35) without ROS: a simulated front/rear robot's
 // messages fed in stamp order, each laser's scans to its own source, as the node feeds them. Its
 // fits, a silent laser, one source, the health monitor, the skid-steer and tricycle robots.
+#include <stdexcept>
+#include <string>
+
 #include <gtest/gtest.h>
 
+#include "odometry_calibration/scan/pcl_support.h"
 #include "support/joint_session_fixture.h"
 
 namespace odometry_calibration {
@@ -163,6 +167,32 @@ TEST_F(JointSession, OneSourceIsItsSessionUnchanged)
   EXPECT_EQ(readFile(options_.output_directory + "/pairs.csv"),
             readFile(options.output_directory + "/pairs.csv"));
   EXPECT_FALSE(fs::exists(options_.output_directory + "/source_0"));
+}
+
+TEST_F(JointSession, ACloudSourceNeedsABuildWithPcl)
+{
+  // The rear sensor a 3D lidar: a build without PCL refuses it by its key and topic, saying how
+  // to get PCL; a build with PCL starts the session.
+  std::string text = config_text_;
+  const std::string rear = "    - topic: /scan_rear\n";
+  text.replace(text.find(rear), rear.size(), "    - topic: /points\n      type: cloud\n");
+  const CalibrationConfig config = parseCalibrationConfig(text, "front_lidar.yaml");
+  if (kHavePcl) {
+    JointCalibrationSession session(config, text, "front_lidar.yaml", options_, nullptr);
+    EXPECT_EQ(session.sourceCount(), 2u);
+    return;
+  }
+  try {
+    JointCalibrationSession session(config, text, "front_lidar.yaml", options_, nullptr);
+    FAIL() << "a cloud source was accepted without PCL";
+  } catch (const std::runtime_error& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find("ego_motion.sources[1].type: cloud (sensor_msgs/PointCloud2 on "
+                           "'/points') needs PCL"),
+              std::string::npos)
+        << message;
+    EXPECT_NE(message.find("run scripts/setup"), std::string::npos) << message;
+  }
 }
 
 TEST_F(JointSession, TheHealthMonitorNamesTheRearLaserThatTurned)

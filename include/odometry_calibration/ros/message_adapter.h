@@ -49,8 +49,9 @@ public:
   ConvertedInput convert(const sensor_msgs::LaserScan& message, std::size_t source,
                          std::string publisher) const;
   /// Source `source`'s cloud cut into a planar scan (kCloudScan, the per-point time problem in
-  /// `problem`), or kBadEgoMessage: a broken layout, too few points in the band. Adds the time
-  /// spent filtering the cloud into a scan to `filtering_s` when given [s].
+  /// `problem`), or kBadEgoMessage: a broken layout, too few points in the band, a build without
+  /// PCL (scan/pcl_support.h). Adds the time spent filtering the cloud into a scan to
+  /// `filtering_s` when given [s].
   ConvertedInput convert(const sensor_msgs::PointCloud2& message, std::size_t source,
                          std::string publisher, double* filtering_s = nullptr) const;
   /// Source `source`'s sensor pose (the pose, the child frame), or kBadEgoMessage ("pose") for

@@ -7,7 +7,8 @@
 //    least |q| sin(d) from it (|q| once d >= 90 deg), which ends each walk early. This is the
 //    idea behind the correspondence search of Censi's CSM (ICRA 2008, Sec. V), with an exact
 //    stopping bound instead of its jump tables.
-//  - kd-tree: PCL's FLANN kd-tree over the same points.
+//  - kd-tree: PCL's FLANN kd-tree over the same points (only in builds with PCL, pcl_support.h;
+//    without it matchScans() refuses it).
 // PlicpOptions::correspondence_search picks one; see bench/plicp_bench.cpp for their speed.
 #pragma once
 
@@ -101,7 +102,7 @@ std::unique_ptr<NearestPointSearch> makeAngularSearch(const ScanPoints& points,
                                                       const ScanLines& lines);
 
 /// PCL kd-tree (FLANN) search over the same points: a radius search, then the nearest compatible
-/// point. O(n log n) to build.
+/// point. O(n log n) to build. Defined only in builds with PCL (kHavePcl, pcl_support.h).
 std::unique_ptr<NearestPointSearch> makeKdTreeSearch(const ScanPoints& points,
                                                      const ScanLines& lines);
 

@@ -11,7 +11,7 @@ namespace odometry_calibration {
 enum class CorrespondenceSearch
 {
   kAngularOrder,  ///< walk the reference scan's rays outwards from the query's bearing (faster)
-  kKdTree,        ///< PCL FLANN kd-tree over the reference points
+  kKdTree,  ///< PCL FLANN kd-tree over the reference points (builds with PCL only: pcl_support.h)
 };
 
 /// Options of matchScans(). Defaults suit 2D lidars of ~1 cm noise indoors with an odometry

@@ -62,8 +62,9 @@ public:
   /// off (the joint fit is adopted), the odometry only in source 0's session, and its log lines
   /// starting with "[<topic>] ".
   /// `listener(k)`: source k's listener; `fit_jointly`: the joint fit. Throws as
-  /// CalibrationSession's constructor, and std::invalid_argument for several sources of a model
-  /// without a joint fit.
+  /// CalibrationSession's constructor, std::invalid_argument for several sources of a model
+  /// without a joint fit, and std::runtime_error for a cloud source in a build without PCL
+  /// (scan/pcl_support.h).
   JointCalibrationSession(const CalibrationConfig& config, const std::string& config_text,
                           const std::string& config_source, const SessionOptions& options,
                           const std::function<SessionListener(std::size_t)>& listener = {},
