@@ -195,9 +195,9 @@ std::vector<T> tail(const std::vector<T>& all, std::size_t count)
 /// joints as its header describes them (the steering an absolute angle, the traction a 32-bit
 /// counter; the glitch filter, made for a live publisher's bugs, off: on the real log it takes
 /// traction readings for glitches and loses pairs), the tracker's poses as the sensor's
-/// (`ego_motion.source: pose`, with the fit's sigmas), no time offset (encoders and poses share each row's stamp), and
-/// the keyframes at the shortest candidate with the others as fit-interval candidates, or at the
-/// one interval given.
+/// (`ego_motion.source: pose`, with the fit's sigmas), no time offset (encoders and poses share
+/// each row's stamp), and the keyframes at the shortest candidate with the others as fit-interval
+/// candidates, or at the one interval given.
 CalibrationConfig trackerLogConfig(const TricycleEncoderLayout& layout,
                                    const TricycleParameters& nominal,
                                    const TricycleCliOptions& options)
