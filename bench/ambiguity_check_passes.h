@@ -1,6 +1,5 @@
 // The PLICP ambiguity check's work counted in correspondence passes, for the covariance-cost rows
-// of bench/plicp_vs_csm_bench.cpp (issue 33). Header-only benchmark helper; not part of the
-// library.
+// of bench/plicp_covariance_cost.h. Header-only benchmark helper; not part of the library.
 #pragma once
 
 #include <algorithm>
