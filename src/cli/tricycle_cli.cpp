@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <utility>
 
 #include "odometry_calibration/calibration/calibration_job.h"
@@ -11,6 +12,7 @@
 #include "odometry_calibration/cli/tricycle_report.h"
 #include "odometry_calibration/common/arguments.h"
 #include "odometry_calibration/common/atomic_file.h"
+#include "odometry_calibration/common/number_text.h"
 #include "odometry_calibration/config/calibration_config.h"
 #include "odometry_calibration/data/holdout.h"
 #include "odometry_calibration/datasets/tricycle_dataset.h"
@@ -366,7 +368,7 @@ std::vector<ModelScore> scoreStretch(const TrackerLogRun& run, const std::vector
   if (pairs.size() < 2) {
     throw std::invalid_argument(what + " hold " + std::to_string(pairs.size()) +
                                 " keyframe pair(s) of " +
-                                std::to_string(run.config.collector.keyframe_interval_s) +
+                                formatNumber(run.config.collector.keyframe_interval_s) +
                                 " s; scoring them needs at least 2: " + option);
   }
   return scoreHeldOut(run.config, run.fit.job, pairs, run.encoder_history);
@@ -450,18 +452,19 @@ int calibrateDataset(const TricycleDataset& dataset, const TricycleCliOptions& o
       {"fitted", stretchDescription(dataset, 0, training_end, interval_s, "the fitted samples"),
        scoreStretch(run, pairsEndingBy(run.pairs, fitted_until_s), "the fitted samples",
                     "fit a longer log")}};
-  printRun(options, run, rows, training_end, out);
-  if (holdout) {
-    const TricycleHeldOut held_out =
-        scoreHeldOutRows(dataset, run, options.holdout_fraction, training_end);
+  std::optional<TricycleHeldOut> held_out;
+  if (holdout) {  // scored before anything is printed: too few held-out pairs stop the run
+    held_out = scoreHeldOutRows(dataset, run, options.holdout_fraction, training_end);
     scores.push_back(
         {"held_out",
          stretchDescription(dataset, training_end, rows, interval_s,
                             "the last " + percent(options.holdout_fraction) + " of the samples") +
              ", never seen by the fit",
-         held_out.rows});
-    out << "\n" << formatTricycleHeldOut(held_out);
+         held_out->rows});
   }
+  printRun(options, run, rows, training_end, out);
+  if (held_out)
+    out << "\n" << formatTricycleHeldOut(*held_out);
   out << "\n" << formatTricycleReport(result, scores.front().rows);
   if (!options.output_path.empty()) {
     writeFileAtomically(options.output_path, trackerResultYaml(run, options.dataset_path, scores));

@@ -227,6 +227,35 @@ TEST(TricycleCli, TheChosenIntervalBeatsThePublishedSetsOnHeldOutRows)
   }
 }
 
+TEST(TricycleCli, TooFewHeldOutPairsAreRefusedByOptionAndWriteNothing)
+{
+  if (!exists(kDataset)) {
+    GTEST_SKIP() << "real dataset not found at " << kDataset;
+  }
+  // The log's first 600 rows with 2 of them held out: no 0.25 s pair to score them on.
+  const ScratchDirectory scratch;
+  TricycleCliOptions options;
+  options.dataset_path = scratch.path() + "/short.txt";
+  options.output_path = scratch.path() + "/result.yaml";
+  options.keyframe_interval_s = 0.5;
+  options.holdout_fraction = 0.004;
+  {
+    std::ifstream in(kDataset);
+    std::ofstream out(options.dataset_path);
+    std::string line;
+    for (int i = 0; i < 605 && std::getline(in, line); ++i)
+      out << line << "\n";
+  }
+  std::ostringstream out, err;
+  EXPECT_EQ(runTricycleCli(options, out, err), 1);
+  EXPECT_NE(err.str().find("the held-out samples hold 0 keyframe pair(s) of 0.25 s; scoring them "
+                           "needs at least 2: hold out a larger part (--holdout)"),
+            std::string::npos)
+      << err.str();
+  EXPECT_EQ(out.str(), "");
+  EXPECT_FALSE(exists(options.output_path));
+}
+
 TEST(TricycleCli, BadInputFailsCleanlyAndWritesNothing)
 {
   const ScratchDirectory scratch;
