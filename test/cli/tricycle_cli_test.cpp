@@ -227,6 +227,26 @@ TEST(TricycleCli, TheChosenIntervalBeatsThePublishedSetsOnHeldOutRows)
   }
 }
 
+/// Options reading the log `name` in `scratch` and writing its result.yaml there.
+TricycleCliOptions scratchOptions(const ScratchDirectory& scratch, const std::string& name)
+{
+  TricycleCliOptions options;
+  options.dataset_path = scratch.path() + "/" + name;
+  options.output_path = scratch.path() + "/result.yaml";
+  return options;
+}
+
+/// The real log's first `count` lines (its header included) in `path`, the last one without a
+/// line end unless `terminated`.
+void writeLogHead(const std::string& path, int count, bool terminated)
+{
+  std::ifstream in(kDataset);
+  std::ofstream out(path);
+  std::string line;
+  for (int i = 0; i < count && std::getline(in, line); ++i)
+    out << line << (terminated || i < count - 1 ? "\n" : "");
+}
+
 TEST(TricycleCli, TooFewHeldOutPairsAreRefusedByOptionAndWriteNothing)
 {
   if (!exists(kDataset)) {
@@ -234,18 +254,10 @@ TEST(TricycleCli, TooFewHeldOutPairsAreRefusedByOptionAndWriteNothing)
   }
   // The log's first 600 rows with 2 of them held out: no 0.25 s pair to score them on.
   const ScratchDirectory scratch;
-  TricycleCliOptions options;
-  options.dataset_path = scratch.path() + "/short.txt";
-  options.output_path = scratch.path() + "/result.yaml";
+  TricycleCliOptions options = scratchOptions(scratch, "short.txt");
   options.keyframe_interval_s = 0.5;
   options.holdout_fraction = 0.004;
-  {
-    std::ifstream in(kDataset);
-    std::ofstream out(options.dataset_path);
-    std::string line;
-    for (int i = 0; i < 605 && std::getline(in, line); ++i)
-      out << line << "\n";
-  }
+  writeLogHead(options.dataset_path, 605, true);
   std::ostringstream out, err;
   EXPECT_EQ(runTricycleCli(options, out, err), 1);
   EXPECT_NE(err.str().find("the held-out samples hold 0 keyframe pair(s) of 0.25 s; scoring them "
@@ -368,16 +380,8 @@ TEST(TricycleCli, WarnsAboutAnUnterminatedLastLineAndPoorlyDeterminedFits)
   // The first 100 lines: 0.6 m of straight driving. The fit runs, but the report must say
   // that the parameters are not determined, and the exit code must say so too (4).
   const ScratchDirectory scratch;
-  TricycleCliOptions options;
-  options.dataset_path = scratch.path() + "/short.txt";
-  options.output_path = scratch.path() + "/result.yaml";
-  {
-    std::ifstream in(kDataset);
-    std::ofstream out(options.dataset_path);
-    std::string line;
-    for (int i = 0; i < 100 && std::getline(in, line); ++i)
-      out << line << (i < 99 ? "\n" : "");
-  }
+  TricycleCliOptions options = scratchOptions(scratch, "short.txt");
+  writeLogHead(options.dataset_path, 100, false);
   std::ostringstream out, err;
   EXPECT_EQ(runTricycleCli(options, out, err), 4) << out.str() << err.str();
   EXPECT_NE(out.str().find("too little motion"), std::string::npos) << out.str();
