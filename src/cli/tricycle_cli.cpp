@@ -257,13 +257,12 @@ SessionOptions trackerLogSessionOptions(const std::string& dataset_path)
   return session;
 }
 
-/// The first `row_count` rows of the log into `session`: each row's encoder readings, then its
+/// Every row of the log into `session`: each row's encoder readings, then its
 /// tracker pose at the same stamp; then the end of the input.
 void feedRows(const TricycleDataset& dataset, const TricycleEncoderLayout& layout,
-              std::size_t row_count, CalibrationSession* session)
+              CalibrationSession* session)
 {
-  for (std::size_t i = 0; i < row_count; ++i) {
-    const TricycleDatasetRow& row = dataset.rows[i];
+  for (const TricycleDatasetRow& row : dataset.rows) {
     Eigen::VectorXd raw(2);
     raw(layout.steering_index) = row.steering_ticks;
     raw(layout.traction_index) = row.traction_ticks;
@@ -296,7 +295,7 @@ TrackerLogRun fitTrackerLog(const TricycleDataset& dataset, const TricycleEncode
   run.config = trackerLogConfig(layout, nominal, options);
   CalibrationSession session(run.config, "", options.dataset_path,
                              trackerLogSessionOptions(options.dataset_path));
-  feedRows(dataset, layout, dataset.rows.size(), &session);
+  feedRows(dataset, layout, &session);
   CalibrationRequest request;
   request.model = run.config.model;
   request.models = run.config.models;
