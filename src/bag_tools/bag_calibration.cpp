@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "odometry_calibration/bag_tools/bag_runner.h"
+#include "odometry_calibration/calibration/calibration_result.h"
 #include "odometry_calibration/common/text_file.h"
 #include "odometry_calibration/config/calibration_config_schema.h"
 #include "odometry_calibration/data/holdout.h"
@@ -206,8 +207,27 @@ ResultFiles runFiles(const BagCalibrationOptions& options, const CalibrationConf
       resultFilesForJob(jointLayout(source_config), fit.job, fit.fit_interval_s,
                         options.bags.front(), run.session->source(source).sensorFrame());
   describeRun(options, source_config, run, source, fit, &files);
+  if (fit.choice) {
+    appendToResult(&files.calibration,
+                   fitIntervalChoiceYaml(*fit.choice, source_config.collector.keyframe_interval_s));
+  }
   files.text_report = text;
   return files;
+}
+
+/// result.yaml's `scores:` of the test bags' and the held-out pairs' tables (either may be
+/// empty: not scored).
+void appendScores(const std::vector<ModelScore>& test_scores, std::size_t test_pairs,
+                  const std::vector<ModelScore>& held_out_scores, const std::string& held_out_note,
+                  ResultFiles* files)
+{
+  std::vector<ResultScores> sets;
+  if (!test_scores.empty())
+    sets.push_back(
+        {"test", "the " + std::to_string(test_pairs) + " pairs of the test bags", test_scores});
+  if (!held_out_scores.empty())
+    sets.push_back({"held_out", held_out_note, held_out_scores});
+  appendToResult(&files->calibration, scoresYaml(sets));
 }
 
 /// "written: <output_dir>/{a, b/}" and where the report is.
@@ -316,6 +336,8 @@ int calibrateOneSource(const BagCalibrationOptions& options, CalibrationConfig c
     text += scoreTestBags(options, config, job, &files, &test_scores);
   if (options.holdout > 0.0)
     text += scoreHoldout(options, config, run, split, fit, &files, &held_out_scores);
+  appendScores(test_scores, files.markdown.test_pairs, held_out_scores, files.markdown.holdout_note,
+               &files);
   text += adequacyText(config, job, held_out_scores.empty() ? test_scores : held_out_scores,
                        held_out_scores.empty() ? "the test bags" : "the held-out pairs");
   text += timingLine(run, fit);

@@ -34,6 +34,68 @@ std::string calibrationResultYaml(const ModelReport& report, const MotionModel& 
   return text;
 }
 
+std::string fitIntervalChoiceYaml(const FitIntervalChoice& choice, double evaluation_interval_s)
+{
+  YAML::Emitter out;
+  out.SetDoublePrecision(10);
+  out << YAML::BeginMap << YAML::Key << "fit_interval_choice" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "criterion" << YAML::Value << criterionName(choice.criterion);
+  out << YAML::Key << "evaluation_interval_s" << YAML::Value << evaluation_interval_s;
+  out << YAML::Key << "fold_counts" << YAML::Value << YAML::Flow << choice.fold_counts;
+  out << YAML::Key << "curve" << YAML::Value << YAML::BeginSeq;
+  for (const FitIntervalScore& score : choice.curve) {
+    out << YAML::Flow << YAML::BeginMap;
+    out << YAML::Key << "interval_s" << YAML::Value << score.interval_s;
+    out << YAML::Key << "pairs" << YAML::Value << score.pairs;
+    out << YAML::Key << "validation_error_m" << YAML::Value << score.validation_error_m;
+    out << YAML::EndMap;
+  }
+  out << YAML::EndSeq << YAML::EndMap << YAML::EndMap;
+  return std::string(out.c_str()) + "\n";
+}
+
+namespace {
+
+/// One row of a `scores:` set.
+void emitScoreRow(YAML::Emitter& out, const ModelScore& score)
+{
+  out << YAML::Flow << YAML::BeginMap;
+  out << YAML::Key << "model" << YAML::Value << score.model;
+  if (!score.skipped.empty()) {
+    out << YAML::Key << "skipped" << YAML::Value << score.skipped << YAML::EndMap;
+    return;
+  }
+  out << YAML::Key << "pairs" << YAML::Value << score.test_pairs;
+  out << YAML::Key << "ate_m" << YAML::Value << score.ate_m;
+  out << YAML::Key << "rpe_m" << YAML::Value << score.rpe_m;
+  out << YAML::Key << "rmse_x_m" << YAML::Value << score.rmse_xytheta(0);
+  out << YAML::Key << "rmse_y_m" << YAML::Value << score.rmse_xytheta(1);
+  out << YAML::Key << "rmse_theta_rad" << YAML::Value << score.rmse_xytheta(2);
+  out << YAML::Key << "converged" << YAML::Value << score.converged;
+  out << YAML::EndMap;
+}
+
+}  // namespace
+
+std::string scoresYaml(const std::vector<ResultScores>& sets)
+{
+  if (sets.empty())
+    return "";
+  YAML::Emitter out;
+  out.SetDoublePrecision(10);
+  out << YAML::BeginMap << YAML::Key << "scores" << YAML::Value << YAML::BeginMap;
+  for (const ResultScores& set : sets) {
+    out << YAML::Key << set.data << YAML::Value << YAML::BeginMap;
+    out << YAML::Key << "description" << YAML::Value << set.description;
+    out << YAML::Key << "models" << YAML::Value << YAML::BeginSeq;
+    for (const ModelScore& score : set.rows)
+      emitScoreRow(out, score);
+    out << YAML::EndSeq << YAML::EndMap;
+  }
+  out << YAML::EndMap << YAML::EndMap;
+  return std::string(out.c_str()) + "\n";
+}
+
 CalibrationResult parseCalibrationResult(const std::string& text, const std::string& source)
 {
   YAML::Node root;

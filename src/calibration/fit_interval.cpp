@@ -114,6 +114,7 @@ FitIntervalChoice chooseFitInterval(const CalibrationConfig& config,
 
   FitIntervalChoice choice;
   choice.criterion = criterion;
+  choice.fold_counts = options.fold_counts;
   double best = std::numeric_limits<double>::infinity();
   for (const IntervalPairs& candidate : candidates) {
     FitIntervalScore score;

@@ -2,18 +2,22 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <optional>
 #include <utility>
 
+#include "odometry_calibration/calibration/calibration_job.h"
+#include "odometry_calibration/calibration/calibration_result.h"
+#include "odometry_calibration/calibration/fit_interval.h"
+#include "odometry_calibration/cli/tricycle_report.h"
 #include "odometry_calibration/common/arguments.h"
 #include "odometry_calibration/common/atomic_file.h"
+#include "odometry_calibration/common/number_text.h"
 #include "odometry_calibration/config/calibration_config.h"
 #include "odometry_calibration/data/holdout.h"
-#include "odometry_calibration/data/keyframes.h"
 #include "odometry_calibration/datasets/tricycle_dataset.h"
 #include "odometry_calibration/datasets/tricycle_log.h"
-#include "odometry_calibration/eval/tricycle_report.h"
 #include "odometry_calibration/models/tricycle_model.h"
-#include "odometry_calibration/report/tricycle_result_yaml.h"
 #include "odometry_calibration/session/calibration_session.h"
 
 namespace odometry_calibration {
@@ -21,21 +25,6 @@ namespace {
 
 /// The interval when the drive is too short to choose one (or the candidate nearest it) [s].
 constexpr double kFallbackIntervalS = 0.5;
-
-/// Indices of the keyframes T apart (the first sample, then each window's end), for the RPE.
-std::vector<std::size_t> keyframeIndices(const std::vector<EncoderSample>& samples,
-                                         double interval_s)
-{
-  std::vector<double> stamps_s;
-  for (const EncoderSample& sample : samples) {
-    stamps_s.push_back(sample.stamp_s);
-  }
-  std::vector<std::size_t> keyframes = {0};
-  for (const KeyframeWindow& window : selectKeyframeWindows(stamps_s, interval_s)) {
-    keyframes.push_back(window.last);
-  }
-  return keyframes;
-}
 
 }  // namespace
 
@@ -48,7 +37,8 @@ std::string tricycleCliUsage()
          "from the nominal values in the log's header. Prints a report, writes a YAML result.\n"
          "\n"
          "options:\n"
-         "  --output PATH            result YAML, written atomically (default\n"
+         "  --output PATH            result YAML (result.yaml's keys, the interval's choice and\n"
+         "                           the scores), written atomically (default\n"
          "                           tricycle_calibration.yaml; '' to skip)\n"
          "  --interval S|auto        keyframe spacing T [s]; auto (default): chosen by\n"
          "                           time-blocked cross-validation among the candidates\n"
@@ -179,25 +169,14 @@ TricycleCliOptions parseTricycleCliArguments(const std::vector<std::string>& arg
 
 namespace {
 
-/// The first `count` elements of `all`, or the rest after them.
-template <typename T>
-std::vector<T> head(const std::vector<T>& all, std::size_t count)
-{
-  return std::vector<T>(all.begin(), all.begin() + static_cast<std::ptrdiff_t>(count));
-}
-template <typename T>
-std::vector<T> tail(const std::vector<T>& all, std::size_t count)
-{
-  return std::vector<T>(all.begin() + static_cast<std::ptrdiff_t>(count), all.end());
-}
-
 /// The session's configuration of a tracker log (docs/models.md, "The tricycle"): the log's two
 /// joints as its header describes them (the steering an absolute angle, the traction a 32-bit
 /// counter; the glitch filter, made for a live publisher's bugs, off: on the real log it takes
 /// traction readings for glitches and loses pairs), the tracker's poses as the sensor's
 /// (`ego_motion.source: pose`, with the fit's sigmas), no time offset (encoders and poses share
-/// each row's stamp), and the keyframes at the shortest candidate with the others as fit-interval
-/// candidates, or at the one interval given.
+/// each row's stamp), and the keyframes at the shortest candidate (the evaluation pairs every
+/// interval is scored on) with the others as fit-interval candidates, or with the one interval
+/// given (the keyframes at it when it is shorter).
 CalibrationConfig trackerLogConfig(const TricycleEncoderLayout& layout,
                                    const TricycleParameters& nominal,
                                    const TricycleCliOptions& options)
@@ -226,13 +205,30 @@ CalibrationConfig trackerLogConfig(const TricycleEncoderLayout& layout,
   config.models.tricycle.initial = nominal;
   config.models.tricycle.calibration = options.calibration;
   const std::vector<double>& candidates_s = options.interval_selection.candidates_s;
-  if (options.keyframe_interval_s > 0.0) {
-    config.collector.keyframe_interval_s = options.keyframe_interval_s;
-  } else {
-    config.collector.keyframe_interval_s = candidates_s.front();
+  const double given_s = options.keyframe_interval_s;
+  config.collector.keyframe_interval_s =
+      given_s > 0.0 ? std::min(given_s, candidates_s.front()) : candidates_s.front();
+  if (given_s > config.collector.keyframe_interval_s)
+    config.fit_intervals_s = {given_s};
+  else if (!(given_s > 0.0))
     config.fit_intervals_s.assign(candidates_s.begin() + 1, candidates_s.end());
-  }
   return config;
+}
+
+/// How the session finds the fitted pairs' interval: chosen among the candidates, or the one
+/// given (the keyframes' own, or the one other collected).
+void setIntervalMode(const CalibrationConfig& config, const TricycleCliOptions& options,
+                     CalibrationRequest* request)
+{
+  request->fold_counts = options.interval_selection.fold_counts;
+  if (!(options.keyframe_interval_s > 0.0)) {
+    request->interval_mode = FitIntervalMode::kChoose;
+  } else if (config.fit_intervals_s.empty()) {
+    request->interval_mode = FitIntervalMode::kConfigured;
+  } else {
+    request->interval_mode = FitIntervalMode::kFixed;
+    request->fixed_interval_s = options.keyframe_interval_s;
+  }
 }
 
 /// The candidate interval nearest kFallbackIntervalS [s].
@@ -261,13 +257,12 @@ SessionOptions trackerLogSessionOptions(const std::string& dataset_path)
   return session;
 }
 
-/// The first `row_count` rows of the log into `session`: each row's encoder readings, then its
+/// Every row of the log into `session`: each row's encoder readings, then its
 /// tracker pose at the same stamp; then the end of the input.
 void feedRows(const TricycleDataset& dataset, const TricycleEncoderLayout& layout,
-              std::size_t row_count, CalibrationSession* session)
+              CalibrationSession* session)
 {
-  for (std::size_t i = 0; i < row_count; ++i) {
-    const TricycleDatasetRow& row = dataset.rows[i];
+  for (const TricycleDatasetRow& row : dataset.rows) {
     Eigen::VectorXd raw(2);
     raw(layout.steering_index) = row.steering_ticks;
     raw(layout.traction_index) = row.traction_ticks;
@@ -277,43 +272,35 @@ void feedRows(const TricycleDataset& dataset, const TricycleEncoderLayout& layou
   session->flush();
 }
 
-/// How the session's fit found its interval, as the report gives it: the validation curve when
-/// chosen, else why not.
-TricycleValidation intervalValidation(const SessionFit& fit, const TricycleCliOptions& options)
+/// The session's run over a tracker log: its configuration, its fit, and every row's keyframe
+/// pairs at the evaluation interval (the shortest candidate, or the one interval given) with the
+/// encoder history they were cut from.
+struct TrackerLogRun
 {
-  TricycleValidation validation;
-  validation.interval_s = fit.fit_interval_s;
-  if (options.keyframe_interval_s > 0.0)
-    return validation;
-  if (!fit.choice) {
-    validation.fallback_reason = fit.interval_problem;
-    return validation;
-  }
-  validation.interval_chosen = true;
-  validation.fold_counts = options.interval_selection.fold_counts;
-  validation.evaluation_interval_s = options.interval_selection.candidates_s.front();
-  for (const FitIntervalScore& score : fit.choice->curve)
-    validation.curve.push_back({score.interval_s, score.validation_error_m, score.pairs});
-  return validation;
-}
+  CalibrationConfig config;
+  SessionFit fit;
+  std::vector<MotionPair> pairs;
+  std::vector<EncoderSample> encoder_history;
+};
 
-/// The session's fit of the tracker log's first `row_count` rows: pairing, interval choice
+/// The session's run over every row of the tracker log, fitted on the pairs that end by
+/// `fit_until_stamp_s` (the last fitted row's stamp): pairing, interval choice
 /// (calibration/fit_interval.h, by the ATE of a tracker's poses) and the tricycle fit. Throws
 /// std::invalid_argument with the session's message when no fit ran (too few pairs).
-SessionFit fitTrackerLog(const TricycleDataset& dataset, const TricycleEncoderLayout& layout,
-                         const TricycleParameters& nominal, std::size_t row_count,
-                         const TricycleCliOptions& options)
+TrackerLogRun fitTrackerLog(const TricycleDataset& dataset, const TricycleEncoderLayout& layout,
+                            const TricycleParameters& nominal, double fit_until_stamp_s,
+                            const TricycleCliOptions& options)
 {
-  const CalibrationConfig config = trackerLogConfig(layout, nominal, options);
-  CalibrationSession session(config, "", options.dataset_path,
+  TrackerLogRun run;
+  run.config = trackerLogConfig(layout, nominal, options);
+  CalibrationSession session(run.config, "", options.dataset_path,
                              trackerLogSessionOptions(options.dataset_path));
-  feedRows(dataset, layout, row_count, &session);
+  feedRows(dataset, layout, &session);
   CalibrationRequest request;
-  request.model = config.model;
-  request.models = config.models;
-  request.interval_mode =
-      options.keyframe_interval_s > 0.0 ? FitIntervalMode::kConfigured : FitIntervalMode::kChoose;
-  request.fold_counts = options.interval_selection.fold_counts;
+  request.model = run.config.model;
+  request.models = run.config.models;
+  setIntervalMode(run.config, options, &request);
+  request.fit_until_stamp_s = fit_until_stamp_s;
   CalibrateOutcome outcome = session.calibrate(request);
   if (outcome.fit && !outcome.fit->interval_problem.empty()) {
     // Too short a drive to cross-validate: the candidate nearest kFallbackIntervalS, and why.
@@ -326,7 +313,10 @@ SessionFit fitTrackerLog(const TricycleDataset& dataset, const TricycleEncoderLa
   }
   if (!outcome.fit)
     throw std::invalid_argument(outcome.message);
-  return std::move(*outcome.fit);
+  run.fit = std::move(*outcome.fit);
+  run.pairs = session.pairs();
+  run.encoder_history = session.encoderHistory();
+  return run;
 }
 
 /// The tricycle's own result of the session's fit, with the warnings the session added (an
@@ -344,31 +334,6 @@ TricycleCalibrationResult tricycleResult(const SessionFit& fit)
   return result;
 }
 
-/// Prints the run (and writes the result YAML when asked); the exit status: 3 not converged,
-/// 4 converged with warnings, 0 otherwise.
-int reportTricycleRun(const TricycleCliOptions& options, std::size_t dataset_samples,
-                      std::size_t fitted_samples, std::size_t pair_count,
-                      const TricycleValidation& validation, const TricycleCalibrationResult& result,
-                      const TricycleEvaluation& evaluation, std::ostream& out)
-{
-  out << "dataset: " << options.dataset_path << " (" << dataset_samples << " samples";
-  if (options.holdout_fraction > 0.0) {
-    out << ", the first " << fitted_samples << " fitted";
-  }
-  out << ", " << pair_count << " keyframe pairs at T = " << validation.interval_s << " s)\n\n";
-  out << formatTricycleValidation(validation) << "\n";
-  out << formatTricycleReport(result, evaluation);
-  if (!options.output_path.empty()) {
-    writeFileAtomically(
-        options.output_path,
-        tricycleResultToYaml(result, evaluation, options.dataset_path, &validation));
-    out << "\nresult written to " << options.output_path << "\n";
-  }
-  if (!result.converged)
-    return 3;
-  return result.warnings.empty() ? 0 : 4;
-}
-
 /// The encoder layout and the nominal parameters of the log's header; a refusal names the log.
 std::pair<TricycleEncoderLayout, TricycleParameters> readHeader(const TricycleDataset& dataset,
                                                                 const std::string& path)
@@ -380,37 +345,133 @@ std::pair<TricycleEncoderLayout, TricycleParameters> readHeader(const TricycleDa
   }
 }
 
+/// The run's pairs that start at or after `border_stamp_s` (the held-out rows').
+std::vector<MotionPair> pairsStartingFrom(const std::vector<MotionPair>& pairs,
+                                          double border_stamp_s)
+{
+  std::vector<MotionPair> after;
+  for (const MotionPair& pair : pairs) {
+    if (pair.start_stamp_s >= border_stamp_s)
+      after.push_back(pair);
+  }
+  return after;
+}
+
+/// The calibrated model and the nominal robot scored on `pairs` by the common scorer
+/// (calibration_job.h's scoreHeldOut: each pair's displacement predicted from its encoder
+/// samples, chained, ATE and RPE against the chained tracker displacements, paper eqs. 11, 10).
+/// Throws std::invalid_argument naming `what` and `option` when fewer than two pairs remain.
+std::vector<ModelScore> scoreStretch(const TrackerLogRun& run, const std::vector<MotionPair>& pairs,
+                                     const std::string& what, const std::string& option)
+{
+  if (pairs.size() < 2) {
+    throw std::invalid_argument(what + " hold " + std::to_string(pairs.size()) +
+                                " keyframe pair(s) of " +
+                                formatNumber(run.config.collector.keyframe_interval_s) +
+                                " s; scoring them needs at least 2: " + option);
+  }
+  return scoreHeldOut(run.config, run.fit.job, pairs, run.encoder_history);
+}
+
+/// The --output document: the common result.yaml (calibration_result.h: the fit, the model,
+/// its joints and interval), how the interval was chosen and the scores of each stretch.
+std::string trackerResultYaml(const TrackerLogRun& run, const std::string& source,
+                              const std::vector<ResultScores>& scores)
+{
+  const CalibrationJobResult& job = run.fit.job;
+  std::string yaml = calibrationResultYaml(job.report, *job.model, source, job.time_offset_s,
+                                           run.config.models.joints.names, run.fit.fit_interval_s);
+  if (run.fit.choice)
+    yaml += fitIntervalChoiceYaml(*run.fit.choice, run.config.collector.keyframe_interval_s);
+  return yaml + scoresYaml(scores);
+}
+
+/// "the 0.25 s keyframe pairs of `which` (N samples, D s)": the pairs of the rows [first, last).
+std::string stretchDescription(const TricycleDataset& dataset, std::size_t first, std::size_t last,
+                               double interval_s, const std::string& which)
+{
+  char text[200];
+  std::snprintf(text, sizeof(text), "the %.2f s keyframe pairs of %s (%zu samples, %.1f s)",
+                interval_s, which.c_str(), last - first,
+                dataset.rows[last - 1].stamp_s - dataset.rows[first].stamp_s);
+  return text;
+}
+
+/// "40 %": a fraction in percent, rounded.
+std::string percent(double fraction)
+{
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.0f %%", 100.0 * fraction);
+  return text;
+}
+
+/// Prints the run's first line and its interval's lines.
+void printRun(const TricycleCliOptions& options, const TrackerLogRun& run, std::size_t rows,
+              std::size_t training_end, std::ostream& out)
+{
+  out << "dataset: " << options.dataset_path << " (" << rows << " samples";
+  if (options.holdout_fraction > 0.0)
+    out << ", the first " << training_end << " fitted";
+  out << ", " << run.fit.job.pairs.size() << " keyframe pairs at T = " << run.fit.fit_interval_s
+      << " s)\n\n";
+  out << formatTricycleInterval(run.fit, run.config.collector.keyframe_interval_s);
+}
+
+/// The held-out rows [training_end, end): their span and their pairs' scores.
+TricycleHeldOut scoreHeldOutRows(const TricycleDataset& dataset, const TrackerLogRun& run,
+                                 double fraction, std::size_t training_end)
+{
+  TricycleHeldOut held_out;
+  held_out.fraction = fraction;
+  held_out.samples = dataset.rows.size() - training_end;
+  held_out.duration_s = dataset.rows.back().stamp_s - dataset.rows[training_end].stamp_s;
+  held_out.rows =
+      scoreStretch(run, pairsStartingFrom(run.pairs, dataset.rows[training_end].stamp_s),
+                   "the held-out samples", "hold out a larger part (--holdout)");
+  return held_out;
+}
+
 /// Calibrates on a loaded dataset of at least two samples through the calibration session
-/// (its pairing, interval choice and fit), then scores the fit dead-reckoned on the fitted rows
-/// (and on the held-out ones) and reports.
+/// (its pairing, interval choice and fit on the fitted rows), scores the fit on the fitted rows'
+/// keyframe pairs (and on the held-out ones), prints the report and writes the result; the exit
+/// status: 3 not converged, 4 converged with warnings, 0 otherwise.
 int calibrateDataset(const TricycleDataset& dataset, const TricycleCliOptions& options,
                      std::ostream& out)
 {
   const auto [layout, nominal] = readHeader(dataset, options.dataset_path);
-  const std::vector<EncoderSample> all_samples = decodeTricycleEncoders(dataset, layout);
-  const std::vector<Pose2> all_reference = tricycleTrackerPoses(dataset);
+  const std::size_t rows = dataset.rows.size();
   // The fit sees the first rows only; the held-out ones score it.
-  const std::size_t training_end = options.holdout_fraction > 0.0
-                                       ? holdoutStart(all_samples.size(), options.holdout_fraction)
-                                       : all_samples.size();
-  const SessionFit fit = fitTrackerLog(dataset, layout, nominal, training_end, options);
-  const TricycleCalibrationResult result = tricycleResult(fit);
-  TricycleValidation validation = intervalValidation(fit, options);
-  const std::vector<EncoderSample> samples = head(all_samples, training_end);
-  const TricycleEvaluation evaluation =
-      evaluateTricycle(result, layout, samples, head(all_reference, training_end),
-                       keyframeIndices(samples, validation.interval_s));
-  if (options.holdout_fraction > 0.0) {
-    const std::vector<EncoderSample> test_samples = tail(all_samples, training_end);
-    validation.holdout_fraction = options.holdout_fraction;
-    validation.training_samples = samples.size();
-    validation.held_out_samples = test_samples.size();
-    validation.held_out =
-        evaluateTricycle(result, layout, test_samples, tail(all_reference, training_end),
-                         keyframeIndices(test_samples, validation.interval_s));
+  const bool holdout = options.holdout_fraction > 0.0;
+  const std::size_t training_end = holdout ? holdoutStart(rows, options.holdout_fraction) : rows;
+  const double fitted_until_s = dataset.rows[training_end - 1].stamp_s;
+  const TrackerLogRun run = fitTrackerLog(dataset, layout, nominal, fitted_until_s, options);
+  const TricycleCalibrationResult result = tricycleResult(run.fit);
+  const double interval_s = run.config.collector.keyframe_interval_s;
+  std::vector<ResultScores> scores = {
+      {"fitted", stretchDescription(dataset, 0, training_end, interval_s, "the fitted samples"),
+       scoreStretch(run, pairsEndingBy(run.pairs, fitted_until_s), "the fitted samples",
+                    "fit a longer log")}};
+  std::optional<TricycleHeldOut> held_out;
+  if (holdout) {  // scored before anything is printed: too few held-out pairs stop the run
+    held_out = scoreHeldOutRows(dataset, run, options.holdout_fraction, training_end);
+    scores.push_back(
+        {"held_out",
+         stretchDescription(dataset, training_end, rows, interval_s,
+                            "the last " + percent(options.holdout_fraction) + " of the samples") +
+             ", never seen by the fit",
+         held_out->rows});
   }
-  return reportTricycleRun(options, dataset.rows.size(), samples.size(), fit.job.pairs.size(),
-                           validation, result, evaluation, out);
+  printRun(options, run, rows, training_end, out);
+  if (held_out)
+    out << "\n" << formatTricycleHeldOut(*held_out);
+  out << "\n" << formatTricycleReport(result, scores.front().rows);
+  if (!options.output_path.empty()) {
+    writeFileAtomically(options.output_path, trackerResultYaml(run, options.dataset_path, scores));
+    out << "\nresult written to " << options.output_path << "\n";
+  }
+  if (!result.converged)
+    return 3;
+  return result.warnings.empty() ? 0 : 4;
 }
 
 }  // namespace

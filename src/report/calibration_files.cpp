@@ -109,12 +109,17 @@ void writeFileSet(const std::string& directory, const FileSet& set)
   staged.commit(names, set.removed);
 }
 
-void appendGyroResult(FileSet* files, const GyroFit& gyro, const std::string& topic)
+void appendToResult(FileSet* files, const std::string& block)
 {
   for (auto& [name, content] : files->written) {
     if (name == kResultFileName)
-      content += gyroResultYaml(gyro, topic);
+      content += block;
   }
+}
+
+void appendGyroResult(FileSet* files, const GyroFit& gyro, const std::string& topic)
+{
+  appendToResult(files, gyroResultYaml(gyro, topic));
 }
 
 }  // namespace odometry_calibration

@@ -282,6 +282,21 @@ TEST_F(CalibrateBagReport, HoldsOutTheLastPairsAndScoresEveryModelOnThem)
   const YAML::Node result = YAML::LoadFile(directory_ + "/holdout/result.yaml");
   EXPECT_LT(result["fit"]["pairs"].as<std::size_t>() + test_pairs, collected);
   EXPECT_GE(result["fit"]["pairs"].as<std::size_t>() + test_pairs + 3, collected);
+  // result.yaml's scores: the table's rows, the held-out pairs named as the report names them.
+  const YAML::Node held_out = result["scores"]["held_out"];
+  EXPECT_EQ(held_out["description"].as<std::string>().rfind("held out: the ", 0), 0u);
+  ASSERT_EQ(held_out["models"].size(), 4u);
+  for (const YAML::Node& row : held_out["models"]) {
+    const std::string model = row["model"].as<std::string>();
+    // The nominal row's pairs are cut again at time offset 0: one may fall out at an end.
+    EXPECT_NEAR(static_cast<double>(row["pairs"].as<std::size_t>()),
+                static_cast<double>(test_pairs), model == "nominal" ? 1.0 : 0.0)
+        << model;
+    EXPECT_NEAR(row["ate_m"].as<double>(), tableScores(report, model).first, 6e-5) << model;
+    EXPECT_NEAR(row["rpe_m"].as<double>(), tableScores(report, model).second, 6e-5) << model;
+  }
+  EXPECT_FALSE(result["scores"]["test"]);
+  EXPECT_FALSE(result["fit_interval_choice"]);  // the configured interval
 }
 
 /// The "held out: the N pairs" count of a report (0 if none).
@@ -323,9 +338,24 @@ TEST_F(CalibrateBagReport, FitIntervalGivenOrChosenByCrossValidation)
   EXPECT_TRUE(isPngFile(directory_ + "/interval_auto/plots/" + kFitIntervalPlot));
   EXPECT_NE(report.find("](plots/fit_interval.png)"), std::string::npos);
   EXPECT_EQ(heldOutPairs(report), yardstick);
-  const std::size_t fitted =
-      YAML::LoadFile(directory_ + "/interval_auto/result.yaml")["fit"]["pairs"].as<std::size_t>();
+  const YAML::Node result = YAML::LoadFile(directory_ + "/interval_auto/result.yaml");
+  const std::size_t fitted = result["fit"]["pairs"].as<std::size_t>();
   EXPECT_NEAR(static_cast<double>(fitted), 36.0 / chosen, 0.25 * 36.0 / chosen);
+  // result.yaml's fit_interval_choice: the curve the report printed, by the RPE of the 0.5 s
+  // pairs (a laser's relative displacements), its lowest point the fit's interval.
+  const YAML::Node choice = result["fit_interval_choice"];
+  EXPECT_EQ(choice["criterion"].as<std::string>(), "RPE");
+  EXPECT_DOUBLE_EQ(choice["evaluation_interval_s"].as<double>(), 0.5);
+  ASSERT_EQ(choice["curve"].size(), 3u);
+  double lowest = INFINITY, lowest_at_s = 0.0;
+  for (const YAML::Node& score : choice["curve"]) {
+    if (score["validation_error_m"].as<double>() < lowest) {
+      lowest = score["validation_error_m"].as<double>();
+      lowest_at_s = score["interval_s"].as<double>();
+    }
+  }
+  EXPECT_EQ(lowest_at_s, chosen);
+  EXPECT_DOUBLE_EQ(result["fit_interval_s"].as<double>(), chosen);
 
   EXPECT_EQ(run("interval_bad", "--interval often"), 2);
   EXPECT_NE(output("stderr").find("option --interval: expected 'auto' or a number of seconds"),

@@ -87,6 +87,13 @@ TEST(SkidSteerBag, MultiplierWithinTwoPercentNominalRowAndScoredAgain)
   ASSERT_EQ(nominal.size(), 5u) << fit.out;
   EXPECT_GT(nominal[4], 3.0 * fitted[4]) << fit.out;  // heading RMSE
   EXPECT_GT(nominal[3], 3.0 * fitted[3]) << fit.out;  // lateral RMSE
+  // result.yaml's scores hold the table's rows.
+  const YAML::Node test_rows = result["scores"]["test"]["models"];
+  ASSERT_EQ(test_rows.size(), 2u);
+  EXPECT_EQ(test_rows[0]["model"].as<std::string>(), "skid_steer");
+  EXPECT_EQ(test_rows[1]["model"].as<std::string>(), "nominal");
+  EXPECT_NEAR(test_rows[0]["rmse_theta_rad"].as<double>(), fitted[4], 1e-5);
+  EXPECT_NEAR(test_rows[1]["rmse_theta_rad"].as<double>(), nominal[4], 1e-5);
 
   // The saved result scored on the same test bag: the same rows, nothing refitted.
   const ToolResult score =

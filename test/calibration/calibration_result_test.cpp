@@ -1,8 +1,10 @@
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 
 #include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
 
 #include "odometry_calibration/calibration/calibration_result.h"
 #include "odometry_calibration/config/calibration_config.h"
@@ -70,6 +72,57 @@ TEST(CalibrationResult, RoundTripPredictsIdentically)
       EXPECT_NEAR(a.theta(), b.theta(), 1e-9);
     }
   }
+}
+
+/// The blocks a tool appends (the interval's choice, the scores) keep every number, an
+/// unscorable candidate as .inf and a skipped row with its reason, and the file still loads.
+TEST(CalibrationResult, AppendedBlocksCarryTheChoiceAndTheScores)
+{
+  const sim::GeneratedPairs data = simulatedPairs();
+  auto model = makeModel("diff_drive", factoryOptions(data.joints));
+  const ModelReport report = model->fit(data.pairs);
+  FitIntervalChoice choice;
+  choice.interval_s = 0.5;
+  choice.criterion = FitIntervalCriterion::kAte;
+  choice.fold_counts = {3, 4};
+  choice.curve = {{0.3, 0.0123, 290, 7}, {0.5, 0.0101, 180, 7}, {8.0, INFINITY, 11, 0}};
+  ModelScore fitted;
+  fitted.model = "diff_drive";
+  fitted.ate_m = 0.0456;
+  fitted.rpe_m = 0.00789;
+  fitted.rmse_xytheta = Eigen::Vector3d(0.001, 0.002, 0.003);
+  fitted.test_pairs = 42;
+  ModelScore skipped;
+  skipped.model = "linear";
+  skipped.skipped = "too few pairs";
+  const std::string text =
+      calibrationResultYaml(report, *model, "test", 0.0, {}, 0.5) +
+      fitIntervalChoiceYaml(choice, 0.25) +
+      scoresYaml({{"held_out", "the last 40 %", {fitted, skipped}}, {"test", "bags", {fitted}}});
+  EXPECT_EQ(scoresYaml({}), "");
+
+  const YAML::Node root = YAML::Load(text);
+  const YAML::Node block = root["fit_interval_choice"];
+  EXPECT_EQ(block["criterion"].as<std::string>(), "ATE");
+  EXPECT_DOUBLE_EQ(block["evaluation_interval_s"].as<double>(), 0.25);
+  EXPECT_EQ(block["fold_counts"].as<std::vector<std::size_t>>(), (std::vector<std::size_t>{3, 4}));
+  ASSERT_EQ(block["curve"].size(), 3u);
+  EXPECT_DOUBLE_EQ(block["curve"][1]["validation_error_m"].as<double>(), 0.0101);
+  EXPECT_EQ(block["curve"][1]["pairs"].as<std::size_t>(), 180u);
+  EXPECT_TRUE(std::isinf(block["curve"][2]["validation_error_m"].as<double>()));
+  const YAML::Node held_out = root["scores"]["held_out"];
+  EXPECT_EQ(held_out["description"].as<std::string>(), "the last 40 %");
+  ASSERT_EQ(held_out["models"].size(), 2u);
+  const YAML::Node row = held_out["models"][0];
+  EXPECT_EQ(row["model"].as<std::string>(), "diff_drive");
+  EXPECT_EQ(row["pairs"].as<std::size_t>(), 42u);
+  EXPECT_DOUBLE_EQ(row["ate_m"].as<double>(), 0.0456);
+  EXPECT_DOUBLE_EQ(row["rpe_m"].as<double>(), 0.00789);
+  EXPECT_DOUBLE_EQ(row["rmse_theta_rad"].as<double>(), 0.003);
+  EXPECT_EQ(held_out["models"][1]["skipped"].as<std::string>(), "too few pairs");
+  EXPECT_FALSE(held_out["models"][1]["ate_m"]);
+  EXPECT_EQ(root["scores"]["test"]["models"].size(), 1u);
+  EXPECT_DOUBLE_EQ(parseCalibrationResult(text, "result.yaml").fit_interval_s, 0.5);
 }
 
 TEST(CalibrationResult, BadFilesNameTheProblem)

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
+#include "odometry_calibration/calibration/calibration_result.h"
 #include "odometry_calibration/cli/tricycle_cli.h"
 
 namespace odometry_calibration {
@@ -114,18 +115,27 @@ TEST(TricycleCli, CalibratesTheRealLogAndWritesTheYaml)
   ASSERT_EQ(runTricycleCli(options, out, err), 0) << err.str();
   EXPECT_NE(out.str().find("ATE (paper eq. 11)"), std::string::npos) << out.str();
   const YAML::Node result = YAML::LoadFile(options.output_path);
-  EXPECT_EQ(result["model"].as<std::string>(), "tricycle");
+  EXPECT_EQ(result["fit"]["model"].as<std::string>(), "tricycle");
   const double axis = result["parameters"]["axis_length"]["value"].as<double>();
   EXPECT_GT(axis, 1.48);
   EXPECT_LT(axis, 1.70);
   EXPECT_GT(result["parameters"]["axis_length"]["sigma"].as<double>(), 0.0);
   EXPECT_NEAR(result["T_base_sensor"]["x_m"].as<double>(), 1.8, 0.06);
-  EXPECT_LT(result["evaluation"]["ate_calibrated_m"].as<double>(), 0.6);
   EXPECT_TRUE(result["fit"]["converged"].as<bool>());
-  // The default chooses the interval; the fit stays in the ranges of issue 3 (as the fixed
-  // 0.5 s fit of test/models/tricycle_calibration_test.cpp).
-  EXPECT_EQ(result["keyframe_interval"]["chosen"].as<std::string>(), "cross_validation");
-  EXPECT_EQ(result["keyframe_interval"]["validation_curve"].size(), 11u);
+  // The fitted pairs' scores: the calibrated model first, the nominal robot far worse.
+  const YAML::Node fitted = result["scores"]["fitted"]["models"];
+  ASSERT_EQ(fitted.size(), 2u);
+  EXPECT_EQ(fitted[0]["model"].as<std::string>(), "tricycle");
+  EXPECT_LT(fitted[0]["ate_m"].as<double>(), 0.6);
+  EXPECT_EQ(fitted[1]["model"].as<std::string>(), "nominal");
+  EXPECT_GT(fitted[1]["ate_m"].as<double>(), 10.0 * fitted[0]["ate_m"].as<double>());
+  // The default chooses the interval (by the ATE of 0.25 s evaluation pairs, as the tracker's
+  // poses are absolute); the fit stays in the accepted ranges (as the fixed 0.5 s fit of
+  // test/models/tricycle_calibration_test.cpp).
+  const YAML::Node choice = result["fit_interval_choice"];
+  EXPECT_EQ(choice["criterion"].as<std::string>(), "ATE");
+  EXPECT_DOUBLE_EQ(choice["evaluation_interval_s"].as<double>(), 0.25);
+  EXPECT_EQ(choice["curve"].size(), 11u);
   const YAML::Node p = result["parameters"];
   EXPECT_GE(p["steering_scale"]["value"].as<double>(), 0.53);
   EXPECT_LE(p["steering_scale"]["value"].as<double>(), 0.59);
@@ -137,10 +147,21 @@ TEST(TricycleCli, CalibratesTheRealLogAndWritesTheYaml)
   EXPECT_LE(p["sensor_x"]["value"].as<double>(), 1.86);
   EXPECT_LT(std::abs(p["sensor_y"]["value"].as<double>()), 0.04);
   EXPECT_LT(std::abs(p["sensor_theta"]["value"].as<double>()), 0.03);
-  EXPECT_FALSE(result["holdout"]);
+  EXPECT_FALSE(result["scores"]["held_out"]);
+
+  // The document is every tool's result.yaml: read back as a calibration the node can load.
+  const CalibrationResult saved = readCalibrationResult(options.output_path);
+  EXPECT_EQ(saved.joints, (std::vector<std::string>{"steering", "traction"}));
+  EXPECT_TRUE(saved.has_extrinsic);
+  EXPECT_NEAR(saved.T_base_sensor.x(), p["sensor_x"]["value"].as<double>(), 1e-9);
+  bool candidate = false;
+  for (const YAML::Node& score : choice["curve"])
+    candidate |= score["interval_s"].as<double>() == saved.fit_interval_s;
+  EXPECT_TRUE(candidate) << saved.fit_interval_s;
+  EXPECT_EQ(saved.model->name(), "tricycle");
 }
 
-/// Runs the tool on the real log holding out the last `holdout` of it; the YAML's holdout map.
+/// Runs the tool on the real log holding out the last `holdout` of it; the YAML.
 YAML::Node heldOut(const std::vector<std::string>& extra_arguments)
 {
   const ScratchDirectory scratch;
@@ -154,21 +175,38 @@ YAML::Node heldOut(const std::vector<std::string>& extra_arguments)
   return YAML::LoadFile(scratch.path() + "/result.yaml");
 }
 
-TEST(TricycleCli, HeldOutErrorsOfFixedIntervalsAreTheIssuesTable)
+/// The held-out ATE of the model `model` in `result` [m].
+double heldOutAte(const YAML::Node& result, const std::string& model)
+{
+  for (const YAML::Node& row : result["scores"]["held_out"]["models"]) {
+    if (row["model"].as<std::string>() == model)
+      return row["ate_m"].as<double>();
+  }
+  ADD_FAILURE() << "no held-out row of " << model;
+  return NAN;
+}
+
+TEST(TricycleCli, HeldOutErrorsOfFixedIntervals)
 {
   if (!exists(kDataset)) {
     GTEST_SKIP() << "real dataset not found at " << kDataset;
   }
-  // Issue 22's table: trained on the first 60 % of the rows, scored on the rest.
+  // Trained on the first 60 % of the rows, scored on the 0.25 s keyframe pairs of the rest
+  // (the same pairs for every interval).
   const std::vector<std::pair<std::string, double>> table = {
-      {"0.5", 0.184}, {"2", 0.155}, {"3.2", 0.143}, {"6", 0.174}};
+      {"0.5", 0.181}, {"2", 0.153}, {"3.2", 0.141}, {"6", 0.176}};
   for (const auto& [interval, ate_m] : table) {
     const YAML::Node result = heldOut({"--holdout", "0.4", "--interval", interval});
-    EXPECT_EQ(result["keyframe_interval"]["chosen"].as<std::string>(), "by_hand");
-    EXPECT_EQ(result["holdout"]["training_samples"].as<std::size_t>(), 1460u);
-    EXPECT_EQ(result["holdout"]["held_out_samples"].as<std::size_t>(), 974u);
-    EXPECT_NEAR(result["holdout"]["ate_calibrated_m"].as<double>(), ate_m, 0.0006) << interval;
-    EXPECT_NEAR(result["holdout"]["ate_initial_m"].as<double>(), 4.823, 0.001);
+    EXPECT_FALSE(result["fit_interval_choice"]);
+    EXPECT_DOUBLE_EQ(result["fit_interval_s"].as<double>(), std::stod(interval));
+    const YAML::Node held_out = result["scores"]["held_out"];
+    EXPECT_NE(held_out["description"].as<std::string>().find("of the last 40 % of the samples "
+                                                             "(974 samples, 45.5 s)"),
+              std::string::npos)
+        << held_out["description"];
+    EXPECT_EQ(held_out["models"][0]["pairs"].as<std::size_t>(), 162u);
+    EXPECT_NEAR(heldOutAte(result, "tricycle"), ate_m, 0.0006) << interval;
+    EXPECT_NEAR(heldOutAte(result, "nominal"), 4.904, 0.001);
   }
 }
 
@@ -177,18 +215,57 @@ TEST(TricycleCli, TheChosenIntervalBeatsThePublishedSetsOnHeldOutRows)
   if (!exists(kDataset)) {
     GTEST_SKIP() << "real dataset not found at " << kDataset;
   }
-  // Issue 22's acceptance: default options, 60 % training, held-out ATE <= 0.149 m.
+  // Default options, 60 % training: held-out ATE <= 0.149 m.
   const YAML::Node result = heldOut({"--holdout", "0.4"});
-  EXPECT_EQ(result["keyframe_interval"]["chosen"].as<std::string>(), "cross_validation");
-  EXPECT_LE(result["holdout"]["ate_calibrated_m"].as<double>(), 0.149);
-  // And better than the old default (0.5 s: 0.184 m) at the other training fractions measured.
+  EXPECT_EQ(result["fit_interval_choice"]["curve"].size(), 11u);
+  EXPECT_LE(heldOutAte(result, "tricycle"), 0.149);
+  // And better than the old default (0.5 s: 0.181 m) at the other training fractions measured.
   for (const std::string holdout : {"0.5", "0.3"}) {
     const YAML::Node other = heldOut({"--holdout", holdout});
     const YAML::Node fixed = heldOut({"--holdout", holdout, "--interval", "0.5"});
-    EXPECT_LT(other["holdout"]["ate_calibrated_m"].as<double>(),
-              fixed["holdout"]["ate_calibrated_m"].as<double>())
-        << holdout;
+    EXPECT_LT(heldOutAte(other, "tricycle"), heldOutAte(fixed, "tricycle")) << holdout;
   }
+}
+
+/// Options reading the log `name` in `scratch` and writing its result.yaml there.
+TricycleCliOptions scratchOptions(const ScratchDirectory& scratch, const std::string& name)
+{
+  TricycleCliOptions options;
+  options.dataset_path = scratch.path() + "/" + name;
+  options.output_path = scratch.path() + "/result.yaml";
+  return options;
+}
+
+/// The real log's first `count` lines (its header included) in `path`, the last one without a
+/// line end unless `terminated`.
+void writeLogHead(const std::string& path, int count, bool terminated)
+{
+  std::ifstream in(kDataset);
+  std::ofstream out(path);
+  std::string line;
+  for (int i = 0; i < count && std::getline(in, line); ++i)
+    out << line << (terminated || i < count - 1 ? "\n" : "");
+}
+
+TEST(TricycleCli, TooFewHeldOutPairsAreRefusedByOptionAndWriteNothing)
+{
+  if (!exists(kDataset)) {
+    GTEST_SKIP() << "real dataset not found at " << kDataset;
+  }
+  // The log's first 600 rows with 2 of them held out: no 0.25 s pair to score them on.
+  const ScratchDirectory scratch;
+  TricycleCliOptions options = scratchOptions(scratch, "short.txt");
+  options.keyframe_interval_s = 0.5;
+  options.holdout_fraction = 0.004;
+  writeLogHead(options.dataset_path, 605, true);
+  std::ostringstream out, err;
+  EXPECT_EQ(runTricycleCli(options, out, err), 1);
+  EXPECT_NE(err.str().find("the held-out samples hold 0 keyframe pair(s) of 0.25 s; scoring them "
+                           "needs at least 2: hold out a larger part (--holdout)"),
+            std::string::npos)
+      << err.str();
+  EXPECT_EQ(out.str(), "");
+  EXPECT_FALSE(exists(options.output_path));
 }
 
 TEST(TricycleCli, BadInputFailsCleanlyAndWritesNothing)
@@ -303,16 +380,8 @@ TEST(TricycleCli, WarnsAboutAnUnterminatedLastLineAndPoorlyDeterminedFits)
   // The first 100 lines: 0.6 m of straight driving. The fit runs, but the report must say
   // that the parameters are not determined, and the exit code must say so too (4).
   const ScratchDirectory scratch;
-  TricycleCliOptions options;
-  options.dataset_path = scratch.path() + "/short.txt";
-  options.output_path = scratch.path() + "/result.yaml";
-  {
-    std::ifstream in(kDataset);
-    std::ofstream out(options.dataset_path);
-    std::string line;
-    for (int i = 0; i < 100 && std::getline(in, line); ++i)
-      out << line << (i < 99 ? "\n" : "");
-  }
+  TricycleCliOptions options = scratchOptions(scratch, "short.txt");
+  writeLogHead(options.dataset_path, 100, false);
   std::ostringstream out, err;
   EXPECT_EQ(runTricycleCli(options, out, err), 4) << out.str() << err.str();
   EXPECT_NE(out.str().find("too little motion"), std::string::npos) << out.str();

@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "odometry_calibration/calibration/fit_interval.h"
+#include "odometry_calibration/eval/model_comparison.h"
 #include "odometry_calibration/geometry/se2.h"
 #include "odometry_calibration/models/model.h"
 
@@ -34,6 +36,27 @@ std::string calibrationResultYaml(const ModelReport& report, const MotionModel& 
                                   const std::string& source, double time_offset_s,
                                   const std::vector<std::string>& joints = {},
                                   double fit_interval_s = 0.0);
+
+/// result.yaml's `fit_interval_choice:` block (appended to the file): how `fit_interval_s` was
+/// chosen by time-blocked cross-validation (fit_interval.h): `criterion` (RPE or ATE),
+/// `evaluation_interval_s` (the interval of the blocks' evaluation pairs [s]), `fold_counts`,
+/// and `curve`, one `{interval_s, pairs, validation_error_m}` per candidate (`.inf`: a fold
+/// could not be fitted).
+std::string fitIntervalChoiceYaml(const FitIntervalChoice& choice, double evaluation_interval_s);
+
+/// One set of pairs the fitted model (and the compared rows) was scored on.
+struct ResultScores
+{
+  std::string data;              ///< its key under `scores:` ("held_out", "test", "fitted")
+  std::string description;       ///< which pairs, in words
+  std::vector<ModelScore> rows;  ///< scoreModelsOnTest's rows (model_comparison.h)
+};
+
+/// result.yaml's `scores:` block (appended to the file): per set, under its `data` key, its
+/// `description` and `models`, one row per model: `model`, `pairs` (scored), `ate_m`, `rpe_m`
+/// (paper eqs. 11, 10 of the chained predictions), `rmse_x_m`, `rmse_y_m`, `rmse_theta_rad`
+/// (per pair), `converged`; a skipped row `{model, skipped}`. Empty without a set.
+std::string scoresYaml(const std::vector<ResultScores>& sets);
 
 /// Parses result.yaml's text. Throws std::runtime_error naming `source` and what is missing.
 CalibrationResult parseCalibrationResult(const std::string& text, const std::string& source);

@@ -69,6 +69,7 @@ struct FitIntervalChoice
   double interval_s = 0.0;              ///< the candidate with the lowest validation error [s]
   std::vector<FitIntervalScore> curve;  ///< one score per candidate, in the candidates' order
   FitIntervalCriterion criterion = FitIntervalCriterion::kRpe;  ///< what the curve measures
+  std::vector<std::size_t> fold_counts;  ///< the cuts into time blocks the curve averages over
 };
 
 /// Cross-validates `candidates` for config.model (config.models; global yaw starts reduced to

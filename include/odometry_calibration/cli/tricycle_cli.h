@@ -27,8 +27,10 @@ struct TricycleIntervalSelection
 /// Everything the command can be told.
 struct TricycleCliOptions
 {
-  std::string dataset_path;                               ///< the log to calibrate (required)
-  std::string output_path = "tricycle_calibration.yaml";  ///< result YAML; "" = do not write
+  std::string dataset_path;  ///< the log to calibrate (required)
+  /// The result.yaml document (calibration_result.h, with the interval's choice and the scores);
+  /// "" = do not write.
+  std::string output_path = "tricycle_calibration.yaml";
   /// Keyframe spacing T [s]; 0 = chosen by time-blocked cross-validation (`--interval auto`).
   double keyframe_interval_s = 0.0;
   TricycleIntervalSelection interval_selection;  ///< candidates and folds of the automatic choice
@@ -45,8 +47,8 @@ std::string tricycleCliUsage();
 /// ArgumentError naming the bad option or value.
 TricycleCliOptions parseTricycleCliArguments(const std::vector<std::string>& arguments);
 
-/// Loads the log, fits, prints the report to `out`, writes the YAML. Returns the process exit
-/// code: 0 success, 1 bad input (message on `err`), 3 the solver did not converge.
+/// Loads the log, fits, scores, prints the report to `out`, writes result.yaml. Returns the process
+/// exit code: 0 success, 1 bad input (message on `err`), 3 the solver did not converge.
 int runTricycleCli(const TricycleCliOptions& options, std::ostream& out, std::ostream& err);
 
 }  // namespace odometry_calibration

@@ -53,6 +53,10 @@ struct CalibrationFilesInput
 /// without a report or model.
 FileSet calibrationFiles(const CalibrationFilesInput& input);
 
+/// `files`' result.yaml with `block` (a YAML block of top-level keys: gyroResultYaml,
+/// fitIntervalChoiceYaml, scoresYaml) appended.
+void appendToResult(FileSet* files, const std::string& block);
+
 /// `files`' result.yaml with the gyro's block (gyroResultYaml of `gyro` on `topic`) appended.
 void appendGyroResult(FileSet* files, const GyroFit& gyro, const std::string& topic);
 
