@@ -155,6 +155,17 @@ std::vector<MotionPair> pairsEndingBy(const std::vector<MotionPair>& pairs, doub
   return before;
 }
 
+std::vector<MotionPair> pairsStartingFrom(const std::vector<MotionPair>& pairs,
+                                          double border_stamp_s)
+{
+  std::vector<MotionPair> after;
+  for (const MotionPair& pair : pairs) {
+    if (pair.start_stamp_s >= border_stamp_s)
+      after.push_back(pair);
+  }
+  return after;
+}
+
 std::string formatFitIntervalChoice(const FitIntervalChoice& choice, double evaluation_interval_s)
 {
   char head[200];

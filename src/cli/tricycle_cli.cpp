@@ -345,18 +345,6 @@ std::pair<TricycleEncoderLayout, TricycleParameters> readHeader(const TricycleDa
   }
 }
 
-/// The run's pairs that start at or after `border_stamp_s` (the held-out rows').
-std::vector<MotionPair> pairsStartingFrom(const std::vector<MotionPair>& pairs,
-                                          double border_stamp_s)
-{
-  std::vector<MotionPair> after;
-  for (const MotionPair& pair : pairs) {
-    if (pair.start_stamp_s >= border_stamp_s)
-      after.push_back(pair);
-  }
-  return after;
-}
-
 /// The calibrated model and the nominal robot scored on `pairs` by the common scorer
 /// (calibration_job.h's scoreHeldOut: each pair's displacement predicted from its encoder
 /// samples, chained, ATE and RPE against the chained tracker displacements, paper eqs. 11, 10).

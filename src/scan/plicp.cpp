@@ -49,11 +49,21 @@ PreparedScan prepareScan(const Scan& scan, const LineFitOptions& options,
 
 namespace {
 
-/// Whether a match failed at its first iteration for lack of correspondences: at the guess, too
-/// few new points lie within max_correspondence_distance_m of a reference surface.
-bool startsStarved(const PlicpResult& result)
+/// Whether a match may have failed for its gate's reach rather than the scene: too few new points
+/// within max_correspondence_distance_m of a reference surface (at the guess, or where the
+/// iteration led), or a run to a pose the checks refuse (off the allowed correction, or leaving
+/// most of the scan off the reference surfaces): with the far points out of reach, the near ones
+/// led it into a wrong minimum.
+bool refusedForReach(const PlicpResult& result)
 {
-  return result.status == PlicpStatus::kTooFewCorrespondences && result.iterations <= 1;
+  switch (result.status) {
+    case PlicpStatus::kTooFewCorrespondences:
+    case PlicpStatus::kCorrectionTooLarge:
+    case PlicpStatus::kPoorOverlap:
+      return true;
+    default:
+      return false;
+  }
 }
 
 }  // namespace
@@ -66,7 +76,7 @@ PlicpResult matchScans(const PreparedScan& reference, const PreparedScan& curren
   PlicpOptions gated = options;                // the gate the match ends with
   PlicpResult result = matchOnce(reference, current, T_ref_new_guess, gated, search);
   for (int doubling = 0;
-       doubling < options.max_correspondence_distance_doublings && startsStarved(result);
+       doubling < options.max_correspondence_distance_doublings && refusedForReach(result);
        ++doubling) {
     gated.max_correspondence_distance_m *= 2.0;
     result = matchOnce(reference, current, T_ref_new_guess, gated, search);

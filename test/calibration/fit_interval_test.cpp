@@ -133,5 +133,16 @@ TEST(FitInterval, PairsEndingByTheBorder)
   EXPECT_DOUBLE_EQ(before.back().end_stamp_s, border);
 }
 
+TEST(FitInterval, PairsStartingFromTheBorder)
+{
+  const sim::GeneratedPairs half = drive(0.5);
+  const double border = half.pairs[10].start_stamp_s;
+  const std::vector<MotionPair> after = pairsStartingFrom(half.pairs, border);
+  ASSERT_EQ(after.size(), half.pairs.size() - 10u);
+  EXPECT_DOUBLE_EQ(after.front().start_stamp_s, border);
+  for (const MotionPair& pair : after)
+    EXPECT_GE(pair.start_stamp_s, border);
+}
+
 }  // namespace
 }  // namespace odometry_calibration

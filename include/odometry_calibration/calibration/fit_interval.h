@@ -88,6 +88,11 @@ FitIntervalChoice chooseFitInterval(const CalibrationConfig& config,
 /// border; the held-out pairs are those of the evaluation interval after it).
 std::vector<MotionPair> pairsEndingBy(const std::vector<MotionPair>& pairs, double border_stamp_s);
 
+/// The pairs of `pairs` that start at or after `border_stamp_s` (the held-out part after the
+/// border).
+std::vector<MotionPair> pairsStartingFrom(const std::vector<MotionPair>& pairs,
+                                          double border_stamp_s);
+
 /// The curve in words, one line: "fit interval T = 0.50 s, chosen by time-blocked
 /// cross-validation (validation RPE of 0.50 s pairs): 0.30 s 0.00410 m, 0.50 s 0.00370 m
 /// (chosen), ...".

@@ -21,12 +21,14 @@ struct PlicpOptions
   /// A new point is matched only to a reference point within this distance [m] (CSM
   /// max_correspondence_dist).
   double max_correspondence_distance_m = 0.5;
-  /// A match whose first iteration keeps fewer than min_correspondences is matched again with
+  /// A match refused for its gate's reach is matched again from the same guess with
   /// max_correspondence_distance_m doubled, at most this many times [-], >= 0 (0: never; 2: up
-  /// to 2 m, CSM's default gate, from 0.5 m). A heading error of the guess moves a point by its
-  /// range times the error (3 deg: 1 m at 20 m): in a scene seen only far away (outdoors) no
-  /// point is within the gate at the guess. Only matches that would fail as "too few
-  /// correspondences" at their first iteration are matched again, so no other result changes.
+  /// to 2 m, CSM's default gate, from 0.5 m). Refused for its reach: an iteration keeps fewer
+  /// than min_correspondences, or it runs beyond the allowed correction, or it converges with poor
+  /// overlap. A heading error of the guess moves a point by its range times the error (3 deg:
+  /// 1 m at 20 m): in a scene seen mostly far away (outdoors) the far points are out of reach at
+  /// the guess and the few near ones lead the match astray. Only such refusals are matched again,
+  /// so no other result changes (docs/scan_matching.md, "Real scans").
   int max_correspondence_distance_doublings = 2;
   /// ... and only when the two local lines differ by less than this angle [rad] (surfaces seen
   /// from the same side; larger than the initial guess' heading error).
@@ -96,8 +98,9 @@ struct PlicpOptions
   double ambiguity_sigma_rad = 0.001;
   double ambiguity_offset_m = 0.1;
   /// [rad], in [0, pi]; 0: the two shifted starts only, no turned ones: on the eight CARMEN logs
-  /// (both seeds) no status, pose or count changes, a fifth fewer matches are widened (251 of 313)
-  /// and the check costs about half as much (docs/benchmarks.md, "Where Intel's time goes").
+  /// (both seeds) no gross failure or refusal count changes, a fifth fewer matches are widened
+  /// (255 of 319) and the check costs about half as much (docs/benchmarks.md, "Where Intel's
+  /// time goes").
   double ambiguity_offset_rad = 0.1;
   /// A rematch stops once an iterate is within this many sigma of the solution (Mahalanobis
   /// distance under its covariance) after a step below the trimming floor
