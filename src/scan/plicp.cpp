@@ -47,8 +47,6 @@ PreparedScan prepareScan(const Scan& scan, const LineFitOptions& options,
   return prepared;
 }
 
-namespace {
-
 /// Whether a match may have failed for its gate's reach rather than the scene: too few new points
 /// within max_correspondence_distance_m of a reference surface (at the guess, or where the
 /// iteration led), or a run to a pose the checks refuse (off the allowed correction, or leaving
@@ -65,8 +63,6 @@ bool refusedForReach(const PlicpResult& result)
       return false;
   }
 }
-
-}  // namespace
 
 PlicpResult matchScans(const PreparedScan& reference, const PreparedScan& current,
                        const Pose2& T_ref_new_guess, const PlicpOptions& options)

@@ -148,10 +148,7 @@ TEST(PlicpCarmen, MatchesRefusedForTheGatesReachAreMatchedAgainWithAWiderGate)
     const PreparedScan current = prepareScan(records[k + 1].scan, doubling.line_fit);
     const PlicpResult before = matchScans(reference, current, guess, single);
     const PlicpResult after = matchScans(reference, current, guess, doubling);
-    const bool refused_for_reach = before.status == PlicpStatus::kTooFewCorrespondences ||
-                                   before.status == PlicpStatus::kCorrectionTooLarge ||
-                                   before.status == PlicpStatus::kPoorOverlap;
-    if (!refused_for_reach) {
+    if (!refusedForReach(before)) {
       // Every other match is the same match.
       ASSERT_EQ(after.status, before.status) << "pair " << k;
       ASSERT_EQ(after.T_ref_new.vector(), before.T_ref_new.vector()) << "pair " << k;

@@ -86,6 +86,11 @@ struct PlicpResult
   bool valid() const { return status == PlicpStatus::kValid; }
 };
 
+/// Whether a match may have failed for its gate's reach rather than the scene (too few
+/// correspondences, correction too large, poor overlap): matchScans matches those again with
+/// max_correspondence_distance_m doubled, up to max_correspondence_distance_doublings times.
+bool refusedForReach(const PlicpResult& result);
+
 /// Matches `current` against `reference` starting from `T_ref_new_guess` (e.g. from odometry).
 /// Never throws for bad data (too few points, no convergence, ... are statuses); throws
 /// std::invalid_argument only for invalid options.
